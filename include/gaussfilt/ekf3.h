@@ -1,0 +1,88 @@
+// gaussfilt: EKF3, the extended Kalman filter of exercise 4 of Probabilistic
+// Robotics chapter 3, on the state x = (x, y, theta). Motion g and
+// measurement h are caller-supplied callbacks that also give their
+// Jacobians G and H; the exercise's models are built in. The heading and
+// any angle residual are kept in (-pi, pi]. Book names as in kf2.h:
+// R is process noise, Q measurement noise.
+#ifndef GAUSSFILT_EKF3_H
+#define GAUSSFILT_EKF3_H
+
+#include "gaussfilt/kf2.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+// The belief N(mu, sigma), mu = (x, y, theta).
+typedef struct gf_ekf3 {
+    gf_vec3 mu;
+    gf_mat3 sigma;
+} gf_ekf3;
+
+// Motion callback: mu_bar = g(u, mu) and G = dg/dx at mu. u is whatever the
+// callback defines (the built-in takes two entries). Returns GF_OK or any
+// error, which the filter passes on (GF_ERR_MODEL if unsure).
+typedef gf_status (*gf_ekf3_motion_fn)(void *ctx, const gf_vec3 *mu,
+                                       const gf_real *u, gf_vec3 *mu_bar,
+                                       gf_mat3 *G);
+
+// Measurement callback: z_hat = h(mu_bar) (first m entries) and H = dh/dx
+// (first m rows).
+typedef gf_status (*gf_ekf3_meas_fn)(void *ctx, const gf_vec3 *mu_bar,
+                                     gf_vec3 *z_hat, gf_mat3 *H);
+
+typedef struct gf_ekf3_motion {
+    gf_ekf3_motion_fn g;
+    void *ctx;  // handed to g untouched; may be NULL
+    gf_mat3 R;  // process noise covariance, symmetric PSD
+} gf_ekf3_motion;
+
+typedef struct gf_ekf3_meas {
+    unsigned m;          // 1..3 measured quantities
+    gf_ekf3_meas_fn h;
+    void *ctx;           // handed to h untouched; may be NULL
+    gf_mat3 Q;           // m x m measurement noise covariance, symmetric PSD
+    unsigned angle_mask; // bit i set: residual i is an angle, wrapped
+    gf_real gate;        // chi-square gate on the NIS; 0 disables the gate
+} gf_ekf3_meas;
+
+// Built-in motion of exercise 4: move u[0] forward along the heading, then
+// turn by u[1]:  x' = x + d cos(theta), y' = y + d sin(theta),
+// theta' = theta + phi, with the Jacobian of equation 4.1. ctx unused.
+gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
+                                      const gf_real *u, gf_vec3 *mu_bar,
+                                      gf_mat3 *G);
+
+// Built-in measurement of x alone (m = 1). ctx unused.
+gf_status gf_ekf3_meas_x(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                         gf_mat3 *H);
+
+// Built-in measurement of (x, y) (m = 2). ctx unused.
+gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                          gf_mat3 *H);
+
+// Sets the belief to N(mu, sigma) with mu's heading wrapped. As
+// gf_kf2_init.
+gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma);
+
+// Prediction (Table 3.3, lines 2-3):
+//   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R.
+// u is passed to the callback as is (may be NULL if it accepts that).
+// GF_ERR_ARG (NULL), GF_ERR_NOT_PSD (R), GF_ERR_NONFINITE (R, or what g
+// returned), or the callback's own error; the belief is untouched then.
+gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+                          const gf_real *u);
+
+// Correction (Table 3.3, lines 4-6, Joseph form):
+//   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,
+//   mu = mu_bar + K (z - h(mu_bar)),
+//   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, then symmetrized.
+// Status, gate and info rules as gf_kf2_update.
+gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                         const gf_vec3 *z, gf_innovation *info);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,84 @@
+// gaussfilt: KF2, the linear Kalman filter of exercises 1, 2 and 5 of
+// Probabilistic Robotics chapter 3, on the state x = (position, velocity).
+//
+// Names follow the book (Table 3.1), not most software:
+//
+//   book      here             FilterPy / PX4 name
+//   mu, Sigma gf_kf2.mu/.sigma x, P
+//   A, B      model.A, .B      F, B
+//   R         model.R          Q   (process noise)
+//   C         meas.C           H
+//   Q         meas.Q           R   (measurement noise)
+//
+// The caller owns every struct; nothing is allocated and nothing is global.
+#ifndef GAUSSFILT_KF2_H
+#define GAUSSFILT_KF2_H
+
+#include "gaussfilt/mat.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+// The belief N(mu, sigma).
+typedef struct gf_kf2 {
+    gf_vec2 mu;
+    gf_mat2 sigma;
+} gf_kf2;
+
+// The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
+// Never changes in most programs, so it can live in flash as const.
+typedef struct gf_kf2_model {
+    gf_mat2 A; // state transition
+    gf_mat2 B; // control matrix (u has two entries)
+    gf_mat2 R; // process noise covariance, symmetric PSD
+    gf_vec2 c; // constant additive motion term (exercise 5), usually zero
+} gf_kf2_model;
+
+// The measurement model z = C x + c + delta, delta ~ N(0, Q), of m = 1 or 2
+// measured quantities. Only rows (and columns of Q) 0..m-1 are read.
+typedef struct gf_kf2_meas {
+    unsigned m;   // 1 or 2
+    gf_mat2 C;    // m x 2 measurement matrix
+    gf_mat2 Q;    // m x m measurement noise covariance, symmetric PSD
+    gf_vec2 c;    // constant additive measurement term (exercise 5)
+    gf_real gate; // chi-square gate on the NIS; 0 disables the gate
+} gf_kf2_meas;
+
+// What an update saw: the innovation y = z - c - C mu_bar (first m entries)
+// and its normalised innovation squared NIS = y^T S^-1 y.
+typedef struct gf_innovation {
+    unsigned m;
+    gf_real y[3];
+    gf_real nis;
+} gf_innovation;
+
+// Sets the belief to N(mu, sigma). sigma must be symmetric PSD (zero is
+// fine: a state known exactly). GF_ERR_ARG on NULL, GF_ERR_NONFINITE,
+// GF_ERR_NOT_PSD; kf is untouched on failure.
+gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma);
+
+// Prediction (Table 3.1, lines 2-3, with exercise 5's constant):
+//   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R.
+// u may be NULL for no control. Checks the model (finite, R PSD) and u;
+// on any failure the belief is untouched.
+gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
+                         const gf_vec2 *u);
+
+// Correction (Table 3.1, lines 4-6, Joseph form):
+//   S = C Sigma_bar C^T + Q,  K = Sigma_bar C^T S^-1,
+//   mu = mu_bar + K (z - c - C mu_bar),
+//   Sigma = (I - K C) Sigma_bar (I - K C)^T + K Q K^T, then symmetrized.
+// z holds meas->m values. info (may be NULL) receives the innovation and
+// its NIS on GF_OK and on GF_ERR_GATED (NIS above meas->gate, belief
+// untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2),
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (Q), GF_ERR_SINGULAR (S); the belief and
+// info are untouched.
+gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
+                        const gf_vec2 *z, gf_innovation *info);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,95 @@
+// gaussfilt: fixed-size 2x2 and 3x3 matrix math, only what the filters need.
+//
+// Matrices are row-major structs (m[row][col]) so they copy by assignment.
+// Sources are const and come first, the destination comes last; every
+// function works through locals, so the destination may alias a source.
+#ifndef GAUSSFILT_MAT_H
+#define GAUSSFILT_MAT_H
+
+#include "gaussfilt/config.h"
+#include "gaussfilt/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct gf_vec2 { gf_real v[2]; } gf_vec2;
+typedef struct gf_vec3 { gf_real v[3]; } gf_vec3;
+typedef struct gf_mat2 { gf_real m[2][2]; } gf_mat2;
+typedef struct gf_mat3 { gf_real m[3][3]; } gf_mat3;
+
+// ---- 2x2 -----------------------------------------------------------------
+
+// out = a b
+void gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out);
+
+// out = a x
+void gf_mat2_mulv(const gf_mat2 *a, const gf_vec2 *x, gf_vec2 *out);
+
+// out = a s a^T for a symmetric s; out is exactly symmetric.
+void gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out);
+
+// s = (s + s^T) / 2
+void gf_mat2_symmetrize(gf_mat2 *s);
+
+// 1 if every entry is finite, else 0.
+int gf_mat2_is_finite(const gf_mat2 *a);
+
+// Checks that s is a covariance: finite (else GF_ERR_NONFINITE), symmetric
+// within GF_SYM_RTOL and positive semidefinite within GF_PD_RTOL (else
+// GF_ERR_NOT_PSD).
+gf_status gf_mat2_check_psd(const gf_mat2 *s);
+
+// inv = s^-1 for a symmetric positive-definite s, in closed form.
+// GF_ERR_SINGULAR if s is not positive definite relative to its scale,
+// GF_ERR_NONFINITE on NaN or inf; inv is untouched then.
+gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv);
+
+// Closed-form eigen-decomposition of a symmetric s: eigenvalues with
+// lambda->v[0] >= lambda->v[1], and *angle in (-pi/2, pi/2], the direction
+// of the first eigenvector (cos angle, sin angle) from the first axis.
+// GF_ERR_NONFINITE on NaN or inf; the outputs are untouched then.
+gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle);
+
+// ---- 3x3 -----------------------------------------------------------------
+
+// out = a b
+void gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out);
+
+// out = a x
+void gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out);
+
+// out = a s a^T for a symmetric s; out is exactly symmetric.
+void gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out);
+
+// s = (s + s^T) / 2
+void gf_mat3_symmetrize(gf_mat3 *s);
+
+// 1 if every entry is finite, else 0.
+int gf_mat3_is_finite(const gf_mat3 *a);
+
+// Like gf_mat2_check_psd, on the leading n x n block of s (n = 1..3; other
+// n give GF_ERR_ARG). All principal minors are tested, so a semidefinite
+// matrix with a zero leading entry is judged right.
+gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n);
+
+// Cholesky factor s = l l^T of the leading n x n block of a symmetric
+// positive-definite s (n = 1..3), l lower triangular, the rest of l zeroed.
+// A pivot below GF_PD_RTOL times its diagonal entry (or NaN) gives
+// GF_ERR_SINGULAR; n out of range gives GF_ERR_ARG; l is untouched then.
+gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l);
+
+// Solves l l^T x = b on the leading n entries, l from gf_mat3_chol.
+void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
+                        gf_vec3 *x);
+
+// ---- angles --------------------------------------------------------------
+
+// The angle a wrapped to (-pi, pi].
+gf_real gf_angle_wrap(gf_real a);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

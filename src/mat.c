@@ -1,0 +1,291 @@
+#include "gaussfilt/mat.h"
+
+// ---- 2x2 -----------------------------------------------------------------
+
+void gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out)
+{
+    gf_mat2 r;
+    r.m[0][0] = a->m[0][0] * b->m[0][0] + a->m[0][1] * b->m[1][0];
+    r.m[0][1] = a->m[0][0] * b->m[0][1] + a->m[0][1] * b->m[1][1];
+    r.m[1][0] = a->m[1][0] * b->m[0][0] + a->m[1][1] * b->m[1][0];
+    r.m[1][1] = a->m[1][0] * b->m[0][1] + a->m[1][1] * b->m[1][1];
+    *out = r;
+}
+
+void gf_mat2_mulv(const gf_mat2 *a, const gf_vec2 *x, gf_vec2 *out)
+{
+    gf_vec2 r;
+    r.v[0] = a->m[0][0] * x->v[0] + a->m[0][1] * x->v[1];
+    r.v[1] = a->m[1][0] * x->v[0] + a->m[1][1] * x->v[1];
+    *out = r;
+}
+
+void gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out)
+{
+    // t = a s, then out = t a^T; only the upper triangle is computed.
+    gf_mat2 t, r;
+    gf_mat2_mul(a, s, &t);
+    r.m[0][0] = t.m[0][0] * a->m[0][0] + t.m[0][1] * a->m[0][1];
+    r.m[0][1] = t.m[0][0] * a->m[1][0] + t.m[0][1] * a->m[1][1];
+    r.m[1][1] = t.m[1][0] * a->m[1][0] + t.m[1][1] * a->m[1][1];
+    r.m[1][0] = r.m[0][1];
+    *out = r;
+}
+
+void gf_mat2_symmetrize(gf_mat2 *s)
+{
+    gf_real o = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    s->m[0][1] = o;
+    s->m[1][0] = o;
+}
+
+int gf_mat2_is_finite(const gf_mat2 *a)
+{
+    return GF_ISFINITE(a->m[0][0]) && GF_ISFINITE(a->m[0][1]) &&
+           GF_ISFINITE(a->m[1][0]) && GF_ISFINITE(a->m[1][1]);
+}
+
+// |a - b| small against |a| + |b|; exact for a == b, zeros included.
+static int near_equal(gf_real a, gf_real b)
+{
+    return GF_FABS(a - b) <= GF_SYM_RTOL * (GF_FABS(a) + GF_FABS(b));
+}
+
+// A principal minor det of a block with diagonal product dprod (>= 0) is
+// non-negative within the relative tolerance.
+static int minor_ok(gf_real det, gf_real dprod)
+{
+    return det >= -GF_PD_RTOL * dprod;
+}
+
+gf_status gf_mat2_check_psd(const gf_mat2 *s)
+{
+    if (!s) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_mat2_is_finite(s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!near_equal(s->m[0][1], s->m[1][0])) {
+        return GF_ERR_NOT_PSD;
+    }
+    gf_real a = s->m[0][0], c = s->m[1][1], b = s->m[0][1];
+    if (a < 0 || c < 0 || !minor_ok(a * c - b * b, a * c)) {
+        return GF_ERR_NOT_PSD;
+    }
+    return GF_OK;
+}
+
+gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
+{
+    gf_real a = s->m[0][0], b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    gf_real c = s->m[1][1];
+    if (!(GF_ISFINITE(a) && GF_ISFINITE(b) && GF_ISFINITE(c))) {
+        return GF_ERR_NONFINITE;
+    }
+    // Positive definite iff a > 0 and det > 0; det is tested against the
+    // scale a c so that the verdict does not depend on units.
+    gf_real det = a * c - b * b;
+    if (!(a > 0) || !(c > 0) || !(det > GF_PD_RTOL * a * c)) {
+        return GF_ERR_SINGULAR;
+    }
+    gf_real id = GF_R(1.0) / det;
+    gf_mat2 r;
+    r.m[0][0] = c * id;
+    r.m[1][1] = a * id;
+    r.m[0][1] = -b * id;
+    r.m[1][0] = r.m[0][1];
+    *inv = r;
+    return GF_OK;
+}
+
+gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
+{
+    if (!s || !lambda || !angle) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_mat2_is_finite(s)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_real a = s->m[0][0], c = s->m[1][1];
+    gf_real b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    gf_real mean = GF_R(0.5) * (a + c);
+    gf_real half = GF_R(0.5) * (a - c);
+    gf_real d = GF_SQRT(half * half + b * b);
+    gf_real l1 = mean + d;
+    // The smaller eigenvalue from the determinant when that avoids
+    // cancellation (l1 far from zero), else by difference.
+    gf_real l2 = (GF_FABS(l1) > GF_FABS(mean - d))
+                     ? (a * c - b * b) / l1 : mean - d;
+    gf_real th = GF_R(0.5) * GF_ATAN2(GF_R(2.0) * b, a - c);
+    if (th <= -GF_R(0.5) * GF_PI) {
+        th += GF_PI;
+    }
+    lambda->v[0] = l1;
+    lambda->v[1] = l2;
+    *angle = th;
+    return GF_OK;
+}
+
+// ---- 3x3 -----------------------------------------------------------------
+
+void gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out)
+{
+    gf_mat3 r;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            r.m[i][j] = a->m[i][0] * b->m[0][j] + a->m[i][1] * b->m[1][j] +
+                        a->m[i][2] * b->m[2][j];
+        }
+    }
+    *out = r;
+}
+
+void gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out)
+{
+    gf_vec3 r;
+    for (int i = 0; i < 3; i++) {
+        r.v[i] = a->m[i][0] * x->v[0] + a->m[i][1] * x->v[1] +
+                 a->m[i][2] * x->v[2];
+    }
+    *out = r;
+}
+
+void gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out)
+{
+    gf_mat3 t, r;
+    gf_mat3_mul(a, s, &t);
+    for (int i = 0; i < 3; i++) {
+        for (int j = i; j < 3; j++) {
+            r.m[i][j] = t.m[i][0] * a->m[j][0] + t.m[i][1] * a->m[j][1] +
+                        t.m[i][2] * a->m[j][2];
+            r.m[j][i] = r.m[i][j];
+        }
+    }
+    *out = r;
+}
+
+void gf_mat3_symmetrize(gf_mat3 *s)
+{
+    for (int i = 0; i < 3; i++) {
+        for (int j = i + 1; j < 3; j++) {
+            gf_real o = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
+            s->m[i][j] = o;
+            s->m[j][i] = o;
+        }
+    }
+}
+
+int gf_mat3_is_finite(const gf_mat3 *a)
+{
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            if (!GF_ISFINITE(a->m[i][j])) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
+{
+    if (!s || n < 1 || n > 3) {
+        return GF_ERR_ARG;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            if (!GF_ISFINITE(s->m[i][j])) {
+                return GF_ERR_NONFINITE;
+            }
+        }
+    }
+    // Symmetric, then every principal minor (1x1, 2x2, 3x3) non-negative:
+    // Sylvester's criterion for semidefiniteness needs all of them, not
+    // only the leading ones.
+    for (unsigned i = 0; i < n; i++) {
+        if (s->m[i][i] < 0) {
+            return GF_ERR_NOT_PSD;
+        }
+        for (unsigned j = i + 1; j < n; j++) {
+            if (!near_equal(s->m[i][j], s->m[j][i])) {
+                return GF_ERR_NOT_PSD;
+            }
+            gf_real dp = s->m[i][i] * s->m[j][j];
+            if (!minor_ok(dp - s->m[i][j] * s->m[i][j], dp)) {
+                return GF_ERR_NOT_PSD;
+            }
+        }
+    }
+    if (n == 3) {
+        const gf_real(*m)[3] = s->m;
+        gf_real det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[1][2]) -
+                      m[0][1] * (m[0][1] * m[2][2] - m[1][2] * m[0][2]) +
+                      m[0][2] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]);
+        if (!minor_ok(det, m[0][0] * m[1][1] * m[2][2])) {
+            return GF_ERR_NOT_PSD;
+        }
+    }
+    return GF_OK;
+}
+
+gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)
+{
+    if (n < 1 || n > 3) {
+        return GF_ERR_ARG;
+    }
+    gf_mat3 r = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    for (unsigned j = 0; j < n; j++) {
+        gf_real d = s->m[j][j];
+        for (unsigned k = 0; k < j; k++) {
+            d -= r.m[j][k] * r.m[j][k];
+        }
+        // Written so that NaN fails too.
+        if (!(d > GF_PD_RTOL * s->m[j][j]) || !GF_ISFINITE(d)) {
+            return GF_ERR_SINGULAR;
+        }
+        gf_real ljj = GF_SQRT(d);
+        r.m[j][j] = ljj;
+        for (unsigned i = j + 1; i < n; i++) {
+            gf_real v = s->m[i][j];
+            for (unsigned k = 0; k < j; k++) {
+                v -= r.m[i][k] * r.m[j][k];
+            }
+            r.m[i][j] = v / ljj;
+        }
+    }
+    *l = r;
+    return GF_OK;
+}
+
+void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
+                        gf_vec3 *x)
+{
+    gf_vec3 y = *b;
+    for (unsigned i = 0; i < n; i++) { // l y = b
+        for (unsigned k = 0; k < i; k++) {
+            y.v[i] -= l->m[i][k] * y.v[k];
+        }
+        y.v[i] /= l->m[i][i];
+    }
+    for (unsigned i = n; i-- > 0;) { // l^T x = y
+        for (unsigned k = i + 1; k < n; k++) {
+            y.v[i] -= l->m[k][i] * y.v[k];
+        }
+        y.v[i] /= l->m[i][i];
+    }
+    *x = y;
+}
+
+// ---- angles --------------------------------------------------------------
+
+gf_real gf_angle_wrap(gf_real a)
+{
+    if (a > -GF_PI && a <= GF_PI) {
+        return a;
+    }
+    // a - 2 pi ceil((a - pi) / 2 pi) lies in (-pi, pi].
+    gf_real two_pi = GF_R(2.0) * GF_PI;
+    gf_real w = a - two_pi * GF_CEIL((a - GF_PI) / two_pi);
+    return w <= -GF_PI ? w + two_pi : w;
+}

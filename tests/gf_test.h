@@ -1,0 +1,67 @@
+// Shared by the gaussfilt tests: the tolerances, stated once, and the
+// checks built on them.
+#ifndef GF_TEST_H
+#define GF_TEST_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gaussfilt/gaussfilt.h"
+
+// Golden tolerance: |got - want| <= GF_TEST_TOL * max(1, |want|).
+// Double: 1e-12 (the exercise tables are exact binary fractions or short
+// rationals). Float: 2e-5, a few ulps of the float accumulated over the
+// short runs of the exercises.
+#ifdef GF_SINGLE_PRECISION
+#define GF_TEST_TOL 2e-5
+#else
+#define GF_TEST_TOL 1e-12
+#endif
+
+// The seed prints two decimals: a value agrees with it "to the digits
+// printed" when it rounds to it.
+#define GF_PRINTED_TOL 0.005
+
+static inline void gf_check_close_(double got, double want, double tol,
+                                   const char *what, const char *file,
+                                   int line)
+{
+    double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
+    if (!(fabs(got - want) <= tol * scale)) {
+        print_error("%s: got %.17g, want %.17g (tol %g)\n", what, got, want,
+                    tol * scale);
+        _fail(file, line);
+    }
+}
+
+// got equals want within the golden tolerance.
+#define CHECK_CLOSE(got, want)                                             \
+    gf_check_close_((double)(got), (double)(want), GF_TEST_TOL, #got,      \
+                    __FILE__, __LINE__)
+// got agrees with the seed's printed (rounded) value.
+#define CHECK_PRINTED(got, printed)                                        \
+    do {                                                                   \
+        double g_ = (double)(got), p_ = (double)(printed);                 \
+        if (!(fabs(g_ - p_) <= GF_PRINTED_TOL)) {                          \
+            print_error("%s: got %.6f, the seed prints %.2f\n", #got, g_,  \
+                        p_);                                               \
+            _fail(__FILE__, __LINE__);                                     \
+        }                                                                  \
+    } while (0)
+
+// A call that must fail with `status` and leave *obj bit-for-bit as it was.
+#define CHECK_FAILS_UNCHANGED(status, obj, call)                           \
+    do {                                                                   \
+        unsigned char before_[sizeof(*(obj))];                             \
+        memcpy(before_, (obj), sizeof(*(obj)));                            \
+        assert_int_equal((call), (status));                                \
+        assert_memory_equal(before_, (obj), sizeof(*(obj)));               \
+    } while (0)
+
+#endif
