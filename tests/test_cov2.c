@@ -32,7 +32,7 @@ static void correlation(void **state)
     const gf_mat2 zero = {{{0, 0}, {0, 0}}};
     const gf_mat2 one_zero = {{{1, 0}, {0, 0}}};
     const gf_mat2 negvar = {{{-1, 0}, {0, 1}}};
-    const gf_mat2 nan = {{{1, NAN}, {NAN, 1}}};
+    const gf_mat2 nan = {{{1, (gf_real)NAN}, {(gf_real)NAN, 1}}};
     gf_real keep = GF_R(7.0);
     CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep, gf_cov2_correlation(&zero, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep, gf_cov2_correlation(&one_zero, &keep));
@@ -84,7 +84,7 @@ static void ellipse(void **state)
     // Bad input: p out of (0, 1), not PSD, NaN, NULL.
     gf_ellipse keep = {1, 2, 3};
     const gf_mat2 indef = {{{1, 2}, {2, 1}}};
-    const gf_mat2 nan = {{{NAN, 0}, {0, 1}}};
+    const gf_mat2 nan = {{{(gf_real)NAN, 0}, {0, 1}}};
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(&s, 0, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(&s, 1, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(&s, (gf_real)NAN, &keep));

@@ -265,7 +265,7 @@ static void bad_input(void **state)
     int flag = 1;
 
     // init
-    const gf_vec3 nan_mu = {{0, NAN, 0}};
+    const gf_vec3 nan_mu = {{0, (gf_real)NAN, 0}};
     gf_mat3 bad = INIT_SIGMA;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(NULL, &INIT_MU, &INIT_SIGMA));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(&ekf, NULL, &INIT_SIGMA));
@@ -290,7 +290,7 @@ static void bad_input(void **state)
     mo = FORWARD;
     mo.R.m[2][0] = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_predict(&ekf, &mo, MOVE_1));
-    const gf_real u_nan[2] = {NAN, 0};
+    const gf_real u_nan[2] = {(gf_real)NAN, 0};
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_predict(&ekf, &FORWARD, u_nan));
     mo = FORWARD;
     mo.g = motion_nan;
@@ -318,7 +318,7 @@ static void bad_input(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
     q.gate = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
-    const gf_vec3 z_nan = {{NAN, 0, 0}};
+    const gf_vec3 z_nan = {{(gf_real)NAN, 0, 0}};
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &SEE_X, &z_nan, &info));
     q = SEE_X;
     q.h = meas_fails;
