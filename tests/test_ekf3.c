@@ -215,6 +215,92 @@ static void xy_measurement(void **state)
     CHECK_CLOSE(info.nis, Si[0][0] * 1 - 2 * Si[0][1] + Si[1][1]);
 }
 
+static gf_status meas_full(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                           gf_mat3 *H)
+{
+    (void)ctx;
+    for (int i = 0; i < 3; i++) {
+        z_hat->v[i] = mu_bar->v[i];
+        for (int j = 0; j < 3; j++) {
+            H->m[i][j] = i == j ? 1 : 0;
+        }
+    }
+    return GF_OK;
+}
+
+// 3x3 inverse by cofactors, in double, for the reference below.
+static void inv3(double a[3][3], double out[3][3])
+{
+    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+                 a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+                 a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            int r0 = (j + 1) % 3, r1 = (j + 2) % 3;
+            int c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+            out[i][j] = (a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]) / det;
+        }
+    }
+}
+
+// Three measured quantities (the whole state, correlated noise): the
+// posterior is the information-form fusion Sigma = (P^-1 + Q^-1)^-1,
+// mu = Sigma (P^-1 mu_bar + Q^-1 z), computed here in double.
+static void full_state_measurement(void **state)
+{
+    (void)state;
+    gf_ekf3 ekf;
+    const gf_vec3 mu0 = {{1, 2, 0.5}};
+    const gf_mat3 s0 = {{{4, 2, 0}, {2, 5, 1}, {0, 1, 3}}};
+    assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
+    const gf_ekf3_meas all = {
+        .m = 3, .h = meas_full, .ctx = NULL,
+        .Q = {{{1, 0.5, 0}, {0.5, 2, 0.2}, {0, 0.2, 0.5}}},
+        .angle_mask = 4u, .gate = 0,
+    };
+    const gf_vec3 z = {{2, 1, 0.25}};
+    gf_innovation info;
+    assert_int_equal(gf_ekf3_update(&ekf, &all, &z, &info), GF_OK);
+
+    double P[3][3] = {{4, 2, 0}, {2, 5, 1}, {0, 1, 3}};
+    double Q[3][3] = {{1, 0.5, 0}, {0.5, 2, 0.2}, {0, 0.2, 0.5}};
+    const double m0[3] = {1, 2, 0.5}, zz[3] = {2, 1, 0.25};
+    double Pi[3][3], Qi[3][3], O[3][3], Sg[3][3], xi[3];
+    inv3(P, Pi);
+    inv3(Q, Qi);
+    for (int i = 0; i < 3; i++) {
+        xi[i] = 0;
+        for (int j = 0; j < 3; j++) {
+            O[i][j] = Pi[i][j] + Qi[i][j];
+            xi[i] += Pi[i][j] * m0[j] + Qi[i][j] * zz[j];
+        }
+    }
+    inv3(O, Sg);
+    for (int i = 0; i < 3; i++) {
+        double mu = Sg[i][0] * xi[0] + Sg[i][1] * xi[1] + Sg[i][2] * xi[2];
+        CHECK_CLOSE(ekf.mu.v[i], mu);
+        for (int j = 0; j < 3; j++) {
+            CHECK_CLOSE(ekf.sigma.m[i][j], Sg[i][j]);
+        }
+    }
+    // NIS = y^T (P + Q)^-1 y
+    double S[3][3], Si[3][3], y[3] = {1, -1, -0.25}, nis = 0;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            S[i][j] = P[i][j] + Q[i][j];
+        }
+    }
+    inv3(S, Si);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            nis += y[i] * Si[i][j] * y[j];
+        }
+    }
+    assert_int_equal(info.m, 3);
+    CHECK_CLOSE(info.y[2], -0.25);
+    CHECK_CLOSE(info.nis, nis);
+}
+
 static gf_status meas_fails(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
                             gf_mat3 *H)
 {
@@ -350,6 +436,7 @@ int main(void)
         cmocka_unit_test(motion_jacobian),
         cmocka_unit_test(angle_wrapping),
         cmocka_unit_test(xy_measurement),
+        cmocka_unit_test(full_state_measurement),
         cmocka_unit_test(gate),
         cmocka_unit_test(bad_input),
     };
