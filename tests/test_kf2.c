@@ -298,10 +298,10 @@ static void bad_input(void **state)
     gf_innovation info = {0, {0, 0, 0}, 0};
 
     // init
-    const gf_vec2 nan_mu = {{NAN, 0}};
+    const gf_vec2 nan_mu = {{(gf_real)NAN, 0}};
     const gf_mat2 neg = {{{-1, 0}, {0, 1}}};
     const gf_mat2 asym = {{{1, 0.5}, {0, 1}}};
-    const gf_mat2 inf = {{{INFINITY, 0}, {0, 1}}};
+    const gf_mat2 inf = {{{(gf_real)INFINITY, 0}, {0, 1}}};
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(NULL, &ZERO2, &ZERO22));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(&kf, NULL, &ZERO22));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(&kf, &ZERO2, NULL));
@@ -328,7 +328,7 @@ static void bad_input(void **state)
     m = CAR;
     m.R.m[0][1] = GF_R(0.6); // asymmetric
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_predict(&kf, &m, NULL));
-    const gf_vec2 u_nan = {{0, NAN}};
+    const gf_vec2 u_nan = {{0, (gf_real)NAN}};
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_predict(&kf, &CAR, &u_nan));
     // Overflow: a finite model whose result is not finite.
     m = CAR;
@@ -363,7 +363,7 @@ static void bad_input(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, &q, &z, &info));
     q.gate = (gf_real)NAN;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &q, &z, &info));
-    const gf_vec2 z_inf = {{INFINITY, 0}};
+    const gf_vec2 z_inf = {{(gf_real)INFINITY, 0}};
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &GPS, &z_inf, &info));
     // m = 2: Q indefinite; S singular.
     gf_kf2_meas two = {.m = 2, .C = {{{1, 0}, {1, 0}}}, .Q = {{{1, 2}, {2, 1}}},

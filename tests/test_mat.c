@@ -54,7 +54,7 @@ static void mat2_check_psd(void **state)
     const gf_mat2 neg = {{{-1, 0}, {0, 1}}};
     const gf_mat2 indef = {{{1, 2}, {2, 1}}};
     const gf_mat2 asym = {{{1, 0.5}, {0.4, 1}}};
-    const gf_mat2 nan = {{{1, 0}, {0, NAN}}};
+    const gf_mat2 nan = {{{1, 0}, {0, (gf_real)NAN}}};
     assert_int_equal(gf_mat2_check_psd(&zero), GF_OK);
     assert_int_equal(gf_mat2_check_psd(&line), GF_OK);
     assert_int_equal(gf_mat2_check_psd(&S2), GF_OK);
@@ -93,7 +93,7 @@ static void mat2_spd_inv(void **state)
     const gf_mat2 sing = {{{1, 1}, {1, 1}}};
     const gf_mat2 sing_big = {{{1e20, 1e20}, {1e20, 1e20}}};
     const gf_mat2 tiny = {{{1e-18, 0}, {0, 1e-18}}};
-    const gf_mat2 nan = {{{NAN, 0}, {0, 1}}};
+    const gf_mat2 nan = {{{(gf_real)NAN, 0}, {0, 1}}};
     const gf_mat2 neg = {{{-1, 0}, {0, -1}}};
     gf_mat2 keep = {{{7, 7}, {7, 7}}};
     CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep, gf_mat2_spd_inv(&sing, &keep));
@@ -137,7 +137,7 @@ static void mat2_eig_sym(void **state)
     CHECK_CLOSE(l.v[1], 1);
     CHECK_CLOSE(th, 0);
 
-    const gf_mat2 inf = {{{INFINITY, 0}, {0, 1}}};
+    const gf_mat2 inf = {{{(gf_real)INFINITY, 0}, {0, 1}}};
     gf_vec2 keep = {{9, 9}};
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep,
                           gf_mat2_eig_sym(&inf, &keep, &th));
@@ -192,7 +192,7 @@ static void mat3_symmetrize_and_finite(void **state)
     CHECK_CLOSE(s.m[1][2], 3);
     CHECK_CLOSE(s.m[2][1], 3);
     assert_true(gf_mat3_is_finite(&s));
-    s.m[2][2] = (gf_real)-INFINITY;
+    s.m[2][2] = (gf_real)-(gf_real)INFINITY;
     assert_false(gf_mat3_is_finite(&s));
 }
 
