@@ -17,7 +17,8 @@
 //   gf_bench time WL PART N R  R timed runs of N iterations; prints the
 //                              median, min and max ns per iteration
 //   gf_bench floor WL PART     prints the hand-counted flop floor
-// WL is w1 or w2, PART is step, predict or update. The inputs (measurements,
+// WL is w1 or w2, PART is step, predict, update or ref (the step done by
+// the no-checks reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
 // replays those TAB steps from the same initial belief again and again.
@@ -29,6 +30,7 @@
 #include <time.h>
 
 #include "gaussfilt/gaussfilt.h"
+#include "ref.h"
 
 #define TAB 1024u // steps of simulated truth; a power of two
 
@@ -279,6 +281,35 @@ NOINLINE static double bench_loop_w2_update(unsigned long n)
     return acc;
 }
 
+// The same step with the no-checks reference (bench/ref.c).
+NOINLINE static double bench_loop_w1_ref(unsigned long n)
+{
+    gf_kf2 kf = w1_init;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        if (j == 0) {
+            kf = w1_init;
+        }
+        ref_kf2_predict(&kf, &W1_MODEL);
+        ref_kf2_update(&kf, &W1_MEAS, &w1_z[j]);
+    }
+    return (double)kf.mu.v[0] + (double)kf.sigma.m[0][0];
+}
+
+NOINLINE static double bench_loop_w2_ref(unsigned long n)
+{
+    gf_ekf3 ekf = w2_init;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        if (j == 0) {
+            ekf = w2_init;
+        }
+        ref_ekf3_predict(&ekf, &w2_motion, w2_u[j]);
+        ref_ekf3_update(&ekf, &w2_meas, &w2_z[j]);
+    }
+    return (double)ekf.mu.v[0] + (double)ekf.sigma.m[0][0];
+}
+
 typedef double (*loop_fn)(unsigned long n);
 
 static double now_ns(void)
@@ -299,7 +330,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
-            "       WL = w1 | w2, PART = step | predict | update\n");
+            "       WL = w1 | w2, PART = step | predict | update | ref\n");
     return 2;
 }
 
@@ -313,9 +344,11 @@ int main(int argc, char **argv)
     if (!w2 && strcmp(wl, "w1") != 0) {
         return usage();
     }
-    int p; // 0 step, 1 predict, 2 update
+    int p; // 0 step, 1 predict, 2 update, 3 reference step
     if (strcmp(part, "step") == 0) {
         p = 0;
+    } else if (strcmp(part, "ref") == 0) {
+        p = 3;
     } else if (strcmp(part, "predict") == 0) {
         p = 1;
     } else if (strcmp(part, "update") == 0) {
@@ -325,18 +358,20 @@ int main(int argc, char **argv)
     }
 
     if (strcmp(mode, "floor") == 0) {
-        static const int floors[2][3] = {
+        static const int floors[2][4] = {
             {FLOOR_W1_PREDICT + FLOOR_W1_UPDATE, FLOOR_W1_PREDICT,
-             FLOOR_W1_UPDATE},
+             FLOOR_W1_UPDATE, FLOOR_W1_PREDICT + FLOOR_W1_UPDATE},
             {FLOOR_W2_PREDICT + FLOOR_W2_UPDATE, FLOOR_W2_PREDICT,
-             FLOOR_W2_UPDATE}};
+             FLOOR_W2_UPDATE, FLOOR_W2_PREDICT + FLOOR_W2_UPDATE}};
         printf("%d\n", floors[w2][p]);
         return 0;
     }
 
-    static const loop_fn loops[2][3] = {
-        {bench_loop_w1_step, bench_loop_w1_predict, bench_loop_w1_update},
-        {bench_loop_w2_step, bench_loop_w2_predict, bench_loop_w2_update}};
+    static const loop_fn loops[2][4] = {
+        {bench_loop_w1_step, bench_loop_w1_predict, bench_loop_w1_update,
+         bench_loop_w1_ref},
+        {bench_loop_w2_step, bench_loop_w2_predict, bench_loop_w2_update,
+         bench_loop_w2_ref}};
     loop_fn loop = loops[w2][p];
     if (w2) {
         setup_w2();

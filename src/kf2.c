@@ -23,12 +23,102 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     return GF_OK;
 }
 
-gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
-                         const gf_vec2 *u)
+// How the checks stay cheap, here and in update1 (docs/performance.md):
+// the step is computed first, from the raw inputs, into locals. A NaN or
+// inf among the inputs cannot vanish through + - *, so it reaches the
+// outputs; inputs that reach no output (B without u, R's lower entry, the
+// gate) are added to the same sum. One isfinite() of that sum then stands
+// for all the per-entry tests, and it can only err on the safe side (a sum
+// of finite values that overflows). On any doubt, from it or from the
+// cheap PSD test, the slow path runs the full checks in their documented
+// order and then the same (inlined) computation again, so every failure
+// reports the status it always did, and the belief is written only on
+// success. The fast path then needs no stack frame: the slow one is a tail
+// call.
+
+// The computations are inlined into both paths; the fast path must not pay
+// for a call.
+// The slow paths stay out of line, so the fast path needs no frame.
+#if defined(__GNUC__)
+#define KF2_INLINE static inline __attribute__((always_inline))
+#define KF2_SLOW static __attribute__((noinline, cold))
+#define KF2_OUTLINE static __attribute__((noinline))
+#else
+#define KF2_OUTLINE static
+#define KF2_INLINE static inline
+#define KF2_SLOW static
+#endif
+
+// mu_bar and Sigma_bar of a prediction, and whether the cheap tests passed.
+typedef struct kf2_step {
+    gf_real m0, m1, s00, s01, s11;
+    int ok;
+} kf2_step;
+
+static int step_is_finite(const kf2_step *r)
 {
-    if (!kf || !model) {
-        return GF_ERR_ARG;
+    return GF_ISFINITE(r->m0) && GF_ISFINITE(r->m1) && GF_ISFINITE(r->s00) &&
+           GF_ISFINITE(r->s01) && GF_ISFINITE(r->s11);
+}
+
+// Writes a step's belief; Sigma mirrored, so exactly symmetric.
+static void step_commit(gf_kf2 *kf, const kf2_step *r)
+{
+    kf->mu.v[0] = r->m0;
+    kf->mu.v[1] = r->m1;
+    kf->sigma.m[0][0] = r->s00;
+    kf->sigma.m[0][1] = r->s01;
+    kf->sigma.m[1][0] = r->s01;
+    kf->sigma.m[1][1] = r->s11;
+}
+
+KF2_INLINE kf2_step predict_compute(const gf_kf2 *kf,
+                                       const gf_kf2_model *model,
+                                       const gf_vec2 *u)
+{
+    const gf_mat2 *A = &model->A, *B = &model->B, *R = &model->R;
+    const gf_real a00 = A->m[0][0], a01 = A->m[0][1];
+    const gf_real a10 = A->m[1][0], a11 = A->m[1][1];
+    const gf_real r00 = R->m[0][0], r01 = R->m[0][1], r11 = R->m[1][1];
+    // Sigma is symmetric (every call writes it so): 3 unique entries.
+    const gf_real s00 = kf->sigma.m[0][0], s01 = kf->sigma.m[0][1];
+    const gf_real s11 = kf->sigma.m[1][1];
+    gf_real unused = R->m[1][0]; // inputs that reach no output
+    kf2_step r;
+
+    // mu_bar = A mu + B u + c
+    r.m0 = a00 * kf->mu.v[0] + a01 * kf->mu.v[1];
+    r.m1 = a10 * kf->mu.v[0] + a11 * kf->mu.v[1];
+    if (u) {
+        r.m0 += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
+        r.m1 += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
+    } else {
+        unused += B->m[0][0] + B->m[0][1] + B->m[1][0] + B->m[1][1];
     }
+    r.m0 += model->c.v[0];
+    r.m1 += model->c.v[1];
+
+    // Sigma_bar = A Sigma A^T + R: T = A Sigma, then the upper triangle of
+    // T A^T.
+    const gf_real t00 = a00 * s00 + a01 * s01, t01 = a00 * s01 + a01 * s11;
+    const gf_real t10 = a10 * s00 + a11 * s01, t11 = a10 * s01 + a11 * s11;
+    r.s00 = t00 * a00 + t01 * a01 + r00;
+    r.s01 = t00 * a10 + t01 * a11 + r01;
+    r.s11 = t10 * a10 + t11 * a11 + r11;
+
+    // R a covariance: exactly symmetric here (within the tolerance: slow
+    // path), variances and determinant non-negative as gf_mat2_check_psd.
+    const gf_real asym = r01 - R->m[1][0];
+    const gf_real rdp = r00 * r11;
+    r.ok = !(asym < 0) && !(asym > 0) && r00 >= 0 && r11 >= 0 &&
+           rdp - r01 * r01 >= -GF_PD_RTOL * rdp &&
+           GF_ISFINITE(r.m0 + r.m1 + r.s00 + r.s01 + r.s11 + unused);
+    return r;
+}
+
+KF2_SLOW gf_status predict_slow(gf_kf2 *kf, const gf_kf2_model *model,
+                              const gf_vec2 *u)
+{
     if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
         !vec2_is_finite(&model->c) || (u && !vec2_is_finite(u))) {
         return GF_ERR_NONFINITE;
@@ -37,41 +127,138 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     if (st != GF_OK) {
         return st;
     }
-
-    // mu_bar = A mu + B u + c
-    gf_vec2 mu;
-    gf_mat2_mulv(&model->A, &kf->mu, &mu);
-    if (u) {
-        gf_vec2 bu;
-        gf_mat2_mulv(&model->B, u, &bu);
-        mu.v[0] += bu.v[0];
-        mu.v[1] += bu.v[1];
-    }
-    mu.v[0] += model->c.v[0];
-    mu.v[1] += model->c.v[1];
-
-    // Sigma_bar = A Sigma A^T + R
-    gf_mat2 sigma;
-    gf_mat2_sandwich(&model->A, &kf->sigma, &sigma);
-    sigma.m[0][0] += model->R.m[0][0];
-    sigma.m[0][1] += model->R.m[0][1];
-    sigma.m[1][1] += model->R.m[1][1];
-    sigma.m[1][0] = sigma.m[0][1];
-
-    if (!vec2_is_finite(&mu) || !gf_mat2_is_finite(&sigma)) {
+    kf2_step r = predict_compute(kf, model, u);
+    if (!step_is_finite(&r)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
-    kf->mu = mu;
-    kf->sigma = sigma;
+    step_commit(kf, &r);
     return GF_OK;
 }
 
-gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
-                        const gf_vec2 *z, gf_innovation *info)
+gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
+                         const gf_vec2 *u)
 {
-    if (!kf || !meas || !z || meas->m < 1 || meas->m > 2) {
+    if (!kf || !model) {
         return GF_ERR_ARG;
     }
+    kf2_step r = predict_compute(kf, model, u);
+    if (!r.ok) {
+        return predict_slow(kf, model, u);
+    }
+    step_commit(kf, &r);
+    return GF_OK;
+}
+
+// A scalar update: the new belief, the innovation and NIS, and s.
+typedef struct kf2_update1 {
+    kf2_step b;
+    gf_real s, y, nis;
+} kf2_update1;
+
+// gf_kf2_update for a scalar measurement: S is a number, so no inverse and
+// no 2x2 algebra.
+KF2_INLINE kf2_update1 update1_compute(const gf_kf2 *kf,
+                                          const gf_kf2_meas *meas,
+                                          const gf_vec2 *z)
+{
+    const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    const gf_real mu0 = kf->mu.v[0], mu1 = kf->mu.v[1];
+    const gf_real s00 = kf->sigma.m[0][0], s01 = kf->sigma.m[0][1];
+    const gf_real s11 = kf->sigma.m[1][1];
+    kf2_update1 r;
+
+    // p = Sigma_bar C^T, s = C Sigma_bar C^T + Q
+    const gf_real p0 = s00 * c0 + s01 * c1, p1 = s01 * c0 + s11 * c1;
+    const gf_real s = q + (c0 * p0 + c1 * p1);
+    const gf_real si = GF_R(1.0) / s;
+    // y = z - c - C mu_bar, NIS = y s^-1 y
+    r.s = s;
+    r.y = z->v[0] - meas->c.v[0] - (c0 * mu0 + c1 * mu1);
+    r.nis = r.y * si * r.y;
+    // K = p s^-1; mu = mu_bar + K y
+    const gf_real k0 = p0 * si, k1 = p1 * si;
+    r.b.m0 = mu0 + k0 * r.y;
+    r.b.m1 = mu1 + k1 * r.y;
+    // Joseph form, (I - K C) Sigma_bar (I - K C)^T + K Q K^T, multiplied
+    // out for a scalar measurement: Sigma_bar - K p^T - p K^T + s K K^T.
+    // That holds for any gain K, so a rounding error dK in K adds only
+    // s dK dK^T (positive semidefinite, second order): the property the
+    // Joseph form is used for. With w = s K - p (zero but for rounding):
+    // Sigma = Sigma_bar - p K^T + K w^T; the upper triangle, mirrored on
+    // commit (so exactly symmetric).
+    const gf_real w0 = s * k0 - p0, w1 = s * k1 - p1;
+    r.b.s00 = s00 - p0 * k0 + k0 * w0;
+    r.b.s01 = s01 - p0 * k1 + k0 * w1;
+    r.b.s11 = s11 - p1 * k1 + k1 * w1;
+
+    // C, c, z and Q reach s or the NIS (si > 0 fails for s = inf or NaN).
+    r.b.ok = q >= 0 && gate >= 0 && si > 0 &&
+             GF_ISFINITE(r.nis + gate + r.b.m0 + r.b.m1 + r.b.s00 + r.b.s01 +
+                         r.b.s11);
+    return r;
+}
+
+// The rest of a scalar update once its checks have passed.
+static gf_status update1_finish(gf_kf2 *kf, const gf_kf2_meas *meas,
+                                const kf2_update1 *r, gf_innovation *info)
+{
+    gf_innovation in;
+    in.m = 1;
+    in.y[0] = r->y;
+    in.y[1] = in.y[2] = 0;
+    in.nis = r->nis;
+    if (meas->gate > 0 && r->nis > meas->gate) {
+        if (info) {
+            *info = in;
+        }
+        return GF_ERR_GATED;
+    }
+    step_commit(kf, &r->b);
+    if (info) {
+        *info = in;
+    }
+    return GF_OK;
+}
+
+// Every check of a scalar update, in the order gf_kf2_update reports them.
+KF2_SLOW gf_status update1_slow(gf_kf2 *kf, const gf_kf2_meas *meas,
+                              const gf_vec2 *z, gf_innovation *info)
+{
+    if (!GF_ISFINITE(meas->C.m[0][0]) || !GF_ISFINITE(meas->C.m[0][1]) ||
+        !GF_ISFINITE(meas->c.v[0]) || !GF_ISFINITE(z->v[0]) ||
+        !GF_ISFINITE(meas->gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    if (!GF_ISFINITE(meas->Q.m[0][0])) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->Q.m[0][0] < 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    kf2_update1 r = update1_compute(kf, meas, z);
+    if (!GF_ISFINITE(r.s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(r.s > 0)) {
+        return GF_ERR_SINGULAR;
+    }
+    if (!GF_ISFINITE(r.nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(meas->gate > 0 && r.nis > meas->gate) && !step_is_finite(&r.b)) {
+        return GF_ERR_NONFINITE;
+    }
+    return update1_finish(kf, meas, &r, info);
+}
+
+// gf_kf2_update for any m (used for m = 2), S inverted in closed form.
+KF2_OUTLINE gf_status update_general(gf_kf2 *kf, const gf_kf2_meas *meas,
+                                const gf_vec2 *z, gf_innovation *info)
+{
     const unsigned m = meas->m;
     for (unsigned i = 0; i < m; i++) {
         if (!GF_ISFINITE(meas->C.m[i][0]) || !GF_ISFINITE(meas->C.m[i][1]) ||
@@ -216,4 +403,20 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
         *info = in;
     }
     return GF_OK;
+}
+
+gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
+                        const gf_vec2 *z, gf_innovation *info)
+{
+    if (!kf || !meas || !z || meas->m < 1 || meas->m > 2) {
+        return GF_ERR_ARG;
+    }
+    if (meas->m != 1) {
+        return update_general(kf, meas, z, info);
+    }
+    kf2_update1 r = update1_compute(kf, meas, z);
+    if (!r.b.ok) {
+        return update1_slow(kf, meas, z, info);
+    }
+    return update1_finish(kf, meas, &r, info);
 }
