@@ -85,15 +85,69 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     return GF_OK;
 }
 
+// How the checks stay cheap (as in kf2.c; docs/performance.md): a NaN or
+// inf cannot vanish through + - *, so the finiteness of every input and of
+// the result is tested by one isfinite() of the sum of the outputs. That
+// test can only err on the safe side, and any doubt runs the full checks
+// in the documented order, so failures keep their statuses.
+#if defined(__GNUC__)
+#define EKF3_INLINE static inline __attribute__((always_inline))
+#define EKF3_SLOW static __attribute__((noinline, cold))
+#define EKF3_OUTLINE static __attribute__((noinline))
+#else
+#define EKF3_INLINE static inline
+#define EKF3_SLOW static
+#define EKF3_OUTLINE static
+#endif
+
+// The angle a wrapped to (-pi, pi], with the common case inline.
+EKF3_INLINE gf_real wrap(gf_real a)
+{
+    return (a > -GF_PI && a <= GF_PI) ? a : gf_angle_wrap(a);
+}
+
+// A cheap sufficient test that R is a covariance: exactly symmetric and
+// diagonally dominant (r_ii >= sum of |r_ij| over j != i: PSD by
+// Gershgorin), the usual shape of a process noise. NaN fails it; inf may
+// pass (it then reaches Sigma_bar and the isfinite() of the outputs).
+// Whatever it rejects goes to gf_mat3_check_psd, the exact test (all
+// principal minors, symmetry within GF_SYM_RTOL).
+EKF3_INLINE int psd3_quick(const gf_mat3 *R)
+{
+    const gf_real(*r)[3] = R->m;
+    const gf_real b = GF_FABS(r[0][1]), c = GF_FABS(r[0][2]);
+    const gf_real e = GF_FABS(r[1][2]);
+    return GF_FABS(r[0][1] - r[1][0]) + GF_FABS(r[0][2] - r[2][0]) +
+                   GF_FABS(r[1][2] - r[2][1]) <= 0 &&
+           r[0][0] >= b + c && r[1][1] >= b + e && r[2][2] >= c + e;
+}
+
+// Why a prediction whose outputs were not all finite failed, in the order
+// gf_ekf3_predict reports it; GF_OK if only the cheap test doubted.
+EKF3_SLOW gf_status predict_diagnose(const gf_ekf3_motion *motion,
+                                     const gf_vec3 *mu, const gf_mat3 *G)
+{
+    gf_status st = gf_mat3_check_psd(&motion->R, 3);
+    if (st != GF_OK) {
+        return st;
+    }
+    return (vec3_is_finite(mu, 3) && gf_mat3_is_finite(G)) ? GF_OK
+                                                          : GF_ERR_NONFINITE;
+}
+
 gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
                           const gf_real *u)
 {
     if (!ekf || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_mat3_check_psd(&motion->R, 3);
-    if (st != GF_OK) {
-        return st;
+    const gf_mat3 *R = &motion->R;
+    gf_status st;
+    if (!psd3_quick(R)) {
+        st = gf_mat3_check_psd(R, 3);
+        if (st != GF_OK) {
+            return st;
+        }
     }
 
     // mu_bar = g(u, mu), G = dg/dx at mu
@@ -101,33 +155,76 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     st = motion->g(motion->ctx, &ekf->mu, u, &mu, &G);
     if (st != GF_OK) {
-        return callback_status(st);
+        gf_status rs = gf_mat3_check_psd(R, 3); // inf in R comes first
+        return rs != GF_OK ? rs : callback_status(st);
     }
-    if (!vec3_is_finite(&mu, 3) || !gf_mat3_is_finite(&G)) {
-        return GF_ERR_NONFINITE;
-    }
-    mu.v[2] = gf_angle_wrap(mu.v[2]);
+    mu.v[2] = wrap(mu.v[2]);
 
-    // Sigma_bar = G Sigma G^T + R
-    gf_mat3 sigma;
-    gf_mat3_sandwich(&G, &ekf->sigma, &sigma);
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) {
-            sigma.m[i][j] += motion->R.m[i][j];
+    // Sigma_bar = G Sigma G^T + R; Sigma symmetric: 6 unique entries.
+    const gf_mat3 *S = &ekf->sigma;
+    const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
+    const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
+    gf_real n00, n01, n02, n11, n12, n22;
+    gf_real(*g)[3] = G.m;
+    if (GF_FABS(g[0][1]) + GF_FABS(g[1][0]) + GF_FABS(g[2][0]) +
+            GF_FABS(g[2][1]) + GF_FABS(g[0][0] - 1) + GF_FABS(g[1][1] - 1) +
+            GF_FABS(g[2][2] - 1) <= 0) {
+        // G = I + a e0 e2^T + b e1 e2^T, the form of every motion that moves
+        // the position by a heading-dependent step (the built-in one, eq.
+        // 4.1): then Sigma_bar needs 16 flops, not 75. (NaN fails the test.)
+        const gf_real a = g[0][2], b = g[1][2];
+        const gf_real t02 = s02 + a * s22, t12 = s12 + b * s22;
+        n00 = s00 + a * s02 + a * t02;
+        n01 = s01 + a * s12 + b * t02;
+        n02 = t02;
+        n11 = s11 + b * s12 + b * t12;
+        n12 = t12;
+        n22 = s22;
+    } else {
+        gf_mat3 n;
+        gf_mat3_sandwich(&G, S, &n);
+        n00 = n.m[0][0];
+        n01 = n.m[0][1];
+        n02 = n.m[0][2];
+        n11 = n.m[1][1];
+        n12 = n.m[1][2];
+        n22 = n.m[2][2];
+    }
+    n00 += R->m[0][0];
+    n01 += R->m[0][1];
+    n02 += R->m[0][2];
+    n11 += R->m[1][1];
+    n12 += R->m[1][2];
+    n22 += R->m[2][2];
+
+    // mu_bar and G reach the outputs, so do R's upper entries (its lower
+    // ones passed the exact symmetry test or gf_mat3_check_psd).
+    if (!GF_ISFINITE(mu.v[0] + mu.v[1] + mu.v[2] + n00 + n01 + n02 + n11 +
+                     n12 + n22)) {
+        st = predict_diagnose(motion, &mu, &G);
+        if (st != GF_OK) {
+            return st;
+        }
+        if (!(vec3_is_finite(&mu, 3) && GF_ISFINITE(n00) &&
+              GF_ISFINITE(n01) && GF_ISFINITE(n02) && GF_ISFINITE(n11) &&
+              GF_ISFINITE(n12) && GF_ISFINITE(n22))) {
+            return GF_ERR_NONFINITE; // overflow: keep the last good belief
         }
     }
-    gf_mat3_symmetrize(&sigma);
-
-    if (!gf_mat3_is_finite(&sigma)) {
-        return GF_ERR_NONFINITE;
-    }
     ekf->mu = mu;
-    ekf->sigma = sigma;
+    gf_real(*o)[3] = ekf->sigma.m;
+    o[0][0] = n00;
+    o[0][1] = o[1][0] = n01;
+    o[0][2] = o[2][0] = n02;
+    o[1][1] = n11;
+    o[1][2] = o[2][1] = n12;
+    o[2][2] = n22;
     return GF_OK;
 }
 
-gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                         const gf_vec3 *z, gf_innovation *info)
+// gf_ekf3_update for any m (used for m = 2 and 3): Cholesky of S.
+EKF3_OUTLINE gf_status update_general(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                      const gf_vec3 *z, gf_innovation *info)
 {
     if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
         return GF_ERR_ARG;
@@ -262,4 +359,166 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         *info = in;
     }
     return GF_OK;
+}
+
+// A scalar update's results, before anything is written.
+typedef struct ekf3_update1 {
+    gf_real s, y, nis;
+    gf_real m[3];
+    gf_real n00, n01, n02, n11, n12, n22;
+} ekf3_update1;
+
+// A scalar update from z_hat and the row h = H: S is a number, so no
+// factorisation and no solve.
+EKF3_INLINE ekf3_update1 update1_compute(const gf_ekf3 *ekf,
+                                         const gf_ekf3_meas *meas,
+                                         const gf_vec3 *z, gf_real zh,
+                                         const gf_real *h)
+{
+    const gf_mat3 *S = &ekf->sigma;
+    const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
+    const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
+    const gf_real h0 = h[0], h1 = h[1], h2 = h[2];
+    ekf3_update1 r;
+
+    // p = Sigma_bar H^T, s = H p + Q
+    const gf_real p0 = s00 * h0 + s01 * h1 + s02 * h2;
+    const gf_real p1 = s01 * h0 + s11 * h1 + s12 * h2;
+    const gf_real p2 = s02 * h0 + s12 * h1 + s22 * h2;
+    r.s = meas->Q.m[0][0] + (h0 * p0 + h1 * p1 + h2 * p2);
+    const gf_real si = GF_R(1.0) / r.s;
+    // y = z - h(mu_bar) (wrapped if an angle), NIS = y s^-1 y
+    r.y = z->v[0] - zh;
+    if (meas->angle_mask & 1u) {
+        r.y = wrap(r.y);
+    }
+    r.nis = r.y * si * r.y;
+    // K = p s^-1, mu = mu_bar + K y
+    const gf_real k0 = p0 * si, k1 = p1 * si, k2 = p2 * si;
+    r.m[0] = ekf->mu.v[0] + k0 * r.y;
+    r.m[1] = ekf->mu.v[1] + k1 * r.y;
+    r.m[2] = wrap(ekf->mu.v[2] + k2 * r.y);
+    // Joseph form multiplied out for a scalar measurement, as in kf2.c:
+    // Sigma = Sigma_bar - K p^T - p K^T + s K K^T
+    //       = Sigma_bar - p K^T + K w^T,  w = s K - p;
+    // the upper triangle, mirrored on commit.
+    const gf_real w0 = r.s * k0 - p0, w1 = r.s * k1 - p1;
+    const gf_real w2 = r.s * k2 - p2;
+    r.n00 = s00 - p0 * k0 + k0 * w0;
+    r.n01 = s01 - p0 * k1 + k0 * w1;
+    r.n02 = s02 - p0 * k2 + k0 * w2;
+    r.n11 = s11 - p1 * k1 + k1 * w1;
+    r.n12 = s12 - p1 * k2 + k1 * w2;
+    r.n22 = s22 - p2 * k2 + k2 * w2;
+    return r;
+}
+
+// The rest of a scalar update once its checks have passed: the gate, then
+// the belief and info.
+static gf_status update1_finish(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                const ekf3_update1 *r, gf_innovation *info)
+{
+    gf_innovation in;
+    in.m = 1;
+    in.y[0] = r->y;
+    in.y[1] = in.y[2] = 0;
+    in.nis = r->nis;
+    if (meas->gate > 0 && r->nis > meas->gate) {
+        if (info) {
+            *info = in;
+        }
+        return GF_ERR_GATED;
+    }
+    ekf->mu.v[0] = r->m[0];
+    ekf->mu.v[1] = r->m[1];
+    ekf->mu.v[2] = r->m[2];
+    gf_real(*o)[3] = ekf->sigma.m;
+    o[0][0] = r->n00;
+    o[0][1] = o[1][0] = r->n01;
+    o[0][2] = o[2][0] = r->n02;
+    o[1][1] = r->n11;
+    o[1][2] = o[2][1] = r->n12;
+    o[2][2] = r->n22;
+    if (info) {
+        *info = in;
+    }
+    return GF_OK;
+}
+
+// The checks gf_ekf3_update makes before it calls h, in its order.
+static gf_status update_prechecks(const gf_ekf3_meas *meas, const gf_vec3 *z)
+{
+    if (!vec3_is_finite(z, meas->m) || !GF_ISFINITE(meas->gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    return gf_mat3_check_psd(&meas->Q, meas->m);
+}
+
+// A scalar update the cheap test doubted: every check in the documented
+// order, then the same computation again.
+EKF3_SLOW gf_status update1_slow(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                 const gf_vec3 *z, gf_innovation *info,
+                                 gf_real zh, const gf_real *h)
+{
+    gf_status st = update_prechecks(meas, z);
+    if (st != GF_OK) {
+        return st;
+    }
+    if (!(GF_ISFINITE(zh) && GF_ISFINITE(h[0]) && GF_ISFINITE(h[1]) &&
+          GF_ISFINITE(h[2]))) {
+        return GF_ERR_NONFINITE;
+    }
+    ekf3_update1 r = update1_compute(ekf, meas, z, zh, h);
+    if (!GF_ISFINITE(r.s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(r.s > 0)) {
+        return GF_ERR_SINGULAR;
+    }
+    if (!GF_ISFINITE(r.nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(meas->gate > 0 && r.nis > meas->gate) &&
+        !(GF_ISFINITE(r.m[0]) && GF_ISFINITE(r.m[1]) && GF_ISFINITE(r.m[2]) &&
+          GF_ISFINITE(r.n00) && GF_ISFINITE(r.n01) && GF_ISFINITE(r.n02) &&
+          GF_ISFINITE(r.n11) && GF_ISFINITE(r.n12) && GF_ISFINITE(r.n22))) {
+        return GF_ERR_NONFINITE;
+    }
+    return update1_finish(ekf, meas, &r, info);
+}
+
+gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                         const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
+        return GF_ERR_ARG;
+    }
+    if (meas->m != 1) {
+        return update_general(ekf, meas, z, info);
+    }
+    // z_hat = h(mu_bar), H = dh/dx at mu_bar; only row 0 is read for m = 1
+    // (the model may write the others; they are ignored, as in the general
+    // path).
+    gf_vec3 zh;
+    gf_mat3 H;
+    zh.v[0] = 0;
+    H.m[0][0] = H.m[0][1] = H.m[0][2] = 0;
+    gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    if (st != GF_OK) {
+        gf_status pre = update_prechecks(meas, z);
+        return pre != GF_OK ? pre : callback_status(st);
+    }
+    ekf3_update1 r = update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
+    // z, Q and the model's z_hat and H reach s or the NIS; si > 0 fails
+    // for s = inf or NaN; see gf_ekf3_predict.
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    if (!(q >= 0 && gate >= 0 && r.s > 0 && GF_R(1.0) / r.s > 0 &&
+          GF_ISFINITE(r.nis + gate + r.m[0] + r.m[1] + r.m[2] + r.n00 +
+                      r.n01 + r.n02 + r.n11 + r.n12 + r.n22))) {
+        return update1_slow(ekf, meas, z, info, zh.v[0], H.m[0]);
+    }
+    return update1_finish(ekf, meas, &r, info);
 }
