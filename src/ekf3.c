@@ -1,5 +1,12 @@
 #include "gaussfilt/ekf3.h"
 
+// gcc's basic-block vectorizer (on at -O2 since gcc 12) packs these scalar
+// formulas into SSE2 pairs with more shuffles than it saves: scripts/bench
+// counts more instructions and time per step with it. Off for this file.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-tree-slp-vectorize")
+#endif
+
 static int vec3_is_finite(const gf_vec3 *x, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
@@ -363,7 +370,7 @@ EKF3_OUTLINE gf_status update_general(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
 
 // A scalar update's results, before anything is written.
 typedef struct ekf3_update1 {
-    gf_real s, y, nis;
+    gf_real s, si, y, nis;
     gf_real m[3];
     gf_real n00, n01, n02, n11, n12, n22;
 } ekf3_update1;
@@ -387,6 +394,7 @@ EKF3_INLINE ekf3_update1 update1_compute(const gf_ekf3 *ekf,
     const gf_real p2 = s02 * h0 + s12 * h1 + s22 * h2;
     r.s = meas->Q.m[0][0] + (h0 * p0 + h1 * p1 + h2 * p2);
     const gf_real si = GF_R(1.0) / r.s;
+    r.si = si;
     // y = z - h(mu_bar) (wrapped if an angle), NIS = y s^-1 y
     r.y = z->v[0] - zh;
     if (meas->angle_mask & 1u) {
@@ -512,10 +520,10 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return pre != GF_OK ? pre : callback_status(st);
     }
     ekf3_update1 r = update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
-    // z, Q and the model's z_hat and H reach s or the NIS; si > 0 fails
-    // for s = inf or NaN; see gf_ekf3_predict.
+    // z, Q and the model's z_hat and H reach s or the NIS. s^-1 > 0 fails
+    // for s < 0, -0, inf and NaN; s = +0 gives an infinite NIS.
     const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    if (!(q >= 0 && gate >= 0 && r.s > 0 && GF_R(1.0) / r.s > 0 &&
+    if (!(q >= 0 && gate >= 0 && r.si > 0 &&
           GF_ISFINITE(r.nis + gate + r.m[0] + r.m[1] + r.m[2] + r.n00 +
                       r.n01 + r.n02 + r.n11 + r.n12 + r.n22))) {
         return update1_slow(ekf, meas, z, info, zh.v[0], H.m[0]);

@@ -1,5 +1,12 @@
 #include "gaussfilt/kf2.h"
 
+// gcc's basic-block vectorizer (on at -O2 since gcc 12) packs these scalar
+// formulas into SSE2 pairs with more shuffles than it saves: scripts/bench
+// counts more instructions and time per step with it. Off for this file.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-tree-slp-vectorize")
+#endif
+
 static int vec2_is_finite(const gf_vec2 *x)
 {
     return GF_ISFINITE(x->v[0]) && GF_ISFINITE(x->v[1]);
