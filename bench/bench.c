@@ -37,12 +37,13 @@
 // ---- the arithmetic floor ------------------------------------------------
 //
 // Floating-point operations (+ - * / each count one) that a hand-unrolled
-// scalar implementation of one step must do, with the matrices as general as
-// the workload states them (A, G general; C, H general rows; R, Sigma
-// symmetric, so only their 3 or 6 unique entries are formed), no Joseph
-// form, no checks, no NIS, no constant terms (zero in W1/W2). sin and cos of
-// the motion model are not counted as flops (their libm cost is counted in
-// the instructions). Derivation, term by term, in docs/performance.md.
+// scalar implementation of one step must do: A general; C and H general
+// rows; R and Sigma symmetric, so only their 3 or 6 unique entries are
+// formed; G of the shape the built-in motion gives (identity but for
+// G[0][2], G[1][2]: a general G would need 88 flops in W2's predict, not
+// 29); no Joseph form, no checks, no NIS, no constant terms (zero in W1 and
+// W2). sin and cos of the motion model are not counted as flops (their
+// libm cost is in the instructions). Derivation: docs/performance.md.
 //
 // W1 predict: mu = A mu (6); T = A Sigma (12); T A^T, 3 entries (9); +R (3)
 #define FLOOR_W1_PREDICT 30
@@ -50,8 +51,8 @@
 //            K = p/s (2); mu += K y (4); Sigma -= K p^T, 3 entries (6)
 #define FLOOR_W1_UPDATE 27
 // W2 predict: model: x + d cos, y + d sin, theta + phi, -d sin, d cos (7);
-//             T = G Sigma (45); T G^T, 6 entries (30); +R (6)
-#define FLOOR_W2_PREDICT 88
+//             G Sigma G^T for that G, 6 entries (16); +R (6)
+#define FLOOR_W2_PREDICT 29
 // W2 update: p = Sigma H^T (15); s = H p + Q (6); y = z - x (1); 1/s (1);
 //            K = p/s (3); mu += K y (6); Sigma -= K p^T, 6 entries (12)
 #define FLOOR_W2_UPDATE 44

@@ -56,27 +56,50 @@ void ref_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     gf_vec3 mu;
     gf_mat3 G;
     (void)motion->g(motion->ctx, &ekf->mu, u, &mu, &G);
-    const gf_mat3 *S = &ekf->sigma;
+    const gf_mat3 *S = &ekf->sigma, *R = &motion->R;
     const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
     const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
-    gf_real t[3][3];
-    for (int i = 0; i < 3; i++) { // T = G Sigma
-        const gf_real g0 = G.m[i][0], g1 = G.m[i][1], g2 = G.m[i][2];
-        t[i][0] = g0 * s00 + g1 * s01 + g2 * s02;
-        t[i][1] = g0 * s01 + g1 * s11 + g2 * s12;
-        t[i][2] = g0 * s02 + g1 * s12 + g2 * s22;
-    }
-    gf_mat3 n;
-    for (int i = 0; i < 3; i++) { // Sigma = T G^T + R, upper triangle
-        for (int j = i; j < 3; j++) {
-            n.m[i][j] = t[i][0] * G.m[j][0] + t[i][1] * G.m[j][1] +
-                        t[i][2] * G.m[j][2] + motion->R.m[i][j];
-            n.m[j][i] = n.m[i][j];
-        }
+    gf_real n00, n01, n02, n11, n12, n22;
+    const gf_real(*g)[3] = (const gf_real(*)[3])G.m;
+    if (GF_FABS(g[0][1]) + GF_FABS(g[1][0]) + GF_FABS(g[2][0]) +
+            GF_FABS(g[2][1]) + GF_FABS(g[0][0] - 1) + GF_FABS(g[1][1] - 1) +
+            GF_FABS(g[2][2] - 1) <= 0) {
+        // the built-in shape, as the library does it
+        const gf_real a = g[0][2], b = g[1][2];
+        const gf_real t02 = s02 + a * s22, t12 = s12 + b * s22;
+        n00 = s00 + a * s02 + a * t02;
+        n01 = s01 + a * s12 + b * t02;
+        n02 = t02;
+        n11 = s11 + b * s12 + b * t12;
+        n12 = t12;
+        n22 = s22;
+    } else {
+        // T = G Sigma, then the upper triangle of T G^T
+        const gf_real t00 = g[0][0] * s00 + g[0][1] * s01 + g[0][2] * s02;
+        const gf_real t01 = g[0][0] * s01 + g[0][1] * s11 + g[0][2] * s12;
+        const gf_real t02 = g[0][0] * s02 + g[0][1] * s12 + g[0][2] * s22;
+        const gf_real t10 = g[1][0] * s00 + g[1][1] * s01 + g[1][2] * s02;
+        const gf_real t11 = g[1][0] * s01 + g[1][1] * s11 + g[1][2] * s12;
+        const gf_real t12 = g[1][0] * s02 + g[1][1] * s12 + g[1][2] * s22;
+        const gf_real t20 = g[2][0] * s00 + g[2][1] * s01 + g[2][2] * s02;
+        const gf_real t21 = g[2][0] * s01 + g[2][1] * s11 + g[2][2] * s12;
+        const gf_real t22 = g[2][0] * s02 + g[2][1] * s12 + g[2][2] * s22;
+        n00 = t00 * g[0][0] + t01 * g[0][1] + t02 * g[0][2];
+        n01 = t00 * g[1][0] + t01 * g[1][1] + t02 * g[1][2];
+        n02 = t00 * g[2][0] + t01 * g[2][1] + t02 * g[2][2];
+        n11 = t10 * g[1][0] + t11 * g[1][1] + t12 * g[1][2];
+        n12 = t10 * g[2][0] + t11 * g[2][1] + t12 * g[2][2];
+        n22 = t20 * g[2][0] + t21 * g[2][1] + t22 * g[2][2];
     }
     mu.v[2] = wrap(mu.v[2]);
     ekf->mu = mu;
-    ekf->sigma = n;
+    gf_real(*o)[3] = ekf->sigma.m;
+    o[0][0] = n00 + R->m[0][0];
+    o[0][1] = o[1][0] = n01 + R->m[0][1];
+    o[0][2] = o[2][0] = n02 + R->m[0][2];
+    o[1][1] = n11 + R->m[1][1];
+    o[1][2] = o[2][1] = n12 + R->m[1][2];
+    o[2][2] = n22 + R->m[2][2];
 }
 
 void ref_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -86,24 +109,24 @@ void ref_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     gf_mat3 H;
     (void)meas->h(meas->ctx, &ekf->mu, &zh, &H);
     const gf_mat3 *S = &ekf->sigma;
+    const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
+    const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
     const gf_real h0 = H.m[0][0], h1 = H.m[0][1], h2 = H.m[0][2];
-    gf_real p[3];
-    for (int i = 0; i < 3; i++) {
-        p[i] = S->m[i][0] * h0 + S->m[i][1] * h1 + S->m[i][2] * h2;
-    }
+    const gf_real p0 = s00 * h0 + s01 * h1 + s02 * h2;
+    const gf_real p1 = s01 * h0 + s11 * h1 + s12 * h2;
+    const gf_real p2 = s02 * h0 + s12 * h1 + s22 * h2;
     const gf_real si =
-        GF_R(1.0) / (h0 * p[0] + h1 * p[1] + h2 * p[2] + meas->Q.m[0][0]);
+        GF_R(1.0) / (h0 * p0 + h1 * p1 + h2 * p2 + meas->Q.m[0][0]);
     const gf_real y = z->v[0] - zh.v[0];
-    gf_real k[3];
-    for (int i = 0; i < 3; i++) {
-        k[i] = p[i] * si;
-        ekf->mu.v[i] += k[i] * y;
-    }
-    ekf->mu.v[2] = wrap(ekf->mu.v[2]);
-    for (int i = 0; i < 3; i++) {
-        for (int j = i; j < 3; j++) {
-            ekf->sigma.m[i][j] -= k[i] * p[j];
-            ekf->sigma.m[j][i] = ekf->sigma.m[i][j];
-        }
-    }
+    const gf_real k0 = p0 * si, k1 = p1 * si, k2 = p2 * si;
+    ekf->mu.v[0] += k0 * y;
+    ekf->mu.v[1] += k1 * y;
+    ekf->mu.v[2] = wrap(ekf->mu.v[2] + k2 * y);
+    gf_real(*o)[3] = ekf->sigma.m;
+    o[0][0] = s00 - k0 * p0;
+    o[0][1] = o[1][0] = s01 - k0 * p1;
+    o[0][2] = o[2][0] = s02 - k0 * p2;
+    o[1][1] = s11 - k1 * p1;
+    o[1][2] = o[2][1] = s12 - k1 * p2;
+    o[2][2] = s22 - k2 * p2;
 }

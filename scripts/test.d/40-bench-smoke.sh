@@ -13,10 +13,11 @@ for prec in double float; do
     dir=$GF_BUILD/bench-smoke-$prec
     cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release \
         -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" -DGAUSSFILT_BUILD_BENCH=ON \
-        -DGAUSSFILT_BUILD_TESTS=OFF -DGAUSSFILT_SINGLE_PRECISION=$single >/dev/null
+        -DGAUSSFILT_BUILD_TESTS=OFF -DGAUSSFILT_BUILD_EXAMPLES=OFF \
+        -DGAUSSFILT_SINGLE_PRECISION=$single >/dev/null
     cmake --build "$dir" --parallel 2 >/dev/null
     for wl in w1 w2; do
-        for part in step predict update; do
+        for part in step predict update ref; do
             "$dir/bench/gf_bench" count "$wl" "$part" 2500
             "$dir/bench/gf_bench" time "$wl" "$part" 100 3 >/dev/null
             "$dir/bench/gf_bench" floor "$wl" "$part" >/dev/null
