@@ -53,13 +53,17 @@ gf_fw_link_check() {
     bad=$("$nm" "$dir/gf_fw_min.elf" | awk '{print $NF}' |
         grep -Ex "$GF_FW_FORBIDDEN" | tr '\n' ' ' || true)
     [ -z "$bad" ] || gf_die "$target: the KF2+EKF3 image links $bad"
+    # In the float build a double libm call or soft-double helper means a
+    # float was promoted somewhere.
+    if grep -q 'GAUSSFILT_SINGLE_PRECISION:BOOL=ON' "$dir/CMakeCache.txt"; then
+        bad=$("$nm" "$dir/gf_fw_min.elf" | awk '{print $NF}' |
+            grep -Ex '__aeabi_d[a-z0-9]+|__[a-z]+df[0-9]|(sin|cos|sqrt|ceil|floor|atan2|log|fabs)' |
+            tr '\n' ' ' || true)
+        [ -z "$bad" ] || gf_die "$target (float): double arithmetic pulled in: $bad"
+        echo "$target (float): no double libm function or soft-double helper"
+    fi
     echo "$target: KF2+EKF3 image links no malloc/free/printf/exit;" \
-        "from the C library: $(gf_fw_libc_symbols "$dir/gf_fw_min.map" | tr '\n' ' ')"
-}
-
-# gf_fw_libc_symbols MAP: the archive members of libc/libm a link map lists
-# as loaded ("Archive member included"), as lib(member) lines.
-gf_fw_libc_symbols() {
-    grep -oE '/lib(c|m|c_nano|m_nano|g_nano)\.a\([^)]+\)' "$1" |
-        sed -E 's|.*/(lib[a-z_]+)\.a\(|\1(|' | sort -u
+        "functions in it besides the core's: $("$nm" --defined-only "$dir/gf_fw_min.elf" |
+            awk '$2 ~ /^[Tt]$/ && $3 !~ /^(gf_|main$|Reset_Handler$|Fault_Handler$|_start$|\$)/ {print $3}' |
+            sort -u | tr '\n' ' ')"
 }
