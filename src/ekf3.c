@@ -230,8 +230,10 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 }
 
 // gf_ekf3_update for any m (used for m = 2 and 3): Cholesky of S.
-EKF3_OUTLINE gf_status update_general(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                                      const gf_vec3 *z, gf_innovation *info)
+EKF3_OUTLINE gf_status ekf3_update_general(gf_ekf3 *ekf,
+                                           const gf_ekf3_meas *meas,
+                                           const gf_vec3 *z,
+                                           gf_innovation *info)
 {
     if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
         return GF_ERR_ARG;
@@ -377,10 +379,10 @@ typedef struct ekf3_update1 {
 
 // A scalar update from z_hat and the row h = H: S is a number, so no
 // factorisation and no solve.
-EKF3_INLINE ekf3_update1 update1_compute(const gf_ekf3 *ekf,
-                                         const gf_ekf3_meas *meas,
-                                         const gf_vec3 *z, gf_real zh,
-                                         const gf_real *h)
+EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
+                                              const gf_ekf3_meas *meas,
+                                              const gf_vec3 *z, gf_real zh,
+                                              const gf_real *h)
 {
     const gf_mat3 *S = &ekf->sigma;
     const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
@@ -423,8 +425,10 @@ EKF3_INLINE ekf3_update1 update1_compute(const gf_ekf3 *ekf,
 
 // The rest of a scalar update once its checks have passed: the gate, then
 // the belief and info.
-static gf_status update1_finish(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                                const ekf3_update1 *r, gf_innovation *info)
+static gf_status ekf3_update1_finish(gf_ekf3 *ekf,
+                                     const gf_ekf3_meas *meas,
+                                     const ekf3_update1 *r,
+                                     gf_innovation *info)
 {
     gf_innovation in;
     in.m = 1;
@@ -467,9 +471,10 @@ static gf_status update_prechecks(const gf_ekf3_meas *meas, const gf_vec3 *z)
 
 // A scalar update the cheap test doubted: every check in the documented
 // order, then the same computation again.
-EKF3_SLOW gf_status update1_slow(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                                 const gf_vec3 *z, gf_innovation *info,
-                                 gf_real zh, const gf_real *h)
+EKF3_SLOW gf_status ekf3_update1_slow(gf_ekf3 *ekf,
+                                      const gf_ekf3_meas *meas,
+                                      const gf_vec3 *z, gf_innovation *info,
+                                      gf_real zh, const gf_real *h)
 {
     gf_status st = update_prechecks(meas, z);
     if (st != GF_OK) {
@@ -479,7 +484,7 @@ EKF3_SLOW gf_status update1_slow(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
           GF_ISFINITE(h[2]))) {
         return GF_ERR_NONFINITE;
     }
-    ekf3_update1 r = update1_compute(ekf, meas, z, zh, h);
+    ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, zh, h);
     if (!GF_ISFINITE(r.s)) {
         return GF_ERR_NONFINITE;
     }
@@ -495,7 +500,7 @@ EKF3_SLOW gf_status update1_slow(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
           GF_ISFINITE(r.n11) && GF_ISFINITE(r.n12) && GF_ISFINITE(r.n22))) {
         return GF_ERR_NONFINITE;
     }
-    return update1_finish(ekf, meas, &r, info);
+    return ekf3_update1_finish(ekf, meas, &r, info);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -505,7 +510,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return GF_ERR_ARG;
     }
     if (meas->m != 1) {
-        return update_general(ekf, meas, z, info);
+        return ekf3_update_general(ekf, meas, z, info);
     }
     // z_hat = h(mu_bar), H = dh/dx at mu_bar; only row 0 is read for m = 1
     // (the model may write the others; they are ignored, as in the general
@@ -519,14 +524,14 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         gf_status pre = update_prechecks(meas, z);
         return pre != GF_OK ? pre : callback_status(st);
     }
-    ekf3_update1 r = update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
+    ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
     // z, Q and the model's z_hat and H reach s or the NIS. s^-1 > 0 fails
     // for s < 0, -0, inf and NaN; s = +0 gives an infinite NIS.
     const gf_real q = meas->Q.m[0][0], gate = meas->gate;
     if (!(q >= 0 && gate >= 0 && r.si > 0 &&
           GF_ISFINITE(r.nis + gate + r.m[0] + r.m[1] + r.m[2] + r.n00 +
                       r.n01 + r.n02 + r.n11 + r.n12 + r.n22))) {
-        return update1_slow(ekf, meas, z, info, zh.v[0], H.m[0]);
+        return ekf3_update1_slow(ekf, meas, z, info, zh.v[0], H.m[0]);
     }
-    return update1_finish(ekf, meas, &r, info);
+    return ekf3_update1_finish(ekf, meas, &r, info);
 }
