@@ -98,7 +98,9 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
 // the result is tested by one isfinite() of the sum of the outputs. That
 // test can only err on the safe side, and any doubt runs the full checks
 // in the documented order, so failures keep their statuses.
-#if defined(__GNUC__)
+// Under -Os the computations are left to the compiler (one copy, called),
+// which keeps the flash cost of the slow paths small.
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define EKF3_INLINE static inline __attribute__((always_inline))
 #define EKF3_SLOW static __attribute__((noinline, cold))
 #define EKF3_OUTLINE static __attribute__((noinline))

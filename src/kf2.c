@@ -43,10 +43,11 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 // success. The fast path then needs no stack frame: the slow one is a tail
 // call.
 
-// The computations are inlined into both paths; the fast path must not pay
-// for a call.
-// The slow paths stay out of line, so the fast path needs no frame.
-#if defined(__GNUC__)
+// The computations are inlined into both paths, so the fast path does not
+// pay for a call, and the slow paths stay out of line, so it needs no frame.
+// Under -Os all this is left to the compiler (one copy of each computation,
+// called), which keeps the flash cost of the slow paths small.
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define KF2_INLINE static inline __attribute__((always_inline))
 #define KF2_SLOW static __attribute__((noinline, cold))
 #define KF2_OUTLINE static __attribute__((noinline))

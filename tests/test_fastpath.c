@@ -256,7 +256,9 @@ static gf_status motion_general(void *ctx, const gf_vec3 *mu,
                                 gf_mat3 *G)
 {
     (void)ctx;
-    const gf_real th = mu->v[2], c = GF_COS(th), s = GF_SIN(th);
+    const gf_real th = mu->v[2];
+    gf_real s, c;
+    gf_sincos(th, &s, &c);
     mu_bar->v[0] = GF_R(0.9) * mu->v[0] + u[0] * c;
     mu_bar->v[1] = mu->v[1] + u[0] * s + GF_R(0.1) * mu->v[0];
     mu_bar->v[2] = th + u[1];
