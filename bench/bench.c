@@ -43,7 +43,7 @@
 // G[0][2], G[1][2]: a general G would need 88 flops in W2's predict, not
 // 29); no Joseph form, no checks, no NIS, no constant terms (zero in W1 and
 // W2). sin and cos of the motion model are not counted as flops (their
-// libm cost is in the instructions). Derivation: docs/performance.md.
+// cost, gf_sincos, is in the instructions). Derivation: docs/performance.md.
 //
 // W1 predict: mu = A mu (6); T = A Sigma (12); T A^T, 3 entries (9); +R (3)
 #define FLOOR_W1_PREDICT 30
