@@ -17,7 +17,8 @@
 //   gf_bench time WL PART N R  R timed runs of N iterations; prints the
 //                              median, min and max ns per iteration
 //   gf_bench floor WL PART     prints the hand-counted flop floor
-// WL is w1 or w2, PART is step, predict, update or ref (the step done by
+// WL is w1, w2, or w2c (W2 with the caller's own copies of the two models,
+// which take the core's general path); PART is step, predict, update or ref (the step done by
 // the no-checks reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
@@ -37,13 +38,14 @@
 // ---- the arithmetic floor ------------------------------------------------
 //
 // Floating-point operations (+ - * / each count one) that a hand-unrolled
-// scalar implementation of one step must do: A general; C and H general
-// rows; R and Sigma symmetric, so only their 3 or 6 unique entries are
-// formed; G of the shape the built-in motion gives (identity but for
-// G[0][2], G[1][2]: a general G would need 88 flops in W2's predict, not
-// 29); no Joseph form, no checks, no NIS, no constant terms (zero in W1 and
-// W2). sin and cos of the motion model are not counted as flops (their
-// cost, gf_sincos, is in the instructions). Derivation: docs/performance.md.
+// scalar implementation of one step must do, knowing what the library can
+// know: matrices passed as data are general (A; C a general row; R and
+// Sigma symmetric, so only their 3 or 6 unique entries are formed), the
+// built-in models' structure is known (G = I but for G[0][2] and G[1][2];
+// H = (1 0 0)). No Joseph form, no checks, no NIS, no constant terms (zero
+// in W1 and W2). sin and cos of the motion are not counted as flops (their
+// cost, gf_sincos, is in the instructions). Derivation, and the counts for
+// general G and H: docs/performance.md.
 //
 // W1 predict: mu = A mu (6); T = A Sigma (12); T A^T, 3 entries (9); +R (3)
 #define FLOOR_W1_PREDICT 30
@@ -53,9 +55,9 @@
 // W2 predict: model: x + d cos, y + d sin, theta + phi, -d sin, d cos (7);
 //             G Sigma G^T for that G, 6 entries (16); +R (6)
 #define FLOOR_W2_PREDICT 29
-// W2 update: p = Sigma H^T (15); s = H p + Q (6); y = z - x (1); 1/s (1);
-//            K = p/s (3); mu += K y (6); Sigma -= K p^T, 6 entries (12)
-#define FLOOR_W2_UPDATE 44
+// W2 update: p = Sigma's first column (0); s = s00 + Q (1); y = z - x (1);
+//            1/s (1); K = p/s (3); mu += K y (6); Sigma -= K p^T, 6 (12)
+#define FLOOR_W2_UPDATE 24
 
 // ---- the workloads -------------------------------------------------------
 
@@ -139,17 +141,47 @@ static void setup_w1(void)
     }
 }
 
-static void setup_w2(void)
+// W2 with the caller's own callbacks ("w2c"): the same models as the
+// built-ins, written here, so the core cannot recognise them and takes its
+// general path (call through the pointer, G filled and its shape tested).
+static gf_status user_forward_turn(void *ctx, const gf_vec3 *mu,
+                                   const gf_real *u, gf_vec3 *mu_bar,
+                                   gf_mat3 *G)
+{
+    (void)ctx;
+    const gf_real d = u[0], th = mu->v[2];
+    gf_real s, c;
+    gf_sincos(th, &s, &c);
+    mu_bar->v[0] = mu->v[0] + d * c;
+    mu_bar->v[1] = mu->v[1] + d * s;
+    mu_bar->v[2] = th + u[1];
+    G->m[0][2] = -d * s; // the rest of G: identity, preset by the core
+    G->m[1][2] = d * c;
+    return GF_OK;
+}
+
+static gf_status user_meas_x(void *ctx, const gf_vec3 *mu_bar,
+                             gf_vec3 *z_hat, gf_mat3 *H)
+{
+    (void)ctx;
+    z_hat->v[0] = mu_bar->v[0];
+    H->m[0][0] = 1;
+    H->m[0][1] = 0;
+    H->m[0][2] = 0;
+    return GF_OK;
+}
+
+static void setup_w2(int user)
 {
     memset(&w2_motion, 0, sizeof w2_motion);
-    w2_motion.g = gf_ekf3_motion_forward_turn;
+    w2_motion.g = user ? user_forward_turn : gf_ekf3_motion_forward_turn;
     // Process noise: 5 cm along each axis, 0.02 rad of heading per step.
     w2_motion.R.m[0][0] = GF_R(0.0025);
     w2_motion.R.m[1][1] = GF_R(0.0025);
     w2_motion.R.m[2][2] = GF_R(0.0004);
     memset(&w2_meas, 0, sizeof w2_meas);
     w2_meas.m = 1;
-    w2_meas.h = gf_ekf3_meas_x;
+    w2_meas.h = user ? user_meas_x : gf_ekf3_meas_x;
     w2_meas.Q.m[0][0] = GF_R(0.01);
 
     gf_vec3 mu = {{0, 0, 0}};
@@ -331,7 +363,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
-            "       WL = w1 | w2, PART = step | predict | update | ref\n");
+            "       WL = w1 | w2 | w2c, PART = step | predict | update | ref\n");
     return 2;
 }
 
@@ -341,7 +373,8 @@ int main(int argc, char **argv)
         return usage();
     }
     const char *mode = argv[1], *wl = argv[2], *part = argv[3];
-    int w2 = strcmp(wl, "w2") == 0;
+    int user = strcmp(wl, "w2c") == 0;
+    int w2 = user || strcmp(wl, "w2") == 0;
     if (!w2 && strcmp(wl, "w1") != 0) {
         return usage();
     }
@@ -375,7 +408,7 @@ int main(int argc, char **argv)
          bench_loop_w2_ref}};
     loop_fn loop = loops[w2][p];
     if (w2) {
-        setup_w2();
+        setup_w2(user);
     } else {
         setup_w1();
     }

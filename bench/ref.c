@@ -1,7 +1,8 @@
 // The reference the floor is measured by: a hand-unrolled scalar
-// implementation of one step of W1 and W2, on the same structs and model
-// callbacks as the library, with no checks, no Joseph form, no NIS and no
-// constant terms (zero in both workloads). Used only by gf_bench, to show
+// implementation of one step of W1 and W2, on the same structs as the
+// library (W2's two models written in, as the library does for its
+// built-in ones), with no checks, no Joseph form, no NIS and no constant
+// terms (zero in both workloads). Used only by gf_bench, to show
 // what the library's checks and Joseph form cost on this machine. Not
 // library code: it trusts its inputs and returns nothing.
 #include "ref.h"
@@ -53,80 +54,47 @@ static gf_real wrap(gf_real a)
 void ref_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
                       const gf_real *u)
 {
-    gf_vec3 mu;
-    gf_mat3 G;
-    (void)motion->g(motion->ctx, &ekf->mu, u, &mu, &G);
+    // W2's motion written in (a hand implementation of W2 knows its model):
+    // x + d cos, y + d sin, theta + phi; G = I + a e0 e2^T + b e1 e2^T.
+    const gf_real d = u[0], th = ekf->mu.v[2];
+    gf_real s, c;
+    gf_sincos(th, &s, &c);
+    const gf_real a = -d * s, b = d * c;
     const gf_mat3 *S = &ekf->sigma, *R = &motion->R;
     const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
     const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
-    gf_real n00, n01, n02, n11, n12, n22;
-    const gf_real(*g)[3] = (const gf_real(*)[3])G.m;
-    if (GF_FABS(g[0][1]) + GF_FABS(g[1][0]) + GF_FABS(g[2][0]) +
-            GF_FABS(g[2][1]) + GF_FABS(g[0][0] - 1) + GF_FABS(g[1][1] - 1) +
-            GF_FABS(g[2][2] - 1) <= 0) {
-        // the built-in shape, as the library does it
-        const gf_real a = g[0][2], b = g[1][2];
-        const gf_real t02 = s02 + a * s22, t12 = s12 + b * s22;
-        n00 = s00 + a * s02 + a * t02;
-        n01 = s01 + a * s12 + b * t02;
-        n02 = t02;
-        n11 = s11 + b * s12 + b * t12;
-        n12 = t12;
-        n22 = s22;
-    } else {
-        // T = G Sigma, then the upper triangle of T G^T
-        const gf_real t00 = g[0][0] * s00 + g[0][1] * s01 + g[0][2] * s02;
-        const gf_real t01 = g[0][0] * s01 + g[0][1] * s11 + g[0][2] * s12;
-        const gf_real t02 = g[0][0] * s02 + g[0][1] * s12 + g[0][2] * s22;
-        const gf_real t10 = g[1][0] * s00 + g[1][1] * s01 + g[1][2] * s02;
-        const gf_real t11 = g[1][0] * s01 + g[1][1] * s11 + g[1][2] * s12;
-        const gf_real t12 = g[1][0] * s02 + g[1][1] * s12 + g[1][2] * s22;
-        const gf_real t20 = g[2][0] * s00 + g[2][1] * s01 + g[2][2] * s02;
-        const gf_real t21 = g[2][0] * s01 + g[2][1] * s11 + g[2][2] * s12;
-        const gf_real t22 = g[2][0] * s02 + g[2][1] * s12 + g[2][2] * s22;
-        n00 = t00 * g[0][0] + t01 * g[0][1] + t02 * g[0][2];
-        n01 = t00 * g[1][0] + t01 * g[1][1] + t02 * g[1][2];
-        n02 = t00 * g[2][0] + t01 * g[2][1] + t02 * g[2][2];
-        n11 = t10 * g[1][0] + t11 * g[1][1] + t12 * g[1][2];
-        n12 = t10 * g[2][0] + t11 * g[2][1] + t12 * g[2][2];
-        n22 = t20 * g[2][0] + t21 * g[2][1] + t22 * g[2][2];
-    }
-    mu.v[2] = wrap(mu.v[2]);
-    ekf->mu = mu;
+    const gf_real t02 = s02 + a * s22, t12 = s12 + b * s22;
+    ekf->mu.v[0] += d * c;
+    ekf->mu.v[1] += d * s;
+    ekf->mu.v[2] = wrap(th + u[1]);
     gf_real(*o)[3] = ekf->sigma.m;
-    o[0][0] = n00 + R->m[0][0];
-    o[0][1] = o[1][0] = n01 + R->m[0][1];
-    o[0][2] = o[2][0] = n02 + R->m[0][2];
-    o[1][1] = n11 + R->m[1][1];
-    o[1][2] = o[2][1] = n12 + R->m[1][2];
-    o[2][2] = n22 + R->m[2][2];
+    o[0][0] = s00 + a * s02 + a * t02 + R->m[0][0];
+    o[0][1] = o[1][0] = s01 + a * s12 + b * t02 + R->m[0][1];
+    o[0][2] = o[2][0] = t02 + R->m[0][2];
+    o[1][1] = s11 + b * s12 + b * t12 + R->m[1][1];
+    o[1][2] = o[2][1] = t12 + R->m[1][2];
+    o[2][2] = s22 + R->m[2][2];
 }
 
 void ref_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                      const gf_vec3 *z)
 {
-    gf_vec3 zh;
-    gf_mat3 H;
-    (void)meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    // W2's measurement written in: z_hat = x, H = (1 0 0), so p = Sigma's
+    // first column.
     const gf_mat3 *S = &ekf->sigma;
     const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
     const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
-    const gf_real h0 = H.m[0][0], h1 = H.m[0][1], h2 = H.m[0][2];
-    const gf_real p0 = s00 * h0 + s01 * h1 + s02 * h2;
-    const gf_real p1 = s01 * h0 + s11 * h1 + s12 * h2;
-    const gf_real p2 = s02 * h0 + s12 * h1 + s22 * h2;
-    const gf_real si =
-        GF_R(1.0) / (h0 * p0 + h1 * p1 + h2 * p2 + meas->Q.m[0][0]);
-    const gf_real y = z->v[0] - zh.v[0];
-    const gf_real k0 = p0 * si, k1 = p1 * si, k2 = p2 * si;
+    const gf_real si = GF_R(1.0) / (s00 + meas->Q.m[0][0]);
+    const gf_real y = z->v[0] - ekf->mu.v[0];
+    const gf_real k0 = s00 * si, k1 = s01 * si, k2 = s02 * si;
     ekf->mu.v[0] += k0 * y;
     ekf->mu.v[1] += k1 * y;
     ekf->mu.v[2] = wrap(ekf->mu.v[2] + k2 * y);
     gf_real(*o)[3] = ekf->sigma.m;
-    o[0][0] = s00 - k0 * p0;
-    o[0][1] = o[1][0] = s01 - k0 * p1;
-    o[0][2] = o[2][0] = s02 - k0 * p2;
-    o[1][1] = s11 - k1 * p1;
-    o[1][2] = o[2][1] = s12 - k1 * p2;
-    o[2][2] = s22 - k2 * p2;
+    o[0][0] = s00 - k0 * s00;
+    o[0][1] = o[1][0] = s01 - k0 * s01;
+    o[0][2] = o[2][0] = s02 - k0 * s02;
+    o[1][1] = s11 - k1 * s01;
+    o[1][2] = o[2][1] = s12 - k1 * s02;
+    o[2][2] = s22 - k2 * s02;
 }

@@ -145,12 +145,58 @@ EKF3_SLOW gf_status predict_diagnose(const gf_ekf3_motion *motion,
                                                           : GF_ERR_NONFINITE;
 }
 
-gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
-                          const gf_real *u)
+// The unique entries of a symmetric 3x3.
+typedef struct sym3 {
+    gf_real n00, n01, n02, n11, n12, n22;
+} sym3;
+
+// G Sigma G^T + R for G = I + a e0 e2^T + b e1 e2^T, the form of every
+// motion that moves the position by a heading-dependent step (the built-in
+// one, eq. 4.1): 16 flops instead of 75, and 6 for R (upper triangle).
+EKF3_INLINE sym3 shear_sandwich(const gf_mat3 *S, gf_real a, gf_real b,
+                                const gf_mat3 *R)
 {
-    if (!ekf || !motion || !motion->g) {
-        return GF_ERR_ARG;
-    }
+    const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
+    const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
+    const gf_real t02 = s02 + a * s22, t12 = s12 + b * s22;
+    sym3 n;
+    n.n00 = s00 + a * s02 + a * t02 + R->m[0][0];
+    n.n01 = s01 + a * s12 + b * t02 + R->m[0][1];
+    n.n02 = t02 + R->m[0][2];
+    n.n11 = s11 + b * s12 + b * t12 + R->m[1][1];
+    n.n12 = t12 + R->m[1][2];
+    n.n22 = s22 + R->m[2][2];
+    return n;
+}
+
+// Writes a symmetric result, mirrored: exactly symmetric.
+static void sym3_store(gf_mat3 *o, const sym3 *n)
+{
+    o->m[0][0] = n->n00;
+    o->m[0][1] = o->m[1][0] = n->n01;
+    o->m[0][2] = o->m[2][0] = n->n02;
+    o->m[1][1] = n->n11;
+    o->m[1][2] = o->m[2][1] = n->n12;
+    o->m[2][2] = n->n22;
+}
+
+EKF3_INLINE gf_real sym3_sum(const sym3 *n)
+{
+    return n->n00 + n->n01 + n->n02 + n->n11 + n->n12 + n->n22;
+}
+
+static int sym3_is_finite(const sym3 *n)
+{
+    return GF_ISFINITE(n->n00) && GF_ISFINITE(n->n01) &&
+           GF_ISFINITE(n->n02) && GF_ISFINITE(n->n11) &&
+           GF_ISFINITE(n->n12) && GF_ISFINITE(n->n22);
+}
+
+// gf_ekf3_predict with the motion called through its pointer.
+EKF3_OUTLINE gf_status ekf3_predict_callback(gf_ekf3 *ekf,
+                                             const gf_ekf3_motion *motion,
+                                             const gf_real *u)
+{
     const gf_mat3 *R = &motion->R;
     gf_status st;
     if (!psd3_quick(R)) {
@@ -171,64 +217,67 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     mu.v[2] = wrap(mu.v[2]);
 
     // Sigma_bar = G Sigma G^T + R; Sigma symmetric: 6 unique entries.
-    const gf_mat3 *S = &ekf->sigma;
-    const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
-    const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
-    gf_real n00, n01, n02, n11, n12, n22;
+    sym3 n;
     gf_real(*g)[3] = G.m;
     if (GF_FABS(g[0][1]) + GF_FABS(g[1][0]) + GF_FABS(g[2][0]) +
             GF_FABS(g[2][1]) + GF_FABS(g[0][0] - 1) + GF_FABS(g[1][1] - 1) +
-            GF_FABS(g[2][2] - 1) <= 0) {
-        // G = I + a e0 e2^T + b e1 e2^T, the form of every motion that moves
-        // the position by a heading-dependent step (the built-in one, eq.
-        // 4.1): then Sigma_bar needs 16 flops, not 75. (NaN fails the test.)
-        const gf_real a = g[0][2], b = g[1][2];
-        const gf_real t02 = s02 + a * s22, t12 = s12 + b * s22;
-        n00 = s00 + a * s02 + a * t02;
-        n01 = s01 + a * s12 + b * t02;
-        n02 = t02;
-        n11 = s11 + b * s12 + b * t12;
-        n12 = t12;
-        n22 = s22;
+            GF_FABS(g[2][2] - 1) <= 0) { // (NaN fails the test)
+        n = shear_sandwich(&ekf->sigma, g[0][2], g[1][2], R);
     } else {
-        gf_mat3 n;
-        gf_mat3_sandwich(&G, S, &n);
-        n00 = n.m[0][0];
-        n01 = n.m[0][1];
-        n02 = n.m[0][2];
-        n11 = n.m[1][1];
-        n12 = n.m[1][2];
-        n22 = n.m[2][2];
+        gf_mat3 t;
+        gf_mat3_sandwich(&G, &ekf->sigma, &t);
+        n.n00 = t.m[0][0] + R->m[0][0];
+        n.n01 = t.m[0][1] + R->m[0][1];
+        n.n02 = t.m[0][2] + R->m[0][2];
+        n.n11 = t.m[1][1] + R->m[1][1];
+        n.n12 = t.m[1][2] + R->m[1][2];
+        n.n22 = t.m[2][2] + R->m[2][2];
     }
-    n00 += R->m[0][0];
-    n01 += R->m[0][1];
-    n02 += R->m[0][2];
-    n11 += R->m[1][1];
-    n12 += R->m[1][2];
-    n22 += R->m[2][2];
 
     // mu_bar and G reach the outputs, so do R's upper entries (its lower
     // ones passed the exact symmetry test or gf_mat3_check_psd).
-    if (!GF_ISFINITE(mu.v[0] + mu.v[1] + mu.v[2] + n00 + n01 + n02 + n11 +
-                     n12 + n22)) {
+    if (!GF_ISFINITE(mu.v[0] + mu.v[1] + mu.v[2] + sym3_sum(&n))) {
         st = predict_diagnose(motion, &mu, &G);
         if (st != GF_OK) {
             return st;
         }
-        if (!(vec3_is_finite(&mu, 3) && GF_ISFINITE(n00) &&
-              GF_ISFINITE(n01) && GF_ISFINITE(n02) && GF_ISFINITE(n11) &&
-              GF_ISFINITE(n12) && GF_ISFINITE(n22))) {
+        if (!vec3_is_finite(&mu, 3) || !sym3_is_finite(&n)) {
             return GF_ERR_NONFINITE; // overflow: keep the last good belief
         }
     }
     ekf->mu = mu;
-    gf_real(*o)[3] = ekf->sigma.m;
-    o[0][0] = n00;
-    o[0][1] = o[1][0] = n01;
-    o[0][2] = o[2][0] = n02;
-    o[1][1] = n11;
-    o[1][2] = o[2][1] = n12;
-    o[2][2] = n22;
+    sym3_store(&ekf->sigma, &n);
+    return GF_OK;
+}
+
+gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+                          const gf_real *u)
+{
+    if (!ekf || !motion || !motion->g) {
+        return GF_ERR_ARG;
+    }
+    if (motion->g != gf_ekf3_motion_forward_turn || !u ||
+        !psd3_quick(&motion->R)) {
+        return ekf3_predict_callback(ekf, motion, u);
+    }
+    // The built-in motion, inline: the formulas of
+    // gf_ekf3_motion_forward_turn, with its Jacobian's shape known, so no
+    // call through the pointer, no G to fill and test. Same results to the
+    // bit. Any doubt (a non-finite sum) goes the callback way, which finds
+    // the status.
+    const gf_real d = u[0], phi = u[1], th = ekf->mu.v[2];
+    gf_real s, c;
+    gf_sincos(th, &s, &c);
+    const gf_real m0 = ekf->mu.v[0] + d * c, m1 = ekf->mu.v[1] + d * s;
+    const gf_real m2 = wrap(th + phi);
+    sym3 n = shear_sandwich(&ekf->sigma, -d * s, d * c, &motion->R);
+    if (!GF_ISFINITE(m0 + m1 + m2 + sym3_sum(&n))) {
+        return ekf3_predict_callback(ekf, motion, u);
+    }
+    ekf->mu.v[0] = m0;
+    ekf->mu.v[1] = m1;
+    ekf->mu.v[2] = m2;
+    sym3_store(&ekf->sigma, &n);
     return GF_OK;
 }
 
@@ -380,8 +429,9 @@ typedef struct ekf3_update1 {
     gf_real n00, n01, n02, n11, n12, n22;
 } ekf3_update1;
 
-// A scalar update from z_hat and the row h = H: S is a number, so no
-// factorisation and no solve.
+// A scalar update from z_hat and the row h = H (NULL: H = (1 0 0), the
+// built-in measurement of x): S is a number, so no factorisation and no
+// solve.
 EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
                                               const gf_ekf3_meas *meas,
                                               const gf_vec3 *z, gf_real zh,
@@ -390,14 +440,22 @@ EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
     const gf_mat3 *S = &ekf->sigma;
     const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
     const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
-    const gf_real h0 = h[0], h1 = h[1], h2 = h[2];
     ekf3_update1 r;
+    gf_real p0, p1, p2;
 
     // p = Sigma_bar H^T, s = H p + Q
-    const gf_real p0 = s00 * h0 + s01 * h1 + s02 * h2;
-    const gf_real p1 = s01 * h0 + s11 * h1 + s12 * h2;
-    const gf_real p2 = s02 * h0 + s12 * h1 + s22 * h2;
-    r.s = meas->Q.m[0][0] + (h0 * p0 + h1 * p1 + h2 * p2);
+    if (h) {
+        const gf_real h0 = h[0], h1 = h[1], h2 = h[2];
+        p0 = s00 * h0 + s01 * h1 + s02 * h2;
+        p1 = s01 * h0 + s11 * h1 + s12 * h2;
+        p2 = s02 * h0 + s12 * h1 + s22 * h2;
+        r.s = meas->Q.m[0][0] + (h0 * p0 + h1 * p1 + h2 * p2);
+    } else { // H = (1 0 0): the same values, without the zero products
+        p0 = s00;
+        p1 = s01;
+        p2 = s02;
+        r.s = meas->Q.m[0][0] + s00;
+    }
     const gf_real si = GF_R(1.0) / r.s;
     r.si = si;
     // y = z - h(mu_bar) (wrapped if an angle), NIS = y s^-1 y
@@ -424,6 +482,18 @@ EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
     r.n12 = s12 - p1 * k2 + k1 * w2;
     r.n22 = s22 - p2 * k2 + k2 * w2;
     return r;
+}
+
+// The cheap test of a scalar update: z, Q and the model's z_hat and H
+// reach s or the NIS; s^-1 > 0 fails for s < 0, -0, inf and NaN (s = +0
+// gives an infinite NIS); see gf_ekf3_predict.
+EKF3_INLINE int ekf3_update1_ok(const gf_ekf3_meas *meas,
+                                const ekf3_update1 *r)
+{
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    return q >= 0 && gate >= 0 && r->si > 0 &&
+           GF_ISFINITE(r->nis + gate + r->m[0] + r->m[1] + r->m[2] +
+                       r->n00 + r->n01 + r->n02 + r->n11 + r->n12 + r->n22);
 }
 
 // The rest of a scalar update once its checks have passed: the gate, then
@@ -515,6 +585,14 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (meas->m != 1) {
         return ekf3_update_general(ekf, meas, z, info);
     }
+    if (meas->h == gf_ekf3_meas_x) {
+        // The built-in measurement of x, inline: z_hat = x, H = (1 0 0).
+        // Any doubt goes the callback way below, which finds the status.
+        ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, ekf->mu.v[0], 0);
+        if (ekf3_update1_ok(meas, &r)) {
+            return ekf3_update1_finish(ekf, meas, &r, info);
+        }
+    }
     // z_hat = h(mu_bar), H = dh/dx at mu_bar; only row 0 is read for m = 1
     // (the model may write the others; they are ignored, as in the general
     // path).
@@ -528,12 +606,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return pre != GF_OK ? pre : callback_status(st);
     }
     ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
-    // z, Q and the model's z_hat and H reach s or the NIS. s^-1 > 0 fails
-    // for s < 0, -0, inf and NaN; s = +0 gives an infinite NIS.
-    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    if (!(q >= 0 && gate >= 0 && r.si > 0 &&
-          GF_ISFINITE(r.nis + gate + r.m[0] + r.m[1] + r.m[2] + r.n00 +
-                      r.n01 + r.n02 + r.n11 + r.n12 + r.n22))) {
+    if (!ekf3_update1_ok(meas, &r)) {
         return ekf3_update1_slow(ekf, meas, z, info, zh.v[0], H.m[0]);
     }
     return ekf3_update1_finish(ekf, meas, &r, info);
