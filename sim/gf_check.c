@@ -298,7 +298,8 @@ int main(int argc, char **argv)
         return 1;
     }
     snprintf(channel, sizeof(channel), "%s%ld", GF_CHANNEL_BELIEF, track);
-    lcm_subscribe(lcm, channel, on_belief, &c);
+    lcm_subscription_set_queue_capacity(
+        lcm_subscribe(lcm, channel, on_belief, &c), 1024);
     printf("gf_check: ready channel=%s\n", channel);
     fflush(stdout);
 

@@ -3,7 +3,7 @@
 // and publishes the beliefs it returns. SIGINT/SIGTERM (or the end of a
 // file:// log) end it with a one-line summary on stdout.
 //
-//   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--quiet]
+//   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--queue N]
 //
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
@@ -13,6 +13,10 @@
 //   --channels  regex of the channels to take (default
 //               GF_(MEAS|CTRL)_-?[0-9]+); e.g. 'GF_(MEAS|CTRL)_[0-4]' so
 //               that several nodes split the tracks
+//   --queue     messages LCM may hold for the node between two dispatches
+//               (default 4096; LCM's own default of 30 drops bursts).
+//               The kernel's socket buffer is set in the URL:
+//               udpm://...?recv_buf_size=BYTES
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,7 +51,7 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
 static void usage(void)
 {
     fprintf(stderr, "usage: gf_node [--url URL] [--out-url URL] "
-                    "[--channels REGEX] [--quiet]\n");
+                    "[--channels REGEX] [--queue N]\n");
 }
 
 int main(int argc, char **argv)
@@ -58,7 +62,8 @@ int main(int argc, char **argv)
     char summary[512];
     lcm_t *in, *out;
     struct sigaction sa;
-    int i, rc = 0;
+    int i, rc = 0, queue = 4096;
+    lcm_subscription_t *sub;
 
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
@@ -67,8 +72,8 @@ int main(int argc, char **argv)
             out_url = argv[++i];
         else if (strcmp(argv[i], "--channels") == 0 && i + 1 < argc)
             channels = argv[++i];
-        else if (strcmp(argv[i], "--quiet") == 0)
-            ; // accepted for symmetry with the tools; the node is quiet
+        else if (strcmp(argv[i], "--queue") == 0 && i + 1 < argc)
+            queue = atoi(argv[++i]);
         else {
             usage();
             return 2;
@@ -98,14 +103,17 @@ int main(int argc, char **argv)
     sigaction(SIGTERM, &sa, NULL);
 
     gf_node_init(&node, publish_lcm, out);
-    if (lcm_subscribe(in, channels, on_message, &node) == NULL) {
-        fprintf(stderr, "gf_node: cannot subscribe to %s\n", channels);
+    sub = lcm_subscribe(in, channels, on_message, &node);
+    if (sub == NULL || queue < 1 ||
+        lcm_subscription_set_queue_capacity(sub, queue) != 0) {
+        fprintf(stderr, "gf_node: cannot subscribe to %s (queue %d)\n",
+                channels, queue);
         rc = 1;
         g_stop = 1;
     } else {
-        printf("gf_node: ready channels=%s max_tracks=%d track_bytes=%zu "
-               "node_bytes=%zu\n",
-               channels, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
+        printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
+               "track_bytes=%zu node_bytes=%zu\n",
+               channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
                sizeof(gf_node));
         fflush(stdout);
     }
