@@ -21,7 +21,9 @@ print(os.path.normpath(os.path.join(os.path.dirname(lcm.__file__),
         gf_die "the lcm Python package in $GF_VENV does not import"
     [ -f "$GF_LCM_CMAKE_DIR/lcmConfig.cmake" ] ||
         gf_die "no lcmConfig.cmake in $GF_LCM_CMAKE_DIR (lcm wheel layout changed?)"
-    GF_LCM_BIN=$GF_VENV/bin
+    # The real programs (the .venv/bin ones are Python wrappers that do not
+    # pass signals on: a script's SIGINT would never reach lcm-logger).
+    GF_LCM_BIN=$(cd "$GF_LCM_CMAKE_DIR/../../../bin" && pwd)
     [ -x "$GF_LCM_BIN/lcm-logger" ] || gf_die "no lcm-logger in $GF_LCM_BIN"
 }
 

@@ -16,6 +16,9 @@
 // gaussfilt_lcm_groundtruth_t, simulator -> tools (never read by the node)
 #define GF_CHANNEL_TRUTH "GF_TRUTH_"
 
+// scripts/demo's multicast self-test (sim/tools/lcm_selftest.py)
+#define GF_CHANNEL_SELFTEST "GF_SELFTEST"
+
 // What a node subscribes to unless told otherwise (LCM anchors the regex at
 // both ends): the controls and measurements of every track.
 #define GF_CHANNEL_NODE_DEFAULT "GF_(MEAS|CTRL)_-?[0-9]+"
