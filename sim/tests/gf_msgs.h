@@ -12,6 +12,14 @@
 #include "gaussfilt_lcm_measurement_t.h"
 #include "gf_channels.h"
 
+// Tolerance of the sim tests, relative to max(1, |want|): the node's filter
+// runs in gf_real (as the core's tests: 1e-12 double, 2e-5 float).
+#ifdef GF_SINGLE_PRECISION
+#define GF_SIM_TOL 2e-5
+#else
+#define GF_SIM_TOL 1e-12
+#endif
+
 #define GF_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
 #define GF_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
 

@@ -12,7 +12,7 @@
 #include "gf_msgs.h"
 #include "node_core.h"
 
-#define TOL 1e-12
+#define TOL GF_SIM_TOL
 
 static int sink_publish(void *ctx, const char *channel, const void *data,
                         size_t len)
