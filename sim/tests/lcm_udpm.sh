@@ -129,10 +129,16 @@ replay)
     "$bin/gf_sim" --url "$URL" --exercise 4 --track 4
     "$bin/gf_sim" --url "$URL" --model car --track 10 --steps 200 --seed 7 --rate 2000
     "$bin/gf_sim" --url "$URL" --model robot --track 11 --steps 50 --seed 8 --rate 2000
-    sleep 0.5
+    # lcm-logger writes behind (flushes every 100 ms) and drops what it has
+    # not written when stopped: wait until all 768 are on disk (up to 10 s).
+    # inputs: 10 + 6 + 2 + 400 + 100; truths: 200 + 50
+    for i in $(seq 100); do
+        "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog" \
+            >/dev/null 2>&1 && break
+        sleep 0.1
+    done
     kill -INT "$logger_pid"
     wait "$logger_pid" || true
-    # inputs: 10 + 6 + 2 + 400 + 100; truths: 200 + 50
     "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog"
     for run in a b; do
         "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" \

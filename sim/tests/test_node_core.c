@@ -281,9 +281,9 @@ static void nonfinite_reported_nothing_changed(void **state)
     exercise_2(f, 2);
     memcpy(&before, gf_node_find(&f->node, 2), sizeof(before));
     n = f->sink.n;
-    assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 7, 6000000, NAN, 10.0)),
+    assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 7, 6000000, (double)NAN, 10.0)),
                      GF_NODE_NONFINITE);
-    assert_int_equal(feed(f, gf_msg_ctrl(2, GF_CAR, 8, 6000000, 2, INFINITY,
+    assert_int_equal(feed(f, gf_msg_ctrl(2, GF_CAR, 8, 6000000, 2, (double)INFINITY,
                                          0.0)),
                      GF_NODE_NONFINITE);
     assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 9, 6000000, 1.0, -1.0)),
@@ -302,7 +302,7 @@ static void nonfinite_reported_nothing_changed(void **state)
     assert_memory_equal(&before.f, &gf_node_find(&f->node, 2)->f,
                         sizeof(before.f));
     // Robot: a NaN heading change.
-    assert_int_equal(feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, NAN)),
+    assert_int_equal(feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, (double)NAN)),
                      GF_NODE_NONFINITE);
     assert_int_equal(f->sink.b[f->sink.n - 1].status, GF_ERR_NONFINITE);
     check_counts(&f->node);

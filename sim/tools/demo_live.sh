@@ -88,7 +88,16 @@ sleep 0.3
 kill -TERM "$node_pid"
 wait "$node_pid" || true
 sed -n 's/^gf_node: summary /gf_node summary: /p' "$out/node.out"
-kill -INT "$logger_pid" # lcm-logger flushes and closes the log on SIGINT
+# lcm-logger writes behind (every 100 ms): stop it once the log has stopped
+# growing (up to 5 s).
+last=-1
+for i in $(seq 25); do
+    n=$("$bin/gf_logcmp" "$log" 2>/dev/null | awk '{print $2}')
+    [ "$n" = "$last" ] && break
+    last=$n
+    sleep 0.2
+done
+kill -INT "$logger_pid"
 for i in $(seq 30); do kill -0 "$logger_pid" 2>/dev/null || break; sleep 0.1; done
 kill -TERM "$logger_pid" 2>/dev/null || true
 wait "$logger_pid" || true
