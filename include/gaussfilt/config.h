@@ -23,6 +23,7 @@ typedef float gf_real;
 #define GF_COS cosf
 #define GF_ATAN2 atan2f
 #define GF_CEIL ceilf
+#define GF_FMOD fmodf
 #define GF_LOG logf
 #define GF_FABS fabsf
 #else
@@ -34,6 +35,7 @@ typedef double gf_real;
 #define GF_COS cos
 #define GF_ATAN2 atan2
 #define GF_CEIL ceil
+#define GF_FMOD fmod
 #define GF_LOG log
 #define GF_FABS fabs
 #endif
