@@ -72,8 +72,8 @@ static verdict judge(const char *what, const double *sum, int first, int last,
     v.hi = trust_chi2_inv(0.975, k) / runs;
     v.allowed = trust_binom_quantile(v.steps, 0.05, 0.999);
     v.outside = 0;
-    v.min = INFINITY;
-    v.max = -INFINITY;
+    v.min = (double)INFINITY;
+    v.max = -(double)INFINITY;
     double total = 0.0;
     for (int t = first; t <= last; t++) {
         double avg = sum[t] / runs;

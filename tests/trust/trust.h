@@ -156,7 +156,7 @@ static inline double trust_quad_form(double s[3][3], const double *x,
             d -= l[j][k] * l[j][k];
         }
         if (!(d > 0.0)) {
-            return NAN;
+            return (double)NAN;
         }
         l[j][j] = sqrt(d);
         for (int i = j + 1; i < n; i++) {
