@@ -322,10 +322,13 @@ gf_real gf_angle_wrap(gf_real a)
         // (-2 pi, 2 pi), and the shift is exact too (Sterbenz).
         w = GF_FMOD(a, two_pi);
         if (w > GF_PI) {
-            w -= two_pi;
-        } else if (w <= -GF_PI) {
-            w += two_pi;
+            w -= two_pi; // now in (-pi, 0)
         }
+        if (w <= -GF_PI) {
+            w += two_pi; // now in (0, pi]
+        }
+    } else {
+        // already in (-pi, pi]
     }
     return w;
 }
