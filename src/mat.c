@@ -300,35 +300,3 @@ void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
     }
     *x = y;
 }
-
-// ---- angles --------------------------------------------------------------
-
-gf_real gf_angle_wrap(gf_real a)
-{
-    if (a > -GF_PI && a <= GF_PI) {
-        return a;
-    }
-    // a - 2 pi ceil((a - pi) / 2 pi) lies in (-pi, pi].
-    gf_real two_pi = GF_R(2.0) * GF_PI;
-    gf_real w = a - two_pi * GF_CEIL((a - GF_PI) / two_pi);
-    w = w <= -GF_PI ? w + two_pi : w;
-    if (w > GF_PI && w <= GF_PI * (GF_R(1.0) + GF_R(8.0) * GF_REAL_EPSILON)) {
-        // Rounding above overshot pi by an ulp or two (float, a = -3 pi):
-        // pi is the same direction within that.
-        w = GF_PI;
-    } else if (!(w > -GF_PI && w <= GF_PI)) {
-        // |a| so large that the subtraction above cancels (fuzz/fuzz_core.c
-        // found a = 2^61 coming back unchanged). fmod is exact, so w lies in
-        // (-2 pi, 2 pi), and the shift is exact too (Sterbenz).
-        w = GF_FMOD(a, two_pi);
-        if (w > GF_PI) {
-            w -= two_pi; // now in (-pi, 0)
-        }
-        if (w <= -GF_PI) {
-            w += two_pi; // now in (0, pi]
-        }
-    } else {
-        // already in (-pi, pi]
-    }
-    return w;
-}
