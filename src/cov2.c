@@ -40,8 +40,14 @@ gf_status gf_cov2_ellipse(const gf_mat2 *s, gf_real p, gf_ellipse *e)
     // freedom. Rounding can leave a PSD matrix's small eigenvalue at -0.
     gf_real k2 = -GF_R(2.0) * GF_LOG(GF_R(1.0) - p);
     gf_real l2 = lambda.v[1] > 0 ? lambda.v[1] : GF_R(0.0);
-    e->a = GF_SQRT(k2 * lambda.v[0]);
-    e->b = GF_SQRT(k2 * l2);
+    // sqrt(k2) sqrt(lambda), not sqrt(k2 lambda), which could overflow.
+    gf_real k = GF_SQRT(k2);
+    gf_real a = k * GF_SQRT(lambda.v[0]), b = k * GF_SQRT(l2);
+    if (!GF_ISFINITE(a) || !GF_ISFINITE(b)) {
+        return GF_ERR_NONFINITE;
+    }
+    e->a = a;
+    e->b = b;
     e->angle = angle;
     return GF_OK;
 }

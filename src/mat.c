@@ -83,18 +83,30 @@ gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
     if (!(GF_ISFINITE(a) && GF_ISFINITE(b) && GF_ISFINITE(c))) {
         return GF_ERR_NONFINITE;
     }
-    // Positive definite iff a > 0 and det > 0; det is tested against the
-    // scale a c so that the verdict does not depend on units.
-    gf_real det = a * c - b * b;
-    if (!(a > 0) || !(c > 0) || !(det > GF_PD_RTOL * a * c)) {
+    // Positive definite iff a > 0, c > 0 and det > 0; det is tested
+    // against the scale a c so that the verdict does not depend on units.
+    // Computed on the correlation form (r = b / sqrt(a c), det / (a c) =
+    // 1 - r^2) so that a c cannot overflow: the fuzzer found a = 1.8e308
+    // giving det = inf and an all-zero "inverse".
+    if (!(a > 0) || !(c > 0)) {
         return GF_ERR_SINGULAR;
     }
-    gf_real id = GF_R(1.0) / det;
+    gf_real sa = GF_SQRT(a), scc = GF_SQRT(c);
+    gf_real rr = (b / sa) / scc;
+    gf_real dn = GF_R(1.0) - rr * rr; // det / (a c)
+    if (!(dn > GF_PD_RTOL)) {
+        return GF_ERR_SINGULAR;
+    }
+    gf_real i00 = (GF_R(1.0) / a) / dn, i11 = (GF_R(1.0) / c) / dn;
+    gf_real i01 = -((rr / sa) / scc) / dn;
+    if (!GF_ISFINITE(i00) || !GF_ISFINITE(i11) || !GF_ISFINITE(i01)) {
+        return GF_ERR_SINGULAR; // an inverse beyond the range of gf_real
+    }
     gf_mat2 r;
-    r.m[0][0] = c * id;
-    r.m[1][1] = a * id;
-    r.m[0][1] = -b * id;
-    r.m[1][0] = r.m[0][1];
+    r.m[0][0] = i00;
+    r.m[1][1] = i11;
+    r.m[0][1] = i01;
+    r.m[1][0] = i01;
     *inv = r;
     return GF_OK;
 }
@@ -109,17 +121,29 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
     }
     gf_real a = s->m[0][0], c = s->m[1][1];
     gf_real b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
-    gf_real mean = GF_R(0.5) * (a + c);
-    gf_real half = GF_R(0.5) * (a - c);
-    gf_real d = GF_SQRT(half * half + b * b);
+    // Halves before sums and a scaled hypotenuse, so that entries near the
+    // largest finite value do not overflow (the fuzzer found 1.9e185
+    // giving an infinite eigenvalue).
+    gf_real mean = GF_R(0.5) * a + GF_R(0.5) * c;
+    gf_real half = GF_R(0.5) * a - GF_R(0.5) * c;
+    gf_real sc = GF_FABS(half) > GF_FABS(b) ? GF_FABS(half) : GF_FABS(b);
+    gf_real d = 0;
+    if (sc > 0) {
+        gf_real hs = half / sc, bs = b / sc;
+        d = sc * GF_SQRT(hs * hs + bs * bs);
+    }
     gf_real l1 = mean + d;
     // The smaller eigenvalue from the determinant when that avoids
-    // cancellation (l1 far from zero), else by difference.
+    // cancellation (l1 far from zero), else by difference; the
+    // determinant divided through by l1 first, so it cannot overflow.
     gf_real l2 = (GF_FABS(l1) > GF_FABS(mean - d))
-                     ? (a * c - b * b) / l1 : mean - d;
-    gf_real th = GF_R(0.5) * GF_ATAN2(GF_R(2.0) * b, a - c);
+                     ? (a / l1) * c - (b / l1) * b : mean - d;
+    gf_real th = GF_R(0.5) * GF_ATAN2(b, half);
     if (th <= -GF_R(0.5) * GF_PI) {
         th += GF_PI;
+    }
+    if (!GF_ISFINITE(l1) || !GF_ISFINITE(l2)) {
+        return GF_ERR_NONFINITE; // an eigenvalue beyond the largest float
     }
     lambda->v[0] = l1;
     lambda->v[1] = l2;

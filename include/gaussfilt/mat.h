@@ -48,7 +48,8 @@ gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv);
 // Closed-form eigen-decomposition of a symmetric s: eigenvalues with
 // lambda->v[0] >= lambda->v[1], and *angle in (-pi/2, pi/2], the direction
 // of the first eigenvector (cos angle, sin angle) from the first axis.
-// GF_ERR_NONFINITE on NaN or inf; the outputs are untouched then.
+// GF_ERR_NONFINITE on NaN or inf, or an eigenvalue too large for gf_real;
+// the outputs are untouched then.
 gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle);
 
 // ---- 3x3 -----------------------------------------------------------------

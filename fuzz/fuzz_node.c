@@ -1,0 +1,255 @@
+// libFuzzer target for the filter node's message handling
+// (sim/node_core.c, gf_node_handle): arbitrary channels and bytes, exactly
+// as LCM would deliver them, through one node. After every message it
+// asserts the node's contract (sim/node_core.h):
+//
+//  - the result is one of gf_node_result; received grows by exactly 1 and
+//    so does exactly the by_result entry of that result;
+//  - a message that is not applied leaves every track's belief bit-for-bit
+//    unchanged; an applied one leaves a finite belief;
+//  - every published belief goes to GF_BELIEF_<track>, decodes as a
+//    belief_t with the node's own decoder and has finite numbers;
+//  - the number of tracks never exceeds GF_NODE_MAX_TRACKS.
+//
+// Input: records of [kind][track][len lo][len hi][len bytes of payload].
+// kind & 3: 0 GF_MEAS_<track>, 1 GF_CTRL_<track>, 2 GF_BELIEF_<track>
+// (not the node's), 3 a raw channel name of (track % 40) bytes taken from
+// the input. track is a signed byte. Built with scripts/fuzz (node target),
+// which also writes the seeds: this file with -DFUZZ_NODE_MAKE_SEEDS is a
+// program that encodes valid messages with the generated types.
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gaussfilt_lcm_belief_t.h"
+#include "gaussfilt_lcm_control_t.h"
+#include "gaussfilt_lcm_measurement_t.h"
+#include "node_core.h"
+
+#define REQUIRE(cond)                                                      \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            fprintf(stderr, "contract broken: %s (%s:%d)\n", #cond,        \
+                    __FILE__, __LINE__);                                   \
+            abort();                                                       \
+        }                                                                  \
+    } while (0)
+
+#ifndef FUZZ_NODE_MAKE_SEEDS
+
+typedef struct pub_log {
+    uint64_t n;
+} pub_log;
+
+static int on_publish(void *ctx, const char *channel, const void *data,
+                      size_t len)
+{
+    pub_log *log = ctx;
+    gaussfilt_lcm_belief_t b;
+    REQUIRE(strncmp(channel, GF_CHANNEL_BELIEF, strlen(GF_CHANNEL_BELIEF)) == 0);
+    REQUIRE(gaussfilt_lcm_belief_t_decode(data, 0, (int)len, &b) == (int)len);
+    char want[GF_CHANNEL_MAX];
+    snprintf(want, sizeof want, "%s%d", GF_CHANNEL_BELIEF, (int)b.track);
+    REQUIRE(strcmp(channel, want) == 0);
+    REQUIRE(b.n == 2 || b.n == 3);
+    for (int i = 0; i < b.n; i++) {
+        REQUIRE(isfinite(b.mean[i]));
+        for (int j = 0; j < b.n; j++) {
+            REQUIRE(isfinite(b.cov[i][j]));
+        }
+    }
+    REQUIRE(b.m >= 0 && b.m <= 3);
+    REQUIRE(isfinite(b.nis));
+    gaussfilt_lcm_belief_t_decode_cleanup(&b);
+    log->n++;
+    return 0;
+}
+
+static int belief_finite(const gf_node_track *t)
+{
+    const gf_real *p = t->model == GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
+                           ? &t->f.kf2.mu.v[0] : &t->f.ekf3.mu.v[0];
+    size_t n = t->model == GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
+                   ? sizeof(gf_kf2) / sizeof(gf_real)
+                   : sizeof(gf_ekf3) / sizeof(gf_real);
+    for (size_t i = 0; i < n; i++) {
+        if (!isfinite(p[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static gf_node node; // ~17 kB; reinitialised for every input
+    static gf_node before;
+    pub_log log = {0};
+    REQUIRE(gf_node_init(&node, on_publish, &log) == 0);
+    size_t i = 0;
+    int64_t now = 1000000;
+    while (i < size) {
+        uint8_t kind = data[i++];
+        int8_t track = i < size ? (int8_t)data[i++] : 0;
+        char channel[64];
+        if ((kind & 3) == 3) {
+            size_t n = (size_t)(uint8_t)track % 40;
+            n = n < size - i ? n : size - i;
+            memcpy(channel, data + i, n);
+            channel[n] = '\0';
+            i += n;
+        } else {
+            static const char *const prefix[3] = {
+                GF_CHANNEL_MEAS, GF_CHANNEL_CTRL, GF_CHANNEL_BELIEF};
+            snprintf(channel, sizeof channel, "%s%d", prefix[kind & 3],
+                     (int)track);
+        }
+        size_t len = 0;
+        if (i < size) {
+            len = data[i++];
+        }
+        if (i < size) {
+            len |= (size_t)data[i++] << 8;
+        }
+        len = len < size - i ? len : size - i;
+        // A private copy of exactly len bytes, so ASan sees any over-read.
+        uint8_t *msg = len ? malloc(len) : NULL;
+        if (len) {
+            REQUIRE(msg != NULL);
+            memcpy(msg, data + i, len);
+        }
+        i += len;
+
+        memcpy(&before, &node, sizeof node);
+        uint64_t pub0 = log.n;
+        gf_node_result r = gf_node_handle(&node, channel, msg, len, now);
+        free(msg);
+        now += 1000;
+
+        REQUIRE((unsigned)r < GF_NODE_RESULT_COUNT);
+        REQUIRE(node.counts.received == before.counts.received + 1);
+        uint64_t sum = 0;
+        for (int k = 0; k < GF_NODE_RESULT_COUNT; k++) {
+            uint64_t want = before.counts.by_result[k] + (k == (int)r);
+            REQUIRE(node.counts.by_result[k] == want);
+            sum += node.counts.by_result[k];
+        }
+        REQUIRE(sum == node.counts.received);
+        REQUIRE(node.counts.published == before.counts.published +
+                                             (log.n - pub0));
+        REQUIRE(node.ntracks <= GF_NODE_MAX_TRACKS);
+        REQUIRE(node.ntracks >= before.ntracks);
+        for (unsigned t = 0; t < before.ntracks; t++) {
+            REQUIRE(node.tracks[t].id == before.tracks[t].id);
+            if (r != GF_NODE_APPLIED) {
+                REQUIRE(memcmp(&node.tracks[t].f, &before.tracks[t].f,
+                               sizeof node.tracks[t].f) == 0);
+            }
+        }
+        for (unsigned t = 0; t < node.ntracks; t++) {
+            REQUIRE(belief_finite(&node.tracks[t]));
+        }
+    }
+    return 0;
+}
+
+#else // FUZZ_NODE_MAKE_SEEDS: fuzz_node_seeds DIR writes the seed corpus
+
+static size_t put(uint8_t *out, uint8_t kind, int8_t track, const void *msg,
+                  int len)
+{
+    out[0] = kind;
+    out[1] = (uint8_t)track;
+    out[2] = (uint8_t)(len & 0xff);
+    out[3] = (uint8_t)(len >> 8);
+    memcpy(out + 4, msg, (size_t)len);
+    return 4 + (size_t)len;
+}
+
+static size_t ctrl(uint8_t *out, int8_t track, int64_t seq, int8_t model,
+                   int8_t n, double u0, double u1)
+{
+    gaussfilt_lcm_control_t c;
+    memset(&c, 0, sizeof c);
+    c.utime = 1000 * seq;
+    c.seq = seq;
+    c.track = track;
+    c.model = model;
+    c.n = n;
+    c.u[0] = u0;
+    c.u[1] = u1;
+    uint8_t buf[256];
+    int len = gaussfilt_lcm_control_t_encode(buf, 0, sizeof buf, &c);
+    REQUIRE(len > 0);
+    return put(out, 1, track, buf, len);
+}
+
+static size_t meas(uint8_t *out, int8_t track, int64_t seq, int8_t model,
+                   int8_t m, double z0, double q00, uint8_t kind)
+{
+    gaussfilt_lcm_measurement_t z;
+    memset(&z, 0, sizeof z);
+    z.utime = 1000 * seq;
+    z.seq = seq;
+    z.track = track;
+    z.model = model;
+    z.m = m;
+    z.z[0] = z0;
+    z.q[0][0] = q00;
+    z.q[1][1] = q00;
+    uint8_t buf[256];
+    int len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof buf, &z);
+    REQUIRE(len > 0);
+    return put(out, kind, track, buf, len);
+}
+
+static void save(const char *dir, const char *name, const uint8_t *d,
+                 size_t n)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    REQUIRE(f && fwrite(d, 1, n, f) == n && fclose(f) == 0);
+}
+
+int main(int argc, char **argv)
+{
+    REQUIRE(argc == 2);
+    const int8_t car = GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR;
+    const int8_t robot = GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT;
+    static uint8_t d[8192];
+    size_t n = 0;
+    // Exercise 2 on track 1: five predictions, then z = 5 with Q = 10.
+    for (int s = 1; s <= 5; s++) {
+        n += ctrl(d + n, 1, 2 * s - 1, car, 0, 0, 0);
+    }
+    n += meas(d + n, 1, 10, car, 1, 5.0, 10.0, 0);
+    save(argv[1], "exercise2", d, n);
+    // Exercise 4 on track 2: move 1 forward, observe x = -0.7.
+    n = ctrl(d, 2, 1, robot, 2, 1.0, 0.0);
+    n += meas(d + n, 2, 2, robot, 1, -0.7, 0.01, 0);
+    save(argv[1], "exercise4", d, n);
+    // A duplicate, an old seq, a control on a measurement channel
+    // (type mismatch), a truncated message and a non-finite z.
+    n = ctrl(d, 3, 1, car, 0, 0, 0);
+    n += ctrl(d + n, 3, 1, car, 0, 0, 0);
+    n += meas(d + n, 3, 3, car, 1, 1.0, 10.0, 0);
+    n += meas(d + n, 3, 2, car, 1, 1.0, 10.0, 0);
+    size_t c0 = n;
+    n += ctrl(d + n, 3, 4, car, 0, 0, 0);
+    d[c0] = 0; // kind 0: onto GF_MEAS_3
+    size_t t0 = n;
+    n += meas(d + n, 3, 5, car, 1, 1.0, 10.0, 0);
+    d[t0 + 2] = (uint8_t)(d[t0 + 2] - 9); // 9 bytes short
+    n -= 9;
+    n += meas(d + n, 3, 6, car, 1, NAN, 10.0, 0);
+    save(argv[1], "rejections", d, n);
+    return 0;
+}
+
+#endif

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Stage lcm: the LCM message types, filter node and simulators (sim/),
+# built against PyPI lcm 1.5 in .venv, and their tests: encode/decode of
+# every type, the node's handling (duplicates, order, malformed, non-finite,
+# track limit), memq:// in process, and real processes over udpm (Tables
+# 1.1, 2.1, 4.2 from the wire, malformed packets, log replay), in a private
+# network namespace when root.
+set -euo pipefail
+. "$(dirname "$0")/../lib.sh"
+. "$(dirname "$0")/../lcm.sh"
+cd "$GF_ROOT"
+
+gf_lcm_setup
+gf_log "lcm: configure and build sim/ (LCM from $GF_LCM_CMAKE_DIR)"
+gf_lcm_build "$GF_BUILD/sim"
+gf_log "lcm: ctest (message types, node, memq, udpm)"
+gf_ctest "$GF_BUILD/sim" -R '^lcm_'

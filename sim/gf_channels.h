@@ -1,0 +1,29 @@
+// gaussfilt sim: every LCM channel name, in one place. (sim/tools/*.py
+// repeat the prefixes; keep them in step.)
+//
+// One channel per track and kind: the track id (a decimal int32) follows
+// the prefix, e.g. GF_MEAS_2, GF_BELIEF_2. Per-track channels let several
+// nodes share the tracks by channel pattern (gf_node --channels REGEX).
+#ifndef GF_CHANNELS_H
+#define GF_CHANNELS_H
+
+// gaussfilt_lcm_measurement_t, simulator -> node
+#define GF_CHANNEL_MEAS "GF_MEAS_"
+// gaussfilt_lcm_control_t, simulator -> node: one prediction step each
+#define GF_CHANNEL_CTRL "GF_CTRL_"
+// gaussfilt_lcm_belief_t, node -> anyone: after every applied input
+#define GF_CHANNEL_BELIEF "GF_BELIEF_"
+// gaussfilt_lcm_groundtruth_t, simulator -> tools (never read by the node)
+#define GF_CHANNEL_TRUTH "GF_TRUTH_"
+
+// scripts/demo's multicast self-test (sim/tools/lcm_selftest.py)
+#define GF_CHANNEL_SELFTEST "GF_SELFTEST"
+
+// What a node subscribes to unless told otherwise (LCM anchors the regex at
+// both ends): the controls and measurements of every track.
+#define GF_CHANNEL_NODE_DEFAULT "GF_(MEAS|CTRL)_-?[0-9]+"
+
+// Longest channel name we build: prefix + "-2147483648" + NUL.
+#define GF_CHANNEL_MAX 32
+
+#endif

@@ -1,0 +1,134 @@
+// gf_node: the filter node. Subscribes to the controls and measurements of
+// its tracks over LCM, hands each message to gf_node_handle() (node_core.c)
+// and publishes the beliefs it returns. SIGINT/SIGTERM (or the end of a
+// file:// log) end it with a one-line summary on stdout.
+//
+//   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--queue N]
+//
+//   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
+//               default udpm URL); file:///log.lcmlog?speed=0 replays a log
+//   --out-url   publish beliefs on another LCM instead (needed with a
+//               file:// input, which cannot publish), e.g.
+//               file:///out.lcmlog?mode=w
+//   --channels  regex of the channels to take (default
+//               GF_(MEAS|CTRL)_-?[0-9]+); e.g. 'GF_(MEAS|CTRL)_[0-4]' so
+//               that several nodes split the tracks
+//   --queue     messages LCM may hold for the node between two dispatches
+//               (default 4096; LCM's own default of 30 drops bursts).
+//               The kernel's socket buffer is set in the URL:
+//               udpm://...?recv_buf_size=BYTES
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <lcm/lcm.h>
+
+#include "node_core.h"
+
+static volatile sig_atomic_t g_stop; // set by the signal handler only
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+static int publish_lcm(void *ctx, const char *channel, const void *data,
+                       size_t len)
+{
+    return lcm_publish((lcm_t *)ctx, channel, data, (unsigned)len) == 0 ? 0
+                                                                        : -1;
+}
+
+static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
+                       void *user)
+{
+    gf_node_handle((gf_node *)user, channel, rbuf->data, rbuf->data_size,
+                   rbuf->recv_utime);
+}
+
+static void usage(void)
+{
+    fprintf(stderr, "usage: gf_node [--url URL] [--out-url URL] "
+                    "[--channels REGEX] [--queue N]\n");
+}
+
+int main(int argc, char **argv)
+{
+    const char *url = NULL, *out_url = NULL;
+    const char *channels = GF_CHANNEL_NODE_DEFAULT;
+    static gf_node node; // ~17 kB: keep it off the stack
+    char summary[512];
+    lcm_t *in, *out;
+    struct sigaction sa;
+    int i, rc = 0, queue = 4096;
+    lcm_subscription_t *sub;
+
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
+            url = argv[++i];
+        else if (strcmp(argv[i], "--out-url") == 0 && i + 1 < argc)
+            out_url = argv[++i];
+        else if (strcmp(argv[i], "--channels") == 0 && i + 1 < argc)
+            channels = argv[++i];
+        else if (strcmp(argv[i], "--queue") == 0 && i + 1 < argc)
+            queue = atoi(argv[++i]);
+        else {
+            usage();
+            return 2;
+        }
+    }
+
+    in = lcm_create(url);
+    if (in == NULL) {
+        fprintf(stderr, "gf_node: cannot open LCM at %s\n",
+                url ? url : "(default URL)");
+        return 1;
+    }
+    out = in;
+    if (out_url != NULL) {
+        out = lcm_create(out_url);
+        if (out == NULL) {
+            fprintf(stderr, "gf_node: cannot open LCM at %s\n", out_url);
+            lcm_destroy(in);
+            return 1;
+        }
+    }
+
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+
+    gf_node_init(&node, publish_lcm, out);
+    sub = lcm_subscribe(in, channels, on_message, &node);
+    if (sub == NULL || queue < 1 ||
+        lcm_subscription_set_queue_capacity(sub, queue) != 0) {
+        fprintf(stderr, "gf_node: cannot subscribe to %s (queue %d)\n",
+                channels, queue);
+        rc = 1;
+        g_stop = 1;
+    } else {
+        printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
+               "track_bytes=%zu node_bytes=%zu\n",
+               channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
+               sizeof(gf_node));
+        fflush(stdout);
+    }
+
+    while (!g_stop) {
+        // < 0: the end of a file:// log, a dead socket, or a signal.
+        if (lcm_handle_timeout(in, 100) < 0)
+            break;
+    }
+
+    gf_node_summary(&node, summary, sizeof(summary));
+    printf("gf_node: summary %s\n", summary);
+    fflush(stdout);
+    if (out != in)
+        lcm_destroy(out);
+    lcm_destroy(in);
+    return rc;
+}

@@ -1,0 +1,319 @@
+// gf_sim: the simulators of the exercises, publishing over LCM.
+//
+//   gf_sim --model car|robot [--track N] [--steps N] [--seed S] [--rate HZ]
+//          [--meas-every K] [--meas-var V] [--turn PHI] [--url URL]
+//   gf_sim --exercise 1|2|4 [--track N] [--url URL]
+//
+// car (exercises 1-2): each step a random acceleration a ~ N(0, 1) moves the
+//   true state (x += v + a/2, v += a); every K-th step the position is
+//   measured with variance V (default 10).
+// robot (exercise 4): from (0, 0) with a heading drawn uniformly, each step
+//   "move 1 forward, then turn PHI" (default 0.1 rad) by odometry, then x is
+//   observed with variance V (default 0.01).
+// --exercise replays the book exactly:
+//   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
+//   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
+//   4: the robot moves once (u = (1, 0)), then observes x = -0.7 (Q = 0.01)
+//      (Table 4.2).
+//
+// Per step: GF_CTRL_<track> (a prediction step), GF_TRUTH_<track> (random
+// modes), and GF_MEAS_<track> when there is a measurement; seq counts the
+// track's controls and measurements together from 1. utime is simulated
+// time, t * dt with dt = 1 s (or 1/HZ s with --rate), so a seed always gives
+// the same bytes. --rate 0 (default) sends as fast as possible; otherwise
+// one step every 1/HZ s of wall-clock time.
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <lcm/lcm.h>
+
+#include "gaussfilt_lcm_control_t.h"
+#include "gaussfilt_lcm_groundtruth_t.h"
+#include "gaussfilt_lcm_measurement_t.h"
+#include "gf_channels.h"
+
+#define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
+#define MODEL_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
+
+// ---- deterministic random numbers: xoshiro256** seeded by splitmix64 ------
+
+typedef struct rng {
+    uint64_t s[4];
+} rng;
+
+static uint64_t splitmix64(uint64_t *x)
+{
+    uint64_t z = (*x += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+}
+
+static void rng_seed(rng *r, uint64_t seed)
+{
+    unsigned i;
+    for (i = 0; i < 4; i++)
+        r->s[i] = splitmix64(&seed);
+}
+
+static uint64_t rotl(uint64_t x, int k)
+{
+    return (x << k) | (x >> (64 - k));
+}
+
+static uint64_t rng_next(rng *r)
+{
+    uint64_t *s = r->s;
+    uint64_t result = rotl(s[1] * 5, 7) * 9, t = s[1] << 17;
+    s[2] ^= s[0];
+    s[3] ^= s[1];
+    s[1] ^= s[2];
+    s[0] ^= s[3];
+    s[2] ^= t;
+    s[3] = rotl(s[3], 45);
+    return result;
+}
+
+// Uniform in (0, 1).
+static double rng_uniform(rng *r)
+{
+    return ((double)(rng_next(r) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+// Standard normal (Box-Muller; one of the pair is dropped, for simplicity).
+static double rng_normal(rng *r)
+{
+    double u1 = rng_uniform(r), u2 = rng_uniform(r);
+    return sqrt(-2.0 * log(u1)) * cos(2.0 * 3.14159265358979323846 * u2);
+}
+
+// ---- publishing -------------------------------------------------------------
+
+typedef struct sim {
+    lcm_t *lcm;
+    int32_t track;
+    int8_t model;
+    int64_t seq;     // last seq used on the track
+    int64_t step_us; // utime per step
+    char ch_ctrl[GF_CHANNEL_MAX], ch_meas[GF_CHANNEL_MAX],
+        ch_truth[GF_CHANNEL_MAX];
+    unsigned long sent_ctrl, sent_meas, sent_truth;
+    int failed;
+    uint8_t buf[512];
+} sim;
+
+static void send(sim *s, const char *channel, int len)
+{
+    if (len < 0 || lcm_publish(s->lcm, channel, s->buf, (unsigned)len) != 0)
+        s->failed = 1;
+}
+
+static void send_ctrl(sim *s, long t, int n, double u0, double u1)
+{
+    gaussfilt_lcm_control_t c;
+    memset(&c, 0, sizeof(c));
+    c.utime = t * s->step_us;
+    c.seq = ++s->seq;
+    c.track = s->track;
+    c.model = s->model;
+    c.n = (int8_t)n;
+    c.u[0] = u0;
+    c.u[1] = u1;
+    send(s, s->ch_ctrl,
+         gaussfilt_lcm_control_t_encode(s->buf, 0, (int)sizeof(s->buf), &c));
+    s->sent_ctrl++;
+}
+
+static void send_meas(sim *s, long t, double z, double q)
+{
+    gaussfilt_lcm_measurement_t m;
+    memset(&m, 0, sizeof(m));
+    m.utime = t * s->step_us;
+    m.seq = ++s->seq;
+    m.track = s->track;
+    m.model = s->model;
+    m.m = 1;
+    m.z[0] = z;
+    m.q[0][0] = q;
+    send(s, s->ch_meas,
+         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
+                                            &m));
+    s->sent_meas++;
+}
+
+static void send_truth(sim *s, long t, int n, const double *x)
+{
+    gaussfilt_lcm_groundtruth_t g;
+    int i;
+    memset(&g, 0, sizeof(g));
+    g.utime = t * s->step_us;
+    g.seq = s->seq; // the seq of the step's control
+    g.track = s->track;
+    g.model = s->model;
+    g.n = (int8_t)n;
+    for (i = 0; i < n; i++)
+        g.state[i] = x[i];
+    send(s, s->ch_truth,
+         gaussfilt_lcm_groundtruth_t_encode(s->buf, 0, (int)sizeof(s->buf),
+                                            &g));
+    s->sent_truth++;
+}
+
+// Sleeps until the absolute monotonic time *next, then advances it by
+// period_ns. Does nothing with period_ns == 0 (as fast as possible).
+static void pace(struct timespec *next, long period_ns)
+{
+    if (period_ns <= 0)
+        return;
+    next->tv_nsec += period_ns;
+    while (next->tv_nsec >= 1000000000L) {
+        next->tv_nsec -= 1000000000L;
+        next->tv_sec++;
+    }
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, next, NULL) != 0)
+        ;
+}
+
+static void usage(void)
+{
+    fprintf(stderr,
+            "usage: gf_sim --model car|robot [--track N] [--steps N] "
+            "[--seed S] [--rate HZ]\n"
+            "              [--meas-every K] [--meas-var V] [--turn PHI] "
+            "[--url URL]\n"
+            "       gf_sim --exercise 1|2|4 [--track N] [--url URL]\n");
+}
+
+int main(int argc, char **argv)
+{
+    const char *url = NULL;
+    int exercise = 0, i;
+    long steps = -1, meas_every = 1, t;
+    double rate = 0.0, meas_var = -1.0, turn = 0.1;
+    uint64_t seed = 1;
+    long period_ns = 0;
+    struct timespec next;
+    static sim s; // holds the encode buffer; off the stack
+    rng r;
+
+    memset(&s, 0, sizeof(s));
+    s.track = 1;
+    s.model = 0;
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (v == NULL) {
+            usage();
+            return 2;
+        }
+        i++;
+        if (strcmp(a, "--url") == 0)
+            url = v;
+        else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0)
+            s.model = MODEL_CAR;
+        else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0)
+            s.model = MODEL_ROBOT;
+        else if (strcmp(a, "--exercise") == 0)
+            exercise = atoi(v);
+        else if (strcmp(a, "--track") == 0)
+            s.track = (int32_t)atol(v);
+        else if (strcmp(a, "--steps") == 0)
+            steps = atol(v);
+        else if (strcmp(a, "--seed") == 0)
+            seed = strtoull(v, NULL, 0);
+        else if (strcmp(a, "--rate") == 0)
+            rate = atof(v);
+        else if (strcmp(a, "--meas-every") == 0)
+            meas_every = atol(v);
+        else if (strcmp(a, "--meas-var") == 0)
+            meas_var = atof(v);
+        else if (strcmp(a, "--turn") == 0)
+            turn = atof(v);
+        else {
+            usage();
+            return 2;
+        }
+    }
+    if (exercise == 1 || exercise == 2)
+        s.model = MODEL_CAR;
+    else if (exercise == 4)
+        s.model = MODEL_ROBOT;
+    else if (exercise != 0 || s.model == 0 || meas_every < 1 || rate < 0.0) {
+        usage();
+        return 2;
+    }
+    if (steps < 0)
+        steps = exercise == 1 ? 10 : exercise == 2 ? 5 : exercise == 4 ? 1 : 100;
+    if (meas_var < 0.0)
+        meas_var = s.model == MODEL_CAR ? 10.0 : 0.01;
+    s.step_us = 1000000;
+    if (rate > 0.0) {
+        period_ns = (long)(1e9 / rate);
+        s.step_us = (int64_t)(1e6 / rate);
+    }
+    snprintf(s.ch_ctrl, sizeof(s.ch_ctrl), "%s%ld", GF_CHANNEL_CTRL,
+             (long)s.track);
+    snprintf(s.ch_meas, sizeof(s.ch_meas), "%s%ld", GF_CHANNEL_MEAS,
+             (long)s.track);
+    snprintf(s.ch_truth, sizeof(s.ch_truth), "%s%ld", GF_CHANNEL_TRUTH,
+             (long)s.track);
+
+    s.lcm = lcm_create(url);
+    if (s.lcm == NULL) {
+        fprintf(stderr, "gf_sim: cannot open LCM at %s\n",
+                url ? url : "(default URL)");
+        return 1;
+    }
+    rng_seed(&r, seed);
+    clock_gettime(CLOCK_MONOTONIC, &next);
+
+    if (exercise == 1 || exercise == 2) {
+        for (t = 1; t <= steps; t++) {
+            send_ctrl(&s, t, 0, 0.0, 0.0);
+            if (exercise == 2 && t == 5)
+                send_meas(&s, t, 5.0, 10.0);
+            pace(&next, period_ns);
+        }
+    } else if (exercise == 4) {
+        send_ctrl(&s, 1, 2, 1.0, 0.0);
+        send_meas(&s, 1, -0.7, 0.01);
+    } else if (s.model == MODEL_CAR) {
+        double x[2] = {0.0, 0.0};
+        for (t = 1; t <= steps; t++) {
+            double a = rng_normal(&r);
+            x[0] += x[1] + 0.5 * a; // x_t = A x_{t-1} + G a, G = (0.5, 1)^T
+            x[1] += a;
+            send_ctrl(&s, t, 0, 0.0, 0.0);
+            send_truth(&s, t, 2, x);
+            if (t % meas_every == 0)
+                send_meas(&s, t, x[0] + sqrt(meas_var) * rng_normal(&r),
+                          meas_var);
+            pace(&next, period_ns);
+        }
+    } else {
+        double x[3];
+        x[0] = 0.0;
+        x[1] = 0.0;
+        x[2] = (2.0 * rng_uniform(&r) - 1.0) * 3.14159265358979323846;
+        for (t = 1; t <= steps; t++) {
+            x[0] += cos(x[2]); // move 1 forward, then turn
+            x[1] += sin(x[2]);
+            x[2] = remainder(x[2] + turn, 2.0 * 3.14159265358979323846);
+            send_ctrl(&s, t, 2, 1.0, turn);
+            send_truth(&s, t, 3, x);
+            if (t % meas_every == 0)
+                send_meas(&s, t, x[0] + sqrt(meas_var) * rng_normal(&r),
+                          meas_var);
+            pace(&next, period_ns);
+        }
+    }
+
+    printf("gf_sim: track=%ld sent controls=%lu measurements=%lu truths=%lu%s\n",
+           (long)s.track, s.sent_ctrl, s.sent_meas, s.sent_truth,
+           s.failed ? " (some publishes FAILED)" : "");
+    lcm_destroy(s.lcm);
+    return s.failed ? 1 : 0;
+}

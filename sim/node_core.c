@@ -1,0 +1,450 @@
+// gaussfilt sim: the filter node's message handling (see node_core.h).
+// Only message checking and bookkeeping live here; every filter step is a
+// call into the core (gf_kf2_*, gf_ekf3_*).
+#include "node_core.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "gaussfilt_lcm_belief_t.h"
+#include "gaussfilt_lcm_control_t.h"
+#include "gaussfilt_lcm_groundtruth_t.h"
+#include "gaussfilt_lcm_measurement_t.h"
+
+#define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
+#define MODEL_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
+
+// The largest message the node decodes; anything longer is malformed.
+#define GF_NODE_MAX_LEN 4096
+
+const char *gf_node_result_str(gf_node_result r)
+{
+    switch (r) {
+    case GF_NODE_APPLIED: return "applied";
+    case GF_NODE_DUPLICATE: return "duplicate";
+    case GF_NODE_OUT_OF_ORDER: return "out_of_order";
+    case GF_NODE_MALFORMED: return "malformed";
+    case GF_NODE_TYPE_MISMATCH: return "type_mismatch";
+    case GF_NODE_BAD_FIELD: return "bad_field";
+    case GF_NODE_UNKNOWN_CHANNEL: return "unknown_channel";
+    case GF_NODE_TRACK_LIMIT: return "track_limit";
+    case GF_NODE_NONFINITE: return "nonfinite";
+    case GF_NODE_FILTER_ERROR: return "filter_error";
+    case GF_NODE_RESULT_COUNT: break;
+    }
+    return "unknown";
+}
+
+int gf_node_init(gf_node *node, gf_node_publish_fn publish, void *ctx)
+{
+    if (node == NULL)
+        return -1;
+    memset(node, 0, sizeof(*node));
+    node->publish = publish;
+    node->ctx = ctx;
+    return 0;
+}
+
+const gf_node_track *gf_node_find(const gf_node *node, int32_t id)
+{
+    unsigned i;
+    if (node == NULL)
+        return NULL;
+    for (i = 0; i < node->ntracks; i++)
+        if (node->tracks[i].id == id)
+            return &node->tracks[i];
+    return NULL;
+}
+
+// ---- channel and fingerprint ----------------------------------------------
+
+enum { KIND_NONE, KIND_MEAS, KIND_CTRL };
+
+// Parses "<prefix><decimal int32>" exactly; returns 1 and the track id.
+static int parse_track(const char *channel, const char *prefix, int32_t *id)
+{
+    size_t n = strlen(prefix);
+    const char *p;
+    int neg = 0;
+    int64_t v = 0;
+    if (strncmp(channel, prefix, n) != 0)
+        return 0;
+    p = channel + n;
+    if (*p == '-') {
+        neg = 1;
+        p++;
+    }
+    if (*p == '\0')
+        return 0;
+    for (; *p != '\0'; p++) {
+        if (*p < '0' || *p > '9')
+            return 0;
+        v = v * 10 + (*p - '0');
+        if (v > (int64_t)INT32_MAX + 1)
+            return 0;
+    }
+    v = neg ? -v : v;
+    if (v > INT32_MAX)
+        return 0;
+    *id = (int32_t)v;
+    return 1;
+}
+
+static int channel_kind(const char *channel, int32_t *id)
+{
+    if (channel == NULL)
+        return KIND_NONE;
+    if (parse_track(channel, GF_CHANNEL_MEAS, id))
+        return KIND_MEAS;
+    if (parse_track(channel, GF_CHANNEL_CTRL, id))
+        return KIND_CTRL;
+    return KIND_NONE;
+}
+
+// The 8-byte big-endian fingerprint an LCM message starts with.
+static int64_t fingerprint(const uint8_t *b)
+{
+    uint64_t v = 0;
+    unsigned i;
+    for (i = 0; i < 8; i++)
+        v = (v << 8) | b[i];
+    return (int64_t)v;
+}
+
+// Checks the fingerprint against the expected type: GF_NODE_APPLIED when it
+// matches, TYPE_MISMATCH when it is another of our types, else MALFORMED.
+static gf_node_result check_fingerprint(const void *data, size_t len,
+                                        int64_t want)
+{
+    int64_t got;
+    if (data == NULL || len < 8 || len > GF_NODE_MAX_LEN)
+        return GF_NODE_MALFORMED;
+    got = fingerprint((const uint8_t *)data);
+    if (got == want)
+        return GF_NODE_APPLIED;
+    if (got == __gaussfilt_lcm_measurement_t_get_hash() ||
+        got == __gaussfilt_lcm_control_t_get_hash() ||
+        got == __gaussfilt_lcm_belief_t_get_hash() ||
+        got == __gaussfilt_lcm_groundtruth_t_get_hash())
+        return GF_NODE_TYPE_MISMATCH;
+    return GF_NODE_MALFORMED;
+}
+
+// ---- tracks ----------------------------------------------------------------
+
+// The exercise priors every new track starts from.
+static void track_prior(gf_node_track *t)
+{
+    if (t->model == MODEL_CAR) {
+        // Exercise 1: the car starts at rest at 0, known exactly.
+        memset(&t->f.kf2, 0, sizeof(t->f.kf2));
+    } else {
+        // Exercise 4: at the origin, heading unknown.
+        memset(&t->f.ekf3, 0, sizeof(t->f.ekf3));
+        t->f.ekf3.sigma.m[0][0] = GF_R(0.01);
+        t->f.ekf3.sigma.m[1][1] = GF_R(0.01);
+        t->f.ekf3.sigma.m[2][2] = GF_R(10000.0);
+    }
+}
+
+static void belief_fill(const gf_node_track *t, gaussfilt_lcm_belief_t *b)
+{
+    unsigned i, j, n = t->model == MODEL_CAR ? 2u : 3u;
+    memset(b, 0, sizeof(*b));
+    b->track = t->id;
+    b->model = t->model;
+    b->n = (int8_t)n;
+    for (i = 0; i < n; i++) {
+        b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : t->f.ekf3.mu.v[i]);
+        for (j = 0; j < n; j++)
+            b->cov[i][j] = (double)(n == 2 ? t->f.kf2.sigma.m[i][j]
+                                           : t->f.ekf3.sigma.m[i][j]);
+    }
+}
+
+static void publish_belief(gf_node *node, gf_node_track *t,
+                           gaussfilt_lcm_belief_t *b)
+{
+    char channel[GF_CHANNEL_MAX];
+    int len;
+    b->seq = t->belief_seq;
+    len = gaussfilt_lcm_belief_t_encode(node->buf, 0, (int)sizeof(node->buf),
+                                        b);
+    if (len < 0) {
+        node->counts.publish_failed++;
+        return;
+    }
+    snprintf(channel, sizeof(channel), "%s%ld", GF_CHANNEL_BELIEF,
+             (long)t->id);
+    node->counts.published++;
+    if (node->publish != NULL &&
+        node->publish(node->ctx, channel, node->buf, (size_t)len) != 0)
+        node->counts.publish_failed++;
+}
+
+static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
+                                int64_t utime, gf_node_result *why)
+{
+    gf_node_track *t;
+    gaussfilt_lcm_belief_t b;
+    unsigned i;
+    for (i = 0; i < node->ntracks; i++) {
+        t = &node->tracks[i];
+        if (t->id == id) {
+            if (t->model != model) {
+                *why = GF_NODE_BAD_FIELD;
+                return NULL;
+            }
+            return t;
+        }
+    }
+    if (node->ntracks >= GF_NODE_MAX_TRACKS) {
+        *why = GF_NODE_TRACK_LIMIT;
+        return NULL;
+    }
+    t = &node->tracks[node->ntracks++];
+    memset(t, 0, sizeof(*t));
+    t->id = id;
+    t->model = model;
+    track_prior(t);
+    node->counts.tracks_created++;
+    belief_fill(t, &b);
+    b.utime = utime;
+    b.input_seq = -1;
+    b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
+    publish_belief(node, t, &b);
+    return t;
+}
+
+// Sequence rules: seq strictly increasing per track (equal = duplicate,
+// lower = out of order), utime never decreasing.
+static gf_node_result check_order(const gf_node_track *t, int64_t seq,
+                                  int64_t utime)
+{
+    if (!t->has_input)
+        return GF_NODE_APPLIED;
+    if (seq == t->last_seq)
+        return GF_NODE_DUPLICATE;
+    if (seq < t->last_seq || utime < t->last_utime)
+        return GF_NODE_OUT_OF_ORDER;
+    return GF_NODE_APPLIED;
+}
+
+static void consume(gf_node *node, gf_node_track *t, int64_t seq,
+                    int64_t utime, int64_t now)
+{
+    // seq > last_seq here; unsigned arithmetic cannot overflow.
+    if (t->has_input)
+        node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
+    t->has_input = 1;
+    t->last_seq = seq;
+    t->last_utime = utime;
+    t->last_rx = now;
+}
+
+static gf_node_result from_status(gf_status s)
+{
+    if (s == GF_OK)
+        return GF_NODE_APPLIED;
+    return s == GF_ERR_NONFINITE ? GF_NODE_NONFINITE : GF_NODE_FILTER_ERROR;
+}
+
+// ---- the two inputs ---------------------------------------------------------
+
+// Model constants of the exercises (configuration, not math).
+static void car_model(gf_kf2_model *mdl)
+{
+    memset(mdl, 0, sizeof(*mdl));
+    // A = ((1, 1), (0, 1)): position += velocity over one step.
+    mdl->A.m[0][0] = GF_R(1.0);
+    mdl->A.m[0][1] = GF_R(1.0);
+    mdl->A.m[1][1] = GF_R(1.0);
+    // B = I: a control, if sent, adds u to the state (the car gets none).
+    mdl->B.m[0][0] = GF_R(1.0);
+    mdl->B.m[1][1] = GF_R(1.0);
+    // R = G G^T, G = (0.5, 1)^T: acceleration of variance 1 (Table 1.1).
+    mdl->R.m[0][0] = GF_R(0.25);
+    mdl->R.m[0][1] = GF_R(0.5);
+    mdl->R.m[1][0] = GF_R(0.5);
+    mdl->R.m[1][1] = GF_R(1.0);
+}
+
+static gf_node_result handle_ctrl(gf_node *node, int32_t id,
+                                  const gaussfilt_lcm_control_t *c,
+                                  int64_t now)
+{
+    gf_node_result r = GF_NODE_APPLIED;
+    gf_node_track *t;
+    gaussfilt_lcm_belief_t b;
+    gf_status s;
+    if (c->track != id || (c->model != MODEL_CAR && c->model != MODEL_ROBOT))
+        return GF_NODE_BAD_FIELD;
+    if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2)
+        return GF_NODE_BAD_FIELD;
+    t = track_get(node, id, c->model, c->utime, &r);
+    if (t == NULL)
+        return r;
+    r = check_order(t, c->seq, c->utime);
+    if (r != GF_NODE_APPLIED)
+        return r;
+    consume(node, t, c->seq, c->utime, now);
+    if (t->model == MODEL_CAR) {
+        gf_kf2_model mdl;
+        gf_vec2 u;
+        car_model(&mdl);
+        u.v[0] = (gf_real)c->u[0];
+        u.v[1] = (gf_real)c->u[1];
+        s = gf_kf2_predict(&t->f.kf2, &mdl, c->n == 2 ? &u : NULL);
+    } else {
+        gf_ekf3_motion mot;
+        gf_real u[2];
+        memset(&mot, 0, sizeof(mot)); // R = 0, as in exercise 4
+        mot.g = gf_ekf3_motion_forward_turn;
+        u[0] = (gf_real)c->u[0];
+        u[1] = (gf_real)c->u[1];
+        s = gf_ekf3_predict(&t->f.ekf3, &mot, u);
+    }
+    t->belief_seq++;
+    belief_fill(t, &b);
+    b.utime = c->utime;
+    b.input_seq = c->seq;
+    b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
+    b.status = (int8_t)s;
+    publish_belief(node, t, &b);
+    return from_status(s);
+}
+
+static gf_node_result handle_meas(gf_node *node, int32_t id,
+                                  const gaussfilt_lcm_measurement_t *z,
+                                  int64_t now)
+{
+    gf_node_result r = GF_NODE_APPLIED;
+    gf_node_track *t;
+    gaussfilt_lcm_belief_t b;
+    gf_innovation info;
+    gf_status s;
+    unsigned i, j, m;
+    if (z->track != id || (z->model != MODEL_CAR && z->model != MODEL_ROBOT))
+        return GF_NODE_BAD_FIELD;
+    if (z->m < 1 || z->m > 2) // car: x or (x, v); robot: x or (x, y)
+        return GF_NODE_BAD_FIELD;
+    m = (unsigned)z->m;
+    t = track_get(node, id, z->model, z->utime, &r);
+    if (t == NULL)
+        return r;
+    r = check_order(t, z->seq, z->utime);
+    if (r != GF_NODE_APPLIED)
+        return r;
+    consume(node, t, z->seq, z->utime, now);
+    memset(&info, 0, sizeof(info));
+    if (t->model == MODEL_CAR) {
+        gf_kf2_meas mm;
+        gf_vec2 zz;
+        memset(&mm, 0, sizeof(mm));
+        mm.m = m;
+        mm.C.m[0][0] = GF_R(1.0); // C = (1, 0) or I
+        mm.C.m[1][1] = m == 2 ? GF_R(1.0) : GF_R(0.0);
+        for (i = 0; i < m; i++) {
+            zz.v[i] = (gf_real)z->z[i];
+            for (j = 0; j < m; j++)
+                mm.Q.m[i][j] = (gf_real)z->q[i][j];
+        }
+        if (m == 1)
+            zz.v[1] = GF_R(0.0);
+        s = gf_kf2_update(&t->f.kf2, &mm, &zz, &info);
+    } else {
+        gf_ekf3_meas mm;
+        gf_vec3 zz;
+        memset(&mm, 0, sizeof(mm));
+        memset(&zz, 0, sizeof(zz));
+        mm.m = m;
+        mm.h = m == 1 ? gf_ekf3_meas_x : gf_ekf3_meas_xy;
+        for (i = 0; i < m; i++) {
+            zz.v[i] = (gf_real)z->z[i];
+            for (j = 0; j < m; j++)
+                mm.Q.m[i][j] = (gf_real)z->q[i][j];
+        }
+        s = gf_ekf3_update(&t->f.ekf3, &mm, &zz, &info);
+    }
+    t->belief_seq++;
+    belief_fill(t, &b);
+    b.utime = z->utime;
+    b.input_seq = z->seq;
+    b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
+    b.status = (int8_t)s;
+    if (s == GF_OK || s == GF_ERR_GATED) {
+        b.m = (int8_t)info.m;
+        for (i = 0; i < info.m && i < 3; i++)
+            b.innovation[i] = (double)info.y[i];
+        b.nis = (double)info.nis;
+    }
+    publish_belief(node, t, &b);
+    return from_status(s);
+}
+
+static gf_node_result dispatch(gf_node *node, const char *channel,
+                               const void *data, size_t len, int64_t now)
+{
+    int32_t id = 0;
+    gf_node_result r;
+    int kind = channel_kind(channel, &id);
+    if (kind == KIND_CTRL) {
+        gaussfilt_lcm_control_t c;
+        r = check_fingerprint(data, len, __gaussfilt_lcm_control_t_get_hash());
+        if (r != GF_NODE_APPLIED)
+            return r;
+        if (gaussfilt_lcm_control_t_decode(data, 0, (int)len, &c) != (int)len)
+            return GF_NODE_MALFORMED;
+        return handle_ctrl(node, id, &c, now);
+    }
+    if (kind == KIND_MEAS) {
+        gaussfilt_lcm_measurement_t z;
+        r = check_fingerprint(data, len,
+                              __gaussfilt_lcm_measurement_t_get_hash());
+        if (r != GF_NODE_APPLIED)
+            return r;
+        if (gaussfilt_lcm_measurement_t_decode(data, 0, (int)len, &z) !=
+            (int)len)
+            return GF_NODE_MALFORMED;
+        return handle_meas(node, id, &z, now);
+    }
+    return GF_NODE_UNKNOWN_CHANNEL;
+}
+
+gf_node_result gf_node_handle(gf_node *node, const char *channel,
+                              const void *data, size_t len, int64_t now)
+{
+    gf_node_result r;
+    if (node == NULL)
+        return GF_NODE_MALFORMED;
+    r = dispatch(node, channel, data, len, now);
+    node->counts.received++;
+    node->counts.by_result[r]++;
+    return r;
+}
+
+int gf_node_summary(const gf_node *node, char *out, size_t size)
+{
+    const gf_node_counts *c = &node->counts;
+    int n, k;
+    unsigned r;
+    if (out == NULL || size == 0)
+        return -1;
+    n = snprintf(out, size,
+                 "received=%llu applied=%llu published=%llu "
+                 "publish_failed=%llu gaps=%llu tracks=%u",
+                 (unsigned long long)c->received,
+                 (unsigned long long)c->by_result[GF_NODE_APPLIED],
+                 (unsigned long long)c->published,
+                 (unsigned long long)c->publish_failed,
+                 (unsigned long long)c->gaps, node->ntracks);
+    for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
+        k = snprintf(out + n, size - (size_t)n, " %s=%llu",
+                     gf_node_result_str((gf_node_result)r),
+                     (unsigned long long)c->by_result[r]);
+        if (k < 0)
+            return k;
+        n += k;
+    }
+    return n;
+}

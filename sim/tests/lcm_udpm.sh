@@ -1,0 +1,171 @@
+#!/usr/bin/env bash
+# Multi-process LCM tests over udpm: simulator, filter node and checker run
+# as separate processes and talk over real UDP multicast sockets.
+#
+#   lcm_udpm.sh SCENARIO PORT BIN_DIR LCM_BIN_DIR WORK_DIR
+#
+# As root the whole scenario runs in a private network namespace
+# (unshare -n; lo up; 224.0.0.0/4 routed to lo), so nothing leaves it;
+# otherwise on the host's loopback. Always ttl=0, always the test's own
+# PORT, so tests cannot hear each other.
+#
+# Scenarios:
+#   table11, table21, table42  the exercise, checked from the wire by gf_check
+#   malformed  broken packets on the node's channels: counted exactly,
+#              dropped, and the node still reproduces Table 4.2 afterwards
+#   replay     lcm-logger records the simulators; the log is played through
+#              the node twice with the file:// provider (speed=0): the two
+#              belief logs are identical, and Table 2.1 is in them; and
+#              gf_sim gives the same bytes for the same seed
+set -euo pipefail
+scenario=$1 port=$2 bin=$3 lcmbin=$4 work=$5
+
+if [ "$(id -u)" -eq 0 ] && [ -z "${GF_IN_NETNS:-}" ] &&
+    unshare -n true 2>/dev/null; then
+    exec env GF_IN_NETNS=1 unshare -n bash "$0" "$@"
+fi
+if [ -n "${GF_IN_NETNS:-}" ]; then
+    ip link set lo up
+    ip route add 224.0.0.0/4 dev lo
+    where="a private network namespace"
+else
+    where="the host's loopback (not root: no namespace)"
+fi
+URL="udpm://239.255.76.67:$port?ttl=0"
+rm -rf "$work"
+mkdir -p "$work"
+echo "lcm_udpm: $scenario on $URL in $where; files in $work"
+
+pids=()
+n=0
+cleanup() {
+    local p
+    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+}
+trap cleanup EXIT
+
+# start NAME CMD...: runs CMD in the background, output in $work/NAME.out;
+# its pid goes in the variable NAME_pid.
+start() {
+    local name=$1
+    shift
+    "$@" >"$work/$name.out" 2>&1 &
+    pids+=($!)
+    printf -v "${name}_pid" '%s' $!
+}
+
+# ready NAME: waits (up to 5 s) for NAME's "ready" line.
+ready() {
+    local i
+    for i in $(seq 50); do
+        grep -q ': ready' "$work/$1.out" 2>/dev/null && return 0
+        sleep 0.1
+    done
+    cat "$work/$1.out" >&2
+    echo "lcm_udpm: $1 never got ready" >&2
+    exit 1
+}
+
+# stop_node: SIGTERM, wait, print its summary line into $summary.
+stop_node() {
+    kill -0 "$node_pid" || { echo "lcm_udpm: the node died" >&2; exit 1; }
+    kill -TERM "$node_pid"
+    wait "$node_pid" || { echo "lcm_udpm: node exit status $?" >&2; exit 1; }
+    summary=$(grep 'gf_node: summary' "$work/node.out") ||
+        { echo "lcm_udpm: no summary from the node" >&2; exit 1; }
+    echo "$summary"
+}
+
+# expect KEY VALUE: the node's summary says KEY=VALUE.
+expect() {
+    grep -qw "$1=$2" <<<"$summary" ||
+        { echo "lcm_udpm: expected $1=$2 in the summary" >&2; exit 1; }
+}
+
+# exercise TABLE EXERCISE TRACK APPLIED
+exercise() {
+    start check "$bin/gf_check" --url "$URL" --table "$1" --track "$3"
+    ready check
+    start node "$bin/gf_node" --url "$URL"
+    ready node
+    "$bin/gf_sim" --url "$URL" --exercise "$2" --track "$3"
+    local rc=0
+    wait "$check_pid" || rc=$?
+    cat "$work/check.out"
+    [ "$rc" -eq 0 ] || { echo "lcm_udpm: gf_check failed" >&2; exit 1; }
+    stop_node
+    expect applied "$4"
+    expect received "$4"
+}
+
+case $scenario in
+table11) exercise 1.1 1 1 10 ;;
+table21) exercise 2.1 2 2 6 ;;
+table42) exercise 4.2 4 4 2 ;;
+malformed)
+    rounds=25
+    start check "$bin/gf_check" --url "$URL" --table 4.2 --track 4
+    ready check
+    start node "$bin/gf_node" --url "$URL"
+    ready node
+    "$bin/gf_inject" --url "$URL" --track 4 --rounds $rounds --seed 7
+    sleep 0.2
+    "$bin/gf_sim" --url "$URL" --exercise 4 --track 4
+    rc=0
+    wait "$check_pid" || rc=$?
+    cat "$work/check.out"
+    [ "$rc" -eq 0 ] || { echo "lcm_udpm: no Table 4.2 after the junk" >&2; exit 1; }
+    stop_node
+    expect malformed $((3 * rounds))
+    expect type_mismatch $rounds
+    expect applied 2
+    expect received $((4 * rounds + 2))
+    ;;
+replay)
+    start logger "$lcmbin/lcm-logger" --lcm-url="$URL" -f "$work/in.lcmlog"
+    sleep 0.5
+    "$bin/gf_sim" --url "$URL" --exercise 1 --track 1
+    "$bin/gf_sim" --url "$URL" --exercise 2 --track 2
+    "$bin/gf_sim" --url "$URL" --exercise 4 --track 4
+    "$bin/gf_sim" --url "$URL" --model car --track 10 --steps 200 --seed 7 --rate 2000
+    "$bin/gf_sim" --url "$URL" --model robot --track 11 --steps 50 --seed 8 --rate 2000
+    # lcm-logger writes behind (flushes every 100 ms) and drops what it has
+    # not written when stopped: wait until all 768 are on disk (up to 10 s).
+    # inputs: 10 + 6 + 2 + 400 + 100; truths: 200 + 50
+    for i in $(seq 100); do
+        "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog" \
+            >/dev/null 2>&1 && break
+        sleep 0.1
+    done
+    kill -INT "$logger_pid"
+    wait "$logger_pid" || true
+    "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog"
+    for run in a b; do
+        "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" \
+            --out-url "file://$work/out-$run.lcmlog?mode=w" | tee "$work/node-$run.out"
+        grep -q 'received=518 applied=518 published=523 ' "$work/node-$run.out" ||
+            { echo "lcm_udpm: replay $run did not apply all 518 inputs" >&2; exit 1; }
+    done
+    # 5 initial beliefs + one per input
+    "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect 523 \
+        "$work/out-a.lcmlog" "$work/out-b.lcmlog"
+    "$bin/gf_check" --url "file://$work/out-a.lcmlog?speed=0" --table 2.1 \
+        --track 2 --timeout-ms 5000
+    # The simulator is deterministic: same seed, same bytes; another seed,
+    # other bytes.
+    for s in 7 7 8; do
+        "$bin/gf_sim" --url "file://$work/sim-$s-$((++n)).lcmlog?mode=w" \
+            --model car --track 10 --steps 200 --seed $s
+    done
+    "$bin/gf_logcmp" --expect 600 "$work/sim-7-1.lcmlog" "$work/sim-7-2.lcmlog"
+    if "$bin/gf_logcmp" "$work/sim-7-1.lcmlog" "$work/sim-8-3.lcmlog" 2>/dev/null; then
+        echo "lcm_udpm: seeds 7 and 8 gave the same stream" >&2
+        exit 1
+    fi
+    ;;
+*)
+    echo "lcm_udpm: no scenario $scenario" >&2
+    exit 2
+    ;;
+esac
+echo "lcm_udpm: $scenario passed"

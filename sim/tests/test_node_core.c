@@ -1,0 +1,353 @@
+// The node's message handling without sockets (node_core.c): the exercise
+// tables through gf_node_handle, and every way a message can be refused.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gf_msgs.h"
+#include "node_core.h"
+
+#define TOL GF_SIM_TOL
+
+static int sink_publish(void *ctx, const char *channel, const void *data,
+                        size_t len)
+{
+    gf_sink_add((gf_sink *)ctx, channel, data, len);
+    return 0;
+}
+
+typedef struct fixture {
+    gf_node node;
+    gf_sink sink;
+} fixture;
+
+static int setup(void **state)
+{
+    static fixture f; // large; one test at a time
+    memset(&f, 0, sizeof(f));
+    gf_node_init(&f.node, sink_publish, &f.sink);
+    *state = &f;
+    return 0;
+}
+
+static gf_node_result feed(fixture *f, gf_msg m)
+{
+    assert_true(m.len > 0);
+    return gf_node_handle(&f->node, m.channel, m.data, (size_t)m.len, 0);
+}
+
+// received == sum of the results, applied == by_result[APPLIED].
+static void check_counts(const gf_node *node)
+{
+    uint64_t sum = 0;
+    unsigned r;
+    for (r = 0; r < GF_NODE_RESULT_COUNT; r++)
+        sum += node->counts.by_result[r];
+    assert_true(sum == node->counts.received);
+}
+
+static void check_close(double got, double want)
+{
+    double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
+    if (!(fabs(got - want) <= TOL * scale))
+        fail_msg("got %.17g, want %.17g", got, want);
+}
+
+static void exercise_2(fixture *f, int32_t track)
+{
+    int64_t t;
+    for (t = 1; t <= 5; t++)
+        assert_int_equal(feed(f, gf_msg_ctrl(track, GF_CAR, t, t * 1000000,
+                                             0, 0, 0)),
+                         GF_NODE_APPLIED);
+    assert_int_equal(feed(f, gf_msg_meas(track, GF_CAR, 6, 5000000, 5, 10)),
+                     GF_NODE_APPLIED);
+}
+
+static void table_2_1_in_process(void **state)
+{
+    fixture *f = *state;
+    const gaussfilt_lcm_belief_t *b;
+    const double s = 51.25;
+    int i;
+    exercise_2(f, 2);
+    assert_int_equal(f->sink.n, 7); // init + 5 predictions + 1 update
+    for (i = 0; i < 7; i++) {
+        assert_string_equal(f->sink.channel[i], "GF_BELIEF_2");
+        assert_int_equal(f->sink.b[i].seq, i);
+        assert_int_equal(f->sink.b[i].input_seq, i == 0 ? -1 : i);
+        assert_int_equal(f->sink.b[i].status, 0);
+    }
+    b = &f->sink.b[5]; // before z = 5
+    check_close(b->cov[0][0], 41.25);
+    check_close(b->cov[0][1], 12.5);
+    check_close(b->cov[1][1], 5.0);
+    b = &f->sink.b[6]; // after
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE);
+    check_close(b->mean[0], 41.25 * 5 / s);
+    check_close(b->mean[1], 12.5 * 5 / s);
+    check_close(b->cov[0][0], 41.25 * 10 / s);
+    check_close(b->cov[1][0], 12.5 * 10 / s);
+    check_close(b->cov[1][1], 5 - 12.5 * 12.5 / s);
+    assert_int_equal(b->m, 1);
+    check_close(b->innovation[0], 5.0);
+    check_close(b->nis, 25.0 / s);
+    check_counts(&f->node);
+}
+
+static void table_4_2_in_process(void **state)
+{
+    fixture *f = *state;
+    const gaussfilt_lcm_belief_t *b;
+    assert_int_equal(feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(f, gf_msg_meas(4, GF_ROBOT, 2, 1, -0.7, 0.01)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->sink.n, 3);
+    b = &f->sink.b[2];
+    assert_int_equal(b->n, 3);
+    check_close(b->mean[0], 0.15);
+    check_close(b->mean[1], 0.0);
+    check_close(b->cov[0][0], 0.005);
+    check_close(b->cov[1][1], 10000.01);
+    check_close(b->cov[1][2], 10000.0);
+    check_close(b->cov[2][2], 10000.0);
+    check_counts(&f->node);
+}
+
+static void duplicates_and_out_of_order(void **state)
+{
+    fixture *f = *state;
+    gf_node_track before;
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 10, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->sink.n, 2);
+    memcpy(&before, gf_node_find(&f->node, 1), sizeof(before));
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 10, 0, 0, 0)),
+                     GF_NODE_DUPLICATE);
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 0, 10, 0, 0, 0)),
+                     GF_NODE_OUT_OF_ORDER);
+    assert_int_equal(feed(f, gf_msg_meas(1, GF_CAR, 1, 10, 1, 10)),
+                     GF_NODE_DUPLICATE);
+    // Newer seq but older utime: out of order too.
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 2, 9, 0, 0, 0)),
+                     GF_NODE_OUT_OF_ORDER);
+    assert_memory_equal(&before, gf_node_find(&f->node, 1), sizeof(before));
+    assert_int_equal(f->sink.n, 2); // nothing published for rejections
+    // seq 2 and 3 lost: counted as a gap of 2, then 2 is late.
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 4, 11, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->node.counts.gaps, 2);
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 2, 12, 0, 0, 0)),
+                     GF_NODE_OUT_OF_ORDER);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_DUPLICATE], 2);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_OUT_OF_ORDER], 3);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_APPLIED], 2);
+    assert_int_equal(f->node.counts.received, 7);
+    check_counts(&f->node);
+}
+
+static void malformed_and_type_mismatch(void **state)
+{
+    fixture *f = *state;
+    gf_msg good = gf_msg_meas(1, GF_CAR, 1, 0, 1.0, 10.0), m;
+    gf_msg ctrl = gf_msg_ctrl(1, GF_CAR, 1, 0, 0, 0, 0);
+    uint8_t junk[300];
+    uint32_t x = 12345;
+    int i, j, cut, malformed = 0;
+    gaussfilt_lcm_belief_t b;
+
+    assert_int_equal(gf_node_handle(&f->node, "GF_MEAS_1", NULL, 0, 0),
+                     GF_NODE_MALFORMED);
+    malformed++;
+    for (cut = 0; cut < good.len; cut++) { // every truncation
+        assert_int_equal(gf_node_handle(&f->node, good.channel, good.data,
+                                        (size_t)cut, 0),
+                         GF_NODE_MALFORMED);
+        malformed++;
+    }
+    m = good; // one trailing byte
+    assert_int_equal(gf_node_handle(&f->node, m.channel, m.data,
+                                    (size_t)m.len + 1, 0),
+                     GF_NODE_MALFORMED);
+    malformed++;
+    for (i = 0; i < 8; i++) { // wrong fingerprint, any of its bytes
+        m = good;
+        m.data[i] ^= 0x10;
+        assert_int_equal(feed(f, m), GF_NODE_MALFORMED);
+        malformed++;
+    }
+    for (i = 0; i < 1000; i++) { // random bytes, random lengths
+        size_t len;
+        x = x * 1664525u + 1013904223u;
+        len = (x >> 8) % sizeof(junk);
+        for (j = 0; j < (int)len; j++) {
+            x = x * 1664525u + 1013904223u;
+            junk[j] = (uint8_t)(x >> 24);
+        }
+        assert_int_equal(gf_node_handle(&f->node, i % 2 ? "GF_MEAS_1"
+                                                        : "GF_CTRL_1",
+                                        junk, len, 0),
+                         GF_NODE_MALFORMED);
+        malformed++;
+    }
+    // Our other types on the wrong channel.
+    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_1", good.data,
+                                    (size_t)good.len, 0),
+                     GF_NODE_TYPE_MISMATCH);
+    assert_int_equal(gf_node_handle(&f->node, "GF_MEAS_1", ctrl.data,
+                                    (size_t)ctrl.len, 0),
+                     GF_NODE_TYPE_MISMATCH);
+    memset(&b, 0, sizeof(b));
+    m.len = gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);
+    assert_int_equal(gf_node_handle(&f->node, "GF_MEAS_1", m.data,
+                                    (size_t)m.len, 0),
+                     GF_NODE_TYPE_MISMATCH);
+
+    assert_int_equal(f->node.counts.by_result[GF_NODE_MALFORMED], malformed);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_TYPE_MISMATCH], 3);
+    assert_int_equal(f->node.ntracks, 0);
+    assert_int_equal(f->sink.n, 0);
+    // ... and the node still answers.
+    assert_int_equal(feed(f, good), GF_NODE_APPLIED);
+    assert_int_equal(f->sink.n, 2);
+    check_counts(&f->node);
+}
+
+static void bad_fields_and_channels(void **state)
+{
+    fixture *f = *state;
+    gf_msg m;
+    // Track in the message is not the channel's.
+    m = gf_msg_meas(1, GF_CAR, 1, 0, 1.0, 10.0);
+    snprintf(m.channel, sizeof(m.channel), "GF_MEAS_2");
+    assert_int_equal(feed(f, m), GF_NODE_BAD_FIELD);
+    assert_int_equal(feed(f, gf_msg_ctrl(1, 3, 1, 0, 0, 0, 0)),
+                     GF_NODE_BAD_FIELD); // no model 3
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 0, 1, 0, 0)),
+                     GF_NODE_BAD_FIELD); // car takes n = 0 or 2
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_ROBOT, 1, 0, 0, 0, 0)),
+                     GF_NODE_BAD_FIELD); // robot needs u = (d, phi)
+    {
+        gaussfilt_lcm_measurement_t z;
+        memset(&z, 0, sizeof(z));
+        z.track = 1;
+        z.model = GF_CAR;
+        z.m = 3;
+        m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0,
+                                                   (int)sizeof(m.data), &z);
+        snprintf(m.channel, sizeof(m.channel), "GF_MEAS_1");
+        assert_int_equal(feed(f, m), GF_NODE_BAD_FIELD); // m = 3
+    }
+    assert_int_equal(f->node.ntracks, 0);
+    // A track keeps its model.
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 0, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(f, gf_msg_meas(1, GF_ROBOT, 2, 0, 1.0, 0.01)),
+                     GF_NODE_BAD_FIELD);
+    // Channels the node does not serve.
+    m = gf_msg_ctrl(1, GF_CAR, 3, 0, 0, 0, 0);
+    assert_int_equal(gf_node_handle(&f->node, "GF_BELIEF_1", m.data,
+                                    (size_t)m.len, 0),
+                     GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_", m.data,
+                                    (size_t)m.len, 0),
+                     GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_1x", m.data,
+                                    (size_t)m.len, 0),
+                     GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_99999999999", m.data,
+                                    (size_t)m.len, 0),
+                     GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(gf_node_handle(&f->node, NULL, m.data, (size_t)m.len,
+                                    0),
+                     GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_BAD_FIELD], 6);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_UNKNOWN_CHANNEL], 5);
+    check_counts(&f->node);
+}
+
+static void nonfinite_reported_nothing_changed(void **state)
+{
+    fixture *f = *state;
+    gf_node_track before;
+    const gaussfilt_lcm_belief_t *prev, *b;
+    int n;
+    exercise_2(f, 2);
+    memcpy(&before, gf_node_find(&f->node, 2), sizeof(before));
+    n = f->sink.n;
+    assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 7, 6000000, (double)NAN, 10.0)),
+                     GF_NODE_NONFINITE);
+    assert_int_equal(feed(f, gf_msg_ctrl(2, GF_CAR, 8, 6000000, 2, (double)INFINITY,
+                                         0.0)),
+                     GF_NODE_NONFINITE);
+    assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 9, 6000000, 1.0, -1.0)),
+                     GF_NODE_FILTER_ERROR); // Q not PSD
+    assert_int_equal(f->sink.n, n + 3);
+    prev = &f->sink.b[n - 1];
+    for (; n < f->sink.n; n++) {
+        b = &f->sink.b[n];
+        assert_int_equal(b->status, n == f->sink.n - 1 ? GF_ERR_NOT_PSD
+                                                       : GF_ERR_NONFINITE);
+        assert_memory_equal(b->mean, prev->mean, sizeof(b->mean));
+        assert_memory_equal(b->cov, prev->cov, sizeof(b->cov));
+    }
+    // The filter itself is bit-for-bit as it was (only the input bookkeeping
+    // moved on).
+    assert_memory_equal(&before.f, &gf_node_find(&f->node, 2)->f,
+                        sizeof(before.f));
+    // Robot: a NaN heading change.
+    assert_int_equal(feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, (double)NAN)),
+                     GF_NODE_NONFINITE);
+    assert_int_equal(f->sink.b[f->sink.n - 1].status, GF_ERR_NONFINITE);
+    check_counts(&f->node);
+}
+
+static void track_limit(void **state)
+{
+    fixture *f = *state;
+    int32_t id;
+    for (id = 100; id < 100 + GF_NODE_MAX_TRACKS; id++)
+        assert_int_equal(feed(f, gf_msg_ctrl(id, GF_CAR, 1, 0, 0, 0, 0)),
+                         GF_NODE_APPLIED);
+    assert_int_equal(feed(f, gf_msg_ctrl(id, GF_CAR, 1, 0, 0, 0, 0)),
+                     GF_NODE_TRACK_LIMIT);
+    assert_null(gf_node_find(&f->node, id));
+    // The existing tracks go on.
+    assert_int_equal(feed(f, gf_msg_meas(100, GF_CAR, 2, 0, 1.0, 10.0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->node.counts.tracks_created, GF_NODE_MAX_TRACKS);
+    check_counts(&f->node);
+}
+
+static void summary_names_every_counter(void **state)
+{
+    fixture *f = *state;
+    char out[512];
+    unsigned r;
+    exercise_2(f, 3);
+    assert_true(gf_node_summary(&f->node, out, sizeof(out)) > 0);
+    assert_non_null(strstr(out, "received=6 applied=6 published=7"));
+    for (r = 1; r < GF_NODE_RESULT_COUNT; r++)
+        assert_non_null(strstr(out, gf_node_result_str((gf_node_result)r)));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(table_2_1_in_process, setup),
+        cmocka_unit_test_setup(table_4_2_in_process, setup),
+        cmocka_unit_test_setup(duplicates_and_out_of_order, setup),
+        cmocka_unit_test_setup(malformed_and_type_mismatch, setup),
+        cmocka_unit_test_setup(bad_fields_and_channels, setup),
+        cmocka_unit_test_setup(nonfinite_reported_nothing_changed, setup),
+        cmocka_unit_test_setup(track_limit, setup),
+        cmocka_unit_test_setup(summary_names_every_counter, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

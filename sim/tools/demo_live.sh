@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# The live part of scripts/demo: node, simulators, checkers and lcm-logger
+# as separate processes over LCM udpm (ttl=0). scripts/demo runs it inside
+# a private network namespace when root (GF_IN_NETNS=1: lo up, multicast
+# routed to lo), else on the host's loopback.
+#
+#   demo_live.sh BIN_DIR VENV_DIR LCM_BIN_DIR OUT_DIR URL
+set -euo pipefail
+bin=$1 venv=$2 lcmbin=$3 out=$4 url=$5
+tools=$(cd "$(dirname "$0")" && pwd)
+log=$out/gaussfilt-demo.lcmlog
+
+if [ -n "${GF_IN_NETNS:-}" ]; then
+    ip link set lo up
+    ip route add 224.0.0.0/4 dev lo
+fi
+
+# Multicast self-test, before anything else.
+if ! "$venv/bin/python" "$tools/lcm_selftest.py" "$url"; then
+    cat >&2 <<MSG
+
+error: LCM's multicast self-test failed on $url: no multicast route.
+  fix: route multicast to loopback, then run scripts/demo again:
+         sudo ip route add 224.0.0.0/4 dev lo
+       (or run scripts/demo as root: it then uses a private network
+        namespace with that route and touches nothing on the host)
+MSG
+    exit 3
+fi
+echo "LCM multicast self-test passed on $url"
+
+pids=()
+cleanup() {
+    local p
+    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+}
+trap cleanup EXIT
+start() { # start NAME CMD...
+    local name=$1
+    shift
+    "$@" >"$out/$name.out" 2>&1 &
+    pids+=($!)
+    printf -v "${name}_pid" '%s' $!
+}
+ready() { # ready NAME
+    local i
+    for i in $(seq 50); do
+        grep -q ': ready' "$out/$1.out" 2>/dev/null && return 0
+        sleep 0.1
+    done
+    cat "$out/$1.out" >&2
+    echo "error: $1 did not start" >&2
+    exit 1
+}
+
+rm -f "$log"
+start logger "$lcmbin/lcm-logger" --lcm-url="$url" -f "$log"
+start check11 "$bin/gf_check" --url "$url" --table 1.1 --track 1
+start check21 "$bin/gf_check" --url "$url" --table 2.1 --track 2
+start check42 "$bin/gf_check" --url "$url" --table 4.2 --track 4
+for c in check11 check21 check42; do ready $c; done
+start node "$bin/gf_node" --url "$url"
+ready node
+sleep 0.3 # lcm-logger has no ready line
+
+echo "gf_node is up ($(sed -n 's/.*ready //p' "$out/node.out"))"
+echo "simulators: the exercises (as fast as possible), then a random car and"
+echo "a random robot streaming in real time at 50 Hz for 2 s"
+"$bin/gf_sim" --url "$url" --exercise 1 --track 1
+"$bin/gf_sim" --url "$url" --exercise 2 --track 2
+"$bin/gf_sim" --url "$url" --exercise 4 --track 4
+start car "$bin/gf_sim" --url "$url" --model car --track 10 --steps 100 --seed 1 --rate 50
+start robot "$bin/gf_sim" --url "$url" --model robot --track 11 --steps 100 --seed 2 --rate 50
+
+fails=0
+for c in check11 check21 check42; do
+    echo
+    rc=0
+    pid_var=${c}_pid
+    wait "${!pid_var}" || rc=$?
+    sed '/: ready/d' "$out/$c.out"
+    [ "$rc" -eq 0 ] || fails=$((fails + 1))
+done
+wait "$car_pid" "$robot_pid"
+echo
+cat "$out/car.out" "$out/robot.out"
+sleep 0.3
+kill -TERM "$node_pid"
+wait "$node_pid" || true
+sed -n 's/^gf_node: summary /gf_node summary: /p' "$out/node.out"
+# lcm-logger writes behind (every 100 ms): stop it once the log has stopped
+# growing (up to 5 s).
+last=-1
+for i in $(seq 25); do
+    n=$("$bin/gf_logcmp" "$log" 2>/dev/null | awk '{print $2}')
+    [ "$n" = "$last" ] && break
+    last=$n
+    sleep 0.2
+done
+kill -INT "$logger_pid"
+for i in $(seq 30); do kill -0 "$logger_pid" 2>/dev/null || break; sleep 0.1; done
+kill -TERM "$logger_pid" 2>/dev/null || true
+wait "$logger_pid" || true
+[ "$fails" -eq 0 ] || { echo "error: $fails table(s) not reproduced" >&2; exit 1; }

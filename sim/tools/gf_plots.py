@@ -1,0 +1,243 @@
+"""Draws the seed's figures from an LCM log recorded by scripts/demo.
+
+    python gf_plots.py LOG OUT_DIR
+
+Reads the beliefs (GF_BELIEF_<track>) and the ground truth (GF_TRUTH_<track>)
+with lcm.EventLog and the generated gaussfilt_lcm types (PYTHONPATH must hold
+the build tree's lcmtypes/), and writes PNGs:
+
+  fig1_1_ellipses.png     Figure 1.1: 68% ellipses of the car, t = 0..5 (track 1)
+  fig1_2_correlation.png  Figure 1.2: rho_t, t = 1..10 (track 1)
+  fig2_1_measurement.png  Figure 2.1: t = 0..5, then after z = 5 (track 2)
+  fig4_1_prediction.png   Figure 4.1: the robot before and after moving (track 4)
+  fig4_2_correction.png   Figure 4.2: ... and after seeing x = -0.7 (track 4)
+  stream_car.png          the random car streamed in real time (track 10)
+
+Ellipses are computed here from the covariances on the wire (eigenvectors of
+the 2-D marginal, k^2 = -2 ln(1 - 0.68)), the same construction as the core's
+gf_cov2_ellipse, which gf_check prints for Table 1.1.
+"""
+import math
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import lcm  # noqa: E402
+from matplotlib.patches import Ellipse  # noqa: E402
+
+from gaussfilt_lcm import belief_t, groundtruth_t  # noqa: E402
+
+# Channel prefixes: sim/gf_channels.h.
+BELIEF, TRUTH = "GF_BELIEF_", "GF_TRUTH_"
+P = 0.68
+K = math.sqrt(-2.0 * math.log(1.0 - P))
+
+
+def read(path):
+    """beliefs[track] = [belief_t by seq], truths[track] = [groundtruth_t]."""
+    beliefs, truths = defaultdict(dict), defaultdict(list)
+    for ev in lcm.EventLog(path, "r"):
+        if ev.channel.startswith(BELIEF):
+            b = belief_t.decode(ev.data)
+            beliefs[b.track][b.seq] = b
+        elif ev.channel.startswith(TRUTH):
+            truths[int(ev.channel[len(TRUTH):])].append(
+                groundtruth_t.decode(ev.data))
+    return ({t: [d[s] for s in sorted(d)] for t, d in beliefs.items()},
+            truths)
+
+
+def marginal(b, i, j):
+    c = b.cov
+    return np.array([[c[i][i], c[i][j]], [c[j][i], c[j][j]]])
+
+
+def ellipse(ax, b, i=0, j=1, fill_alpha=0.0, **kw):
+    """The 68% ellipse of the (i, j) marginal of belief b; a dot if it is
+    degenerate in both axes. Returns its semi-axes (a >= b)."""
+    s = marginal(b, i, j)
+    lam, vec = np.linalg.eigh(s)
+    lam = np.clip(lam, 0.0, None)
+    a, bb = K * math.sqrt(lam[1]), K * math.sqrt(lam[0])
+    angle = math.degrees(math.atan2(vec[1, 1], vec[0, 1]))
+    centre = (b.mean[i], b.mean[j])
+    colour = kw.pop("edgecolor", "k")
+    label = kw.pop("label", None)
+    if a == 0.0:
+        ax.plot(*centre, "o", color=colour, label=label)
+        return a, bb
+    if fill_alpha > 0.0:
+        ax.add_patch(Ellipse(centre, 2 * a, 2 * bb, angle=angle, lw=0,
+                             facecolor=colour, alpha=fill_alpha))
+    ax.add_patch(Ellipse(centre, 2 * a, 2 * bb, angle=angle, fill=False,
+                         lw=1.8, edgecolor=colour, label=label, **kw))
+    ax.plot(*centre, "+", color=colour)
+    return a, bb
+
+
+def rho(b):
+    s00, s11 = b.cov[0][0], b.cov[1][1]
+    if s00 <= 0.0 or s11 <= 0.0:
+        return float("nan")  # undefined (t = 0)
+    return b.cov[0][1] / math.sqrt(s00 * s11)
+
+
+def car_ellipses(ax, bs, colours, lo=0.1, hi=0.85):
+    for t, b in enumerate(bs):
+        ellipse(ax, b, label=f"t = {t}",
+                edgecolor=colours(lo + (hi - lo) * t / max(1, len(bs) - 1)))
+    ax.set_xlabel("position x")
+    ax.set_ylabel("velocity x'")
+    ax.grid(alpha=0.3)
+
+
+def fig_1_1(beliefs, out):
+    bs = [b for b in beliefs[1] if b.seq <= 5]
+    fig, ax = plt.subplots(figsize=(7, 5))
+    car_ellipses(ax, bs, plt.cm.viridis)
+    ax.set_xlim(-13, 13)
+    ax.set_ylim(-4.5, 4.5)
+    ax.set_title("Figure 1.1: the car's belief, t = 0..5 (68% ellipses, "
+                 "from the wire)")
+    ax.legend(loc="upper left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+
+
+def fig_1_2(beliefs, out):
+    bs = [b for b in beliefs[1] if 1 <= b.seq <= 10]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ts = [b.seq for b in bs]
+    ax.plot(ts, [rho(b) for b in bs], "o-", label="rho_t (from the wire)")
+    ax.axhline(math.sqrt(3) / 2, color="grey", ls="--",
+               label="sqrt(3)/2 = 0.866 (limit)")
+    ax.set_xlabel("t")
+    ax.set_ylabel("correlation of position and velocity")
+    ax.set_ylim(0.8, 1.01)
+    ax.set_xticks(range(1, 11))
+    ax.set_title("Figure 1.2: correlation coefficient (t = 0 undefined)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+
+
+def fig_2_1(beliefs, out):
+    bs = beliefs[2]
+    pred = [b for b in bs if b.stage != belief_t.STAGE_UPDATE]
+    upd = [b for b in bs if b.stage == belief_t.STAGE_UPDATE]
+    fig, ax = plt.subplots(figsize=(7, 5))
+    car_ellipses(ax, pred, plt.cm.Blues, 0.35, 0.95)
+    for b in upd:
+        ellipse(ax, b, edgecolor="green", label="t = 5 after z = 5")
+    ax.axvline(5.0, color="green", ls="--", label="z = 5")
+    ax.set_xlim(-13, 13)
+    ax.set_ylim(-4.5, 4.5)
+    ax.set_title("Figure 2.1: the measurement z = 5 at t = 5 (68% ellipses)")
+    ax.legend(loc="upper left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+
+
+def fig_4(beliefs, out, corrected):
+    """Left: the whole 68% ellipses (y reaches +-151 after the move);
+    right: close up, equal axes, with the unit circle."""
+    bs = beliefs[4][: 3 if corrected else 2]
+    names = ["initial", "predicted", "corrected"]
+    colours = ["tab:blue", "tab:purple", "tab:red"]
+    fig, (full, near) = plt.subplots(1, 2, figsize=(12, 6),
+                                     gridspec_kw={"width_ratios": [1, 1.6]})
+    th = np.linspace(0, 2 * np.pi, 200)
+    y_hit = math.sqrt(1 - 0.7 ** 2)
+    for ax in (full, near):
+        ax.plot(np.cos(th), np.sin(th), color="gold", lw=2.5,
+                label="unit circle: where the robot can be")
+        for b in bs:
+            a, _ = ellipse(ax, b, fill_alpha=0.12, edgecolor=colours[b.seq],
+                           label=f"{names[b.seq]}: mu = ({b.mean[0]:.2f}, "
+                                 f"{b.mean[1]:.2f}), 68% ellipse")
+        if corrected:
+            ax.axvline(-0.7, color="green", ls="--", label="z = -0.7")
+            ax.plot([-0.7, -0.7], [y_hit, -y_hit], "kx", ms=12, mew=2.5,
+                    label=f"where it must be: (-0.7, +-{y_hit:.3f})")
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+        ax.grid(alpha=0.3)
+    full.set_xlim(-1.6, 1.6)
+    full.set_ylim(-200, 200)
+    full.set_title("whole ellipses (y axis squeezed)")
+    near.set_aspect("equal")
+    near.set_xlim(-1.6, 1.6)
+    near.set_ylim(-1.3, 1.3)
+    near.set_title("close up, equal axes")
+    handles, labels = near.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=9)
+    fig.suptitle("Figure 4.2: the robot after seeing x = -0.7" if corrected
+                 else "Figure 4.1: the robot before and after moving 1 "
+                      "forward", fontsize=13)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    fig.savefig(out)
+    plt.close(fig)
+
+
+def stream_car(beliefs, truths, out):
+    bs = [b for b in beliefs.get(10, []) if b.stage == belief_t.STAGE_UPDATE]
+    ts = truths.get(10, [])
+    if not bs or not ts:
+        return False
+    fig, ax = plt.subplots(figsize=(8, 4))
+    step_us = bs[0].utime  # the first step ends at t = 1 step
+    t_b = np.array([b.utime for b in bs]) / step_us
+    x = np.array([b.mean[0] for b in bs])
+    sd = np.sqrt([b.cov[0][0] for b in bs])
+    ax.fill_between(t_b, x - 2 * sd, x + 2 * sd, alpha=0.25,
+                    label="belief +- 2 sigma")
+    ax.plot(t_b, x, label="belief mean (from the wire)")
+    ax.plot(np.array([g.utime for g in ts]) / step_us,
+            [g.state[0] for g in ts], "k--", lw=1, label="ground truth")
+    ax.set_xlabel("step t")
+    ax.set_ylabel("position")
+    ax.set_title("The random car (exercise 1 noise, z every step, Q = 10), streamed at 50 Hz (track 10)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+    return True
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    log, out = sys.argv[1], sys.argv[2]
+    beliefs, truths = read(log)
+    for track, need in ((1, 11), (2, 7), (4, 3)):
+        if len(beliefs.get(track, [])) < need:
+            sys.exit(f"gf_plots: the log has {len(beliefs.get(track, []))} "
+                     f"beliefs of track {track}, need {need}")
+    os.makedirs(out, exist_ok=True)
+    written = []
+    for name, draw in (
+            ("fig1_1_ellipses.png", lambda p: fig_1_1(beliefs, p)),
+            ("fig1_2_correlation.png", lambda p: fig_1_2(beliefs, p)),
+            ("fig2_1_measurement.png", lambda p: fig_2_1(beliefs, p)),
+            ("fig4_1_prediction.png", lambda p: fig_4(beliefs, p, False)),
+            ("fig4_2_correction.png", lambda p: fig_4(beliefs, p, True))):
+        draw(os.path.join(out, name))
+        written.append(name)
+    if stream_car(beliefs, truths, os.path.join(out, "stream_car.png")):
+        written.append("stream_car.png")
+    for name in written:
+        print(os.path.join(out, name))
+
+
+if __name__ == "__main__":
+    main()

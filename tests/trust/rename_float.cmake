@@ -1,0 +1,24 @@
+# cmake -DNM=... -DOBJCOPY=... -DIN=lib.a -DOUT=lib.a -P rename_float.cmake
+# Copies the archive IN to OUT with every defined gf_ symbol renamed gff_
+# (definitions and the references to them), so a float copy of the core can
+# be linked beside a double one.
+execute_process(COMMAND ${NM} --defined-only ${IN}
+                OUTPUT_VARIABLE syms RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "nm ${IN} failed")
+endif()
+string(REGEX MATCHALL "[^\n ]+ [A-Za-z] gf_[A-Za-z0-9_]+" lines "${syms}")
+set(map "")
+foreach(line IN LISTS lines)
+    string(REGEX REPLACE ".* gf_" "" name "${line}")
+    string(APPEND map "gf_${name} gff_${name}\n")
+endforeach()
+if(map STREQUAL "")
+    message(FATAL_ERROR "no gf_ symbols in ${IN}")
+endif()
+file(WRITE ${OUT}.syms "${map}")
+execute_process(COMMAND ${OBJCOPY} --redefine-syms=${OUT}.syms ${IN} ${OUT}
+                RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "objcopy --redefine-syms failed on ${IN}")
+endif()
