@@ -19,9 +19,12 @@ static int vec3_is_finite(const gf_vec3 *x, unsigned n)
 
 // A callback's status, with anything that is not a known failure mapped to
 // GF_ERR_MODEL.
+// GF_ERR_GATED too: it promises an innovation in info, which a model's
+// failure never gives (the fuzzer found a model returning it).
 static gf_status callback_status(gf_status st)
 {
-    return (st < GF_ERR_MODEL || st > GF_OK) ? GF_ERR_MODEL : st;
+    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+               ? GF_ERR_MODEL : st;
 }
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,

@@ -1,0 +1,224 @@
+// gaussfilt LCM pipeline benchmark (issue 5): publishes measurements for
+// T car tracks at a given rate to a running gf_node and times the beliefs
+// that come back, all over real udpm sockets.
+//
+//   gf_lcmbench --url URL [--belief-url URL2] --rate R --seconds S
+//               [--tracks T] [--first ID]
+//
+// Beliefs are listened for on URL2 (default URL): scripts/bench-lcm runs the
+// node with --out-url on another port, so that neither the node nor this
+// program has the other direction's packets on its socket.
+// R is measurements per second in total (0: as fast as possible), spread
+// round-robin over tracks ID .. ID+T-1 (each message: m = 1, z, Q = 10, the
+// car of exercise 2; every one is answered by a belief). Publish times are
+// taken just before lcm_publish, receive times in the receiving thread just
+// after LCM hands the belief over (one process, one CLOCK_MONOTONIC), and
+// matched by (track, input_seq). Prints one line: sent, beliefs matched,
+// lost, achieved rate, and latency p50/p99/max in microseconds.
+
+#include <errno.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <lcm/lcm.h>
+
+#include "gaussfilt_lcm_belief_t.h"
+#include "gaussfilt_lcm_measurement_t.h"
+
+#define MAX_TRACKS 64
+
+static int64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+typedef struct run {
+    int tracks, first;
+    long per_track; // capacity of each track's time arrays
+    int64_t *t_pub; // [track][seq - 1]
+    int64_t *t_rx;
+    volatile int stop;
+    unsigned long beliefs, unmatched;
+} run;
+
+static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
+                      void *user)
+{
+    (void)channel;
+    run *r = user;
+    int64_t t = now_ns();
+    gaussfilt_lcm_belief_t b;
+    if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size,
+                                      &b) < 0)
+        return;
+    r->beliefs++;
+    int k = b.track - r->first;
+    if (k < 0 || k >= r->tracks || b.input_seq < 1 ||
+        b.input_seq > r->per_track) {
+        r->unmatched++; // initial beliefs (input_seq -1) and strangers
+        return;
+    }
+    r->t_rx[(long)k * r->per_track + (b.input_seq - 1)] = t;
+}
+
+typedef struct rx_arg {
+    lcm_t *lcm;
+    run *r;
+} rx_arg;
+
+static void *rx_thread(void *p)
+{
+    rx_arg *a = p;
+    while (!a->r->stop)
+        lcm_handle_timeout(a->lcm, 50);
+    return NULL;
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char **argv)
+{
+    const char *url = NULL, *burl = NULL;
+    double rate = 0, seconds = 1;
+    int tracks = 1, first = 1000, i;
+    for (i = 1; i + 1 < argc; i += 2) {
+        if (strcmp(argv[i], "--url") == 0)
+            url = argv[i + 1];
+        else if (strcmp(argv[i], "--belief-url") == 0)
+            burl = argv[i + 1];
+        else if (strcmp(argv[i], "--rate") == 0)
+            rate = atof(argv[i + 1]);
+        else if (strcmp(argv[i], "--seconds") == 0)
+            seconds = atof(argv[i + 1]);
+        else if (strcmp(argv[i], "--tracks") == 0)
+            tracks = atoi(argv[i + 1]);
+        else if (strcmp(argv[i], "--first") == 0)
+            first = atoi(argv[i + 1]);
+        else
+            break;
+    }
+    if (i != argc || !url || rate < 0 || seconds <= 0 || tracks < 1 ||
+        tracks > MAX_TRACKS) {
+        fprintf(stderr, "usage: gf_lcmbench --url URL [--belief-url URL2] "
+                        "--rate R --seconds S [--tracks T] [--first ID]\n");
+        return 2;
+    }
+
+    run r;
+    memset(&r, 0, sizeof r);
+    r.tracks = tracks;
+    r.first = first;
+    // Room for the whole run at up to 2 million messages per second.
+    long total_cap = (long)((rate > 0 ? rate : 2e6) * seconds) + 16;
+    r.per_track = total_cap / tracks + 2;
+    r.t_pub = calloc((size_t)(r.per_track * tracks), sizeof(int64_t));
+    r.t_rx = calloc((size_t)(r.per_track * tracks), sizeof(int64_t));
+    lcm_t *pub = lcm_create(url), *sub = lcm_create(burl ? burl : url);
+    if (!r.t_pub || !r.t_rx || !pub || !sub) {
+        fprintf(stderr, "gf_lcmbench: cannot set up (LCM URL %s)\n", url);
+        return 1;
+    }
+    lcm_subscription_t *s = lcm_subscribe(sub, "GF_BELIEF_.*", on_belief, &r);
+    lcm_subscription_set_queue_capacity(s, 1 << 20);
+    rx_arg ra = {sub, &r};
+    pthread_t th;
+    if (pthread_create(&th, NULL, rx_thread, &ra) != 0)
+        return 1;
+
+    uint8_t buf[512];
+    char ch[MAX_TRACKS][32];
+    for (i = 0; i < tracks; i++)
+        snprintf(ch[i], sizeof ch[i], "GF_MEAS_%d", first + i);
+    gaussfilt_lcm_measurement_t m;
+    memset(&m, 0, sizeof m);
+    m.model = GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR;
+    m.m = 1;
+    m.q[0][0] = 10;
+
+    // Pacing without spinning (the node needs the CPU): messages go out in
+    // ticks of at least 50 us, each tick sending what is due by then, with
+    // an absolute sleep to the next tick.
+    const int64_t t0 = now_ns();
+    const int64_t t_end = t0 + (int64_t)(seconds * 1e9);
+    const double period = rate > 0 ? 1e9 / rate : 0;
+    const int64_t tick = period > 50000 ? (int64_t)period : 50000;
+    int64_t next_tick = t0;
+    long sent = 0, seq = 0, pub_fail = 0;
+    for (;;) {
+        int64_t t = now_ns();
+        if (t >= t_end || seq >= r.per_track - 1)
+            break;
+        if (period > 0) {
+            long due = (long)((double)(t - t0) / period) + 1;
+            if (sent >= due) {
+                next_tick += tick;
+                if (next_tick > t) {
+                    struct timespec d;
+                    d.tv_sec = (time_t)(next_tick / 1000000000);
+                    d.tv_nsec = (long)(next_tick % 1000000000);
+                    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &d,
+                                           NULL) == EINTR)
+                        ;
+                } else {
+                    next_tick = t;
+                }
+                continue;
+            }
+        }
+        int k = (int)(sent % tracks);
+        if (k == 0)
+            seq++;
+        m.track = first + k;
+        m.seq = seq;
+        m.utime = seq * 10000; // 100 Hz in simulated time
+        m.z[0] = (double)seq;
+        int len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof buf, &m);
+        r.t_pub[(long)k * r.per_track + (seq - 1)] = now_ns();
+        if (lcm_publish(pub, ch[k], buf, (unsigned)len) != 0)
+            pub_fail++;
+        sent++;
+    }
+    const int64_t t_stop = now_ns();
+    struct timespec settle = {0, 500000000}; // stragglers
+    nanosleep(&settle, NULL);
+    r.stop = 1;
+    pthread_join(th, NULL);
+
+    long matched = 0;
+    int64_t *lat = malloc((size_t)(sent + 1) * sizeof(int64_t));
+    if (!lat)
+        return 1;
+    for (int k = 0; k < tracks; k++) {
+        for (long q = 0; q < r.per_track; q++) {
+            long idx = (long)k * r.per_track + q;
+            if (r.t_pub[idx] && r.t_rx[idx])
+                lat[matched++] = r.t_rx[idx] - r.t_pub[idx];
+        }
+    }
+    qsort(lat, (size_t)matched, sizeof(int64_t), cmp_i64);
+    double secs = (double)(t_stop - t0) / 1e9;
+    printf("gf_lcmbench: rate_target=%.0f sent=%ld publish_failed=%ld "
+           "seconds=%.3f rate=%.0f beliefs=%lu matched=%ld lost=%ld",
+           rate, sent, pub_fail, secs, (double)sent / secs, r.beliefs,
+           matched, sent - matched);
+    if (matched > 0)
+        printf(" p50_us=%.1f p99_us=%.1f max_us=%.1f",
+               (double)lat[matched / 2] / 1e3,
+               (double)lat[(long)((double)matched * 0.99)] / 1e3,
+               (double)lat[matched - 1] / 1e3);
+    printf("\n");
+    free(lat);
+    lcm_destroy(pub);
+    lcm_destroy(sub);
+    return 0;
+}
