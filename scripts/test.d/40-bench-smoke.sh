@@ -1,7 +1,8 @@
-# Smoke stage for the benchmark (issue 5): builds bench/gf_bench in double
-# and float and runs every workload and part for a few steps, so the
-# benchmark cannot rot. No timing is asserted: figures come from
-# scripts/bench. gf_bench exits non-zero if any filter call fails.
+# Smoke stage for the benchmarks (issue 5): builds bench/gf_bench in double
+# and float and runs every workload and part for a few steps, and runs the
+# LCM pipeline benchmark for half a second, so they cannot rot. No timing
+# is asserted: figures come from scripts/bench and scripts/bench-lcm.
+# gf_bench exits non-zero if any filter call fails.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
@@ -25,3 +26,12 @@ for prec in double float; do
     done
 done
 echo "bench smoke: gf_bench runs in double and float"
+
+# The LCM pipeline benchmark, briefly: it must build, run against a real
+# gf_node and get beliefs back (no rate or latency is asserted).
+out=$(GF_LCM_RATES=2000 GF_LCM_SECONDS=0.5 "$GF_ROOT/scripts/bench-lcm")
+echo "$out" | tail -4
+row=$(grep -E '^\|[ ]+2000 ' <<<"$out") || gf_die "bench-lcm printed no row"
+beliefs=$(awk -F'|' '{gsub(/ /, "", $6); print $6}' <<<"$row")
+[ "${beliefs:-0}" -gt 0 ] || gf_die "bench-lcm: no beliefs came back ($row)"
+echo "bench smoke: gf_lcmbench got $beliefs beliefs back from gf_node"
