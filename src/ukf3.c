@@ -58,22 +58,24 @@ static gf_status sigma_points(const gf_ukf3 *ukf, gf_vec3 chi[N_SIGMA],
     return GF_OK;
 }
 
-// mean = sum_j w_m,j p_j on the first n entries. An entry flagged in
-// angle_mask is averaged as wrapped residuals about p_0 (the weights sum
-// to one, so this is the mean on the circle near p_0), then wrapped.
+// mean = sum_j w_m,j p_j on the first n entries, taken as p_0 plus the
+// weighted residuals about p_0 (the weights sum to one): exact when the
+// points coincide, and no large offsets cancel. An entry flagged in
+// angle_mask has its residuals wrapped (the mean on the circle near p_0),
+// and is wrapped itself.
 static void weighted_mean(const gf_ukf3 *ukf, const gf_vec3 p[N_SIGMA],
                           unsigned n, unsigned angle_mask, gf_vec3 *mean)
 {
     gf_vec3 r = {{0, 0, 0}};
     for (unsigned k = 0; k < n; k++) {
         const int angle = (angle_mask >> k) & 1u;
-        const gf_real ref = angle ? p[0].v[k] : GF_R(0.0);
+        const gf_real ref = p[0].v[k];
         gf_real acc = 0;
-        for (unsigned j = 0; j < N_SIGMA; j++) {
+        for (unsigned j = 1; j < N_SIGMA; j++) {
             gf_real d = p[j].v[k] - ref;
             acc += weight_m(ukf, j) * (angle ? gf_angle_wrap(d) : d);
         }
-        r.v[k] = angle ? gf_angle_wrap(ref + acc) : acc;
+        r.v[k] = angle ? gf_angle_wrap(ref + acc) : ref + acc;
     }
     *mean = r;
 }
