@@ -1,5 +1,7 @@
 #include "gaussfilt/pf3.h"
 
+#include "gf_internal.h"
+
 // exp() of gf_real; config.h may provide it.
 #ifndef GF_EXP
 #ifdef GF_SINGLE_PRECISION
@@ -8,23 +10,6 @@
 #define GF_EXP exp
 #endif
 #endif
-
-static int vec3_is_finite(const gf_vec3 *x, unsigned n)
-{
-    for (unsigned i = 0; i < n; i++) {
-        if (!GF_ISFINITE(x->v[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
-
-// A callback's status, with anything that is not a known failure mapped to
-// GF_ERR_MODEL (as in ekf3.c).
-static gf_status callback_status(gf_status st)
-{
-    return (st < GF_ERR_MODEL || st > GF_OK) ? GF_ERR_MODEL : st;
-}
 
 // Total weight W; GF_ERR_NONFINITE or GF_ERR_UNDEFINED (a negative weight,
 // W not positive) when the weights cannot be used.
@@ -57,7 +42,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     if (!pf || !particles || !mu || !sigma || n < 1 || n > GF_PF3_MAX_N) {
         return GF_ERR_ARG;
     }
-    if (!vec3_is_finite(mu, 3)) {
+    if (!gf_vec3_is_finite_n(mu, 3)) {
         return GF_ERR_NONFINITE;
     }
     gf_mat3 L;
@@ -73,7 +58,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     for (unsigned k = 0; k < n; k++) {
         gf_vec3 x;
         gf_rng_mvn3(&dry, mu, &L, &x);
-        if (!vec3_is_finite(&x, 3)) {
+        if (!gf_vec3_is_finite_n(&x, 3)) {
             return GF_ERR_NONFINITE;
         }
     }
@@ -100,14 +85,14 @@ static gf_status move(const gf_ekf3_motion *motion, const gf_real *u,
     gf_mat3 G_unused;
     gf_status st = motion->g(motion->ctx, x, u, &gx, &G_unused);
     if (st != GF_OK) {
-        return callback_status(st);
+        return gf_callback_status(st);
     }
-    if (!vec3_is_finite(&gx, 3)) {
+    if (!gf_vec3_is_finite_n(&gx, 3)) {
         return GF_ERR_NONFINITE;
     }
     gf_rng_mvn3(rng, &gx, L, &r);
     r.v[2] = gf_angle_wrap(r.v[2]);
-    if (!vec3_is_finite(&r, 3)) {
+    if (!gf_vec3_is_finite_n(&r, 3)) {
         return GF_ERR_NONFINITE;
     }
     *out = r;
@@ -151,9 +136,9 @@ static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_mat3 *L,
     gf_mat3 H_unused;
     gf_status st = meas->h(meas->ctx, x, &zh, &H_unused);
     if (st != GF_OK) {
-        return callback_status(st);
+        return gf_callback_status(st);
     }
-    if (!vec3_is_finite(&zh, m)) {
+    if (!gf_vec3_is_finite_n(&zh, m)) {
         return GF_ERR_NONFINITE;
     }
     for (unsigned i = 0; i < m; i++) {
@@ -182,7 +167,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
         return GF_ERR_ARG;
     }
     const unsigned m = meas->m;
-    if (!vec3_is_finite(z, m) || !GF_ISFINITE(meas->gate)) {
+    if (!gf_vec3_is_finite_n(z, m) || !GF_ISFINITE(meas->gate)) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
@@ -366,7 +351,7 @@ gf_status gf_pf3_estimate(const gf_pf3 *pf, gf_vec3 *mu, gf_mat3 *sigma)
             s.m[a][b] = s.m[b][a];
         }
     }
-    if (!vec3_is_finite(&m, 3) || !gf_mat3_is_finite(&s)) {
+    if (!gf_vec3_is_finite_n(&m, 3) || !gf_mat3_is_finite(&s)) {
         return GF_ERR_NONFINITE;
     }
     if (mu) {

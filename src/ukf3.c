@@ -1,25 +1,10 @@
 #include "gaussfilt/ukf3.h"
 
+#include "gf_internal.h"
+
 #define N_STATE 3u
 #define N_SIGMA (2u * N_STATE + 1u)
 #define HEADING_MASK (1u << 2) // state entry 2, theta, is an angle
-
-static int vec3_is_finite(const gf_vec3 *x, unsigned n)
-{
-    for (unsigned i = 0; i < n; i++) {
-        if (!GF_ISFINITE(x->v[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
-
-// A callback's status, with anything that is not a known failure mapped to
-// GF_ERR_MODEL (as in ekf3.c).
-static gf_status callback_status(gf_status st)
-{
-    return (st < GF_ERR_MODEL || st > GF_OK) ? GF_ERR_MODEL : st;
-}
 
 static gf_real weight_m(const gf_ukf3 *ukf, unsigned j)
 {
@@ -101,7 +86,7 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
     if (!ukf || !mu || !sigma || !p) {
         return GF_ERR_ARG;
     }
-    if (!vec3_is_finite(mu, N_STATE) || !GF_ISFINITE(p->alpha) ||
+    if (!gf_vec3_is_finite_n(mu, N_STATE) || !GF_ISFINITE(p->alpha) ||
         !GF_ISFINITE(p->beta) || !GF_ISFINITE(p->kappa)) {
         return GF_ERR_NONFINITE;
     }
@@ -159,9 +144,9 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         y[j] = chi[j];
         st = motion->g(motion->ctx, &chi[j], u, &y[j], &G_unused);
         if (st != GF_OK) {
-            return callback_status(st);
+            return gf_callback_status(st);
         }
-        if (!vec3_is_finite(&y[j], N_STATE)) {
+        if (!gf_vec3_is_finite_n(&y[j], N_STATE)) {
             return GF_ERR_NONFINITE;
         }
     }
@@ -188,7 +173,7 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
             sigma.m[a][b] = sigma.m[b][a];
         }
     }
-    if (!vec3_is_finite(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
+    if (!gf_vec3_is_finite_n(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
         return GF_ERR_NONFINITE;
     }
     st = gf_mat3_check_psd(&sigma, N_STATE);
@@ -208,7 +193,7 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         return GF_ERR_ARG;
     }
     const unsigned m = meas->m;
-    if (!vec3_is_finite(z, m) || !GF_ISFINITE(meas->gate)) {
+    if (!gf_vec3_is_finite_n(z, m) || !GF_ISFINITE(meas->gate)) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
@@ -230,9 +215,9 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         Z[j].v[0] = Z[j].v[1] = Z[j].v[2] = 0;
         st = meas->h(meas->ctx, &chi[j], &Z[j], &H_unused);
         if (st != GF_OK) {
-            return callback_status(st);
+            return gf_callback_status(st);
         }
-        if (!vec3_is_finite(&Z[j], m)) {
+        if (!gf_vec3_is_finite_n(&Z[j], m)) {
             return GF_ERR_NONFINITE;
         }
     }
@@ -328,7 +313,7 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         }
     }
 
-    if (!vec3_is_finite(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
+    if (!gf_vec3_is_finite_n(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
         return GF_ERR_NONFINITE;
     }
     st = gf_mat3_check_psd(&sigma, N_STATE);

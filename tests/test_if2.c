@@ -234,7 +234,7 @@ static void test_ex5_constants(void **state)
 static void test_bad_inputs(void **state)
 {
     (void)state;
-    const gf_vec2 mu = {{1, 2}}, nan2 = {{NAN, 0}};
+    const gf_vec2 mu = {{1, 2}}, nan2 = {{(gf_real)NAN, 0}};
     const gf_mat2 s = {{{GF_R(2.5), 2}, {2, 2}}};
     const gf_mat2 notpsd = {{{1, 2}, {2, 1}}};
     const gf_mat2 asym = {{{1, 0}, {GF_R(0.5), 1}}};
@@ -279,7 +279,7 @@ static void test_bad_inputs(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &inf, gf_if2_predict(&inf, NULL, NULL));
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &inf,
                           gf_if2_predict(&inf, &ex1, &nan2));
-    bad.A.m[0][1] = INFINITY;
+    bad.A.m[0][1] = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &inf,
                           gf_if2_predict(&inf, &bad, NULL));
     bad = ex1;
@@ -312,7 +312,7 @@ static void test_bad_inputs(void **state)
     mb = ex2;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &inf,
                           gf_if2_update(&inf, &mb, &nan2, NULL));
-    mb.gate = NAN;
+    mb.gate = (gf_real)NAN;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &inf,
                           gf_if2_update(&inf, &mb, &z, NULL));
     mb.gate = -1;

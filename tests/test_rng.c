@@ -126,7 +126,7 @@ static void test_sqrt_psd(void **state)
     // Bad input: status, and l untouched.
     const gf_mat3 indef = {{{1, 2, 0}, {2, 1, 0}, {0, 0, 1}}};
     gf_mat3 nanm = full;
-    nanm.m[2][1] = NAN;
+    nanm.m[2][1] = (gf_real)NAN;
     gf_mat3 l = full;
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &l, gf_mat3_sqrt_psd(&indef, 3, &l));
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &l,

@@ -61,7 +61,7 @@ static gf_status nan_meas(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
                           gf_mat3 *H)
 {
     (void)ctx; (void)mu_bar; (void)H;
-    z_hat->v[0] = NAN;
+    z_hat->v[0] = (gf_real)NAN;
     return GF_OK;
 }
 
@@ -180,7 +180,7 @@ static void test_bad_inputs(void **state)
     // init
     gf_ukf3_params bp = p;
     gf_vec3 nanv = mu_a;
-    nanv.v[1] = NAN;
+    nanv.v[1] = (gf_real)NAN;
     gf_mat3 indef = sig_a;
     indef.m[2][2] = -1;
     assert_int_equal(gf_ukf3_init(NULL, &mu_a, &sig_a, &p), GF_ERR_ARG);
@@ -208,7 +208,7 @@ static void test_bad_inputs(void **state)
     bp.kappa = -1;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
                           gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
-    bp.kappa = NAN;
+    bp.kappa = (gf_real)NAN;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
 
@@ -221,7 +221,7 @@ static void test_bad_inputs(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_predict(&ukf, &mo, NULL));
     mo.R.m[0][0] = -1;
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ukf, gf_ukf3_predict(&ukf, &mo, u));
-    mo.R.m[0][0] = INFINITY;
+    mo.R.m[0][0] = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_predict(&ukf, &mo, u));
     mo.R.m[0][0] = 0;
@@ -245,7 +245,7 @@ static void test_bad_inputs(void **state)
                        {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
     const gf_vec3 z = {{5, 0, 0}};
     gf_vec3 zn = z;
-    zn.v[0] = NAN;
+    zn.v[0] = (gf_real)NAN;
     gf_innovation info;
     memset(&info, 0x77, sizeof info);
     assert_int_equal(gf_ukf3_update(NULL, &me, &z, NULL), GF_ERR_ARG);
@@ -260,7 +260,7 @@ static void test_bad_inputs(void **state)
     me.m = 1;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_update(&ukf, &me, &zn, NULL));
-    me.gate = NAN;
+    me.gate = (gf_real)NAN;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_update(&ukf, &me, &z, NULL));
     me.gate = -1;
