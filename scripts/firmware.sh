@@ -1,0 +1,69 @@
+# Shared by the firmware stages (scripts/test.d/3*-*.sh) and
+# scripts/footprint: the cross targets, their toolchains, and building the
+# firmware project for one of them. Sourced after lib.sh, not run.
+
+# The targets: name, toolchain file (cmake/toolchain-NAME.cmake), the binutils
+# prefix, and the Debian packages that provide the toolchain and C library.
+GF_FW_TARGETS="cortex-m4f cortex-m0plus riscv32"
+
+gf_fw_prefix() {
+    case $1 in
+    riscv32) echo riscv64-unknown-elf- ;;
+    *) echo arm-none-eabi- ;;
+    esac
+}
+
+gf_fw_packages() {
+    case $1 in
+    riscv32) echo gcc-riscv64-unknown-elf picolibc-riscv64-unknown-elf ;;
+    *) echo gcc-arm-none-eabi libnewlib-arm-none-eabi ;;
+    esac
+}
+
+# gf_fw_build TARGET PREC [cmake -D args...]: configures and builds the
+# firmware project (the library, its .su/.ci stack files and the footprint
+# images) for TARGET in PREC (float or double), warnings as errors, -Os.
+# Prints the build directory's path on the last line.
+gf_fw_build() {
+    local target=$1 prec=$2 single=OFF
+    shift 2
+    [ "$prec" = float ] && single=ON
+    # shellcheck disable=SC2046
+    gf_apt cmake make $(gf_fw_packages "$target") >&2
+    local dir="$GF_BUILD/fw-$target-$prec"
+    cmake -S "$GF_ROOT/firmware" -B "$dir" \
+        -DCMAKE_TOOLCHAIN_FILE="$GF_ROOT/cmake/toolchain-$target.cmake" \
+        -DCMAKE_BUILD_TYPE=MinSizeRel -DGAUSSFILT_WERROR=ON \
+        -DGAUSSFILT_SINGLE_PRECISION=$single "$@" >/dev/null ||
+        gf_die "configuring the firmware build for $target ($prec) failed"
+    cmake --build "$dir" --parallel 2 >&2 ||
+        gf_die "the firmware build for $target ($prec) failed"
+    echo "$dir"
+}
+
+# The symbols a filter image must not contain: allocation, stdio, exit.
+GF_FW_FORBIDDEN='malloc|_malloc_r|calloc|_calloc_r|realloc|_realloc_r|free|_free_r|printf|_printf_r|vfprintf|_vfprintf_r|iprintf|puts|putchar|exit|_exit|abort|atexit'
+
+# gf_fw_link_check TARGET DIR: the minimal image in DIR links none of
+# GF_FW_FORBIDDEN. Prints what of the C library it does link.
+gf_fw_link_check() {
+    local target=$1 dir=$2 nm bad
+    nm="$(gf_fw_prefix "$target")nm"
+    [ -f "$dir/gf_fw_min.elf" ] || gf_die "$dir/gf_fw_min.elf is missing"
+    bad=$("$nm" "$dir/gf_fw_min.elf" | awk '{print $NF}' |
+        grep -Ex "$GF_FW_FORBIDDEN" | tr '\n' ' ' || true)
+    [ -z "$bad" ] || gf_die "$target: the KF2+EKF3 image links $bad"
+    # In the float build a double libm call or soft-double helper means a
+    # float was promoted somewhere.
+    if grep -q 'GAUSSFILT_SINGLE_PRECISION:BOOL=ON' "$dir/CMakeCache.txt"; then
+        bad=$("$nm" "$dir/gf_fw_min.elf" | awk '{print $NF}' |
+            grep -Ex '__aeabi_d[a-z0-9]+|__[a-z]+df[0-9]|(sin|cos|sqrt|ceil|floor|atan2|log|fabs)' |
+            tr '\n' ' ' || true)
+        [ -z "$bad" ] || gf_die "$target (float): double arithmetic pulled in: $bad"
+        echo "$target (float): no double libm function or soft-double helper"
+    fi
+    echo "$target: KF2+EKF3 image links no malloc/free/printf/exit;" \
+        "functions in it besides the core's: $("$nm" --defined-only "$dir/gf_fw_min.elf" |
+            awk '$2 ~ /^[Tt]$/ && $3 !~ /^(gf_|main$|Reset_Handler$|Fault_Handler$|_start$|\$)/ {print $3}' |
+            sort -u | tr '\n' ' ')"
+}

@@ -1,0 +1,562 @@
+#!/usr/bin/env python3
+"""The firmware footprint report, from the build trees scripts/footprint
+made: per module and target .text/.rodata/.data/.bss, sizeof of the public
+structs, worst-case stack depth of every public function, and the minimal
+image's cost. Prints a Markdown fragment; --readme FILE splices it into FILE
+between the footprint markers under <!-- firmware -->.
+
+Stack depth: a function's own frame is gcc's -fstack-usage figure (.su) for
+the core and, for what the core calls in libm, libc and libgcc (which Debian
+builds without -fstack-usage), the frame read from the prologue of its
+disassembly (push/vpush/sub sp on Arm, addi sp on RISC-V). Edges come from
+gcc's -fcallgraph-info (.ci) plus the call relocations of the disassembly,
+so libgcc's soft-float helpers (invisible to .ci) are counted. The only
+indirect calls are EKF3's model callbacks; they are counted as the deepest
+built-in model (see CALLBACKS) and the caller's frame at the call is
+reported so that a user callback's own depth can be added.
+"""
+import argparse
+import datetime
+import glob
+import os
+import re
+import subprocess
+import sys
+
+TARGETS = [
+    ("cortex-m4f", "Cortex-M4F", "arm-none-eabi-"),
+    ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
+    ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
+]
+MODULES = ["mat", "cov2", "kf2", "ekf3", "status"]
+STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
+           "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
+           "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3"]
+# Indirect calls: which functions a callback slot runs when the built-in
+# models are used.
+CALLBACKS = {
+    "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+}
+STACK_LIMIT = 256
+IMAGE_LIMIT = 4096
+RAM_LIMITS = {"gf_kf2": 64, "gf_ekf3": 128}
+# A double-precision libm function or soft-double helper in a float image
+# means a float was promoted somewhere.
+DOUBLE_SYMS = re.compile(
+    r"^(sin|cos|tan|sqrt|atan2|atan|ceil|floor|log|exp|fabs|pow|"
+    r"__ieee754_\w+[^f]|__kernel_(sin|cos|rem_pio2)|__aeabi_d\w+|"
+    r"__(add|sub|mul|div|extendsf|truncdf)\w*df\w*)$")
+
+
+def run(cmd):
+    return subprocess.run(cmd, check=True, capture_output=True,
+                          text=True).stdout
+
+
+def section_kind(name):
+    for prefix, kind in ((".text", "text"), (".rodata", "rodata"),
+                         (".srodata", "rodata"), (".data", "data"),
+                         (".sdata", "data"), (".bss", "bss"),
+                         (".sbss", "bss")):
+        if name == prefix or name.startswith(prefix + "."):
+            return kind
+    return None
+
+
+def module_sizes(prefix, build):
+    """{module: {text, rodata, data, bss}} from the objects' sections."""
+    sizes = {}
+    for mod in MODULES:
+        obj = os.path.join(build, "gaussfilt/CMakeFiles/gaussfilt.dir/src",
+                           mod + ".c.obj")
+        acc = {"text": 0, "rodata": 0, "data": 0, "bss": 0}
+        for line in run([prefix + "size", "-A", obj]).splitlines():
+            parts = line.split()
+            if len(parts) >= 2 and parts[1].isdigit():
+                kind = section_kind(parts[0])
+                if kind:
+                    acc[kind] += int(parts[1])
+        sizes[mod] = acc
+    return sizes
+
+
+def struct_sizes(prefix, build):
+    objs = glob.glob(os.path.join(build, "CMakeFiles/gf_fw_sizes.dir/*.obj"))
+    out = {}
+    for line in run([prefix + "nm", "-S", objs[0]]).splitlines():
+        parts = line.split()
+        if len(parts) == 4 and parts[3].startswith("gf_sizeof_"):
+            out[parts[3][len("gf_sizeof_"):]] = int(parts[1], 16)
+    return out
+
+
+# ---- stack ------------------------------------------------------------------
+
+def read_su(build):
+    frames = {}
+    for su in glob.glob(os.path.join(
+            build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.su")):
+        for line in open(su):
+            loc, size, kind = line.rstrip("\n").split("\t")
+            name = loc.rsplit(":", 1)[-1]
+            if kind != "static":
+                sys.exit(f"{su}: {name} has a {kind} frame")
+            frames[name] = int(size)
+    return frames
+
+
+def read_ci(build):
+    """Edges of gcc's call graph; static functions lose their file prefix."""
+    edges = {}
+    for ci in glob.glob(os.path.join(
+            build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.ci")):
+        for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" '
+                             r'targetname: "([^"]+)"', open(ci).read()):
+            src = m.group(1).rsplit(":", 1)[-1]
+            dst = m.group(2).rsplit(":", 1)[-1]
+            edges.setdefault(src, set()).add(dst)
+    return edges
+
+
+ARM_REG_LIST = re.compile(r"\{([^}]*)\}")
+
+
+def count_regs(lst, width):
+    n = 0
+    for item in lst.split(","):
+        item = item.strip()
+        if "-" in item:
+            a, b = item.split("-")
+            n += int(b[1:]) - int(a[1:]) + 1
+        elif item:
+            n += 1
+    return n * width
+
+
+# picolibc's -Os code saves registers through libgcc's millicode: on rv32,
+# __riscv_save_N moves sp by 16 bytes per group of four registers.
+RISCV_SAVE = re.compile(r"^__riscv_(save|restore)_(\d+)$")
+
+
+def prologue_frame(insns, arm):
+    """Deepest sp decrement reached along the function's code, in order
+    (push/vpush/sub sp on Arm, addi sp on RISC-V; pops and adds give it
+    back): shrink-wrapped prologues after an early return are counted."""
+    cur = best = 0
+    for text in insns:
+        parts = text.split(None, 1)
+        if not parts:
+            continue
+        op, args = parts[0], parts[1] if len(parts) > 1 else ""
+        delta = 0
+        if arm:
+            lst = ARM_REG_LIST.search(args)
+            if op in ("push", "push.w") or (op == "stmdb" and
+                                             args.startswith("sp!")):
+                delta = count_regs(lst.group(1), 4)
+            elif op in ("pop", "pop.w") or (op == "ldmia" and
+                                             args.startswith("sp!")):
+                delta = -count_regs(lst.group(1), 4)
+            elif op in ("vpush", "vstmdb", "vpop", "vldmia") and lst and \
+                    (op in ("vpush", "vpop") or args.startswith("sp!")):
+                regs = lst.group(1)
+                n = count_regs(regs, 8 if "d" in regs else 4)
+                delta = n if op in ("vpush", "vstmdb") else -n
+            elif op in ("sub", "sub.w", "subw", "add", "add.w", "addw") and \
+                    re.match(r"^sp, (sp, )?#\d+$", args):
+                n = int(args.split("#")[1])
+                delta = n if op.startswith("sub") else -n
+        else:
+            m = re.match(r"^sp,sp,(-?\d+)$", args)
+            if op in ("addi", "add", "c.addi", "c.addi16sp") and m:
+                delta = -int(m.group(1))
+        cur = max(0, cur + delta)
+        best = max(best, cur)
+    return best
+
+
+CALL_RELOCS = re.compile(r"R_(ARM_THM_CALL|ARM_CALL|ARM_THM_JUMP24|"
+                         r"ARM_JUMP24|RISCV_CALL|RISCV_CALL_PLT|RISCV_JAL)\s+"
+                         r"([\w.$]+)")
+
+
+def disassemble(prefix, archive, arm):
+    """{function: (frame, callees, has_indirect)} for an archive."""
+    out = run([prefix + "objdump", "-dr", "--no-show-raw-insn", archive])
+    funcs, aliases = {}, {}
+    name, insns, callees, indirect = None, [], set(), False
+
+    def flush():
+        if name:
+            old = funcs.get(name)
+            new = (prologue_frame(insns, arm), callees, indirect)
+            if old is None or new[0] > old[0]:
+                funcs[name] = new
+
+    section_fn = None
+    for line in out.splitlines():
+        m = re.match(r"^Disassembly of section \.text\.([\w$]+):$", line)
+        if m:
+            section_fn = m.group(1)
+            continue
+        m = re.match(r"^[0-9a-f]+ <([\w.$]+)>:$", line)
+        if m and not m.group(1).startswith(".L"):
+            flush()
+            name, insns, callees, indirect = m.group(1), [], set(), False
+            # picolibc labels cosf's code _cosf; its section says cosf.
+            if section_fn and section_fn != name:
+                aliases[name] = section_fn
+            section_fn = None
+            continue
+        if m or name is None:
+            continue
+        m = CALL_RELOCS.search(line)
+        if m:
+            if not m.group(2).startswith(".L"):
+                callees.add(m.group(2))
+            continue
+        m = re.match(r"^\s+[0-9a-f]+:\s+(.*)$", line)
+        if not m:
+            continue
+        text = m.group(1).split(";")[0].split("#")[0].strip() \
+            if not arm else m.group(1).split("@")[0].split(";")[0].strip()
+        insns.append(text)
+        parts = text.split(None, 1)
+        op = parts[0] if parts else ""
+        args = parts[1] if len(parts) > 1 else ""
+        if arm:
+            if op == "blx" and re.match(r"^(r\d+|ip|lr|sl|fp)$", args):
+                indirect = True
+            bm = re.match(r"^[0-9a-f]+ <([\w.$]+)>$", args)
+            if op in ("bl", "blx") and bm and bm.group(1) != name:
+                callees.add(bm.group(1))
+        else:
+            if op in ("jalr", "c.jalr") and not args.startswith("ra"):
+                indirect = True
+            bm = re.match(r"^(ra,)?[0-9a-f]+ <([\w.$]+)>$", args)
+            if op == "jal" and bm and bm.group(2) != name:
+                callees.add(bm.group(2))
+    flush()
+    for a, n in aliases.items():
+        funcs.setdefault(n, funcs[a])
+    return funcs
+
+
+def libraries(build):
+    """The C library, libm and libgcc archives the minimal image linked."""
+    libs = []
+    for line in open(os.path.join(build, "gf_fw_min.map")):
+        m = re.match(r"^LOAD (\S+/lib(c|m|gcc|c_nano|m_nano)\.a)$", line)
+        if m and m.group(1) not in libs:
+            libs.append(os.path.normpath(m.group(1)))
+    return libs
+
+
+# sinf/cosf reach __kernel_rem_pio2f (a 0x100+ byte frame) only for
+# |x| >= 2^7 pi/2; the core calls them on a heading wrapped to (-pi, pi].
+UNREACHABLE = {"__kernel_rem_pio2f"}
+
+
+def stack_report(prefix, build, exclude=frozenset()):
+    arm = prefix.startswith("arm")
+    su = read_su(build)
+    ci = read_ci(build)
+    core = disassemble(prefix, os.path.join(build, "gaussfilt/libgaussfilt.a"),
+                       arm)
+    ext = {}
+    for lib in libraries(build):
+        for k, v in disassemble(prefix, lib, arm).items():
+            ext.setdefault(k, v)
+    mismatches = [f"{n}: .su {su[n]}, prologue {core[n][0]}"
+                  for n in su if n in core and core[n][0] != su[n]]
+
+    unknown = set()
+
+    def frame(n):
+        if n in su:
+            return su[n]
+        if n in ext:
+            return ext[n][0]
+        m = RISCV_SAVE.match(n)
+        if m:
+            return 16 * (int(m.group(2)) // 4 + 1) if m.group(1) == "save" \
+                else 0
+        unknown.add(n)
+        return 0
+
+    def callees(n):
+        c = set()
+        if n in su:
+            c |= ci.get(n, set())
+            c |= core.get(n, (0, set(), False))[1]
+        elif n in ext:
+            c |= ext[n][1]
+        if "__indirect_call" in c or core.get(n, (0, set(), False))[2]:
+            if n not in CALLBACKS:
+                sys.exit(f"{n}: indirect call not accounted for")
+            c |= set(CALLBACKS[n])
+        c.discard("__indirect_call")
+        c.discard(n)
+        return {x.replace("__builtin_", "") for x in c}
+
+    memo = {}
+
+    def depth(n, path=()):
+        if n in path:
+            sys.exit("recursion: " + " -> ".join(path + (n,)))
+        if n not in memo:
+            best, via = 0, None
+            for c in sorted(callees(n) - exclude):
+                d, _ = depth(c, path + (n,))
+                if d > best:
+                    best, via = d, c
+            memo[n] = (frame(n) + best, via)
+        return memo[n]
+
+    public = sorted(n for n in su if n.startswith("gf_"))
+    rows = {}
+    for n in public:
+        d, via = depth(n)
+        chain = [n]
+        while via:
+            chain.append(via)
+            via = memo[via][1]
+        rows[n] = (su[n], d, chain)
+    return rows, mismatches, unknown
+
+
+# ---- images -----------------------------------------------------------------
+
+def image_sizes(prefix, elf):
+    text, data, bss = run([prefix + "size", elf]).splitlines()[1].split()[:3]
+    return int(text), int(data), int(bss)
+
+
+NOT_LOADED = (".debug", ".comment", ".ARM.attributes", ".riscv.attributes",
+              ".stab", ".note", ".gnu")
+
+
+def map_breakdown(mapfile):
+    """Bytes per origin (core, libm, libc, libgcc, app) in the final image."""
+    acc = {}
+    text = open(mapfile).read()
+    text = text[text.index("Linker script and memory map"):]
+    pending, out_sect = None, ""
+    for line in text.splitlines():
+        m = re.match(r"^(\.[\w.$]+)\b", line)
+        if m:
+            out_sect = m.group(1)
+            continue
+        m = re.match(r"^ (\.[\w.$]+|COMMON)\s*$", line)
+        if m:
+            pending = m.group(1)
+            continue
+        m = re.match(r"^ (\.[\w.$]+|COMMON)?\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)"
+                     r"\s+(\S+)$", line)
+        if not m:
+            pending = None
+            continue
+        sect = m.group(1) or pending
+        pending = None
+        size, origin = int(m.group(3), 16), m.group(4)
+        if not sect or size == 0 or out_sect.startswith(NOT_LOADED):
+            continue
+        if "libgaussfilt.a" in origin:
+            key = "gaussfilt"
+        elif re.search(r"/libm(_nano)?\.a\(", origin):
+            key = "libm"
+        elif re.search(r"/libgcc\.a\(", origin):
+            key = "libgcc"
+        elif re.search(r"/libc(_nano)?\.a\(", origin):
+            # picolibc keeps libm inside libc.a
+            key = "libm" if "libm_" in origin else "libc"
+        else:
+            key = "app"
+        acc[key] = acc.get(key, 0) + size
+    return acc
+
+
+def fmt_delta(b):
+    return f"{b} B ({b / 1024:.2f} KiB)"
+
+
+def report(root, build_root):
+    lines = []
+    today = datetime.date.today().isoformat()
+    versions = []
+    for pfx in ("arm-none-eabi-", "riscv64-unknown-elf-"):
+        v = run([pfx + "gcc", "--version"]).splitlines()[0]
+        versions.append(f"`{v}`")
+    lines.append(f"Generated by `scripts/footprint --readme` on {today} with "
+                 + " and ".join(versions)
+                 + "; `-Os`, float build (`gf_real` = float), "
+                 "`-ffunction-sections -fdata-sections`, `--gc-sections`.")
+    lines.append("")
+
+    results = {}
+    for key, label, pfx in TARGETS:
+        build = os.path.join(build_root, f"fw-{key}-float")
+        results[key] = {
+            "label": label,
+            "mods": module_sizes(pfx, build),
+            "structs": struct_sizes(pfx, build),
+            "stack": stack_report(pfx, build),
+            "stack_reach": stack_report(pfx, build, UNREACHABLE),
+            "base": image_sizes(pfx, os.path.join(build, "gf_fw_base.elf")),
+            "min": image_sizes(pfx, os.path.join(build, "gf_fw_min.elf")),
+            "breakdown": map_breakdown(os.path.join(build, "gf_fw_min.map")),
+            "basebd": map_breakdown(os.path.join(build, "gf_fw_base.map")),
+            "syms": run([pfx + "nm", os.path.join(build, "gf_fw_min.elf")]),
+        }
+
+    # Targets.
+    m4 = results["cortex-m4f"]
+    flash = lambda s: s[0] + s[1]  # noqa: E731  text (+rodata) + data copy
+    d_flash = flash(m4["min"]) - flash(m4["base"])
+    d_ram = (m4["min"][1] + m4["min"][2]) - (m4["base"][1] + m4["base"][2])
+    dbl = sorted({ln.split()[-1] for ln in m4["syms"].splitlines()
+                  if DOUBLE_SYMS.match(ln.split()[-1])})
+    kf2 = m4["structs"]["gf_kf2"]
+    ekf3 = m4["structs"]["gf_ekf3"]
+    worst = max(((d, n) for n, (_, d, _) in m4["stack"][0].items()))
+    reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()))
+    met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
+    lines += [
+        "| target (Cortex-M4F, float) | limit | measured | |",
+        "|---|---|---|---|",
+        f"| KF2 + EKF3 image minus the same image without them (flash, "
+        f"libm included) | 4 KiB | {fmt_delta(d_flash)} | {met(d_flash <= IMAGE_LIMIT)} |",
+        f"| one KF2 belief (`sizeof(gf_kf2)`) | < 64 B | {kf2} B | {met(kf2 < 64)} |",
+        f"| one EKF3 belief (`sizeof(gf_ekf3)`) | < 128 B | {ekf3} B | {met(ekf3 < 128)} |",
+        f"| deepest public function (built-in models) | 256 B | {worst[0]} B "
+        f"(`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
+        f"| the same, without newlib's large-argument path of sinf/cosf "
+        f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "
+        f"(-pi, pi]) | 256 B | {reach[0]} B (`{reach[1]}`) | "
+        f"{met(reach[0] <= STACK_LIMIT)} |",
+        "",
+        f"Double promoted in the float image: "
+        + (", ".join(f"`{s}`" for s in dbl) if dbl else "none (no double "
+           "libm function, no soft-double helper)") + ".",
+        "",
+    ]
+
+    # Minimal images.
+    lines += ["Minimal images (`firmware/min_image.c`: one KF2 predict/update, "
+              "one EKF3 predict/update with the built-in models; the base "
+              "image has the same start-up and I/O, no filter). Bytes:", "",
+              "| target | base flash | KF2+EKF3 flash | delta flash | delta RAM "
+              "| delta: core | libm | libc | libgcc |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for key, _, _ in TARGETS:
+        r = results[key]
+        df = flash(r["min"]) - flash(r["base"])
+        dr = (r["min"][1] + r["min"][2]) - (r["base"][1] + r["base"][2])
+        bd, bb = r["breakdown"], r["basebd"]
+        part = lambda k: bd.get(k, 0) - bb.get(k, 0)  # noqa: E731
+        lines.append(f"| {r['label']} | {flash(r['base'])} | {flash(r['min'])} "
+                     f"| {df} | {dr} | {part('gaussfilt')} | {part('libm')} "
+                     f"| {part('libc')} | {part('libgcc')} |")
+    lines.append("")
+
+    # Modules.
+    lines += ["Library objects, per module (bytes; `.data` and `.bss` must "
+              "stay 0: the core has no globals):", "",
+              "| module | " + " | ".join(
+                  f"{results[k]['label']} .text / .rodata / .data / .bss"
+                  for k, _, _ in TARGETS) + " |",
+              "|---|" + "---|" * len(TARGETS)]
+    for mod in MODULES + ["total"]:
+        cells = []
+        for key, _, _ in TARGETS:
+            mods = results[key]["mods"]
+            if mod == "total":
+                s = {k: sum(m[k] for m in mods.values())
+                     for k in ("text", "rodata", "data", "bss")}
+            else:
+                s = mods[mod]
+            cells.append(f"{s['text']} / {s['rodata']} / {s['data']} / {s['bss']}")
+        name = f"`{mod}.c`" if mod != "total" else "**total**"
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    lines.append("")
+
+    # Structs.
+    lines += ["`sizeof` of the public structs (bytes, float build; the double "
+              "build doubles every `gf_real`):", "",
+              "| struct | " + " | ".join(results[k]["label"] for k, _, _ in TARGETS) + " |",
+              "|---|" + "---|" * len(TARGETS)]
+    for st in STRUCTS:
+        lines.append(f"| `{st}` | " + " | ".join(
+            str(results[k]["structs"][st]) for k, _, _ in TARGETS) + " |")
+    lines.append("")
+
+    # Stack.
+    lines += ["Worst-case stack depth of every public function (bytes: own "
+              "frame from `-fstack-usage`, depth through the deepest call "
+              "chain, libm/libc/libgcc included). EKF3's callbacks are counted "
+              "as the deepest built-in model; a user model adds "
+              "max(0, its own depth - the built-in's) on top of the caller's "
+              "frame.", "",
+              "| function | " + " | ".join(
+                  f"{results[k]['label']} frame / depth" for k, _, _ in TARGETS)
+              + " | deepest chain (Cortex-M4F) |",
+              "|---|" + "---|" * len(TARGETS) + "---|"]
+    for n in sorted(m4["stack"][0]):
+        cells = []
+        for key, _, _ in TARGETS:
+            f, d, _ = results[key]["stack"][0][n]
+            flag = " **!**" if d > STACK_LIMIT else ""
+            cells.append(f"{f} / {d}{flag}")
+        chain = " → ".join(m4["stack"][0][n][2])
+        lines.append(f"| `{n}` | " + " | ".join(cells) + f" | {chain} |")
+    lines.append("")
+    notes = []
+    for key, label, _ in TARGETS:
+        _, mism, unknown = results[key]["stack"]
+        if mism:
+            notes.append(f"{label}: prologue and .su disagree: " + "; ".join(mism))
+        if unknown:
+            notes.append(f"{label}: no frame found for " + ", ".join(sorted(unknown))
+                         + " (counted as 0)")
+    if notes:
+        lines += ["Stack analysis notes: " + " ".join(notes), ""]
+    else:
+        lines += ["Cross-check: for every core function the frame read from "
+                  "the disassembly's prologue equals gcc's `.su` figure, on "
+                  "all three targets; every callee has a known frame.", ""]
+    return "\n".join(lines)
+
+
+BEGIN = "<!-- firmware:footprint:begin -->"
+END = "<!-- firmware:footprint:end -->"
+
+
+def splice(readme, text):
+    s = open(readme).read()
+    block = f"{BEGIN}\n{text}\n{END}"
+    if BEGIN in s:
+        s = s[:s.index(BEGIN)] + block + s[s.index(END) + len(END):]
+    else:
+        anchor = "<!-- firmware -->"
+        if anchor not in s:
+            sys.exit(f"{readme}: no {anchor} anchor")
+        i = s.index(anchor) + len(anchor)
+        s = s[:i] + "\n\n" + block + s[i:]
+    open(readme, "w").write(s)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--readme")
+    args = ap.parse_args()
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    text = report(root, args.build)
+    print(text)
+    if args.readme:
+        splice(args.readme, text)
+
+
+if __name__ == "__main__":
+    main()
