@@ -28,15 +28,24 @@ TARGETS = [
     ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
-MODULES = ["mat", "cov2", "kf2", "ekf3", "status"]
+MODULES = ["mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3", "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
-           "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3"]
+           "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
+           "gf_if2", "gf_ukf3", "gf_ukf3_params", "gf_pf3", "gf_pf3_particle",
+           "gf_rng"]
 # Indirect calls: which functions a callback slot runs when the built-in
 # models are used.
 CALLBACKS = {
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
+    "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "move": ["gf_ekf3_motion_forward_turn"],
+    "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
 STACK_LIMIT = 256
 IMAGE_LIMIT = 4096

@@ -5,6 +5,12 @@
 
 #include "gaussfilt/mat.h"
 
+// 1 if both entries of x are finite.
+static inline int gf_vec2_is_finite(const gf_vec2 *x)
+{
+    return GF_ISFINITE(x->v[0]) && GF_ISFINITE(x->v[1]);
+}
+
 // 1 if the first n entries of x are finite.
 static inline int gf_vec3_is_finite_n(const gf_vec3 *x, unsigned n)
 {

@@ -1,16 +1,13 @@
 #include "gaussfilt/if2.h"
 
-static int vec2_is_finite(const gf_vec2 *x)
-{
-    return GF_ISFINITE(x->v[0]) && GF_ISFINITE(x->v[1]);
-}
+#include "gf_internal.h"
 
 gf_status gf_if2_init(gf_if2 *inf, const gf_mat2 *omega, const gf_vec2 *xi)
 {
     if (!inf || !omega || !xi) {
         return GF_ERR_ARG;
     }
-    if (!vec2_is_finite(xi)) {
+    if (!gf_vec2_is_finite(xi)) {
         return GF_ERR_NONFINITE;
     }
     gf_status st = gf_mat2_check_psd(omega);
@@ -29,7 +26,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
     if (!inf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!vec2_is_finite(mu)) {
+    if (!gf_vec2_is_finite(mu)) {
         return GF_ERR_NONFINITE;
     }
     gf_status st = gf_mat2_check_psd(sigma);
@@ -44,7 +41,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
     }
     // xi = Omega mu
     gf_mat2_mulv(&r.omega, mu, &r.xi);
-    if (!gf_mat2_is_finite(&r.omega) || !vec2_is_finite(&r.xi)) {
+    if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
         return GF_ERR_NONFINITE;
     }
     *inf = r;
@@ -62,7 +59,7 @@ static gf_status moments(const gf_if2 *inf, gf_vec2 *mu, gf_mat2 *sigma)
     }
     gf_vec2 m;
     gf_mat2_mulv(&s, &inf->xi, &m);
-    if (!gf_mat2_is_finite(&s) || !vec2_is_finite(&m)) {
+    if (!gf_mat2_is_finite(&s) || !gf_vec2_is_finite(&m)) {
         return GF_ERR_NONFINITE;
     }
     *mu = m;
@@ -97,7 +94,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
         return GF_ERR_ARG;
     }
     if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
-        !vec2_is_finite(&model->c) || (u && !vec2_is_finite(u))) {
+        !gf_vec2_is_finite(&model->c) || (u && !gf_vec2_is_finite(u))) {
         return GF_ERR_NONFINITE;
     }
     gf_status st = gf_mat2_check_psd(&model->R);
@@ -142,7 +139,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
     // xi_bar = Omega_bar (A Omega^-1 xi + B u + c)
     gf_mat2_mulv(&r.omega, &mu_bar, &r.xi);
 
-    if (!gf_mat2_is_finite(&r.omega) || !vec2_is_finite(&r.xi)) {
+    if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
         return GF_ERR_NONFINITE;
     }
     *inf = r;
@@ -291,7 +288,7 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
     }
     gf_mat2_symmetrize(&r.omega);
 
-    if (!gf_mat2_is_finite(&r.omega) || !vec2_is_finite(&r.xi)) {
+    if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
         return GF_ERR_NONFINITE;
     }
     *inf = r;

@@ -294,7 +294,7 @@ gf_real gf_angle_wrap(gf_real a)
 
 gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l)
 {
-    if (!s || !l) {
+    if (!s || !l || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
     gf_status st = gf_mat3_check_psd(s, n);

@@ -257,7 +257,10 @@ gf_status gf_pf3_resample(gf_pf3 *pf)
     gf_real c = p[0].w;
     for (unsigned k = 0; k < n; k++) {
         const gf_real U = r + (gf_real)k * step;
-        while (U > c && i + 1 < n) {
+        while (i + 1u < n) { // integer-controlled (MISRA 14.1)
+            if (!(U > c)) {
+                break;
+            }
             p[i].w = (gf_real)count;
             count = 0;
             i++;
@@ -274,13 +277,16 @@ gf_status gf_pf3_resample(gf_pf3 *pf)
     // drawn none; there are exactly as many such slots as extra copies.
     unsigned hole = 0;
     for (unsigned j = 0; j < n; j++) {
-        while (p[j].w > GF_R(1.5)) {
+        const unsigned copies = (unsigned)p[j].w; // an exact count
+        for (unsigned e = 1; e < copies; e++) {
             while (p[hole].w > GF_R(0.5)) {
                 hole++;
             }
             p[hole].x = p[j].x;
             p[hole].w = 1;
-            p[j].w -= 1;
+        }
+        if (copies > 1u) {
+            p[j].w = 1;
         }
     }
     const gf_real w = GF_R(1.0) / (gf_real)n;

@@ -7,8 +7,9 @@ static uint32_t rotl(uint32_t x, unsigned k)
 
 // A 32-bit integer hash with full avalanche ("lowbias32", C. Wellons), used
 // only to spread the seed over the state.
-static uint32_t mix32(uint32_t x)
+static uint32_t mix32(uint32_t seed)
 {
+    uint32_t x = seed;
     x ^= x >> 16;
     x *= 0x7feb352du;
     x ^= x >> 15;

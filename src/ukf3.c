@@ -53,14 +53,14 @@ static void weighted_mean(const gf_ukf3 *ukf, const gf_vec3 p[N_SIGMA],
 {
     gf_vec3 r = {{0, 0, 0}};
     for (unsigned k = 0; k < n; k++) {
-        const int angle = (angle_mask >> k) & 1u;
+        const unsigned angle = (angle_mask >> k) & 1u;
         const gf_real ref = p[0].v[k];
         gf_real acc = 0;
         for (unsigned j = 1; j < N_SIGMA; j++) {
             gf_real d = p[j].v[k] - ref;
-            acc += weight_m(ukf, j) * (angle ? gf_angle_wrap(d) : d);
+            acc += weight_m(ukf, j) * ((angle != 0u) ? gf_angle_wrap(d) : d);
         }
-        r.v[k] = angle ? gf_angle_wrap(ref + acc) : ref + acc;
+        r.v[k] = (angle != 0u) ? gf_angle_wrap(ref + acc) : ref + acc;
     }
     *mean = r;
 }
