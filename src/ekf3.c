@@ -26,7 +26,8 @@ gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
         return GF_ERR_ARG;
     }
     const gf_real d = u[0], phi = u[1], th = mu->v[2];
-    const gf_real c = GF_COS(th), s = GF_SIN(th);
+    gf_real s, c;
+    gf_sincos(th, &s, &c);
     // g(u, x) = (x + d cos theta, y + d sin theta, theta + phi)
     mu_bar->v[0] = mu->v[0] + d * c;
     mu_bar->v[1] = mu->v[1] + d * s;

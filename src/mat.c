@@ -277,19 +277,6 @@ void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
     *x = y;
 }
 
-// ---- angles --------------------------------------------------------------
-
-gf_real gf_angle_wrap(gf_real a)
-{
-    if (a > -GF_PI && a <= GF_PI) {
-        return a;
-    }
-    // a - 2 pi ceil((a - pi) / 2 pi) lies in (-pi, pi].
-    gf_real two_pi = GF_R(2.0) * GF_PI;
-    gf_real w = a - two_pi * GF_CEIL((a - GF_PI) / two_pi);
-    return w <= -GF_PI ? w + two_pi : w;
-}
-
 // ---- positive semidefinite square root -----------------------------------
 
 gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l)

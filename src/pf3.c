@@ -332,8 +332,10 @@ gf_status gf_pf3_estimate(const gf_pf3 *pf, gf_vec3 *mu, gf_mat3 *sigma)
         const gf_pf3_particle *q = &pf->p[k];
         sx += q->w * q->x.v[0];
         sy += q->w * q->x.v[1];
-        ss += q->w * GF_SIN(q->x.v[2]);
-        sc += q->w * GF_COS(q->x.v[2]);
+        gf_real sn, cs;
+        gf_sincos(q->x.v[2], &sn, &cs);
+        ss += q->w * sn;
+        sc += q->w * cs;
     }
     if (!(GF_SQRT(ss * ss + sc * sc) > GF_R(64.0) * GF_REAL_EPSILON * total)) {
         return GF_ERR_UNDEFINED;

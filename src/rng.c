@@ -70,14 +70,17 @@ gf_real gf_rng_normal(gf_rng *rng)
         rng->has_spare = 0;
         return rng->spare;
     }
-    // Box-Muller: r = sqrt(-2 ln u1), u1 in (0, 1]; angle 2 pi u2.
+    // Box-Muller: r = sqrt(-2 ln u1), u1 in (0, 1]; a uniform angle, here
+    // 2 pi u2 - pi in [-pi, pi) (the range gf_sincos keeps).
     const gf_real u1 = GF_R(1.0) - gf_rng_uniform(rng);
     const gf_real u2 = gf_rng_uniform(rng);
     const gf_real r = GF_SQRT(GF_R(-2.0) * GF_LOG(u1));
-    const gf_real a = GF_R(2.0) * GF_PI * u2;
-    rng->spare = r * GF_SIN(a);
+    const gf_real a = GF_R(2.0) * GF_PI * u2 - GF_PI;
+    gf_real s, c;
+    gf_sincos(a, &s, &c);
+    rng->spare = r * s;
     rng->has_spare = 1;
-    return r * GF_COS(a);
+    return r * c;
 }
 
 void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l,

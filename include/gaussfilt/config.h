@@ -19,10 +19,7 @@ typedef float gf_real;
 #define GF_R(x) x##f
 #define GF_REAL_EPSILON FLT_EPSILON
 #define GF_SQRT sqrtf
-#define GF_SIN sinf
-#define GF_COS cosf
 #define GF_ATAN2 atan2f
-#define GF_CEIL ceilf
 #define GF_LOG logf
 #define GF_FABS fabsf
 #else
@@ -30,10 +27,7 @@ typedef double gf_real;
 #define GF_R(x) x
 #define GF_REAL_EPSILON DBL_EPSILON
 #define GF_SQRT sqrt
-#define GF_SIN sin
-#define GF_COS cos
 #define GF_ATAN2 atan2
-#define GF_CEIL ceil
 #define GF_LOG log
 #define GF_FABS fabs
 #endif

@@ -94,8 +94,16 @@ gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l);
 
 // ---- angles --------------------------------------------------------------
 
-// The angle a wrapped to (-pi, pi].
+// The angle a wrapped to (-pi, pi]. NaN and inf give NaN. Beyond
+// GF_ANGLE_MAX (2^22 turns in float, 2^51 in double) a number no longer
+// holds a direction at its own precision, and wraps to 0.
 gf_real gf_angle_wrap(gf_real a);
+
+// *s = sin(a), *c = cos(a), within about 2 ulp for every a that
+// gf_angle_wrap keeps. The core's own (no libm call): newlib's sinf/cosf
+// would add about 4 KiB of flash and 500 bytes of stack to an MCU image
+// for a large-argument reduction the wrapped heading never needs.
+void gf_sincos(gf_real a, gf_real *s, gf_real *c);
 
 #ifdef __cplusplus
 }
