@@ -48,6 +48,9 @@ CALLBACKS = {
     "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
 STACK_LIMIT = 256
+# Public functions of the filters beyond the EKF (issue 7): in every table,
+# but not held to the core's stack budget.
+BEYOND = ("gf_if2_", "gf_ukf3_", "gf_pf3_", "gf_rng_")
 IMAGE_LIMIT = 4096
 RAM_LIMITS = {"gf_kf2": 64, "gf_ekf3": 128}
 # A double-precision libm function or soft-double helper in a float image
@@ -428,8 +431,13 @@ def report(root, build_root):
                   if DOUBLE_SYMS.match(ln.split()[-1])})
     kf2 = m4["structs"]["gf_kf2"]
     ekf3 = m4["structs"]["gf_ekf3"]
-    worst = max(((d, n) for n, (_, d, _) in m4["stack"][0].items()))
-    reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()))
+    # The stack budget is the core's (KF2, EKF3 and their helpers); the
+    # filters beyond the EKF are listed with their own depths below.
+    in_budget = lambda n: not n.startswith(BEYOND)  # noqa: E731
+    worst = max(((d, n) for n, (_, d, _) in m4["stack"][0].items()
+                  if in_budget(n)))
+    reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()
+                 if in_budget(n)))
     met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
     lines += [
         "| target (Cortex-M4F, float) | limit | measured | |",
@@ -438,7 +446,7 @@ def report(root, build_root):
         f"libm included) | 4 KiB | {fmt_delta(d_flash)} | {met(d_flash <= IMAGE_LIMIT)} |",
         f"| one KF2 belief (`sizeof(gf_kf2)`) | < 64 B | {kf2} B | {met(kf2 < 64)} |",
         f"| one EKF3 belief (`sizeof(gf_ekf3)`) | < 128 B | {ekf3} B | {met(ekf3 < 128)} |",
-        f"| deepest public function (built-in models) | 256 B | {worst[0]} B "
+        f"| deepest public function of KF2/EKF3 (built-in models) | 256 B | {worst[0]} B "
         f"(`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
         f"| the same, without newlib's large-argument path of sinf/cosf "
         f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "
