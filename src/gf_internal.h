@@ -3,7 +3,7 @@
 #ifndef GAUSSFILT_SRC_INTERNAL_H
 #define GAUSSFILT_SRC_INTERNAL_H
 
-#include "gaussfilt/mat.h"
+#include "gaussfilt/ekf3.h"
 
 // 1 if both entries of x are finite.
 static inline int gf_vec2_is_finite(const gf_vec2 *x)
@@ -27,6 +27,25 @@ static inline int gf_vec3_is_finite_n(const gf_vec3 *x, unsigned n)
 static inline gf_status gf_callback_status(gf_status st)
 {
     return (st < GF_ERR_MODEL || st > GF_OK) ? GF_ERR_MODEL : st;
+}
+
+// The checks every update with an EKF3 measurement model starts with, in
+// the order of the status rules: GF_ERR_ARG (NULL model, h, z; m not 1..3),
+// GF_ERR_NONFINITE (z, gate), GF_ERR_ARG (gate < 0), then Q's
+// gf_mat3_check_psd verdict.
+static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
+                                       const gf_vec3 *z)
+{
+    if (!meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_vec3_is_finite_n(z, meas->m) || !GF_ISFINITE(meas->gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    return gf_mat3_check_psd(&meas->Q, meas->m);
 }
 
 #endif

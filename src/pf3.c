@@ -162,23 +162,15 @@ static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_mat3 *L,
 gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
                         const gf_vec3 *z)
 {
-    if (!pf || !pf->p || !meas || !meas->h || !z || meas->m < 1 ||
-        meas->m > 3) {
+    if (!pf || !pf->p) {
         return GF_ERR_ARG;
     }
-    const unsigned m = meas->m;
-    if (!gf_vec3_is_finite_n(z, m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = gf_mat3_check_psd(&meas->Q, m);
+    gf_status st = gf_meas3_check(meas, z);
     if (st != GF_OK) {
         return st;
     }
     gf_mat3 L;
-    st = gf_mat3_chol(&meas->Q, m, &L);
+    st = gf_mat3_chol(&meas->Q, meas->m, &L);
     if (st != GF_OK) {
         return st;
     }

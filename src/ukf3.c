@@ -188,21 +188,14 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
 gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info)
 {
-    if (!ukf || !meas || !meas->h || !z || meas->m < 1 ||
-        meas->m > N_STATE) {
+    if (!ukf) {
         return GF_ERR_ARG;
     }
-    const unsigned m = meas->m;
-    if (!gf_vec3_is_finite_n(z, m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = gf_mat3_check_psd(&meas->Q, m);
+    gf_status st = gf_meas3_check(meas, z);
     if (st != GF_OK) {
         return st;
     }
+    const unsigned m = meas->m;
 
     // chi_bar = (mu_bar, mu_bar +- gamma sqrt(Sigma_bar)), Z_j = h(chi_bar_j)
     gf_vec3 chi[N_SIGMA], off[N_SIGMA], Z[N_SIGMA];
