@@ -28,17 +28,29 @@ TARGETS = [
     ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
-MODULES = ["mat", "cov2", "kf2", "ekf3", "status"]
+MODULES = ["mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3", "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
-           "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3"]
+           "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
+           "gf_if2", "gf_ukf3", "gf_ukf3_params", "gf_pf3", "gf_pf3_particle",
+           "gf_rng"]
 # Indirect calls: which functions a callback slot runs when the built-in
 # models are used.
 CALLBACKS = {
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
+    "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "move": ["gf_ekf3_motion_forward_turn"],
+    "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
 STACK_LIMIT = 256
+# Public functions of the filters beyond the EKF (issue 7): in every table,
+# but not held to the core's stack budget.
+BEYOND = ("gf_if2_", "gf_ukf3_", "gf_pf3_", "gf_rng_")
 IMAGE_LIMIT = 4096
 RAM_LIMITS = {"gf_kf2": 64, "gf_ekf3": 128}
 # A double-precision libm function or soft-double helper in a float image
@@ -419,8 +431,13 @@ def report(root, build_root):
                   if DOUBLE_SYMS.match(ln.split()[-1])})
     kf2 = m4["structs"]["gf_kf2"]
     ekf3 = m4["structs"]["gf_ekf3"]
-    worst = max(((d, n) for n, (_, d, _) in m4["stack"][0].items()))
-    reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()))
+    # The stack budget is the core's (KF2, EKF3 and their helpers); the
+    # filters beyond the EKF are listed with their own depths below.
+    in_budget = lambda n: not n.startswith(BEYOND)  # noqa: E731
+    worst = max(((d, n) for n, (_, d, _) in m4["stack"][0].items()
+                  if in_budget(n)))
+    reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()
+                 if in_budget(n)))
     met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
     lines += [
         "| target (Cortex-M4F, float) | limit | measured | |",
@@ -429,7 +446,7 @@ def report(root, build_root):
         f"libm included) | 4 KiB | {fmt_delta(d_flash)} | {met(d_flash <= IMAGE_LIMIT)} |",
         f"| one KF2 belief (`sizeof(gf_kf2)`) | < 64 B | {kf2} B | {met(kf2 < 64)} |",
         f"| one EKF3 belief (`sizeof(gf_ekf3)`) | < 128 B | {ekf3} B | {met(ekf3 < 128)} |",
-        f"| deepest public function (built-in models) | 256 B | {worst[0]} B "
+        f"| deepest public function of KF2/EKF3 (built-in models) | 256 B | {worst[0]} B "
         f"(`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
         f"| the same, without newlib's large-argument path of sinf/cosf "
         f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "

@@ -300,3 +300,40 @@ void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
     }
     *x = y;
 }
+
+// ---- positive semidefinite square root -----------------------------------
+
+gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l)
+{
+    if (!s || !l || n < 1 || n > 3) {
+        return GF_ERR_ARG;
+    }
+    gf_status st = gf_mat3_check_psd(s, n);
+    if (st != GF_OK) {
+        return st;
+    }
+    // Cholesky-Banachiewicz on the symmetrized block; a pivot that is zero
+    // within the tolerance leaves its column zero (the matrix has no spread
+    // in that direction once the earlier ones are accounted for).
+    gf_mat3 r = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    for (unsigned j = 0; j < n; j++) {
+        gf_real d = s->m[j][j];
+        for (unsigned k = 0; k < j; k++) {
+            d -= r.m[j][k] * r.m[j][k];
+        }
+        if (!(d > GF_PD_RTOL * s->m[j][j])) {
+            continue; // semidefinite direction: zero column
+        }
+        gf_real ljj = GF_SQRT(d);
+        r.m[j][j] = ljj;
+        for (unsigned i = j + 1; i < n; i++) {
+            gf_real v = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
+            for (unsigned k = 0; k < j; k++) {
+                v -= r.m[i][k] * r.m[j][k];
+            }
+            r.m[i][j] = v / ljj;
+        }
+    }
+    *l = r;
+    return GF_OK;
+}

@@ -9,6 +9,10 @@
 #include "gaussfilt/cov2.h"
 #include "gaussfilt/kf2.h"
 #include "gaussfilt/ekf3.h"
+#include "gaussfilt/rng.h"
+#include "gaussfilt/if2.h"
+#include "gaussfilt/ukf3.h"
+#include "gaussfilt/pf3.h"
 
 #define GF_VERSION_MAJOR 0
 #define GF_VERSION_MINOR 1

@@ -84,6 +84,15 @@ gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l);
 void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
                         gf_vec3 *x);
 
+// Lower-triangular square root l (s = l l^T) of the leading n x n block of
+// a symmetric positive SEMIdefinite s (n = 1..3), for drawing sigma points
+// and samples: a pivot within GF_PD_RTOL of zero (relative to its diagonal
+// entry) gives a zero column instead of a failure, so a variance of zero
+// (a state known exactly, no process noise) is fine. The rest of l is
+// zeroed. GF_ERR_ARG (NULL, n), GF_ERR_NONFINITE, GF_ERR_NOT_PSD (as
+// gf_mat3_check_psd); l is untouched then.
+gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l);
+
 // ---- angles --------------------------------------------------------------
 
 // The angle a wrapped to (-pi, pi]. NaN and inf give NaN. Beyond

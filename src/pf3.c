@@ -1,0 +1,364 @@
+#include "gaussfilt/pf3.h"
+
+#include "gf_internal.h"
+
+// exp() of gf_real; config.h may provide it.
+#ifndef GF_EXP
+#ifdef GF_SINGLE_PRECISION
+#define GF_EXP expf
+#else
+#define GF_EXP exp
+#endif
+#endif
+
+// Total weight W; GF_ERR_NONFINITE or GF_ERR_UNDEFINED (a negative weight,
+// W not positive) when the weights cannot be used.
+static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
+{
+    gf_real w = 0;
+    for (unsigned k = 0; k < pf->n; k++) {
+        if (!GF_ISFINITE(pf->p[k].w)) {
+            return GF_ERR_NONFINITE;
+        }
+        if (pf->p[k].w < 0) {
+            return GF_ERR_UNDEFINED;
+        }
+        w += pf->p[k].w;
+    }
+    if (!GF_ISFINITE(w)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(w > 0)) {
+        return GF_ERR_UNDEFINED;
+    }
+    *total = w;
+    return GF_OK;
+}
+
+gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
+                      uint32_t seed, const gf_vec3 *mu,
+                      const gf_mat3 *sigma)
+{
+    if (!pf || !particles || !mu || !sigma || n < 1 || n > GF_PF3_MAX_N) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_vec3_is_finite_n(mu, 3)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_mat3 L;
+    gf_status st = gf_mat3_sqrt_psd(sigma, 3, &L);
+    if (st != GF_OK) {
+        return st;
+    }
+    // Dry run: every draw mu + L n_k must be finite before anything is
+    // written (an enormous sigma could overflow).
+    gf_rng rng;
+    (void)gf_rng_seed(&rng, seed);
+    gf_rng dry = rng;
+    for (unsigned k = 0; k < n; k++) {
+        gf_vec3 x;
+        gf_rng_mvn3(&dry, mu, &L, &x);
+        if (!gf_vec3_is_finite_n(&x, 3)) {
+            return GF_ERR_NONFINITE;
+        }
+    }
+    // x^[k] ~ N(mu, Sigma), w^[k] = 1/n
+    const gf_real w = GF_R(1.0) / (gf_real)n;
+    for (unsigned k = 0; k < n; k++) {
+        gf_rng_mvn3(&rng, mu, &L, &particles[k].x);
+        particles[k].x.v[2] = gf_angle_wrap(particles[k].x.v[2]);
+        particles[k].w = w;
+    }
+    pf->p = particles;
+    pf->n = n;
+    pf->rng = rng;
+    return GF_OK;
+}
+
+// One particle's move: out = g(u, x) + L n, n ~ N(0, I) from rng, heading
+// wrapped.
+static gf_status move(const gf_ekf3_motion *motion, const gf_real *u,
+                      const gf_mat3 *L, gf_rng *rng, const gf_vec3 *x,
+                      gf_vec3 *out)
+{
+    gf_vec3 gx = *x, r;
+    gf_mat3 G_unused;
+    gf_status st = motion->g(motion->ctx, x, u, &gx, &G_unused);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    if (!gf_vec3_is_finite_n(&gx, 3)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_rng_mvn3(rng, &gx, L, &r);
+    r.v[2] = gf_angle_wrap(r.v[2]);
+    if (!gf_vec3_is_finite_n(&r, 3)) {
+        return GF_ERR_NONFINITE;
+    }
+    *out = r;
+    return GF_OK;
+}
+
+gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
+                         const gf_real *u)
+{
+    if (!pf || !pf->p || !motion || !motion->g) {
+        return GF_ERR_ARG;
+    }
+    gf_mat3 L;
+    gf_status st = gf_mat3_sqrt_psd(&motion->R, 3, &L);
+    if (st != GF_OK) {
+        return st;
+    }
+    // Dry run on a copy of the generator: the commit below repeats exactly
+    // these computations, so it cannot fail half-way.
+    gf_rng dry = pf->rng;
+    for (unsigned k = 0; k < pf->n; k++) {
+        gf_vec3 x;
+        st = move(motion, u, &L, &dry, &pf->p[k].x, &x);
+        if (st != GF_OK) {
+            return st;
+        }
+    }
+    // x_t^[k] = g(u, x_{t-1}^[k]) + eps^[k]
+    for (unsigned k = 0; k < pf->n; k++) {
+        (void)move(motion, u, &L, &pf->rng, &pf->p[k].x, &pf->p[k].x);
+    }
+    return GF_OK;
+}
+
+// d2 = r^T Q^-1 r, r = z - h(x) (flagged entries wrapped), L = chol(Q).
+static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_mat3 *L,
+                             const gf_vec3 *z, const gf_vec3 *x, gf_real *d2)
+{
+    const unsigned m = meas->m;
+    gf_vec3 zh = {{0, 0, 0}}, r = {{0, 0, 0}}, qr;
+    gf_mat3 H_unused;
+    gf_status st = meas->h(meas->ctx, x, &zh, &H_unused);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    if (!gf_vec3_is_finite_n(&zh, m)) {
+        return GF_ERR_NONFINITE;
+    }
+    for (unsigned i = 0; i < m; i++) {
+        r.v[i] = z->v[i] - zh.v[i];
+        if ((meas->angle_mask >> i) & 1u) {
+            r.v[i] = gf_angle_wrap(r.v[i]);
+        }
+    }
+    gf_mat3_chol_solve(L, m, &r, &qr);
+    gf_real d = 0;
+    for (unsigned i = 0; i < m; i++) {
+        d += r.v[i] * qr.v[i];
+    }
+    if (!GF_ISFINITE(d)) {
+        return GF_ERR_NONFINITE;
+    }
+    *d2 = d;
+    return GF_OK;
+}
+
+gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
+                        const gf_vec3 *z)
+{
+    if (!pf || !pf->p) {
+        return GF_ERR_ARG;
+    }
+    gf_status st = gf_meas3_check(meas, z);
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_mat3 L;
+    st = gf_mat3_chol(&meas->Q, meas->m, &L);
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_real total;
+    st = total_weight(pf, &total);
+    if (st != GF_OK) {
+        return st;
+    }
+
+    // Dry run: the best log-weight ln w - d2 / 2 and the smallest d2 over
+    // the particles that have weight.
+    int seen = 0;
+    gf_real best = 0, d2min = 0;
+    for (unsigned k = 0; k < pf->n; k++) {
+        gf_real d2;
+        st = mahalanobis(meas, &L, z, &pf->p[k].x, &d2);
+        if (st != GF_OK) {
+            return st;
+        }
+        if (!(pf->p[k].w > 0)) {
+            continue;
+        }
+        const gf_real lw = GF_LOG(pf->p[k].w) - GF_R(0.5) * d2;
+        if (!seen || lw > best) {
+            best = lw;
+        }
+        if (!seen || d2 < d2min) {
+            d2min = d2;
+        }
+        seen = 1;
+    }
+    if (meas->gate > 0 && d2min > meas->gate) {
+        return GF_ERR_GATED;
+    }
+
+    // w^[k] = exp(ln w^[k] - d2_k / 2 - best): the best particle gets 1,
+    // so the sum is at least 1; then normalised.
+    gf_real sum = 0;
+    for (unsigned k = 0; k < pf->n; k++) {
+        gf_real d2 = 0;
+        (void)mahalanobis(meas, &L, z, &pf->p[k].x, &d2);
+        gf_real w = 0;
+        if (pf->p[k].w > 0) {
+            w = GF_EXP(GF_LOG(pf->p[k].w) - GF_R(0.5) * d2 - best);
+        }
+        pf->p[k].w = w;
+        sum += w;
+    }
+    const gf_real inv = GF_R(1.0) / sum;
+    for (unsigned k = 0; k < pf->n; k++) {
+        pf->p[k].w *= inv;
+    }
+    return GF_OK;
+}
+
+gf_status gf_pf3_resample(gf_pf3 *pf)
+{
+    if (!pf || !pf->p || pf->n < 1) {
+        return GF_ERR_ARG;
+    }
+    gf_real total;
+    gf_status st = total_weight(pf, &total);
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_pf3_particle *p = pf->p;
+    const unsigned n = pf->n;
+
+    // Table 4.4: r = rand(0; W/n), c = w^[0], i = 0; for each k:
+    //   U = r + k W/n; while U > c: i = i + 1, c = c + w^[i]; copy x^[i].
+    // The copy count of particle i replaces w^[i] once c has moved past it
+    // (w^[i] is never read again).
+    const gf_real step = total / (gf_real)n;
+    const gf_real r = gf_rng_uniform(&pf->rng) * step;
+    unsigned i = 0, count = 0;
+    gf_real c = p[0].w;
+    for (unsigned k = 0; k < n; k++) {
+        const gf_real U = r + (gf_real)k * step;
+        while (i + 1u < n) { // integer-controlled (MISRA 14.1)
+            if (!(U > c)) {
+                break;
+            }
+            p[i].w = (gf_real)count;
+            count = 0;
+            i++;
+            c += p[i].w;
+        }
+        count++;
+    }
+    p[i].w = (gf_real)count;
+    for (unsigned j = i + 1; j < n; j++) {
+        p[j].w = 0;
+    }
+
+    // Copies of particles drawn more than once go to the slots of those
+    // drawn none; there are exactly as many such slots as extra copies.
+    unsigned hole = 0;
+    for (unsigned j = 0; j < n; j++) {
+        const unsigned copies = (unsigned)p[j].w; // an exact count
+        for (unsigned e = 1; e < copies; e++) {
+            while (p[hole].w > GF_R(0.5)) {
+                hole++;
+            }
+            p[hole].x = p[j].x;
+            p[hole].w = 1;
+        }
+        if (copies > 1u) {
+            p[j].w = 1;
+        }
+    }
+    const gf_real w = GF_R(1.0) / (gf_real)n;
+    for (unsigned j = 0; j < n; j++) {
+        p[j].w = w;
+    }
+    return GF_OK;
+}
+
+gf_status gf_pf3_neff(const gf_pf3 *pf, gf_real *neff)
+{
+    if (!pf || !pf->p || !neff) {
+        return GF_ERR_ARG;
+    }
+    gf_real total;
+    gf_status st = total_weight(pf, &total);
+    if (st != GF_OK) {
+        return st;
+    }
+    // 1 / sum (w / W)^2
+    gf_real s2 = 0;
+    for (unsigned k = 0; k < pf->n; k++) {
+        const gf_real w = pf->p[k].w / total;
+        s2 += w * w;
+    }
+    *neff = GF_R(1.0) / s2;
+    return GF_OK;
+}
+
+gf_status gf_pf3_estimate(const gf_pf3 *pf, gf_vec3 *mu, gf_mat3 *sigma)
+{
+    if (!pf || !pf->p || (!mu && !sigma)) {
+        return GF_ERR_ARG;
+    }
+    gf_real total;
+    gf_status st = total_weight(pf, &total);
+    if (st != GF_OK) {
+        return st;
+    }
+    // mean: sum w x / W for x and y; atan2(sum w sin, sum w cos) for theta
+    gf_real sx = 0, sy = 0, ss = 0, sc = 0;
+    for (unsigned k = 0; k < pf->n; k++) {
+        const gf_pf3_particle *q = &pf->p[k];
+        sx += q->w * q->x.v[0];
+        sy += q->w * q->x.v[1];
+        gf_real sn, cs;
+        gf_sincos(q->x.v[2], &sn, &cs);
+        ss += q->w * sn;
+        sc += q->w * cs;
+    }
+    if (!(GF_SQRT(ss * ss + sc * sc) > GF_R(64.0) * GF_REAL_EPSILON * total)) {
+        return GF_ERR_UNDEFINED;
+    }
+    gf_vec3 m = {{sx / total, sy / total, GF_ATAN2(ss, sc)}};
+    m.v[2] = gf_angle_wrap(m.v[2]);
+    // Sigma = sum w d d^T / W, d = x - mean with the heading wrapped
+    gf_mat3 s = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    for (unsigned k = 0; k < pf->n; k++) {
+        const gf_pf3_particle *q = &pf->p[k];
+        gf_vec3 d = {{q->x.v[0] - m.v[0], q->x.v[1] - m.v[1],
+                      gf_angle_wrap(q->x.v[2] - m.v[2])}};
+        for (unsigned a = 0; a < 3; a++) {
+            for (unsigned b = a; b < 3; b++) {
+                s.m[a][b] += q->w * d.v[a] * d.v[b] / total;
+            }
+        }
+    }
+    for (unsigned a = 0; a < 3; a++) {
+        for (unsigned b = 0; b < a; b++) {
+            s.m[a][b] = s.m[b][a];
+        }
+    }
+    if (!gf_vec3_is_finite_n(&m, 3) || !gf_mat3_is_finite(&s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (mu) {
+        *mu = m;
+    }
+    if (sigma) {
+        *sigma = s;
+    }
+    return GF_OK;
+}

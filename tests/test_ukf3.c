@@ -1,0 +1,304 @@
+// UKF3: exact on linear models (where it must equal the Kalman filter, for
+// any scaling), angle-aware across +-pi, and every bad input refused with
+// the belief unchanged. Exercise 4 is in test_ex4.c.
+#include "gf_test.h"
+
+// UKF against EKF3 on models where both are exact: agreement to UKF_TOL
+// (sums of seven weighted outer products against one sandwich).
+#ifdef GF_SINGLE_PRECISION
+#define UKF_TOL 1e-4
+#else
+#define UKF_TOL 1e-9
+#endif
+#define CHECK_UKF(got, want)                                              \
+    gf_check_close_((double)(got), (double)(want), UKF_TOL, #got,         \
+                    __FILE__, __LINE__)
+
+// A linear motion x' = A x + b, with its Jacobian A, for both filters.
+static const gf_mat3 lin_A = {{{1, GF_R(0.5), 0}, {GF_R(-0.2), 1, GF_R(0.3)},
+                               {GF_R(0.05), 0, 1}}};
+static gf_status linear_motion(void *ctx, const gf_vec3 *mu,
+                               const gf_real *u, gf_vec3 *mu_bar, gf_mat3 *G)
+{
+    (void)ctx;
+    gf_mat3_mulv(&lin_A, mu, mu_bar);
+    mu_bar->v[0] += u[0];
+    mu_bar->v[1] += u[1];
+    *G = lin_A;
+    return GF_OK;
+}
+
+// Measures the heading alone (an angle, m = 1).
+static gf_status meas_theta(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                            gf_mat3 *H)
+{
+    (void)ctx;
+    z_hat->v[0] = gf_angle_wrap(mu_bar->v[2]); // as a real sensor would
+    H->m[0][0] = 0; H->m[0][1] = 0; H->m[0][2] = 1;
+    return GF_OK;
+}
+
+// Exercise 4's motion, returning the heading wrapped as a real model might:
+// sigma points near pi come back on both sides of the cut.
+static gf_status wrapped_turn(void *ctx, const gf_vec3 *mu, const gf_real *u,
+                              gf_vec3 *mu_bar, gf_mat3 *G)
+{
+    gf_status st = gf_ekf3_motion_forward_turn(ctx, mu, u, mu_bar, G);
+    mu_bar->v[2] = gf_angle_wrap(mu_bar->v[2]);
+    return st;
+}
+
+// A motion model that fails, with a status the filter does not know.
+static gf_status broken_motion(void *ctx, const gf_vec3 *mu,
+                               const gf_real *u, gf_vec3 *mu_bar, gf_mat3 *G)
+{
+    (void)ctx; (void)mu; (void)u; (void)mu_bar; (void)G;
+    return (gf_status)42;
+}
+
+// A measurement model that returns NaN.
+static gf_status nan_meas(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                          gf_mat3 *H)
+{
+    (void)ctx; (void)mu_bar; (void)H;
+    z_hat->v[0] = (gf_real)NAN;
+    return GF_OK;
+}
+
+static void check_same(const gf_ukf3 *ukf, const gf_ekf3 *ekf)
+{
+    for (int i = 0; i < 3; i++) {
+        CHECK_UKF(ukf->mu.v[i], ekf->mu.v[i]);
+        for (int j = 0; j < 3; j++) {
+            CHECK_UKF(ukf->sigma.m[i][j], ekf->sigma.m[i][j]);
+        }
+    }
+}
+
+static const gf_vec3 mu_a = {{1, -2, GF_R(0.3)}};
+static const gf_mat3 sig_a = {{{GF_R(0.5), GF_R(0.1), GF_R(0.02)},
+                               {GF_R(0.1), GF_R(0.4), GF_R(-0.05)},
+                               {GF_R(0.02), GF_R(-0.05), GF_R(0.1)}}};
+
+// On a linear motion and a linear measurement the unscented transform is
+// exact: the UKF is the Kalman filter, whatever alpha, beta, kappa.
+static void test_linear_equals_kalman(void **state)
+{
+    (void)state;
+    const gf_ukf3_params params[] = {{1, 2, 0}, {GF_R(0.5), 2, 1},
+                                     {GF_R(0.1), 0, 3}};
+    const gf_ekf3_motion motion = {
+        linear_motion, NULL,
+        {{{GF_R(0.01), 0, 0}, {0, GF_R(0.02), GF_R(0.005)},
+          {0, GF_R(0.005), GF_R(0.01)}}}};
+    const gf_ekf3_meas meas = {
+        2, gf_ekf3_meas_xy, NULL,
+        {{{GF_R(0.2), GF_R(0.05), 0}, {GF_R(0.05), GF_R(0.3), 0}, {0, 0, 0}}},
+        0, 0};
+    const gf_real u[2] = {GF_R(0.4), GF_R(-0.1)};
+    const gf_vec3 z = {{GF_R(1.2), GF_R(-2.5), 0}};
+    for (unsigned k = 0; k < sizeof params / sizeof params[0]; k++) {
+        gf_ukf3 ukf;
+        gf_ekf3 ekf;
+        gf_innovation iu, ie;
+        assert_int_equal(gf_ukf3_init(&ukf, &mu_a, &sig_a, &params[k]), GF_OK);
+        assert_int_equal(gf_ekf3_init(&ekf, &mu_a, &sig_a), GF_OK);
+        for (int t = 0; t < 3; t++) {
+            assert_int_equal(gf_ukf3_predict(&ukf, &motion, u), GF_OK);
+            assert_int_equal(gf_ekf3_predict(&ekf, &motion, u), GF_OK);
+            check_same(&ukf, &ekf);
+            assert_int_equal(gf_ukf3_update(&ukf, &meas, &z, &iu), GF_OK);
+            assert_int_equal(gf_ekf3_update(&ekf, &meas, &z, &ie), GF_OK);
+            check_same(&ukf, &ekf);
+            assert_int_equal(iu.m, 2u);
+            CHECK_UKF(iu.y[0], ie.y[0]);
+            CHECK_UKF(iu.y[1], ie.y[1]);
+            CHECK_UKF(iu.nis, ie.nis);
+        }
+    }
+}
+
+// The weights of Table 3.4 for alpha = 0.5, beta = 2, kappa = 1, n = 3:
+// n + lambda = 0.25 * 4 = 1, lambda = -2.
+static void test_weights(void **state)
+{
+    (void)state;
+    const gf_ukf3_params p = {GF_R(0.5), 2, 1};
+    gf_ukf3 ukf;
+    assert_int_equal(gf_ukf3_init(&ukf, &mu_a, &sig_a, &p), GF_OK);
+    CHECK_CLOSE(ukf.gamma, 1.0);
+    CHECK_CLOSE(ukf.wm0, -2.0);
+    CHECK_CLOSE(ukf.wc0, -2.0 + 1 - 0.25 + 2);
+    CHECK_CLOSE(ukf.wi, 0.5);
+    CHECK_CLOSE(ukf.wm0 + 6 * ukf.wi, 1.0); // mean weights sum to one
+}
+
+// Heading near pi: the sigma points straddle +-pi. The heading's mean and
+// variance must be those of theta' = theta + phi (linear in theta), as in
+// the EKF, not an average of +3 and -3.
+static void test_heading_across_pi(void **state)
+{
+    (void)state;
+    const gf_vec3 mu = {{0, 0, GF_PI - GF_R(0.05)}};
+    const gf_mat3 sig = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
+                          {0, 0, GF_R(0.04)}}};
+    const gf_ekf3_motion turn = {
+        wrapped_turn, NULL,
+        {{{GF_R(0.001), 0, 0}, {0, GF_R(0.001), 0}, {0, 0, GF_R(0.002)}}}};
+    const gf_real u[2] = {GF_R(0.5), GF_R(0.1)};
+    const gf_ukf3_params p = {1, 2, 0};
+    gf_ukf3 ukf;
+    assert_int_equal(gf_ukf3_init(&ukf, &mu, &sig, &p), GF_OK);
+    assert_int_equal(gf_ukf3_predict(&ukf, &turn, u), GF_OK);
+    CHECK_UKF(ukf.mu.v[2], -GF_PI + GF_R(0.05)); // pi + 0.05, wrapped
+    CHECK_UKF(ukf.sigma.m[2][2], 0.04 + 0.002);
+    assert_true(ukf.mu.v[0] < GF_R(-0.45)); // moved along heading ~pi
+
+    // Observe the heading at -pi + 0.02 (so 0.03 from the mean, across the
+    // cut): the linear measurement of an angle, where UKF and EKF agree.
+    const gf_ekf3_meas head = {
+        1, meas_theta, NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+        1u, 0};
+    const gf_vec3 z = {{-GF_PI + GF_R(0.02), 0, 0}};
+    gf_ekf3 ekf;
+    gf_innovation iu, ie;
+    assert_int_equal(gf_ekf3_init(&ekf, &ukf.mu, &ukf.sigma), GF_OK);
+    assert_int_equal(gf_ukf3_update(&ukf, &head, &z, &iu), GF_OK);
+    assert_int_equal(gf_ekf3_update(&ekf, &head, &z, &ie), GF_OK);
+    CHECK_UKF(iu.y[0], -0.03);
+    CHECK_UKF(iu.nis, ie.nis);
+    check_same(&ukf, &ekf);
+}
+
+static void test_bad_inputs(void **state)
+{
+    (void)state;
+    const gf_ukf3_params p = {1, 2, 0};
+    gf_ukf3 ukf;
+    assert_int_equal(gf_ukf3_init(&ukf, &mu_a, &sig_a, &p), GF_OK);
+
+    // init
+    gf_ukf3_params bp = p;
+    gf_vec3 nanv = mu_a;
+    nanv.v[1] = (gf_real)NAN;
+    gf_mat3 indef = sig_a;
+    indef.m[2][2] = -1;
+    assert_int_equal(gf_ukf3_init(NULL, &mu_a, &sig_a, &p), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, NULL, &sig_a, &p));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, NULL, &p));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &sig_a, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
+                          gf_ukf3_init(&ukf, &nanv, &sig_a, &p));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &indef, &p));
+    bp.alpha = 0;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
+    bp.alpha = GF_R(1.5);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
+    bp = p;
+    bp.beta = -1;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
+    bp = p;
+    bp.kappa = -1;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
+    bp.kappa = (gf_real)NAN;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
+                          gf_ukf3_init(&ukf, &mu_a, &sig_a, &bp));
+
+    // predict
+    const gf_real u[2] = {1, 0};
+    gf_ekf3_motion mo = {gf_ekf3_motion_forward_turn, NULL,
+                         {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
+    assert_int_equal(gf_ukf3_predict(NULL, &mo, u), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_predict(&ukf, NULL, u));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_predict(&ukf, &mo, NULL));
+    mo.R.m[0][0] = -1;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ukf, gf_ukf3_predict(&ukf, &mo, u));
+    mo.R.m[0][0] = (gf_real)INFINITY;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
+                          gf_ukf3_predict(&ukf, &mo, u));
+    mo.R.m[0][0] = 0;
+    // A step so long that its square overflows in the covariance.
+#ifdef GF_SINGLE_PRECISION
+    const gf_real huge = GF_R(1e30);
+#else
+    const gf_real huge = 1e200;
+#endif
+    const gf_real big[2] = {huge, 0};
+    gf_ukf3 far = ukf;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &far,
+                          gf_ukf3_predict(&far, &mo, big));
+    mo.g = NULL;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_predict(&ukf, &mo, u));
+    mo.g = broken_motion;
+    CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ukf, gf_ukf3_predict(&ukf, &mo, u));
+
+    // update
+    gf_ekf3_meas me = {1, gf_ekf3_meas_x, NULL,
+                       {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+    const gf_vec3 z = {{5, 0, 0}};
+    gf_vec3 zn = z;
+    zn.v[0] = (gf_real)NAN;
+    gf_innovation info;
+    memset(&info, 0x77, sizeof info);
+    assert_int_equal(gf_ukf3_update(NULL, &me, &z, NULL), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_update(&ukf, NULL, &z, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_update(&ukf, &me, NULL, NULL));
+    me.m = 0;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    me.m = 4;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    me.m = 1;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
+                          gf_ukf3_update(&ukf, &me, &zn, NULL));
+    me.gate = (gf_real)NAN;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
+    me.gate = -1;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    me.gate = 0;
+    me.Q.m[0][0] = -1;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
+    me.Q.m[0][0] = GF_R(0.01);
+    me.h = NULL;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    me.h = nan_meas;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
+    // S singular: the state known exactly and a noiseless measurement.
+    gf_ukf3 exact;
+    const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    assert_int_equal(gf_ukf3_init(&exact, &mu_a, &zero, &p), GF_OK);
+    me.h = gf_ekf3_meas_x;
+    me.Q.m[0][0] = 0;
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &exact,
+                          gf_ukf3_update(&exact, &me, &z, &info));
+    // Gated: z = 5 against x = 1 with S = 0.51: NIS = 16 / 0.51 > 9.
+    me.Q.m[0][0] = GF_R(0.01);
+    me.gate = 9;
+    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, &info));
+    CHECK_UKF(info.y[0], 4.0);
+    CHECK_UKF(info.nis, 16 / 0.51);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_linear_equals_kalman),
+        cmocka_unit_test(test_weights),
+        cmocka_unit_test(test_heading_across_pi),
+        cmocka_unit_test(test_bad_inputs),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
