@@ -208,7 +208,7 @@ def check_faults(work):
                 fail("track %d: only %d beliefs after %s" % (track, len(after),
                                                              e))
         # The restarted node: its first belief of the track is the prior.
-        after = [b for b in mine if b["t"] > ev_t["node_resumed"]]
+        after = [b for b in mine if b["t"] > ev_t["node_restarted"]]
         first = after[0]
         prior = ("[0.0, 0.0] [[0.0, 0.0], [0.0, 0.0]]" if track != 3 else
                  "[0.0, 0.0, 0.0] [[0.01, 0.0, 0.0], [0.0, 0.01, 0.0], "
