@@ -91,8 +91,8 @@ faults)
     start sim3 $sim --model robot --track 3 --seed 3 --meas-var 0.01
     sleep 1
     stop sim1a
+    event sim_restarted # (before: its first beliefs may beat `date`)
     start sim1b $sim --model car --track 1 --seed 4
-    event sim_restarted
     sleep 1
     # The node restart: the relay holds the wire (it keeps reading) while
     # the old node drains and stops and the new one starts.
