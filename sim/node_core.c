@@ -30,6 +30,7 @@ const char *gf_node_result_str(gf_node_result r)
     case GF_NODE_TRACK_LIMIT: return "track_limit";
     case GF_NODE_NONFINITE: return "nonfinite";
     case GF_NODE_FILTER_ERROR: return "filter_error";
+    case GF_NODE_STALE_SESSION: return "stale_session";
     case GF_NODE_RESULT_COUNT: break;
     }
     return "unknown";
@@ -230,13 +231,36 @@ static gf_node_result check_order(const gf_node_track *t, int64_t seq,
     return GF_NODE_APPLIED;
 }
 
-static void consume(gf_node *node, gf_node_track *t, int64_t seq,
-                    int64_t utime, int64_t now)
+// Session rule (see node_core.h): a larger session re-initialises the
+// track from the prior, a smaller one is stale; then the sequence rules.
+static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
+                            int64_t seq, int64_t utime)
+{
+    gaussfilt_lcm_belief_t b;
+    if (t->has_input && session != t->session) {
+        if (session < t->session)
+            return GF_NODE_STALE_SESSION;
+        t->has_input = 0;
+        track_prior(t);
+        node->counts.resyncs++;
+        t->belief_seq++;
+        belief_fill(t, &b);
+        b.utime = utime;
+        b.input_seq = -1;
+        b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
+        publish_belief(node, t, &b);
+    }
+    return check_order(t, seq, utime);
+}
+
+static void consume(gf_node *node, gf_node_track *t, int64_t session,
+                    int64_t seq, int64_t utime, int64_t now)
 {
     // seq > last_seq here; unsigned arithmetic cannot overflow.
     if (t->has_input)
         node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
     t->has_input = 1;
+    t->session = session;
     t->last_seq = seq;
     t->last_utime = utime;
     t->last_rx = now;
@@ -284,10 +308,10 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     t = track_get(node, id, c->model, c->utime, &r);
     if (t == NULL)
         return r;
-    r = check_order(t, c->seq, c->utime);
+    r = admit(node, t, c->session, c->seq, c->utime);
     if (r != GF_NODE_APPLIED)
         return r;
-    consume(node, t, c->seq, c->utime, now);
+    consume(node, t, c->session, c->seq, c->utime, now);
     if (t->model == MODEL_CAR) {
         gf_kf2_model mdl;
         gf_vec2 u;
@@ -332,10 +356,10 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     t = track_get(node, id, z->model, z->utime, &r);
     if (t == NULL)
         return r;
-    r = check_order(t, z->seq, z->utime);
+    r = admit(node, t, z->session, z->seq, z->utime);
     if (r != GF_NODE_APPLIED)
         return r;
-    consume(node, t, z->seq, z->utime, now);
+    consume(node, t, z->session, z->seq, z->utime, now);
     memset(&info, 0, sizeof(info));
     if (t->model == MODEL_CAR) {
         gf_kf2_meas mm;
@@ -432,12 +456,13 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         return -1;
     n = snprintf(out, size,
                  "received=%llu applied=%llu published=%llu "
-                 "publish_failed=%llu gaps=%llu tracks=%u",
+                 "publish_failed=%llu gaps=%llu tracks=%u resyncs=%llu",
                  (unsigned long long)c->received,
                  (unsigned long long)c->by_result[GF_NODE_APPLIED],
                  (unsigned long long)c->published,
                  (unsigned long long)c->publish_failed,
-                 (unsigned long long)c->gaps, node->ntracks);
+                 (unsigned long long)c->gaps, node->ntracks,
+                 (unsigned long long)c->resyncs);
     for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),
