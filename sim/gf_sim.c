@@ -1,8 +1,9 @@
 // gf_sim: the simulators of the exercises, publishing over LCM.
 //
 //   gf_sim --model car|robot [--track N] [--steps N] [--seed S] [--rate HZ]
-//          [--meas-every K] [--meas-var V] [--turn PHI] [--url URL]
-//   gf_sim --exercise 1|2|4 [--track N] [--url URL]
+//          [--meas-every K] [--meas-var V] [--turn PHI] [--session S]
+//          [--url URL]
+//   gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]
 //
 // car (exercises 1-2): each step a random acceleration a ~ N(0, 1) moves the
 //   true state (x += v + a/2, v += a); every K-th step the position is
@@ -22,7 +23,15 @@
 // time, t * dt with dt = 1 s (or 1/HZ s with --rate), so a seed always gives
 // the same bytes. --rate 0 (default) sends as fast as possible; otherwise
 // one step every 1/HZ s of wall-clock time.
+//
+// session: every control and measurement carries the run's session number,
+// by default the wall-clock time of the start in microseconds, so a
+// restarted simulator (seq from 1 again) has a larger one and the node
+// re-initialises its track (sim/node_core.h). --session S fixes it, for
+// runs that must give the same bytes. SIGINT/SIGTERM stop the run early;
+// the summary line still says what was sent.
 #include <math.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -98,6 +107,7 @@ typedef struct sim {
     int32_t track;
     int8_t model;
     int64_t seq;     // last seq used on the track
+    int64_t session;
     int64_t step_us; // utime per step
     char ch_ctrl[GF_CHANNEL_MAX], ch_meas[GF_CHANNEL_MAX],
         ch_truth[GF_CHANNEL_MAX];
@@ -118,6 +128,7 @@ static void send_ctrl(sim *s, long t, int n, double u0, double u1)
     memset(&c, 0, sizeof(c));
     c.utime = t * s->step_us;
     c.seq = ++s->seq;
+    c.session = s->session;
     c.track = s->track;
     c.model = s->model;
     c.n = (int8_t)n;
@@ -134,6 +145,7 @@ static void send_meas(sim *s, long t, double z, double q)
     memset(&m, 0, sizeof(m));
     m.utime = t * s->step_us;
     m.seq = ++s->seq;
+    m.session = s->session;
     m.track = s->track;
     m.model = s->model;
     m.m = 1;
@@ -178,14 +190,23 @@ static void pace(struct timespec *next, long period_ns)
         ;
 }
 
+static volatile sig_atomic_t g_stop; // set by the signal handler only
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
 static void usage(void)
 {
     fprintf(stderr,
             "usage: gf_sim --model car|robot [--track N] [--steps N] "
             "[--seed S] [--rate HZ]\n"
             "              [--meas-every K] [--meas-var V] [--turn PHI] "
-            "[--url URL]\n"
-            "       gf_sim --exercise 1|2|4 [--track N] [--url URL]\n");
+            "[--session S] [--url URL]\n"
+            "       gf_sim --exercise 1|2|4 [--track N] [--session S] "
+            "[--url URL]\n");
 }
 
 int main(int argc, char **argv)
@@ -197,6 +218,8 @@ int main(int argc, char **argv)
     uint64_t seed = 1;
     long period_ns = 0;
     struct timespec next;
+    struct sigaction sa;
+    int have_session = 0;
     static sim s; // holds the encode buffer; off the stack
     rng r;
 
@@ -232,6 +255,10 @@ int main(int argc, char **argv)
             meas_var = atof(v);
         else if (strcmp(a, "--turn") == 0)
             turn = atof(v);
+        else if (strcmp(a, "--session") == 0) {
+            s.session = strtoll(v, NULL, 0);
+            have_session = 1;
+        }
         else {
             usage();
             return 2;
@@ -261,6 +288,17 @@ int main(int argc, char **argv)
     snprintf(s.ch_truth, sizeof(s.ch_truth), "%s%ld", GF_CHANNEL_TRUTH,
              (long)s.track);
 
+    if (!have_session) {
+        struct timespec now;
+        clock_gettime(CLOCK_REALTIME, &now);
+        s.session = (int64_t)now.tv_sec * 1000000 + now.tv_nsec / 1000;
+    }
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+
     s.lcm = lcm_create(url);
     if (s.lcm == NULL) {
         fprintf(stderr, "gf_sim: cannot open LCM at %s\n",
@@ -271,7 +309,7 @@ int main(int argc, char **argv)
     clock_gettime(CLOCK_MONOTONIC, &next);
 
     if (exercise == 1 || exercise == 2) {
-        for (t = 1; t <= steps; t++) {
+        for (t = 1; t <= steps && !g_stop; t++) {
             send_ctrl(&s, t, 0, 0.0, 0.0);
             if (exercise == 2 && t == 5)
                 send_meas(&s, t, 5.0, 10.0);
@@ -282,7 +320,7 @@ int main(int argc, char **argv)
         send_meas(&s, 1, -0.7, 0.01);
     } else if (s.model == MODEL_CAR) {
         double x[2] = {0.0, 0.0};
-        for (t = 1; t <= steps; t++) {
+        for (t = 1; t <= steps && !g_stop; t++) {
             double a = rng_normal(&r);
             x[0] += x[1] + 0.5 * a; // x_t = A x_{t-1} + G a, G = (0.5, 1)^T
             x[1] += a;
@@ -298,7 +336,7 @@ int main(int argc, char **argv)
         x[0] = 0.0;
         x[1] = 0.0;
         x[2] = (2.0 * rng_uniform(&r) - 1.0) * 3.14159265358979323846;
-        for (t = 1; t <= steps; t++) {
+        for (t = 1; t <= steps && !g_stop; t++) {
             x[0] += cos(x[2]); // move 1 forward, then turn
             x[1] += sin(x[2]);
             x[2] = remainder(x[2] + turn, 2.0 * 3.14159265358979323846);
@@ -311,8 +349,10 @@ int main(int argc, char **argv)
         }
     }
 
-    printf("gf_sim: track=%ld sent controls=%lu measurements=%lu truths=%lu%s\n",
-           (long)s.track, s.sent_ctrl, s.sent_meas, s.sent_truth,
+    printf("gf_sim: track=%ld session=%lld sent controls=%lu measurements=%lu "
+           "truths=%lu%s%s\n",
+           (long)s.track, (long long)s.session, s.sent_ctrl, s.sent_meas,
+           s.sent_truth, g_stop ? " (stopped by a signal)" : "",
            s.failed ? " (some publishes FAILED)" : "");
     lcm_destroy(s.lcm);
     return s.failed ? 1 : 0;

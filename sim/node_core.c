@@ -35,6 +35,7 @@ const char *gf_node_result_str(gf_node_result r)
     case GF_NODE_TRACK_LIMIT: return "track_limit";
     case GF_NODE_NONFINITE: return "nonfinite";
     case GF_NODE_FILTER_ERROR: return "filter_error";
+    case GF_NODE_STALE_SESSION: return "stale_session";
     case GF_NODE_RESULT_COUNT: break;
     }
     return "unknown";
@@ -212,11 +213,18 @@ static gf_status pf_summary(gf_node_track *t)
     return gf_pf3_neff(&t->f.pf3.pf, &t->f.pf3.neff);
 }
 
-// The exercise priors every new track starts from.
+// The exercise priors every new track starts from, and a resynced track
+// again. A new track (filter 0) takes the node's robot filter; a resynced
+// one keeps its own filter, and a PF track its pool slot.
 static void track_prior(gf_node *node, gf_node_track *t)
 {
     gf_vec3 mu0;
     gf_mat3 sigma0;
+    int8_t filter = t->filter;
+    if (filter == 0)
+        filter = node->robot_filter == GF_NODE_FILTER_UKF  ? FILTER_UKF3
+                 : node->robot_filter == GF_NODE_FILTER_PF ? FILTER_PF3
+                                                           : FILTER_EKF3;
     if (t->model == MODEL_CAR) {
         // Exercise 1: the car starts at rest at 0, known exactly.
         memset(&t->f.kf2, 0, sizeof(t->f.kf2));
@@ -229,12 +237,13 @@ static void track_prior(gf_node *node, gf_node_track *t)
     sigma0.m[0][0] = GF_R(0.01);
     sigma0.m[1][1] = GF_R(0.01);
     sigma0.m[2][2] = GF_R(10000.0);
-    if (node->robot_filter == GF_NODE_FILTER_UKF) {
+    if (filter == FILTER_UKF3) {
         t->filter = FILTER_UKF3;
         (void)gf_ukf3_init(&t->f.ukf3, &mu0, &sigma0, &ukf_params);
-    } else if (node->robot_filter == GF_NODE_FILTER_PF) {
+    } else if (filter == FILTER_PF3) {
+        if (t->filter != FILTER_PF3)
+            t->f.pf3.slot = node->pf_pool->used++;
         t->filter = FILTER_PF3;
-        t->f.pf3.slot = node->pf_pool->used++;
         (void)gf_pf3_init(&t->f.pf3.pf, node->pf_pool->p[t->f.pf3.slot],
                           GF_NODE_PF_PARTICLES,
                           node->pf_seed + (uint32_t)t->id, &mu0, &sigma0);
@@ -393,13 +402,36 @@ static gf_node_result check_order(const gf_node_track *t, int64_t seq,
     return GF_NODE_APPLIED;
 }
 
-static void consume(gf_node *node, gf_node_track *t, int64_t seq,
-                    int64_t utime, int64_t now)
+// Session rule (see node_core.h): a larger session re-initialises the
+// track from the prior, a smaller one is stale; then the sequence rules.
+static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
+                            int64_t seq, int64_t utime)
+{
+    gaussfilt_lcm_belief_t b;
+    if (t->has_input && session != t->session) {
+        if (session < t->session)
+            return GF_NODE_STALE_SESSION;
+        t->has_input = 0;
+        track_prior(node, t);
+        node->counts.resyncs++;
+        t->belief_seq++;
+        belief_fill(t, &b);
+        b.utime = utime;
+        b.input_seq = -1;
+        b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
+        publish_step(node, t, &b);
+    }
+    return check_order(t, seq, utime);
+}
+
+static void consume(gf_node *node, gf_node_track *t, int64_t session,
+                    int64_t seq, int64_t utime, int64_t now)
 {
     // seq > last_seq here; unsigned arithmetic cannot overflow.
     if (t->has_input)
         node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
     t->has_input = 1;
+    t->session = session;
     t->last_seq = seq;
     t->last_utime = utime;
     t->last_rx = now;
@@ -472,10 +504,10 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     t = track_get(node, id, c->model, c->utime, &r);
     if (t == NULL)
         return r;
-    r = check_order(t, c->seq, c->utime);
+    r = admit(node, t, c->session, c->seq, c->utime);
     if (r != GF_NODE_APPLIED)
         return r;
-    consume(node, t, c->seq, c->utime, now);
+    consume(node, t, c->session, c->seq, c->utime, now);
     if (t->model == MODEL_CAR) {
         gf_kf2_model mdl;
         gf_vec2 u;
@@ -529,10 +561,10 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     t = track_get(node, id, z->model, z->utime, &r);
     if (t == NULL)
         return r;
-    r = check_order(t, z->seq, z->utime);
+    r = admit(node, t, z->session, z->seq, z->utime);
     if (r != GF_NODE_APPLIED)
         return r;
-    consume(node, t, z->seq, z->utime, now);
+    consume(node, t, z->session, z->seq, z->utime, now);
     memset(&info, 0, sizeof(info));
     if (t->model == MODEL_CAR) {
         gf_kf2_meas mm;
@@ -634,12 +666,13 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         return -1;
     n = snprintf(out, size,
                  "received=%llu applied=%llu published=%llu "
-                 "publish_failed=%llu gaps=%llu tracks=%u",
+                 "publish_failed=%llu gaps=%llu tracks=%u resyncs=%llu",
                  (unsigned long long)c->received,
                  (unsigned long long)c->by_result[GF_NODE_APPLIED],
                  (unsigned long long)c->published,
                  (unsigned long long)c->publish_failed,
-                 (unsigned long long)c->gaps, node->ntracks);
+                 (unsigned long long)c->gaps, node->ntracks,
+                 (unsigned long long)c->resyncs);
     for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),

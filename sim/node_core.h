@@ -7,6 +7,14 @@
 // gaussfilt_lcm_belief_t bytes (a PF3 track also a particles_t cloud). gf_node.c wires
 // it to LCM; tests, fuzzers and benchmarks call it directly.
 //
+// Restarts. A node keeps no state across its own restarts: a restarted node
+// re-initialises each track from the prior on the track's first message
+// (whatever its seq) and says so with a STAGE_INIT belief of seq 0. A
+// restarted simulator starts seq at 1 again under a larger `session`: the
+// first input of a larger session re-initialises the track the same way (a
+// STAGE_INIT belief, counted in resyncs) and the seq rules start afresh;
+// an input of a smaller session is rejected as GF_NODE_STALE_SESSION.
+//
 // Tracks are created by their first valid message, up to
 // GF_NODE_MAX_TRACKS per node; each starts from its model's exercise prior
 // (car: mu = 0, Sigma = 0; robot: mu = 0, Sigma = diag(0.01, 0.01, 10000))
@@ -83,6 +91,7 @@ typedef enum gf_node_result {
                            // that status, belief unchanged
     GF_NODE_FILTER_ERROR,  // any other core failure (gated, not PSD,
                            // singular): published with its status
+    GF_NODE_STALE_SESSION, // from a simulator run older than the track's
     GF_NODE_RESULT_COUNT
 } gf_node_result;
 
@@ -100,6 +109,7 @@ typedef struct gf_node_counts {
     uint64_t publish_failed; // of those, the callback returned non-zero
     uint64_t gaps;
     uint64_t tracks_created;
+    uint64_t resyncs; // tracks re-initialised by a newer simulator session
 } gf_node_counts;
 
 // One track: its filter and where its input sequence stands.
@@ -107,6 +117,7 @@ typedef struct gf_node_track {
     int32_t id;
     int8_t model; // gaussfilt_lcm MODEL_CAR or MODEL_ROBOT
     int has_input;
+    int64_t session;    // of the last input consumed
     int64_t last_seq;   // of the last input consumed (applied or failed)
     int64_t last_utime;
     int64_t belief_seq; // of the last belief published

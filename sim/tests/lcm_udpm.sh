@@ -16,7 +16,7 @@
 #   replay     lcm-logger records the simulators; the log is played through
 #              the node twice with the file:// provider (speed=0): the two
 #              belief logs are identical, and Table 2.1 is in them; and
-#              gf_sim gives the same bytes for the same seed
+#              gf_sim gives the same bytes for the same seed (and session)
 #   ex4three   exercise 4 through three nodes (--filter ekf, ukf, pf):
 #              gf_ex4check sees the EKF at (0.15, 0), the UKF's predicted
 #              mean inside the unit circle, the PF's two modes
@@ -158,7 +158,7 @@ replay)
     # other bytes.
     for s in 7 7 8; do
         "$bin/gf_sim" --url "file://$work/sim-$s-$((++n)).lcmlog?mode=w" \
-            --model car --track 10 --steps 200 --seed $s
+            --model car --track 10 --steps 200 --seed $s --session 1
     done
     "$bin/gf_logcmp" --expect 600 "$work/sim-7-1.lcmlog" "$work/sim-7-2.lcmlog"
     if "$bin/gf_logcmp" "$work/sim-7-1.lcmlog" "$work/sim-8-3.lcmlog" 2>/dev/null; then

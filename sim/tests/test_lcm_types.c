@@ -59,10 +59,11 @@ WRAP(groundtruth_t)
     {#T,       sizeof(gaussfilt_lcm_##T), enc_##T, dec_##T, size_##T,      \
      __gaussfilt_lcm_##T##_get_hash, wire}
 
-// wire = 8 (fingerprint) + the fields.
+// wire = 8 (fingerprint) + the fields (measurement and control: utime,
+// seq, session, track, model, size, values).
 static const type_case cases[] = {
-    CASE(measurement_t, 8 + 8 + 8 + 4 + 1 + 1 + 24 + 72),
-    CASE(control_t, 8 + 8 + 8 + 4 + 1 + 1 + 16),
+    CASE(measurement_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 24 + 72),
+    CASE(control_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 16),
     CASE(belief_t, 8 + 8 + 8 + 8 + 4 + 4 + 24 + 72 + 1 + 24 + 8 + 1),
     CASE(groundtruth_t, 8 + 8 + 8 + 4 + 1 + 1 + 24),
 };

@@ -325,6 +325,76 @@ static void track_limit(void **state)
     check_counts(&f->node);
 }
 
+// m with its session field set (re-encoded).
+static gf_msg in_session(gf_msg m, int64_t session)
+{
+    gaussfilt_lcm_control_t c;
+    gaussfilt_lcm_measurement_t z;
+    if (gaussfilt_lcm_control_t_decode(m.data, 0, m.len, &c) == m.len) {
+        c.session = session;
+        m.len = gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof(m.data),
+                                               &c);
+    } else {
+        assert_int_equal(gaussfilt_lcm_measurement_t_decode(m.data, 0, m.len,
+                                                            &z),
+                         m.len);
+        z.session = session;
+        m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0,
+                                                   (int)sizeof(m.data), &z);
+    }
+    return m;
+}
+
+// A restarted simulator: seq 1 again under a larger session re-initialises
+// the track from the prior (a STAGE_INIT belief, resyncs + 1), the seq rules
+// start afresh; the old session is stale from then on.
+static void simulator_restart_resyncs(void **state)
+{
+    fixture *f = *state;
+    const gaussfilt_lcm_belief_t *b;
+    const gf_node_track *t;
+    gf_kf2 before;
+    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0),
+                                        100)), GF_NODE_APPLIED);
+    assert_int_equal(feed(f, in_session(gf_msg_meas(3, GF_CAR, 2, 1, 5.0, 10.0),
+                                        100)), GF_NODE_APPLIED);
+    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 3, 2, 0, 0, 0),
+                                        100)), GF_NODE_APPLIED);
+    assert_int_equal(f->sink.n, 4); // init + 3
+    // The restart: seq 1, utime 1 again, session 200.
+    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0),
+                                        200)), GF_NODE_APPLIED);
+    assert_true(f->node.counts.resyncs == 1);
+    assert_int_equal(f->sink.n, 6);
+    b = &f->sink.b[4]; // the re-initialisation: the prior, mu = 0, Sigma = 0
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_INIT);
+    assert_true(b->seq == 4 && b->input_seq == -1);
+    check_close(b->mean[0], 0.0);
+    check_close(b->cov[0][0], 0.0);
+    check_close(b->cov[1][1], 0.0);
+    b = &f->sink.b[5]; // one prediction from the prior: Sigma = R
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT);
+    assert_true(b->seq == 5 && b->input_seq == 1);
+    check_close(b->cov[0][0], 0.25);
+    check_close(b->cov[0][1], 0.5);
+    check_close(b->cov[1][1], 1.0);
+    // The old session is stale, the new one's seq 1 a duplicate; neither
+    // touches the belief or publishes.
+    t = gf_node_find(&f->node, 3);
+    assert_non_null(t);
+    before = t->f.kf2;
+    assert_int_equal(feed(f, in_session(gf_msg_meas(3, GF_CAR, 4, 3, 1.0, 10.0),
+                                        100)), GF_NODE_STALE_SESSION);
+    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0),
+                                        200)), GF_NODE_DUPLICATE);
+    assert_memory_equal(&before, &t->f.kf2, sizeof(before));
+    assert_int_equal(f->sink.n, 6);
+    assert_true(f->node.counts.by_result[GF_NODE_STALE_SESSION] == 1);
+    assert_true(f->node.counts.gaps == 0);
+    assert_true(f->node.counts.resyncs == 1);
+    check_counts(&f->node);
+}
+
 static void summary_names_every_counter(void **state)
 {
     fixture *f = *state;
@@ -347,6 +417,7 @@ int main(void)
         cmocka_unit_test_setup(bad_fields_and_channels, setup),
         cmocka_unit_test_setup(nonfinite_reported_nothing_changed, setup),
         cmocka_unit_test_setup(track_limit, setup),
+        cmocka_unit_test_setup(simulator_restart_resyncs, setup),
         cmocka_unit_test_setup(summary_names_every_counter, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -7,17 +7,13 @@ execute_process(COMMAND ${NM} --defined-only ${IN}
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "nm ${IN} failed")
 endif()
-string(REGEX MATCHALL "[^\n ]+ [A-Za-z] gf_[A-Za-z0-9_]+" lines "${syms}")
-# A name can match twice (gcc's local gf_x.part.0 clones match as gf_x);
-# objcopy refuses a map that names a symbol twice.
-set(names "")
-foreach(line IN LISTS lines)
-    string(REGEX REPLACE ".* gf_" "" name "${line}")
-    list(APPEND names "${name}")
-endforeach()
-list(REMOVE_DUPLICATES names)
+# (whole names only: a local clone such as gf_rng_normal.part.0 is not a
+# second gf_rng_normal, and objcopy refuses a name listed twice)
+string(REGEX MATCHALL "[^\n ]+ [A-Za-z] gf_[A-Za-z0-9_]+\n" lines "${syms}\n")
+list(REMOVE_DUPLICATES lines)
 set(map "")
-foreach(name IN LISTS names)
+foreach(line IN LISTS lines)
+    string(REGEX REPLACE ".* gf_([A-Za-z0-9_]+)\n" "\\1" name "${line}")
     string(APPEND map "gf_${name} gff_${name}\n")
 endforeach()
 if(map STREQUAL "")
