@@ -146,8 +146,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         REQUIRE(node.ntracks >= before.ntracks);
         for (unsigned t = 0; t < before.ntracks; t++) {
             REQUIRE(node.tracks[t].id == before.tracks[t].id);
-            // A refused input leaves the filter alone, unless its larger
-            // session re-initialised the track first (the session rule).
+            // A rejected message changes no belief, unless it came from a
+            // newer simulator session: then its track was first reset to
+            // the prior (counted in resyncs), whatever became of the message.
             if (r != GF_NODE_APPLIED &&
                 node.counts.resyncs == before.counts.resyncs) {
                 REQUIRE(memcmp(&node.tracks[t].f, &before.tracks[t].f,

@@ -13,6 +13,9 @@
 #define GF_CHANNEL_CTRL "GF_CTRL_"
 // gaussfilt_lcm_belief_t, node -> anyone: after every applied input
 #define GF_CHANNEL_BELIEF "GF_BELIEF_"
+// gaussfilt_lcm_particles_t, node -> anyone: after every belief of a
+// particle-filter track (gf_node --filter pf)
+#define GF_CHANNEL_PARTICLES "GF_PARTICLES_"
 // gaussfilt_lcm_groundtruth_t, simulator -> tools (never read by the node)
 #define GF_CHANNEL_TRUTH "GF_TRUTH_"
 

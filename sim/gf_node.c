@@ -4,6 +4,7 @@
 // file:// log) end it with a one-line summary on stdout.
 //
 //   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--queue N]
+//           [--filter ekf|ukf|pf] [--seed S]
 //
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
@@ -17,6 +18,12 @@
 //               (default 4096; LCM's own default of 30 drops bursts).
 //               The kernel's socket buffer is set in the URL:
 //               udpm://...?recv_buf_size=BYTES
+//   --filter    the robot tracks' filter (the car is always KF2): ekf
+//               (EKF3, default), ukf (UKF3) or pf (PF3, GF_NODE_PF_PARTICLES
+//               particles per track, at most GF_NODE_PF_TRACKS tracks; each
+//               PF step also publishes a particles_t cloud on
+//               GF_PARTICLES_<track>)
+//   --seed      PF tracks' generator seed, plus the track id (default 1)
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,7 +58,8 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
 static void usage(void)
 {
     fprintf(stderr, "usage: gf_node [--url URL] [--out-url URL] "
-                    "[--channels REGEX] [--queue N]\n");
+                    "[--channels REGEX] [--queue N] [--filter ekf|ukf|pf] "
+                    "[--seed S]\n");
 }
 
 int main(int argc, char **argv)
@@ -59,6 +67,10 @@ int main(int argc, char **argv)
     const char *url = NULL, *out_url = NULL;
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
     static gf_node node; // ~17 kB: keep it off the stack
+    static gf_node_pf_pool pool; // ~270 kB, used with --filter pf only
+    gf_node_filter filter = GF_NODE_FILTER_EKF;
+    const char *filter_name = "ekf";
+    unsigned long seed = 1;
     char summary[512];
     lcm_t *in, *out;
     struct sigaction sa;
@@ -74,6 +86,11 @@ int main(int argc, char **argv)
             channels = argv[++i];
         else if (strcmp(argv[i], "--queue") == 0 && i + 1 < argc)
             queue = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--filter") == 0 && i + 1 < argc &&
+                 gf_node_filter_parse(argv[i + 1], &filter) == 0)
+            filter_name = argv[++i];
+        else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc)
+            seed = strtoul(argv[++i], NULL, 0);
         else {
             usage();
             return 2;
@@ -103,6 +120,7 @@ int main(int argc, char **argv)
     sigaction(SIGTERM, &sa, NULL);
 
     gf_node_init(&node, publish_lcm, out);
+    gf_node_set_filter(&node, filter, &pool, (uint32_t)seed);
     sub = lcm_subscribe(in, channels, on_message, &node);
     if (sub == NULL || queue < 1 ||
         lcm_subscription_set_queue_capacity(sub, queue) != 0) {
@@ -112,9 +130,13 @@ int main(int argc, char **argv)
         g_stop = 1;
     } else {
         printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
-               "track_bytes=%zu node_bytes=%zu\n",
+               "track_bytes=%zu node_bytes=%zu filter=%s",
                channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
-               sizeof(gf_node));
+               sizeof(gf_node), filter_name);
+        if (filter == GF_NODE_FILTER_PF)
+            printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
+                   GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
+        printf("\n");
         fflush(stdout);
     }
 

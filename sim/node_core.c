@@ -1,6 +1,6 @@
 // gaussfilt sim: the filter node's message handling (see node_core.h).
 // Only message checking and bookkeeping live here; every filter step is a
-// call into the core (gf_kf2_*, gf_ekf3_*).
+// call into the core (gf_kf2_*, gf_ekf3_*, gf_ukf3_*, gf_pf3_*).
 #include "node_core.h"
 
 #include <stdio.h>
@@ -10,9 +10,14 @@
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "gaussfilt_lcm_particles_t.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
 #define MODEL_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
+#define FILTER_KF2 GAUSSFILT_LCM_BELIEF_T_FILTER_KF2
+#define FILTER_EKF3 GAUSSFILT_LCM_BELIEF_T_FILTER_EKF3
+#define FILTER_UKF3 GAUSSFILT_LCM_BELIEF_T_FILTER_UKF3
+#define FILTER_PF3 GAUSSFILT_LCM_BELIEF_T_FILTER_PF3
 
 // The largest message the node decodes; anything longer is malformed.
 #define GF_NODE_MAX_LEN 4096
@@ -43,6 +48,38 @@ int gf_node_init(gf_node *node, gf_node_publish_fn publish, void *ctx)
     memset(node, 0, sizeof(*node));
     node->publish = publish;
     node->ctx = ctx;
+    return 0;
+}
+
+int gf_node_set_filter(gf_node *node, gf_node_filter filter,
+                       gf_node_pf_pool *pool, uint32_t seed)
+{
+    if (node == NULL || (filter != GF_NODE_FILTER_EKF &&
+                         filter != GF_NODE_FILTER_UKF &&
+                         filter != GF_NODE_FILTER_PF))
+        return -1;
+    if (filter == GF_NODE_FILTER_PF && pool == NULL)
+        return -1;
+    node->robot_filter = filter;
+    node->pf_pool = pool;
+    node->pf_seed = seed;
+    if (pool != NULL)
+        pool->used = 0;
+    return 0;
+}
+
+int gf_node_filter_parse(const char *name, gf_node_filter *out)
+{
+    if (name == NULL || out == NULL)
+        return -1;
+    if (strcmp(name, "ekf") == 0)
+        *out = GF_NODE_FILTER_EKF;
+    else if (strcmp(name, "ukf") == 0)
+        *out = GF_NODE_FILTER_UKF;
+    else if (strcmp(name, "pf") == 0)
+        *out = GF_NODE_FILTER_PF;
+    else
+        return -1;
     return 0;
 }
 
@@ -126,40 +163,117 @@ static gf_node_result check_fingerprint(const void *data, size_t len,
     if (got == __gaussfilt_lcm_measurement_t_get_hash() ||
         got == __gaussfilt_lcm_control_t_get_hash() ||
         got == __gaussfilt_lcm_belief_t_get_hash() ||
-        got == __gaussfilt_lcm_groundtruth_t_get_hash())
+        got == __gaussfilt_lcm_groundtruth_t_get_hash() ||
+        got == __gaussfilt_lcm_particles_t_get_hash())
         return GF_NODE_TYPE_MISMATCH;
     return GF_NODE_MALFORMED;
 }
 
 // ---- tracks ----------------------------------------------------------------
 
-// The exercise priors every new track starts from.
-static void track_prior(gf_node_track *t)
+// The robot's prior in any filter: N(mu0, sigma0) (see track_prior).
+static const gf_ukf3_params ukf_params = {GF_R(1.0), GF_R(2.0), GF_R(0.0)};
+
+// The robot's moments as the belief carries them: the filter's own, or
+// the particles' last weighted summary.
+static void robot_moments(const gf_node_track *t, const gf_vec3 **mu,
+                          const gf_mat3 **sigma)
 {
+    if (t->filter == FILTER_UKF3) {
+        *mu = &t->f.ukf3.mu;
+        *sigma = &t->f.ukf3.sigma;
+    } else if (t->filter == FILTER_PF3) {
+        *mu = &t->f.pf3.mu;
+        *sigma = &t->f.pf3.sigma;
+    } else {
+        *mu = &t->f.ekf3.mu;
+        *sigma = &t->f.ekf3.sigma;
+    }
+}
+
+// Points a PF track's filter at its particles (the node may have moved).
+static gf_pf3 *track_pf(gf_node *node, gf_node_track *t)
+{
+    t->f.pf3.pf.p = node->pf_pool->p[t->f.pf3.slot];
+    return &t->f.pf3.pf;
+}
+
+// The PF track's summary after a successful step: its weighted moments and
+// effective sample size. GF_ERR_UNDEFINED (headings with no mean direction)
+// keeps the previous summary.
+static gf_status pf_summary(gf_node_track *t)
+{
+    gf_vec3 mu;
+    gf_mat3 sigma;
+    gf_status s = gf_pf3_estimate(&t->f.pf3.pf, &mu, &sigma);
+    if (s != GF_OK)
+        return s;
+    t->f.pf3.mu = mu;
+    t->f.pf3.sigma = sigma;
+    return gf_pf3_neff(&t->f.pf3.pf, &t->f.pf3.neff);
+}
+
+// The exercise priors every new track starts from, and a resynced track
+// again. A new track (filter 0) takes the node's robot filter; a resynced
+// one keeps its own filter, and a PF track its pool slot.
+static void track_prior(gf_node *node, gf_node_track *t)
+{
+    gf_vec3 mu0;
+    gf_mat3 sigma0;
+    int8_t filter = t->filter;
+    if (filter == 0)
+        filter = node->robot_filter == GF_NODE_FILTER_UKF  ? FILTER_UKF3
+                 : node->robot_filter == GF_NODE_FILTER_PF ? FILTER_PF3
+                                                           : FILTER_EKF3;
     if (t->model == MODEL_CAR) {
         // Exercise 1: the car starts at rest at 0, known exactly.
         memset(&t->f.kf2, 0, sizeof(t->f.kf2));
+        t->filter = FILTER_KF2;
+        return;
+    }
+    // Exercise 4: at the origin, heading unknown.
+    memset(&mu0, 0, sizeof(mu0));
+    memset(&sigma0, 0, sizeof(sigma0));
+    sigma0.m[0][0] = GF_R(0.01);
+    sigma0.m[1][1] = GF_R(0.01);
+    sigma0.m[2][2] = GF_R(10000.0);
+    if (filter == FILTER_UKF3) {
+        t->filter = FILTER_UKF3;
+        (void)gf_ukf3_init(&t->f.ukf3, &mu0, &sigma0, &ukf_params);
+    } else if (filter == FILTER_PF3) {
+        if (t->filter != FILTER_PF3)
+            t->f.pf3.slot = node->pf_pool->used++;
+        t->filter = FILTER_PF3;
+        (void)gf_pf3_init(&t->f.pf3.pf, node->pf_pool->p[t->f.pf3.slot],
+                          GF_NODE_PF_PARTICLES,
+                          node->pf_seed + (uint32_t)t->id, &mu0, &sigma0);
+        t->f.pf3.mu = mu0; // until the particles' own summary
+        t->f.pf3.sigma = sigma0;
+        (void)pf_summary(t);
     } else {
-        // Exercise 4: at the origin, heading unknown.
-        memset(&t->f.ekf3, 0, sizeof(t->f.ekf3));
-        t->f.ekf3.sigma.m[0][0] = GF_R(0.01);
-        t->f.ekf3.sigma.m[1][1] = GF_R(0.01);
-        t->f.ekf3.sigma.m[2][2] = GF_R(10000.0);
+        t->filter = FILTER_EKF3;
+        t->f.ekf3.mu = mu0;
+        t->f.ekf3.sigma = sigma0;
     }
 }
 
 static void belief_fill(const gf_node_track *t, gaussfilt_lcm_belief_t *b)
 {
     unsigned i, j, n = t->model == MODEL_CAR ? 2u : 3u;
+    const gf_vec3 *mu3 = NULL;
+    const gf_mat3 *s3 = NULL;
+    if (n == 3)
+        robot_moments(t, &mu3, &s3);
     memset(b, 0, sizeof(*b));
     b->track = t->id;
     b->model = t->model;
+    b->filter = t->filter;
     b->n = (int8_t)n;
     for (i = 0; i < n; i++) {
-        b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : t->f.ekf3.mu.v[i]);
+        b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : mu3->v[i]);
         for (j = 0; j < n; j++)
             b->cov[i][j] = (double)(n == 2 ? t->f.kf2.sigma.m[i][j]
-                                           : t->f.ekf3.sigma.m[i][j]);
+                                           : s3->m[i][j]);
     }
 }
 
@@ -183,6 +297,61 @@ static void publish_belief(gf_node *node, gf_node_track *t,
         node->counts.publish_failed++;
 }
 
+// A PF track's cloud, after its belief b: every stride-th particle.
+static void publish_particles(gf_node *node, gf_node_track *t,
+                              const gaussfilt_lcm_belief_t *b)
+{
+    gf_node_pf_pool *pool = node->pf_pool;
+    const gf_pf3 *pf = track_pf(node, t);
+    gaussfilt_lcm_particles_t m;
+    char channel[GF_CHANNEL_MAX];
+    unsigned k, i = 0;
+    unsigned stride = (pf->n + GF_NODE_PF_CLOUD - 1u) / GF_NODE_PF_CLOUD;
+    int len;
+    for (k = 0; k < pf->n && i < GF_NODE_PF_CLOUD; k += stride, i++) {
+        pool->x[i] = (float)pf->p[k].x.v[0];
+        pool->y[i] = (float)pf->p[k].x.v[1];
+        pool->theta[i] = (float)pf->p[k].x.v[2];
+        pool->w[i] = (float)pf->p[k].w;
+    }
+    memset(&m, 0, sizeof(m));
+    m.utime = b->utime;
+    m.seq = b->seq;
+    m.input_seq = b->input_seq;
+    m.track = t->id;
+    m.stage = b->stage;
+    m.resampled = (int8_t)t->f.pf3.resampled;
+    m.n_filter = (int32_t)pf->n;
+    m.stride = (int32_t)stride;
+    m.neff = (double)t->f.pf3.neff;
+    m.count = (int32_t)i;
+    m.x = pool->x;
+    m.y = pool->y;
+    m.theta = pool->theta;
+    m.w = pool->w;
+    len = gaussfilt_lcm_particles_t_encode(pool->buf, 0,
+                                           (int)sizeof(pool->buf), &m);
+    if (len < 0) {
+        node->counts.publish_failed++;
+        return;
+    }
+    snprintf(channel, sizeof(channel), "%s%ld", GF_CHANNEL_PARTICLES,
+             (long)t->id);
+    node->counts.published++;
+    if (node->publish != NULL &&
+        node->publish(node->ctx, channel, pool->buf, (size_t)len) != 0)
+        node->counts.publish_failed++;
+}
+
+// Publishes a track's belief, and a PF track's cloud after it.
+static void publish_step(gf_node *node, gf_node_track *t,
+                         gaussfilt_lcm_belief_t *b)
+{
+    publish_belief(node, t, b);
+    if (t->filter == FILTER_PF3)
+        publish_particles(node, t, b);
+}
+
 static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
                                 int64_t utime, gf_node_result *why)
 {
@@ -199,7 +368,9 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
             return t;
         }
     }
-    if (node->ntracks >= GF_NODE_MAX_TRACKS) {
+    if (node->ntracks >= GF_NODE_MAX_TRACKS ||
+        (model == MODEL_ROBOT && node->robot_filter == GF_NODE_FILTER_PF &&
+         (node->pf_pool == NULL || node->pf_pool->used >= GF_NODE_PF_TRACKS))) {
         *why = GF_NODE_TRACK_LIMIT;
         return NULL;
     }
@@ -207,13 +378,13 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
     memset(t, 0, sizeof(*t));
     t->id = id;
     t->model = model;
-    track_prior(t);
+    track_prior(node, t);
     node->counts.tracks_created++;
     belief_fill(t, &b);
     b.utime = utime;
     b.input_seq = -1;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
-    publish_belief(node, t, &b);
+    publish_step(node, t, &b);
     return t;
 }
 
@@ -241,14 +412,14 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
         if (session < t->session)
             return GF_NODE_STALE_SESSION;
         t->has_input = 0;
-        track_prior(t);
+        track_prior(node, t);
         node->counts.resyncs++;
         t->belief_seq++;
         belief_fill(t, &b);
         b.utime = utime;
         b.input_seq = -1;
         b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
-        publish_belief(node, t, &b);
+        publish_step(node, t, &b);
     }
     return check_order(t, seq, utime);
 }
@@ -293,6 +464,31 @@ static void car_model(gf_kf2_model *mdl)
     mdl->R.m[1][1] = GF_R(1.0);
 }
 
+// A PF track's correction: importance weights, then low-variance
+// resampling once fewer than GF_NODE_PF_RESAMPLE_FRACTION of the particles
+// are effective. The summary is taken after resampling; the neff the
+// cloud reports is the one that decided it.
+static gf_status pf_correct(gf_node *node, gf_node_track *t,
+                            const gf_ekf3_meas *mm, const gf_vec3 *z)
+{
+    gf_pf3 *pf = track_pf(node, t);
+    gf_real neff = GF_R(0.0);
+    gf_status s = gf_pf3_update(pf, mm, z);
+    t->f.pf3.resampled = 0;
+    if (s != GF_OK)
+        return s;
+    if (gf_pf3_neff(pf, &neff) == GF_OK &&
+        neff < (gf_real)(GF_NODE_PF_RESAMPLE_FRACTION * pf->n)) {
+        s = gf_pf3_resample(pf);
+        if (s != GF_OK)
+            return s;
+        t->f.pf3.resampled = 1;
+    }
+    s = pf_summary(t);
+    t->f.pf3.neff = neff;
+    return s;
+}
+
 static gf_node_result handle_ctrl(gf_node *node, int32_t id,
                                   const gaussfilt_lcm_control_t *c,
                                   int64_t now)
@@ -326,7 +522,16 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
         mot.g = gf_ekf3_motion_forward_turn;
         u[0] = (gf_real)c->u[0];
         u[1] = (gf_real)c->u[1];
-        s = gf_ekf3_predict(&t->f.ekf3, &mot, u);
+        if (t->filter == FILTER_UKF3) {
+            s = gf_ukf3_predict(&t->f.ukf3, &mot, u);
+        } else if (t->filter == FILTER_PF3) {
+            s = gf_pf3_predict(track_pf(node, t), &mot, u);
+            t->f.pf3.resampled = 0;
+            if (s == GF_OK)
+                s = pf_summary(t);
+        } else {
+            s = gf_ekf3_predict(&t->f.ekf3, &mot, u);
+        }
     }
     t->belief_seq++;
     belief_fill(t, &b);
@@ -334,7 +539,7 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     b.input_seq = c->seq;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
     b.status = (int8_t)s;
-    publish_belief(node, t, &b);
+    publish_step(node, t, &b);
     return from_status(s);
 }
 
@@ -388,7 +593,12 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
             for (j = 0; j < m; j++)
                 mm.Q.m[i][j] = (gf_real)z->q[i][j];
         }
-        s = gf_ekf3_update(&t->f.ekf3, &mm, &zz, &info);
+        if (t->filter == FILTER_UKF3)
+            s = gf_ukf3_update(&t->f.ukf3, &mm, &zz, &info);
+        else if (t->filter == FILTER_PF3)
+            s = pf_correct(node, t, &mm, &zz);
+        else
+            s = gf_ekf3_update(&t->f.ekf3, &mm, &zz, &info);
     }
     t->belief_seq++;
     belief_fill(t, &b);
@@ -396,13 +606,13 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     b.input_seq = z->seq;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
     b.status = (int8_t)s;
-    if (s == GF_OK || s == GF_ERR_GATED) {
+    if ((s == GF_OK || s == GF_ERR_GATED) && t->filter != FILTER_PF3) {
         b.m = (int8_t)info.m;
         for (i = 0; i < info.m && i < 3; i++)
             b.innovation[i] = (double)info.y[i];
         b.nis = (double)info.nis;
     }
-    publish_belief(node, t, &b);
+    publish_step(node, t, &b);
     return from_status(s);
 }
 

@@ -17,10 +17,9 @@ static int vec3_is_finite(const gf_vec3 *x, unsigned n)
     return 1;
 }
 
-// A callback's status, with anything that is not a known failure mapped to
-// GF_ERR_MODEL.
-// GF_ERR_GATED too: it promises an innovation in info, which a model's
-// failure never gives (the fuzzer found a model returning it).
+// A model callback's status, with anything that is not a known failure
+// mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
+// gate may report (the caller then expects the innovation to be written).
 static gf_status callback_status(gf_status st)
 {
     return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)

@@ -23,10 +23,12 @@ static inline int gf_vec3_is_finite_n(const gf_vec3 *x, unsigned n)
 }
 
 // A model callback's status, with anything that is not a known failure
-// mapped to GF_ERR_MODEL.
+// mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
+// gate may report (the caller then expects the innovation to be written).
 static inline gf_status gf_callback_status(gf_status st)
 {
-    return (st < GF_ERR_MODEL || st > GF_OK) ? GF_ERR_MODEL : st;
+    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+               ? GF_ERR_MODEL : st;
 }
 
 // The checks every update with an EKF3 measurement model starts with, in

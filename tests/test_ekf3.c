@@ -310,6 +310,16 @@ static gf_status meas_fails(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
     return ctx ? (gf_status)7 : GF_OK; // 7: a status the library doesn't know
 }
 
+static gf_status meas_gated(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                            gf_mat3 *H)
+{
+    (void)ctx;
+    (void)mu_bar;
+    (void)z_hat;
+    (void)H;
+    return GF_ERR_GATED;
+}
+
 static gf_status motion_nan(void *ctx, const gf_vec3 *mu, const gf_real *u,
                             gf_vec3 *mu_bar, gf_mat3 *G)
 {
@@ -410,6 +420,8 @@ static void bad_input(void **state)
     q.h = meas_fails;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
     q.ctx = &flag; // an unknown status from a callback becomes GF_ERR_MODEL
+    CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    q.h = meas_gated; // and so does GF_ERR_GATED, which only the gate reports
     CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
     // Singular innovation: known x and a noiseless x sensor.
     gf_ekf3 known;

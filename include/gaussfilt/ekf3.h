@@ -21,9 +21,9 @@ typedef struct gf_ekf3 {
 
 // Motion callback: mu_bar = g(u, mu) and G = dg/dx at mu. u is whatever the
 // callback defines (the built-in takes two entries). Returns GF_OK or any
-// error, which the filter passes on (GF_ERR_MODEL if unsure; GF_ERR_GATED,
-// which promises an innovation in info, and unknown codes become
-// GF_ERR_MODEL).
+// error, which the filter passes on (GF_ERR_MODEL if unsure; a status the
+// enum lacks, and GF_ERR_GATED, which only the gate reports, arrive as
+// GF_ERR_MODEL). mu_bar arrives as a copy of mu, G as the identity.
 typedef gf_status (*gf_ekf3_motion_fn)(void *ctx, const gf_vec3 *mu,
                                        const gf_real *u, gf_vec3 *mu_bar,
                                        gf_mat3 *G);

@@ -10,6 +10,7 @@
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "gaussfilt_lcm_particles_t.h"
 #include "gf_channels.h"
 
 // Tolerance of the sim tests, relative to max(1, |want|): the node's filter

@@ -17,6 +17,9 @@
 #              the node twice with the file:// provider (speed=0): the two
 #              belief logs are identical, and Table 2.1 is in them; and
 #              gf_sim gives the same bytes for the same seed (and session)
+#   ex4three   exercise 4 through three nodes (--filter ekf, ukf, pf):
+#              gf_ex4check sees the EKF at (0.15, 0), the UKF's predicted
+#              mean inside the unit circle, the PF's two modes
 set -euo pipefail
 scenario=$1 port=$2 bin=$3 lcmbin=$4 work=$5
 
@@ -162,6 +165,40 @@ replay)
         echo "lcm_udpm: seeds 7 and 8 gave the same stream" >&2
         exit 1
     fi
+    ;;
+ex4three)
+    # Three nodes, one filter each, on tracks 41 (EKF), 42 (UKF), 43 (PF);
+    # the simulator replays exercise 4 on each; gf_ex4check asserts what
+    # each filter must show, from the beliefs and the particle cloud.
+    start check "$bin/gf_ex4check" --url "$URL" --ekf 41 --ukf 42 --pf 43
+    ready check
+    for f in ekf:41 ukf:42 pf:43; do
+        start "node_${f%:*}" "$bin/gf_node" --url "$URL" --filter "${f%:*}" \
+            --channels "GF_(MEAS|CTRL)_${f#*:}"
+        ready "node_${f%:*}"
+    done
+    for t in 41 42 43; do
+        "$bin/gf_sim" --url "$URL" --exercise 4 --track $t
+    done
+    rc=0
+    wait "$check_pid" || rc=$?
+    cat "$work/check.out"
+    [ "$rc" -eq 0 ] || { echo "lcm_udpm: exercise 4 three ways failed" >&2; exit 1; }
+    for f in ekf ukf pf; do
+        v=node_${f}_pid
+        kill -TERM "${!v}"
+        wait "${!v}" || { echo "lcm_udpm: node $f exit status $?" >&2; exit 1; }
+        summary=$(grep 'gf_node: summary' "$work/node_$f.out") ||
+            { echo "lcm_udpm: no summary from node $f" >&2; exit 1; }
+        echo "$f: $summary"
+        expect applied 2
+        expect received 2
+        grep -q "filter=$f" "$work/node_$f.out" ||
+            { echo "lcm_udpm: node $f did not run filter=$f" >&2; exit 1; }
+    done
+    # 3 beliefs from each node, and 3 clouds from the PF node
+    grep -q 'published=6 ' "$work/node_pf.out" ||
+        { echo "lcm_udpm: the PF node did not publish 3 beliefs + 3 clouds" >&2; exit 1; }
     ;;
 *)
     echo "lcm_udpm: no scenario $scenario" >&2

@@ -64,7 +64,7 @@ WRAP(groundtruth_t)
 static const type_case cases[] = {
     CASE(measurement_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 24 + 72),
     CASE(control_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 16),
-    CASE(belief_t, 8 + 8 + 8 + 8 + 4 + 4 + 24 + 72 + 1 + 24 + 8),
+    CASE(belief_t, 8 + 8 + 8 + 8 + 4 + 4 + 24 + 72 + 1 + 24 + 8 + 1),
     CASE(groundtruth_t, 8 + 8 + 8 + 4 + 1 + 1 + 24),
 };
 #define NCASES (sizeof(cases) / sizeof(cases[0]))
@@ -105,6 +105,7 @@ static void make(unsigned k, void *p)
         b->m = 2;
         fill(b->innovation, 3, -1.7);
         b->nis = 144.5;
+        b->filter = GAUSSFILT_LCM_BELIEF_T_FILTER_PF3;
     } else {
         gaussfilt_lcm_groundtruth_t *g = p;
         g->utime = 7;
@@ -181,12 +182,71 @@ static void truncation_is_detected(void **state)
     }
 }
 
+// particles_t carries variable-length arrays (pointers in the struct), so
+// it is checked on its own: round trip, size, truncation, and no other
+// type takes its bytes (nor it theirs).
+static void particles_roundtrip(void **state)
+{
+    float x[3] = {-0.7f, 1e-30f, -0.0f}, y[3] = {0.714f, -0.714f, 3e38f},
+          th[3] = {2.34f, -2.34f, 0.0f}, w[3] = {0.5f, 0.25f, 1e-7f};
+    gaussfilt_lcm_particles_t in, out;
+    uint8_t buf[512], other[512];
+    int len, cut;
+    unsigned k;
+    (void)state;
+    memset(&in, 0, sizeof(in));
+    in.utime = -5;
+    in.seq = 2;
+    in.input_seq = INT64_MAX;
+    in.track = -43;
+    in.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
+    in.resampled = 1;
+    in.n_filter = 2000;
+    in.stride = 4;
+    in.neff = 212.5;
+    in.count = 3;
+    in.x = x;
+    in.y = y;
+    in.theta = th;
+    in.w = w;
+    len = gaussfilt_lcm_particles_t_encode(buf, 0, (int)sizeof(buf), &in);
+    // 8 + 8+8+8 + 4+1+1+4+4+8+4 + 4 arrays of 3 floats
+    assert_int_equal(len, 8 + 24 + 26 + 4 * 3 * 4);
+    assert_int_equal(gaussfilt_lcm_particles_t_encoded_size(&in), len);
+    assert_int_equal(gaussfilt_lcm_particles_t_decode(buf, 0, len, &out),
+                     len);
+    assert_true(out.utime == in.utime && out.seq == in.seq &&
+                out.input_seq == in.input_seq && out.track == in.track &&
+                out.stage == in.stage && out.resampled == 1 &&
+                out.n_filter == 2000 && out.stride == 4 &&
+                out.neff == 212.5 && out.count == 3);
+    assert_memory_equal(out.x, x, sizeof(x));
+    assert_memory_equal(out.y, y, sizeof(y));
+    assert_memory_equal(out.theta, th, sizeof(th));
+    assert_memory_equal(out.w, w, sizeof(w));
+    gaussfilt_lcm_particles_t_decode_cleanup(&out);
+    for (cut = 0; cut < len; cut++)
+        assert_true(gaussfilt_lcm_particles_t_decode(buf, 0, cut, &out) < 0);
+    for (k = 0; k < NCASES; k++) {
+        uint8_t ins[512], outs[512];
+        int olen;
+        assert_true(cases[k].hash() != __gaussfilt_lcm_particles_t_get_hash());
+        if (cases[k].dec(buf, 0, len, outs) >= 0)
+            fail_msg("%s decoded the bytes of particles_t", cases[k].name);
+        make(k, ins);
+        olen = cases[k].enc(other, 0, (int)sizeof(other), ins);
+        assert_true(gaussfilt_lcm_particles_t_decode(other, 0, olen, &out) <
+                    0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(roundtrip_every_type),
         cmocka_unit_test(type_mismatch_is_detected),
         cmocka_unit_test(truncation_is_detected),
+        cmocka_unit_test(particles_roundtrip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

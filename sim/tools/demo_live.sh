@@ -58,22 +58,33 @@ start logger "$lcmbin/lcm-logger" --lcm-url="$url" -f "$log"
 start check11 "$bin/gf_check" --url "$url" --table 1.1 --track 1
 start check21 "$bin/gf_check" --url "$url" --table 2.1 --track 2
 start check42 "$bin/gf_check" --url "$url" --table 4.2 --track 4
-for c in check11 check21 check42; do ready $c; done
-start node "$bin/gf_node" --url "$url"
+start check4x "$bin/gf_ex4check" --url "$url" --ekf 41 --ukf 42 --pf 43
+for c in check11 check21 check42 check4x; do ready $c; done
+# The main node takes tracks 0..39; exercise 4 three ways runs on 41, 42
+# and 43, one node per filter.
+start node "$bin/gf_node" --url "$url" --channels 'GF_(MEAS|CTRL)_([0-9]|[1-3][0-9])'
 ready node
+for f in ekf:41 ukf:42 pf:43; do
+    start "node_${f%:*}" "$bin/gf_node" --url "$url" --filter "${f%:*}" \
+        --channels "GF_(MEAS|CTRL)_${f#*:}"
+    ready "node_${f%:*}"
+done
 sleep 0.3 # lcm-logger has no ready line
 
 echo "gf_node is up ($(sed -n 's/.*ready //p' "$out/node.out"))"
+echo "and three more for exercise 4 three ways: $(sed -n 's/.*ready.* filter=\([a-z]*\).*/--filter \1/p' \
+    "$out/node_ekf.out" "$out/node_ukf.out" "$out/node_pf.out" | paste -sd, - | sed 's/,/, /g') on tracks 41, 42, 43"
 echo "simulators: the exercises (as fast as possible), then a random car and"
 echo "a random robot streaming in real time at 50 Hz for 2 s"
 "$bin/gf_sim" --url "$url" --exercise 1 --track 1
 "$bin/gf_sim" --url "$url" --exercise 2 --track 2
 "$bin/gf_sim" --url "$url" --exercise 4 --track 4
+for t in 41 42 43; do "$bin/gf_sim" --url "$url" --exercise 4 --track $t; done
 start car "$bin/gf_sim" --url "$url" --model car --track 10 --steps 100 --seed 1 --rate 50
 start robot "$bin/gf_sim" --url "$url" --model robot --track 11 --steps 100 --seed 2 --rate 50
 
 fails=0
-for c in check11 check21 check42; do
+for c in check11 check21 check42 check4x; do
     echo
     rc=0
     pid_var=${c}_pid
@@ -85,9 +96,12 @@ wait "$car_pid" "$robot_pid"
 echo
 cat "$out/car.out" "$out/robot.out"
 sleep 0.3
-kill -TERM "$node_pid"
-wait "$node_pid" || true
+kill -TERM "$node_pid" "$node_ekf_pid" "$node_ukf_pid" "$node_pf_pid"
+wait "$node_pid" "$node_ekf_pid" "$node_ukf_pid" "$node_pf_pid" || true
 sed -n 's/^gf_node: summary /gf_node summary: /p' "$out/node.out"
+for f in ekf ukf pf; do
+    sed -n "s/^gf_node: summary /gf_node --filter $f summary: /p" "$out/node_$f.out"
+done
 # lcm-logger writes behind (every 100 ms): stop it once the log has stopped
 # growing (up to 5 s).
 last=-1

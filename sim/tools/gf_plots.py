@@ -2,7 +2,8 @@
 
     python gf_plots.py LOG OUT_DIR
 
-Reads the beliefs (GF_BELIEF_<track>) and the ground truth (GF_TRUTH_<track>)
+Reads the beliefs (GF_BELIEF_<track>), the particle clouds
+(GF_PARTICLES_<track>) and the ground truth (GF_TRUTH_<track>)
 with lcm.EventLog and the generated gaussfilt_lcm types (PYTHONPATH must hold
 the build tree's lcmtypes/), and writes PNGs:
 
@@ -12,6 +13,9 @@ the build tree's lcmtypes/), and writes PNGs:
   fig4_1_prediction.png   Figure 4.1: the robot before and after moving (track 4)
   fig4_2_correction.png   Figure 4.2: ... and after seeing x = -0.7 (track 4)
   stream_car.png          the random car streamed in real time (track 10)
+  ex4_three_ways.png      exercise 4 through three nodes: EKF (track 41), UKF
+                          (42) and particle filter (43, beliefs and the
+                          particle clouds of GF_PARTICLES_43)
 
 Ellipses are computed here from the covariances on the wire (eigenvectors of
 the 2-D marginal, k^2 = -2 ln(1 - 0.68)), the same construction as the core's
@@ -30,19 +34,26 @@ import numpy as np  # noqa: E402
 import lcm  # noqa: E402
 from matplotlib.patches import Ellipse  # noqa: E402
 
-from gaussfilt_lcm import belief_t, groundtruth_t  # noqa: E402
+from gaussfilt_lcm import belief_t, groundtruth_t, particles_t  # noqa: E402
 
 # Channel prefixes: sim/gf_channels.h.
 BELIEF, TRUTH = "GF_BELIEF_", "GF_TRUTH_"
+PARTICLES = "GF_PARTICLES_"
+# scripts/demo's exercise-4 tracks, one node per filter (sim/tools/demo_live.sh)
+EX4_TRACKS = {"EKF": 41, "UKF": 42, "PF": 43}
 P = 0.68
 K = math.sqrt(-2.0 * math.log(1.0 - P))
 
 
-def read(path):
-    """beliefs[track] = [belief_t by seq], truths[track] = [groundtruth_t]."""
+def read(path, clouds=None):
+    """beliefs[track] = [belief_t by seq], truths[track] = [groundtruth_t];
+    clouds[track][seq] = particles_t if a dict is given."""
     beliefs, truths = defaultdict(dict), defaultdict(list)
     for ev in lcm.EventLog(path, "r"):
-        if ev.channel.startswith(BELIEF):
+        if ev.channel.startswith(PARTICLES) and clouds is not None:
+            c = particles_t.decode(ev.data)
+            clouds.setdefault(c.track, {})[c.seq] = c
+        elif ev.channel.startswith(BELIEF):
             b = belief_t.decode(ev.data)
             beliefs[b.track][b.seq] = b
         elif ev.channel.startswith(TRUTH):
@@ -214,11 +225,75 @@ def stream_car(beliefs, truths, out):
     return True
 
 
+FILTER_NAMES = {belief_t.FILTER_KF2: "KF2", belief_t.FILTER_EKF3: "EKF3",
+                belief_t.FILTER_UKF3: "UKF3", belief_t.FILTER_PF3: "PF3"}
+
+
+def ex4_three_ways(beliefs, clouds, out):
+    """Exercise 4 through three nodes, from the wire: left after the move,
+    right after z = -0.7. EKF and UKF as 68% ellipses; the particle filter
+    as its cloud (GF_PARTICLES_43; dot area = weight, all equal once
+    resampled) with its Gaussian summary (the belief it publishes) dashed."""
+    tr = EX4_TRACKS
+    if any(len(beliefs.get(t, [])) < 3 for t in tr.values()) or \
+            len(clouds.get(tr["PF"], {})) < 3:
+        return False
+    colours = {"EKF": "tab:red", "UKF": "tab:blue", "PF": "tab:green"}
+    th = np.linspace(0, 2 * np.pi, 300)
+    y_hit = math.sqrt(1 - 0.7 ** 2)
+    fig, axes = plt.subplots(1, 2, figsize=(14, 6.4))
+    for ax, seq, title in ((axes[0], 1, "after moving 1 forward"),
+                           (axes[1], 2, "after seeing x = -0.7")):
+        ax.plot(np.cos(th), np.sin(th), color="gold", lw=2.5, zorder=1,
+                label="unit circle: where the robot can be")
+        c = clouds[tr["PF"]][seq]
+        w = np.array(c.w, dtype=float)
+        w = w / w.sum() if w.sum() > 0 else w
+        size = 8.0 * w * len(w) if w.sum() > 0 else 8.0
+        ax.scatter(c.x, c.y, s=size, color="tab:green", alpha=0.55,
+                   lw=0, zorder=2,
+                   label=f"PF particles ({c.count} of {c.n_filter} sent"
+                         f"{', resampled' if c.resampled else ''}; "
+                         f"neff {c.neff:.0f})")
+        for name in ("EKF", "UKF", "PF"):
+            b = beliefs[tr[name]][seq]
+            kind = FILTER_NAMES.get(b.filter, "?")
+            if name == "PF":
+                ellipse(ax, b, edgecolor=colours[name], ls="--",
+                        label=f"{kind} summary: mu = ({b.mean[0]:.2f}, "
+                              f"{b.mean[1]:.2f}), where no particle is")
+            else:
+                ellipse(ax, b, fill_alpha=0.10, edgecolor=colours[name],
+                        label=f"{kind}: mu = ({b.mean[0]:.2f}, "
+                              f"{b.mean[1]:.2f}), 68% ellipse")
+        if seq == 2:
+            ax.axvline(-0.7, color="grey", ls=":", label="z = -0.7")
+        ax.plot([-0.7, -0.7], [y_hit, -y_hit], "kx", ms=13, mew=2.5, zorder=5,
+                label=f"where it must be: (-0.7, +-{y_hit:.3f})")
+        ax.set_aspect("equal")
+        ax.set_xlim(-1.7, 1.7)
+        ax.set_ylim(-1.35, 1.35)
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+        ax.grid(alpha=0.3)
+        ax.set_title(title)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2,
+                  fontsize=8)
+    fig.suptitle("Exercise 4 three ways, from the wire: EKF (track 41), UKF "
+                 "(42), particle filter (43), one gf_node --filter each",
+                 fontsize=12)
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+    return True
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     log, out = sys.argv[1], sys.argv[2]
-    beliefs, truths = read(log)
+    clouds = {}
+    beliefs, truths = read(log, clouds)
     for track, need in ((1, 11), (2, 7), (4, 3)):
         if len(beliefs.get(track, [])) < need:
             sys.exit(f"gf_plots: the log has {len(beliefs.get(track, []))} "
@@ -235,6 +310,8 @@ def main():
         written.append(name)
     if stream_car(beliefs, truths, os.path.join(out, "stream_car.png")):
         written.append("stream_car.png")
+    if ex4_three_ways(beliefs, clouds, os.path.join(out, "ex4_three_ways.png")):
+        written.append("ex4_three_ways.png")
     for name in written:
         print(os.path.join(out, name))
 
