@@ -39,6 +39,10 @@ STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
 CALLBACKS = {
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # EKF3's out-of-line paths for models other than the inlined built-ins.
+    "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
+    "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ekf3_update1_slow": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
