@@ -116,6 +116,9 @@ def read_su(build):
         for line in open(su):
             loc, size, kind = line.rstrip("\n").split("\t")
             name = loc.rsplit(":", 1)[-1]
+            # gcc's .su says "f.isra" where the symbol is "f.isra.0".
+            if re.search(r"\.(isra|part|constprop|cold)$", name):
+                name += ".0"
             if kind != "static":
                 sys.exit(f"{su}: {name} has a {kind} frame")
             frames[name] = int(size)
