@@ -17,15 +17,6 @@ static int vec3_is_finite(const gf_vec3 *x, unsigned n)
     return 1;
 }
 
-// A model callback's status, with anything that is not a known failure
-// mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
-// gate may report (the caller then expects the innovation to be written).
-static gf_status callback_status(gf_status st)
-{
-    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
-               ? GF_ERR_MODEL : st;
-}
-
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
                                       gf_mat3 *G)
@@ -93,6 +84,17 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     ekf->sigma = *sigma;
     gf_mat3_symmetrize(&ekf->sigma);
     return GF_OK;
+}
+
+#ifndef GF_SMALL // GF_SMALL: predict and update are in small.c
+
+// A model callback's status, with anything that is not a known failure
+// mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
+// gate may report (the caller then expects the innovation to be written).
+static gf_status callback_status(gf_status st)
+{
+    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+               ? GF_ERR_MODEL : st;
 }
 
 // How the checks stay cheap (as in kf2.c; docs/performance.md): a NaN or
@@ -613,3 +615,5 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     }
     return ekf3_update1_finish(ekf, meas, &r, info);
 }
+
+#endif // GF_SMALL

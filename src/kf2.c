@@ -30,6 +30,8 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     return GF_OK;
 }
 
+#ifndef GF_SMALL // GF_SMALL: predict and update are in small.c
+
 // How the checks stay cheap, here and in update1 (docs/performance.md):
 // the step is computed first, from the raw inputs, into locals. A NaN or
 // inf among the inputs cannot vanish through + - *, so it reaches the
@@ -428,3 +430,5 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     return update1_finish(kf, meas, &r, info);
 }
+
+#endif // GF_SMALL

@@ -53,6 +53,13 @@ typedef double gf_real;
 #define GF_SYM_RTOL (GF_R(1024.0) * GF_REAL_EPSILON)
 #endif
 
+// Define GF_SMALL (CMake: -DGAUSSFILT_SMALL=ON) to build KF2's and EKF3's
+// predict and update for size instead of speed: one shared generic
+// correction and prediction (src/small.c), no fast paths, models always
+// called through their pointers. Same API, statuses and results within
+// rounding; less flash and stack on an MCU, more time per step. Define it
+// for the whole build (it is a PUBLIC definition of the CMake target).
+
 #define GF_PI GF_R(3.14159265358979323846)
 
 #ifdef __cplusplus
