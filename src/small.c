@@ -41,22 +41,21 @@ static gf_real quad(const gf_real *u, const gf_real *a, unsigned as,
     return acc;
 }
 
-// Writes mu_new (n) and the upper triangle of s_new (rows of 3), mirrored
-// so that Sigma is exactly symmetric, if all are finite; else
-// GF_ERR_NONFINITE and the belief is untouched.
+// Writes mu_new (n entries, ms apart) and the upper triangle of s_new
+// (rows of 3), mirrored so that Sigma is exactly symmetric, if all are
+// finite; else GF_ERR_NONFINITE and the belief is untouched.
 static gf_status commit(gf_real *mu, gf_real *sigma, unsigned n,
-                        const gf_real *mu_new, const gf_real *s_new)
+                        const gf_real *mu_new, unsigned ms,
+                        const gf_real *s_new)
 {
-    if (!all_finite(mu_new, n)) {
-        return GF_ERR_NONFINITE;
-    }
     for (unsigned i = 0; i < n; i++) {
-        if (!all_finite(&s_new[i * 3u + i], n - i)) {
+        if (!GF_ISFINITE(mu_new[i * ms]) ||
+            !all_finite(&s_new[i * 3u + i], n - i)) {
             return GF_ERR_NONFINITE;
         }
     }
     for (unsigned i = 0; i < n; i++) {
-        mu[i] = mu_new[i];
+        mu[i] = mu_new[i * ms];
         for (unsigned j = i; j < n; j++) {
             sigma[i * n + j] = s_new[i * 3u + j];
             sigma[j * n + i] = s_new[i * 3u + j];
@@ -79,150 +78,160 @@ static gf_status predict(gf_real *mu, gf_real *sigma, unsigned n,
                             r[i * n + j];
         }
     }
-    return commit(mu, sigma, n, mu_bar, s);
+    return commit(mu, sigma, n, mu_bar, 1, s);
 }
 
-// Solves l l^T x = b in place on the m entries of x (l lower triangular,
-// rows of 3).
-static void chol_solve(const gf_real *l, unsigned m, gf_real *x)
+// Entry (i, c) of I - K H (k: rows of 3, h: rows of 3, m columns of K).
+static gf_real ikh(const gf_real *k, const gf_real *h, unsigned m,
+                   unsigned i, unsigned c)
 {
-    for (unsigned i = 0; i < m; i++) { // l y = b
-        for (unsigned k = 0; k < i; k++) {
-            x[i] -= l[i * 3u + k] * x[k];
-        }
-        x[i] /= l[i * 3u + i];
+    gf_real v = (i == c) ? GF_R(1.0) : GF_R(0.0);
+    for (unsigned j = 0; j < m; j++) {
+        v -= k[i * 3u + j] * h[j * 3u + c];
     }
-    for (unsigned i = m; i-- > 0;) { // l^T x = y
-        for (unsigned k = i + 1; k < m; k++) {
-            x[i] -= l[k * 3u + i] * x[k];
-        }
-        x[i] /= l[i * 3u + i];
-    }
+    return v;
 }
 
-// Row i of I - K H (k: n x m, rows of 3; h: m x n, rows of n).
-static void ikh_row(const gf_real *k, const gf_real *h, unsigned n,
-                    unsigned m, unsigned i, gf_real *row)
-{
-    for (unsigned c = 0; c < n; c++) {
-        row[c] = (i == c) ? GF_R(1.0) : GF_R(0.0);
-        for (unsigned j = 0; j < m; j++) {
-            row[c] -= k[i * 3u + j] * h[j * n + c];
-        }
-    }
-}
-
-// The correction of both filters (Table 3.1/3.3, lines 4-6), inputs
-// checked, the innovation y (m entries, angles wrapped) given:
+// The correction of both filters (Table 3.1/3.3, lines 4-6), its inputs
+// checked by the caller. The measurement is KF2's (km: z_hat = C mu_bar +
+// c, H = C) or EKF3's (em: its model called through the pointer); n = 2 or
+// 3 states, so KF2's 2x2 and EKF3's 3x3 belief are both read in place:
 //   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,  mu = mu_bar + K y,
 //   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, exactly symmetric.
-// h (m x n) and q (m x m) have rows of n entries; n = 3 wraps the heading.
-// *nis = y^T S^-1 y on GF_OK and GF_ERR_GATED; the belief changes only on
-// GF_OK.
-static gf_status correct(gf_real *mu, gf_real *sigma, unsigned n,
-                         const gf_real *h, const gf_real *q, unsigned m,
-                         gf_real gate, const gf_real *y, gf_real *nis)
+// S is inverted by Gauss-Jordan elimination: its pivots are those of a
+// Cholesky factorisation, tested as gf_mat3_chol tests them.
+static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
+                         const gf_ekf3_meas *em, const gf_real *z,
+                         gf_innovation *info)
 {
-    gf_real l[9]; // S, then its Cholesky factor, then the new Sigma
-    gf_real k[9]; // K, n x m
-    gf_real a[3], b[3];
+    gf_real *mu = em ? ekf->mu.v : kf->mu.v;
+    gf_real *sigma = em ? ekf->sigma.m[0] : kf->sigma.m[0]; // rows of n
+    const unsigned n = em ? 3u : 2u, m = em ? em->m : km->m;
+    const gf_real *q = em ? em->Q.m[0] : km->Q.m[0]; // rows of n
+    const gf_real gate = em ? em->gate : km->gate;
+    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // rows of 3
+    gf_vec3 y = {{0, 0, 0}};
+    gf_real l[9]; // S, then S^-1, then the new Sigma
+    gf_real k[9]; // S's diagonal, then K (n x m), then the new mu
 
-    // S (upper triangle of Q, mirrored)
+    if (em) {
+        // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows read)
+        gf_status st = em->h(em->ctx, &ekf->mu, &y, &H);
+        if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
+            return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+                       ? GF_ERR_MODEL : st;
+        }
+    } else {
+        // z_hat = C mu_bar + c, H = C
+        for (unsigned i = 0; i < m; i++) {
+            H.m[i][0] = km->C.m[i][0];
+            H.m[i][1] = km->C.m[i][1];
+            y.v[i] = km->c.v[i] + (H.m[i][0] * mu[0] + H.m[i][1] * mu[1]);
+        }
+    }
+    // y = z - z_hat, angle residuals wrapped
+    for (unsigned i = 0; i < m; i++) {
+        if (!GF_ISFINITE(y.v[i]) || !all_finite(H.m[i], 3)) {
+            return GF_ERR_NONFINITE;
+        }
+        y.v[i] = z[i] - y.v[i];
+        if (em && (em->angle_mask & (1u << i))) {
+            y.v[i] = gf_angle_wrap(y.v[i]);
+        }
+    }
+    const gf_real *h = H.m[0];
+
+    // S = H Sigma_bar H^T + Q (upper triangle of Q, mirrored)
     for (unsigned i = 0; i < m; i++) {
         for (unsigned j = i; j < m; j++) {
-            l[i * 3u + j] = quad(&h[i * n], sigma, n, &h[j * n], n) +
+            l[i * 3u + j] = quad(&h[i * 3u], sigma, n, &h[j * 3u], n) +
                             q[i * n + j];
             l[j * 3u + i] = l[i * 3u + j];
         }
         if (!all_finite(&l[i * 3u], m)) {
             return GF_ERR_NONFINITE;
         }
+        k[i] = l[i * 3u + i];
     }
-    // S = L L^T in place; a pivot not above GF_PD_RTOL times its diagonal
-    // entry (or NaN) is singular, as gf_mat3_chol.
-    for (unsigned j = 0; j < m; j++) {
-        gf_real d = l[j * 3u + j];
-        const gf_real sjj = d;
-        for (unsigned c = 0; c < j; c++) {
-            d -= l[j * 3u + c] * l[j * 3u + c];
-        }
-        if (!(d > GF_PD_RTOL * sjj)) {
+    // S^-1 in place; pivot p is S's Schur complement, singular unless above
+    // GF_PD_RTOL times S_pp (NaN fails too).
+    for (unsigned p = 0; p < m; p++) {
+        const gf_real d = l[p * 3u + p];
+        if (!(d > GF_PD_RTOL * k[p])) {
             return GF_ERR_SINGULAR;
         }
-        d = GF_SQRT(d);
-        l[j * 3u + j] = d;
-        for (unsigned i = j + 1; i < m; i++) {
-            for (unsigned c = 0; c < j; c++) {
-                l[i * 3u + j] -= l[i * 3u + c] * l[j * 3u + c];
+        l[p * 3u + p] = 1;
+        for (unsigned j = 0; j < m; j++) {
+            l[p * 3u + j] /= d;
+        }
+        for (unsigned i = 0; i < m; i++) {
+            if (i != p) {
+                const gf_real f = l[i * 3u + p];
+                l[i * 3u + p] = 0;
+                for (unsigned j = 0; j < m; j++) {
+                    l[i * 3u + j] -= f * l[p * 3u + j];
+                }
             }
-            l[i * 3u + j] /= d;
         }
     }
 
     // NIS = y^T S^-1 y
-    gf_real v = 0;
-    for (unsigned i = 0; i < m; i++) {
-        a[i] = y[i];
-    }
-    chol_solve(l, m, a);
-    for (unsigned i = 0; i < m; i++) {
-        v += y[i] * a[i];
-    }
-    if (!GF_ISFINITE(v)) {
+    const gf_real nis = quad(y.v, l, 3, y.v, m);
+    if (!GF_ISFINITE(nis)) {
         return GF_ERR_NONFINITE;
     }
-    *nis = v;
-    if (gate > 0 && v > gate) {
-        return GF_ERR_GATED;
-    }
-
-    // K: row i solves S k = row i of Sigma_bar H^T
-    for (unsigned i = 0; i < n; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            a[j] = 0;
-            for (unsigned c = 0; c < n; c++) {
-                a[j] += sigma[i * n + c] * h[j * n + c];
+    gf_status st = GF_OK;
+    if (gate > 0 && nis > gate) {
+        st = GF_ERR_GATED;
+    } else {
+        // K = Sigma_bar H^T S^-1
+        for (unsigned i = 0; i < n; i++) {
+            for (unsigned j = 0; j < m; j++) {
+                gf_real v = 0;
+                for (unsigned a = 0; a < m; a++) {
+                    gf_real p = 0;
+                    for (unsigned c = 0; c < n; c++) {
+                        p += sigma[i * n + c] * h[a * 3u + c];
+                    }
+                    v += p * l[a * 3u + j];
+                }
+                k[i * 3u + j] = v;
             }
         }
-        chol_solve(l, m, a);
-        for (unsigned j = 0; j < m; j++) {
-            k[i * 3u + j] = a[j];
+        // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, upper triangle
+        for (unsigned i = 0; i < n; i++) {
+            for (unsigned j = i; j < n; j++) {
+                gf_real v = quad(&k[i * 3u], q, n, &k[j * 3u], m);
+                for (unsigned c = 0; c < n; c++) {
+                    const gf_real u = ikh(k, h, m, i, c);
+                    for (unsigned d = 0; d < n; d++) {
+                        v += u * sigma[c * n + d] * ikh(k, h, m, j, d);
+                    }
+                }
+                l[i * 3u + j] = v;
+            }
         }
-    }
-
-    // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, upper triangle
-    for (unsigned i = 0; i < n; i++) {
-        ikh_row(k, h, n, m, i, a);
-        for (unsigned j = i; j < n; j++) {
-            ikh_row(k, h, n, m, j, b);
-            l[i * 3u + j] = quad(a, sigma, n, b, n) +
-                            quad(&k[i * 3u], q, n, &k[j * 3u], m);
+        // mu = mu_bar + K y, into K's first column (row i is used up)
+        for (unsigned i = 0; i < n; i++) {
+            gf_real v = mu[i];
+            for (unsigned j = 0; j < m; j++) {
+                v += k[i * 3u + j] * y.v[j];
+            }
+            k[i * 3u] = v;
         }
-    }
-    // mu = mu_bar + K y
-    for (unsigned i = 0; i < n; i++) {
-        a[i] = mu[i];
-        for (unsigned j = 0; j < m; j++) {
-            a[i] += k[i * 3u + j] * y[j];
+        if (em) {
+            k[6] = gf_angle_wrap(k[6]);
         }
+        st = commit(mu, sigma, n, k, 3, l);
     }
-    if (n == 3u) {
-        a[2] = gf_angle_wrap(a[2]);
-    }
-    return commit(mu, sigma, n, a, l);
-}
-
-// Writes the innovation of an update that reached the gate.
-static void report(gf_innovation *info, unsigned m, const gf_real *y,
-                   gf_real nis)
-{
-    if (info) {
+    if (st != GF_ERR_NONFINITE && info) {
         info->m = m;
         for (unsigned i = 0; i < 3u; i++) {
-            info->y[i] = (i < m) ? y[i] : GF_R(0.0);
+            info->y[i] = (i < m) ? y.v[i] : GF_R(0.0);
         }
         info->nis = nis;
     }
+    return st;
 }
 
 gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
@@ -231,7 +240,7 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     if (!kf || !model) {
         return GF_ERR_ARG;
     }
-    if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
+    if (!all_finite(model->A.m[0], 4) || !all_finite(model->B.m[0], 4) ||
         !all_finite(model->c.v, 2) || (u && !all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
@@ -261,13 +270,8 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
         return GF_ERR_ARG;
     }
     const unsigned m = meas->m;
-    for (unsigned i = 0; i < m; i++) {
-        if (!all_finite(meas->C.m[i], 2) || !GF_ISFINITE(meas->c.v[i]) ||
-            !GF_ISFINITE(z->v[i])) {
-            return GF_ERR_NONFINITE;
-        }
-    }
-    if (!GF_ISFINITE(meas->gate)) {
+    if (!all_finite(meas->C.m[0], 2 * m) || !all_finite(meas->c.v, m) ||
+        !all_finite(z->v, m) || !GF_ISFINITE(meas->gate)) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
@@ -284,26 +288,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    // y = z - c - C mu_bar
-    gf_real y[2], nis = 0;
-    for (unsigned i = 0; i < m; i++) {
-        y[i] = z->v[i] - meas->c.v[i] -
-               (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
-    }
-    st = correct(kf->mu.v, kf->sigma.m[0], 2, meas->C.m[0], meas->Q.m[0], m,
-                 meas->gate, y, &nis);
-    if (st == GF_OK || st == GF_ERR_GATED) {
-        report(info, m, y, nis);
-    }
-    return st;
-}
-
-// A model callback's status, as ekf3.c maps it: anything that is not a
-// known failure, and GF_ERR_GATED, become GF_ERR_MODEL.
-static gf_status callback_status(gf_status st)
-{
-    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
-               ? GF_ERR_MODEL : st;
+    return correct(kf, meas, 0, 0, z->v, info);
 }
 
 gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
@@ -320,8 +305,9 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     gf_vec3 mu = ekf->mu;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     st = motion->g(motion->ctx, &ekf->mu, u, &mu, &G);
-    if (st != GF_OK) {
-        return callback_status(st);
+    if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
+        return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+                   ? GF_ERR_MODEL : st;
     }
     mu.v[2] = gf_angle_wrap(mu.v[2]);
     // Sigma_bar = G Sigma G^T + R (a non-finite G reaches the diagonal)
@@ -335,41 +321,17 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
         return GF_ERR_ARG;
     }
-    const unsigned m = meas->m;
-    if (!all_finite(z->v, m) || !GF_ISFINITE(meas->gate)) {
+    if (!all_finite(z->v, meas->m) || !GF_ISFINITE(meas->gate)) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_mat3_check_psd(&meas->Q, m);
+    gf_status st = gf_mat3_check_psd(&meas->Q, meas->m);
     if (st != GF_OK) {
         return st;
     }
-    // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows read)
-    gf_vec3 y = {{0, 0, 0}};
-    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    st = meas->h(meas->ctx, &ekf->mu, &y, &H);
-    if (st != GF_OK) {
-        return callback_status(st);
-    }
-    // y = z - h(mu_bar), angle residuals wrapped
-    for (unsigned i = 0; i < m; i++) {
-        if (!GF_ISFINITE(y.v[i]) || !all_finite(H.m[i], 3)) {
-            return GF_ERR_NONFINITE;
-        }
-        y.v[i] = z->v[i] - y.v[i];
-        if (meas->angle_mask & (1u << i)) {
-            y.v[i] = gf_angle_wrap(y.v[i]);
-        }
-    }
-    gf_real nis = 0;
-    st = correct(ekf->mu.v, ekf->sigma.m[0], 3, H.m[0], meas->Q.m[0], m,
-                 meas->gate, y.v, &nis);
-    if (st == GF_OK || st == GF_ERR_GATED) {
-        report(info, m, y.v, nis);
-    }
-    return st;
+    return correct(0, 0, ekf, meas, z->v, info);
 }
 
 #endif
