@@ -7,6 +7,8 @@
 #pragma GCC optimize("no-tree-slp-vectorize")
 #endif
 
+#ifndef GF_SMALL // GF_SMALL: init, predict and update are in small.c
+
 static int vec2_is_finite(const gf_vec2 *x)
 {
     return GF_ISFINITE(x->v[0]) && GF_ISFINITE(x->v[1]);
@@ -29,8 +31,6 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     gf_mat2_symmetrize(&kf->sigma);
     return GF_OK;
 }
-
-#ifndef GF_SMALL // GF_SMALL: predict and update are in small.c
 
 // How the checks stay cheap, here and in update1 (docs/performance.md):
 // the step is computed first, from the raw inputs, into locals. A NaN or

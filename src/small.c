@@ -17,8 +17,15 @@
 
 #ifdef GF_SMALL
 
+// Helpers stay out of line: each inlined copy would cost flash.
+#if defined(__GNUC__)
+#define SMALL_HELPER static __attribute__((noinline))
+#else
+#define SMALL_HELPER static
+#endif
+
 // 1 if the n entries of x are all finite.
-static int all_finite(const gf_real *x, unsigned n)
+SMALL_HELPER int all_finite(const gf_real *x, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
         if (!GF_ISFINITE(x[i])) {
@@ -28,15 +35,24 @@ static int all_finite(const gf_real *x, unsigned n)
     return 1;
 }
 
-// u^T A v over the leading d x d block of a (rows of as entries).
-static gf_real quad(const gf_real *u, const gf_real *a, unsigned as,
-                    const gf_real *v, unsigned d)
+// sum over i < d of a[i as] b[i bs]: rows, and columns (as or bs = 3).
+SMALL_HELPER gf_real dot(const gf_real *a, unsigned as, const gf_real *b,
+                         unsigned bs, unsigned d)
 {
     gf_real acc = 0;
     for (unsigned i = 0; i < d; i++) {
-        for (unsigned j = 0; j < d; j++) {
-            acc += u[i] * a[i * as + j] * v[j];
-        }
+        acc += a[i * as] * b[i * bs];
+    }
+    return acc;
+}
+
+// u^T A v over the leading d x d block of a (rows of as entries).
+SMALL_HELPER gf_real quad(const gf_real *u, const gf_real *a, unsigned as,
+                          const gf_real *v, unsigned d)
+{
+    gf_real acc = 0;
+    for (unsigned i = 0; i < d; i++) {
+        acc += u[i] * dot(&a[i * as], 1, v, 1, d);
     }
     return acc;
 }
@@ -82,14 +98,11 @@ static gf_status predict(gf_real *mu, gf_real *sigma, unsigned n,
 }
 
 // Entry (i, c) of I - K H (k: rows of 3, h: rows of 3, m columns of K).
-static gf_real ikh(const gf_real *k, const gf_real *h, unsigned m,
+SMALL_HELPER gf_real ikh(const gf_real *k, const gf_real *h, unsigned m,
                    unsigned i, unsigned c)
 {
-    gf_real v = (i == c) ? GF_R(1.0) : GF_R(0.0);
-    for (unsigned j = 0; j < m; j++) {
-        v -= k[i * 3u + j] * h[j * 3u + c];
-    }
-    return v;
+    return ((i == c) ? GF_R(1.0) : GF_R(0.0)) -
+           dot(&k[i * 3u], 1, &h[c], 3, m);
 }
 
 // The correction of both filters (Table 3.1/3.3, lines 4-6), its inputs
@@ -126,7 +139,7 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         for (unsigned i = 0; i < m; i++) {
             H.m[i][0] = km->C.m[i][0];
             H.m[i][1] = km->C.m[i][1];
-            y.v[i] = km->c.v[i] + (H.m[i][0] * mu[0] + H.m[i][1] * mu[1]);
+            y.v[i] = km->c.v[i] + dot(H.m[i], 1, mu, 1, 2);
         }
     }
     // y = z - z_hat, angle residuals wrapped
@@ -189,11 +202,8 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
             for (unsigned j = 0; j < m; j++) {
                 gf_real v = 0;
                 for (unsigned a = 0; a < m; a++) {
-                    gf_real p = 0;
-                    for (unsigned c = 0; c < n; c++) {
-                        p += sigma[i * n + c] * h[a * 3u + c];
-                    }
-                    v += p * l[a * 3u + j];
+                    v += dot(&sigma[i * n], 1, &h[a * 3u], 1, n) *
+                         l[a * 3u + j];
                 }
                 k[i * 3u + j] = v;
             }
@@ -213,11 +223,7 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         }
         // mu = mu_bar + K y, into K's first column (row i is used up)
         for (unsigned i = 0; i < n; i++) {
-            gf_real v = mu[i];
-            for (unsigned j = 0; j < m; j++) {
-                v += k[i * 3u + j] * y.v[j];
-            }
-            k[i * 3u] = v;
+            k[i * 3u] = mu[i] + dot(&k[i * 3u], 1, y.v, 1, m);
         }
         if (em) {
             k[6] = gf_angle_wrap(k[6]);
@@ -234,6 +240,37 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
     return st;
 }
 
+// gf_mat2_check_psd on the leading m x m block of s, through
+// gf_mat3_check_psd (the same tests), so one PSD test is linked, not two.
+static gf_status check_psd2(const gf_mat2 *s, unsigned m)
+{
+    const gf_mat3 t = {{{s->m[0][0], s->m[0][1], 0},
+                        {s->m[1][0], s->m[1][1], 0},
+                        {0, 0, 0}}};
+    return gf_mat3_check_psd(&t, m);
+}
+
+gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
+{
+    if (!kf || !mu || !sigma) {
+        return GF_ERR_ARG;
+    }
+    if (!all_finite(mu->v, 2)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_status st = check_psd2(sigma, 2);
+    if (st != GF_OK) {
+        return st;
+    }
+    // Sigma symmetrized: (Sigma + Sigma^T) / 2
+    const gf_real o = GF_R(0.5) * (sigma->m[0][1] + sigma->m[1][0]);
+    kf->mu = *mu;
+    kf->sigma = *sigma;
+    kf->sigma.m[0][1] = o;
+    kf->sigma.m[1][0] = o;
+    return GF_OK;
+}
+
 gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
                          const gf_vec2 *u)
 {
@@ -244,17 +281,16 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
         !all_finite(model->c.v, 2) || (u && !all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
-    gf_status st = gf_mat2_check_psd(&model->R);
+    gf_status st = check_psd2(&model->R, 2);
     if (st != GF_OK) {
         return st;
     }
     // mu_bar = A mu + B u + c
     gf_real mu[2];
     for (unsigned i = 0; i < 2u; i++) {
-        mu[i] = model->A.m[i][0] * kf->mu.v[0] +
-                model->A.m[i][1] * kf->mu.v[1];
+        mu[i] = dot(model->A.m[i], 1, kf->mu.v, 1, 2);
         if (u) {
-            mu[i] += model->B.m[i][0] * u->v[0] + model->B.m[i][1] * u->v[1];
+            mu[i] += dot(model->B.m[i], 1, u->v, 1, 2);
         }
         mu[i] += model->c.v[i];
     }
@@ -277,14 +313,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_status st;
-    if (m == 1u) {
-        st = !GF_ISFINITE(meas->Q.m[0][0]) ? GF_ERR_NONFINITE
-             : (meas->Q.m[0][0] < 0)       ? GF_ERR_NOT_PSD
-                                           : GF_OK;
-    } else {
-        st = gf_mat2_check_psd(&meas->Q);
-    }
+    gf_status st = check_psd2(&meas->Q, m);
     if (st != GF_OK) {
         return st;
     }
