@@ -52,7 +52,9 @@ SMALL_HELPER gf_real quad(const gf_real *u, const gf_real *a, unsigned as,
 {
     gf_real acc = 0;
     for (unsigned i = 0; i < d; i++) {
-        acc += u[i] * dot(&a[i * as], 1, v, 1, d);
+        for (unsigned j = 0; j < d; j++) {
+            acc += u[i] * a[i * as + j] * v[j];
+        }
     }
     return acc;
 }
