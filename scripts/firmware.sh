@@ -23,14 +23,15 @@ gf_fw_packages() {
 # gf_fw_build TARGET PREC [cmake -D args...]: configures and builds the
 # firmware project (the library, its .su/.ci stack files and the footprint
 # images) for TARGET in PREC (float or double), warnings as errors, -Os.
-# Prints the build directory's path on the last line.
+# Prints the build directory's path on the last line. GF_FW_VARIANT=NAME
+# (e.g. small, with -DGAUSSFILT_SMALL=ON) builds in a directory of its own.
 gf_fw_build() {
     local target=$1 prec=$2 single=OFF
     shift 2
     [ "$prec" = float ] && single=ON
     # shellcheck disable=SC2046
     gf_apt cmake make $(gf_fw_packages "$target") >&2
-    local dir="$GF_BUILD/fw-$target-$prec"
+    local dir="$GF_BUILD/fw-$target-$prec${GF_FW_VARIANT:+-$GF_FW_VARIANT}"
     cmake -S "$GF_ROOT/firmware" -B "$dir" \
         -DCMAKE_TOOLCHAIN_FILE="$GF_ROOT/cmake/toolchain-$target.cmake" \
         -DCMAKE_BUILD_TYPE=MinSizeRel -DGAUSSFILT_WERROR=ON \

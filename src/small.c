@@ -13,6 +13,8 @@
 // to locals with rows of 3 and reach the belief only once all are finite.
 // Compiled in every build; empty (but for the declarations of ekf3.h)
 // without GF_SMALL.
+#include <stddef.h>
+
 #include "gaussfilt/ekf3.h"
 
 #ifdef GF_SMALL
@@ -25,9 +27,9 @@
 #endif
 
 // 1 if the n entries of x are all finite.
-SMALL_HELPER int all_finite(const gf_real *x, unsigned n)
+SMALL_HELPER int all_finite(const gf_real *x, size_t n)
 {
-    for (unsigned i = 0; i < n; i++) {
+    for (size_t i = 0; i < n; i++) {
         if (!GF_ISFINITE(x[i])) {
             return 0;
         }
@@ -36,23 +38,23 @@ SMALL_HELPER int all_finite(const gf_real *x, unsigned n)
 }
 
 // sum over i < d of a[i as] b[i bs]: rows, and columns (as or bs = 3).
-SMALL_HELPER gf_real dot(const gf_real *a, unsigned as, const gf_real *b,
-                         unsigned bs, unsigned d)
+SMALL_HELPER gf_real dot(const gf_real *a, size_t as, const gf_real *b,
+                         size_t bs, size_t d)
 {
     gf_real acc = 0;
-    for (unsigned i = 0; i < d; i++) {
+    for (size_t i = 0; i < d; i++) {
         acc += a[i * as] * b[i * bs];
     }
     return acc;
 }
 
 // u^T A v over the leading d x d block of a (rows of as entries).
-SMALL_HELPER gf_real quad(const gf_real *u, const gf_real *a, unsigned as,
-                          const gf_real *v, unsigned d)
+SMALL_HELPER gf_real quad(const gf_real *u, const gf_real *a, size_t as,
+                          const gf_real *v, size_t d)
 {
     gf_real acc = 0;
-    for (unsigned i = 0; i < d; i++) {
-        for (unsigned j = 0; j < d; j++) {
+    for (size_t i = 0; i < d; i++) {
+        for (size_t j = 0; j < d; j++) {
             acc += u[i] * a[i * as + j] * v[j];
         }
     }
@@ -62,21 +64,21 @@ SMALL_HELPER gf_real quad(const gf_real *u, const gf_real *a, unsigned as,
 // Writes mu_new (n entries, ms apart) and the upper triangle of s_new
 // (rows of 3), mirrored so that Sigma is exactly symmetric, if all are
 // finite; else GF_ERR_NONFINITE and the belief is untouched.
-static gf_status commit(gf_real *mu, gf_real *sigma, unsigned n,
-                        const gf_real *mu_new, unsigned ms,
+static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
+                        const gf_real *mu_new, size_t ms,
                         const gf_real *s_new)
 {
-    for (unsigned i = 0; i < n; i++) {
+    for (size_t i = 0; i < n; i++) {
         if (!GF_ISFINITE(mu_new[i * ms]) ||
-            !all_finite(&s_new[i * 3u + i], n - i)) {
+            !all_finite(&s_new[i * 3 + i], n - i)) {
             return GF_ERR_NONFINITE;
         }
     }
-    for (unsigned i = 0; i < n; i++) {
+    for (size_t i = 0; i < n; i++) {
         mu[i] = mu_new[i * ms];
-        for (unsigned j = i; j < n; j++) {
-            sigma[i * n + j] = s_new[i * 3u + j];
-            sigma[j * n + i] = s_new[i * 3u + j];
+        for (size_t j = i; j < n; j++) {
+            sigma[i * n + j] = s_new[i * 3 + j];
+            sigma[j * n + i] = s_new[i * 3 + j];
         }
     }
     return GF_OK;
@@ -85,14 +87,14 @@ static gf_status commit(gf_real *mu, gf_real *sigma, unsigned n,
 // The prediction of both filters, mu_bar given:
 //   Sigma_bar = G Sigma G^T + R (upper triangle of R, mirrored).
 // g, sigma and r have rows of n entries.
-static gf_status predict(gf_real *mu, gf_real *sigma, unsigned n,
+static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
                          const gf_real *mu_bar, const gf_real *g,
                          const gf_real *r)
 {
     gf_real s[9];
-    for (unsigned i = 0; i < n; i++) {
-        for (unsigned j = i; j < n; j++) {
-            s[i * 3u + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = i; j < n; j++) {
+            s[i * 3 + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
                             r[i * n + j];
         }
     }
@@ -100,11 +102,11 @@ static gf_status predict(gf_real *mu, gf_real *sigma, unsigned n,
 }
 
 // Entry (i, c) of I - K H (k: rows of 3, h: rows of 3, m columns of K).
-SMALL_HELPER gf_real ikh(const gf_real *k, const gf_real *h, unsigned m,
-                   unsigned i, unsigned c)
+SMALL_HELPER gf_real ikh(const gf_real *k, const gf_real *h, size_t m,
+                   size_t i, size_t c)
 {
     return ((i == c) ? GF_R(1.0) : GF_R(0.0)) -
-           dot(&k[i * 3u], 1, &h[c], 3, m);
+           dot(&k[i * 3], 1, &h[c], 3, m);
 }
 
 // The correction of both filters (Table 3.1/3.3, lines 4-6), its inputs
@@ -119,33 +121,53 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
                          const gf_ekf3_meas *em, const gf_real *z,
                          gf_innovation *info)
 {
-    gf_real *mu = em ? ekf->mu.v : kf->mu.v;
-    gf_real *sigma = em ? ekf->sigma.m[0] : kf->sigma.m[0]; // rows of n
-    const unsigned n = em ? 3u : 2u, m = em ? em->m : km->m;
-    const gf_real *q = em ? em->Q.m[0] : km->Q.m[0]; // rows of n
-    const gf_real gate = em ? em->gate : km->gate;
+    gf_real *mu, *sigma; // rows of n
+    const gf_real *q;    // rows of n
+    gf_real gate;
+    size_t n, m;
+    unsigned mm;
+    if (em && ekf) {
+        mu = ekf->mu.v;
+        sigma = ekf->sigma.m[0];
+        q = em->Q.m[0];
+        gate = em->gate;
+        n = 3;
+        mm = em->m;
+    } else if (km && kf) {
+        mu = kf->mu.v;
+        sigma = kf->sigma.m[0];
+        q = km->Q.m[0];
+        gate = km->gate;
+        n = 2;
+        mm = km->m;
+    } else {
+        return GF_ERR_ARG;
+    }
+    m = mm;
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // rows of 3
     gf_vec3 y = {{0, 0, 0}};
     gf_real l[9]; // S, then S^-1, then the new Sigma
     gf_real k[9]; // S's diagonal, then K (n x m), then the new mu
 
-    if (em) {
+    if (em && ekf) {
         // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows read)
         gf_status st = em->h(em->ctx, &ekf->mu, &y, &H);
         if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
             return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
                        ? GF_ERR_MODEL : st;
         }
-    } else {
+    } else if (km) {
         // z_hat = C mu_bar + c, H = C
-        for (unsigned i = 0; i < m; i++) {
+        for (size_t i = 0; i < m; i++) {
             H.m[i][0] = km->C.m[i][0];
             H.m[i][1] = km->C.m[i][1];
             y.v[i] = km->c.v[i] + dot(H.m[i], 1, mu, 1, 2);
         }
+    } else {
+        return GF_ERR_ARG; // not reached: one of the two was set above
     }
     // y = z - z_hat, angle residuals wrapped
-    for (unsigned i = 0; i < m; i++) {
+    for (size_t i = 0; i < m; i++) {
         if (!GF_ISFINITE(y.v[i]) || !all_finite(H.m[i], 3)) {
             return GF_ERR_NONFINITE;
         }
@@ -157,34 +179,34 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
     const gf_real *h = H.m[0];
 
     // S = H Sigma_bar H^T + Q (upper triangle of Q, mirrored)
-    for (unsigned i = 0; i < m; i++) {
-        for (unsigned j = i; j < m; j++) {
-            l[i * 3u + j] = quad(&h[i * 3u], sigma, n, &h[j * 3u], n) +
+    for (size_t i = 0; i < m; i++) {
+        for (size_t j = i; j < m; j++) {
+            l[i * 3 + j] = quad(&h[i * 3], sigma, n, &h[j * 3], n) +
                             q[i * n + j];
-            l[j * 3u + i] = l[i * 3u + j];
+            l[j * 3 + i] = l[i * 3 + j];
         }
-        if (!all_finite(&l[i * 3u], m)) {
+        if (!all_finite(&l[i * 3], m)) {
             return GF_ERR_NONFINITE;
         }
-        k[i] = l[i * 3u + i];
+        k[i] = l[i * 3 + i];
     }
     // S^-1 in place; pivot p is S's Schur complement, singular unless above
     // GF_PD_RTOL times S_pp (NaN fails too).
-    for (unsigned p = 0; p < m; p++) {
-        const gf_real d = l[p * 3u + p];
+    for (size_t p = 0; p < m; p++) {
+        const gf_real d = l[p * 3 + p];
         if (!(d > GF_PD_RTOL * k[p])) {
             return GF_ERR_SINGULAR;
         }
-        l[p * 3u + p] = 1;
-        for (unsigned j = 0; j < m; j++) {
-            l[p * 3u + j] /= d;
+        l[p * 3 + p] = 1;
+        for (size_t j = 0; j < m; j++) {
+            l[p * 3 + j] /= d;
         }
-        for (unsigned i = 0; i < m; i++) {
+        for (size_t i = 0; i < m; i++) {
             if (i != p) {
-                const gf_real f = l[i * 3u + p];
-                l[i * 3u + p] = 0;
-                for (unsigned j = 0; j < m; j++) {
-                    l[i * 3u + j] -= f * l[p * 3u + j];
+                const gf_real f = l[i * 3 + p];
+                l[i * 3 + p] = 0;
+                for (size_t j = 0; j < m; j++) {
+                    l[i * 3 + j] -= f * l[p * 3 + j];
                 }
             }
         }
@@ -200,32 +222,32 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         st = GF_ERR_GATED;
     } else {
         // K = Sigma_bar H^T S^-1
-        for (unsigned i = 0; i < n; i++) {
-            for (unsigned j = 0; j < m; j++) {
+        for (size_t i = 0; i < n; i++) {
+            for (size_t j = 0; j < m; j++) {
                 gf_real v = 0;
-                for (unsigned a = 0; a < m; a++) {
-                    v += dot(&sigma[i * n], 1, &h[a * 3u], 1, n) *
-                         l[a * 3u + j];
+                for (size_t a = 0; a < m; a++) {
+                    v += dot(&sigma[i * n], 1, &h[a * 3], 1, n) *
+                         l[a * 3 + j];
                 }
-                k[i * 3u + j] = v;
+                k[i * 3 + j] = v;
             }
         }
         // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, upper triangle
-        for (unsigned i = 0; i < n; i++) {
-            for (unsigned j = i; j < n; j++) {
-                gf_real v = quad(&k[i * 3u], q, n, &k[j * 3u], m);
-                for (unsigned c = 0; c < n; c++) {
+        for (size_t i = 0; i < n; i++) {
+            for (size_t j = i; j < n; j++) {
+                gf_real v = quad(&k[i * 3], q, n, &k[j * 3], m);
+                for (size_t c = 0; c < n; c++) {
                     const gf_real u = ikh(k, h, m, i, c);
-                    for (unsigned d = 0; d < n; d++) {
+                    for (size_t d = 0; d < n; d++) {
                         v += u * sigma[c * n + d] * ikh(k, h, m, j, d);
                     }
                 }
-                l[i * 3u + j] = v;
+                l[i * 3 + j] = v;
             }
         }
         // mu = mu_bar + K y, into K's first column (row i is used up)
-        for (unsigned i = 0; i < n; i++) {
-            k[i * 3u] = mu[i] + dot(&k[i * 3u], 1, y.v, 1, m);
+        for (size_t i = 0; i < n; i++) {
+            k[i * 3] = mu[i] + dot(&k[i * 3], 1, y.v, 1, m);
         }
         if (em) {
             k[6] = gf_angle_wrap(k[6]);
@@ -233,8 +255,8 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         st = commit(mu, sigma, n, k, 3, l);
     }
     if (st != GF_ERR_NONFINITE && info) {
-        info->m = m;
-        for (unsigned i = 0; i < 3u; i++) {
+        info->m = mm;
+        for (size_t i = 0; i < 3; i++) {
             info->y[i] = (i < m) ? y.v[i] : GF_R(0.0);
         }
         info->nis = nis;
@@ -289,7 +311,7 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     }
     // mu_bar = A mu + B u + c
     gf_real mu[2];
-    for (unsigned i = 0; i < 2u; i++) {
+    for (size_t i = 0; i < 2u; i++) {
         mu[i] = dot(model->A.m[i], 1, kf->mu.v, 1, 2);
         if (u) {
             mu[i] += dot(model->B.m[i], 1, u->v, 1, 2);
@@ -307,7 +329,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (!kf || !meas || !z || meas->m < 1 || meas->m > 2) {
         return GF_ERR_ARG;
     }
-    const unsigned m = meas->m;
+    const size_t m = meas->m;
     if (!all_finite(meas->C.m[0], 2 * m) || !all_finite(meas->c.v, m) ||
         !all_finite(z->v, m) || !GF_ISFINITE(meas->gate)) {
         return GF_ERR_NONFINITE;
@@ -315,7 +337,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_status st = check_psd2(&meas->Q, m);
+    gf_status st = check_psd2(&meas->Q, meas->m);
     if (st != GF_OK) {
         return st;
     }

@@ -5,7 +5,8 @@
 #   and explained in docs/misra.md;
 #   clang-tidy with scripts/analysis/clang-tidy.yaml, warnings as errors;
 #   gcc -fanalyzer with the project's warnings, -Werror.
-# Each in the double and the float configuration.
+# Each in the double and the float configuration, and both again with
+# GF_SMALL (the compact predict/update of src/small.c).
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
@@ -17,11 +18,13 @@ fail=0
 gf_log "analysis: cppcheck $(cppcheck --version | awk '{print $2}') + MISRA C:2012 addon"
 out="$GF_BUILD/analysis-cppcheck.txt"
 mkdir -p "$GF_BUILD/analysis-cppcheck"
-for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
+for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION "-DGF_SMALL -UGF_SINGLE_PRECISION" \
+    "-DGF_SMALL -DGF_SINGLE_PRECISION"; do
+    # shellcheck disable=SC2086
     cppcheck --std=c99 --language=c --enable=warning,style,performance,portability \
         --addon=misra --inline-suppr --suppressions-list="$an/misra-suppressions.txt" \
         --cppcheck-build-dir="$GF_BUILD/analysis-cppcheck" \
-        --error-exitcode=1 -q -Iinclude "$def" \
+        --error-exitcode=1 -q -Iinclude $def \
         --template='{file}:{line}:{column}: {severity}: {id}: {message}' \
         src/ 2>"$out" || true
     if [ -s "$out" ]; then
@@ -34,7 +37,8 @@ for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
 done
 
 gf_log "analysis: $(clang-tidy --version | grep -o 'LLVM version [0-9.]*' | head -1 | sed 's/LLVM/clang-tidy/')"
-for def in "" -DGF_SINGLE_PRECISION; do
+for def in "" -DGF_SINGLE_PRECISION -DGF_SMALL "-DGF_SMALL -DGF_SINGLE_PRECISION"; do
+    # shellcheck disable=SC2086
     if clang-tidy --quiet --config-file="$an/clang-tidy.yaml" src/*.c -- \
         -std=c99 -Iinclude $def 2>/dev/null; then
         echo "clang-tidy (${def:-double}): clean"
@@ -48,7 +52,7 @@ gf_log "analysis: gcc $(gcc -dumpversion) -fanalyzer"
 warn="-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion"
 warn="$warn -Wdouble-promotion -Wstrict-prototypes -Wmissing-prototypes"
 warn="$warn -Wcast-qual -Wvla -Wundef -Wfloat-equal -Werror"
-for def in "" -DGF_SINGLE_PRECISION; do
+for def in "" -DGF_SINGLE_PRECISION -DGF_SMALL "-DGF_SMALL -DGF_SINGLE_PRECISION"; do
     ok=1
     for f in src/*.c; do
         # shellcheck disable=SC2086
