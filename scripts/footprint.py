@@ -28,7 +28,8 @@ TARGETS = [
     ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
-MODULES = ["mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3", "pf3"]
+MODULES = ["mat", "cov2", "kf2", "ekf3", "small", "status", "rng", "if2",
+           "ukf3", "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
            "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
@@ -43,6 +44,8 @@ CALLBACKS = {
     "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
     "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "ekf3_update1_slow": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # GF_SMALL (src/small.c): the shared correction calls EKF3's model.
+    "correct": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
@@ -446,6 +449,28 @@ def report(root, build_root):
     reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()
                  if in_budget(n)))
     met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
+    # The same targets with GF_SMALL (compact KF2/EKF3 steps, src/small.c).
+    sm_build = os.path.join(build_root, "fw-cortex-m4f-float-small")
+    sm_rows = []
+    if os.path.isdir(sm_build):
+        pfx = "arm-none-eabi-"
+        sm_min = image_sizes(pfx, os.path.join(sm_build, "gf_fw_min.elf"))
+        sm_base = image_sizes(pfx, os.path.join(sm_build, "gf_fw_base.elf"))
+        sm_d = flash(sm_min) - flash(sm_base)
+        sm_stack = stack_report(pfx, sm_build)[0]
+        sm_worst = max(((d, n) for n, (_, d, _) in sm_stack.items()
+                        if in_budget(n)))
+        sm_rows = [
+            f"| GF_SMALL (`-DGAUSSFILT_SMALL=ON`): KF2 + EKF3 image minus the "
+            f"same image without them | 4 KiB | {fmt_delta(sm_d)} | "
+            f"{met(sm_d <= IMAGE_LIMIT)} |",
+            f"| GF_SMALL: deepest public function of KF2/EKF3 (built-in "
+            f"models) | 256 B | {sm_worst[0]} B (`{sm_worst[1]}`) | "
+            f"{met(sm_worst[0] <= STACK_LIMIT)} |",
+        ]
+        sm_fns = ", ".join(
+            f"`{n}` {d}" for n, (_, d, _) in sorted(sm_stack.items())
+            if n.startswith(("gf_kf2_", "gf_ekf3_")))
     lines += [
         "| target (Cortex-M4F, float) | limit | measured | |",
         "|---|---|---|---|",
@@ -459,7 +484,16 @@ def report(root, build_root):
         f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "
         f"(-pi, pi]) | 256 B | {reach[0]} B (`{reach[1]}`) | "
         f"{met(reach[0] <= STACK_LIMIT)} |",
+    ] + sm_rows + [
         "",
+    ]
+    if sm_rows:
+        lines += [
+            "GF_SMALL stack depth per public KF2/EKF3 function (Cortex-M4F, "
+            "bytes, built-in models): " + sm_fns + ".",
+            "",
+        ]
+    lines += [
         f"Double promoted in the float image: "
         + (", ".join(f"`{s}`" for s in dbl) if dbl else "none (no double "
            "libm function, no soft-double helper)") + ".",
