@@ -43,3 +43,10 @@ fi
 gf_log "qemu: build the tests for Cortex-M4F (float) and run them on mps2-an386"
 dir=$(gf_fw_build cortex-m4f float -DGF_FW_CMOCKA_DIR="$src" | tail -1)
 gf_ctest "$dir"
+
+# The same tests with GF_SMALL (src/small.c's compact predict/update), the
+# mode meant for small MCUs.
+gf_log "qemu: the same tests with GF_SMALL on mps2-an386"
+dir=$(GF_FW_VARIANT=small gf_fw_build cortex-m4f float -DGAUSSFILT_SMALL=ON \
+    -DGF_FW_CMOCKA_DIR="$src" | tail -1)
+gf_ctest "$dir"
