@@ -19,15 +19,8 @@
 
 #ifdef GF_SMALL
 
-// Helpers stay out of line: each inlined copy would cost flash.
-#if defined(__GNUC__)
-#define SMALL_HELPER static __attribute__((noinline))
-#else
-#define SMALL_HELPER static
-#endif
-
 // 1 if the n entries of x are all finite.
-SMALL_HELPER int all_finite(const gf_real *x, size_t n)
+static int all_finite(const gf_real *x, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
         if (!GF_ISFINITE(x[i])) {
@@ -38,7 +31,7 @@ SMALL_HELPER int all_finite(const gf_real *x, size_t n)
 }
 
 // sum over i < d of a[i as] b[i bs]: rows, and columns (as or bs = 3).
-SMALL_HELPER gf_real dot(const gf_real *a, size_t as, const gf_real *b,
+static gf_real dot(const gf_real *a, size_t as, const gf_real *b,
                          size_t bs, size_t d)
 {
     gf_real acc = 0;
@@ -49,7 +42,7 @@ SMALL_HELPER gf_real dot(const gf_real *a, size_t as, const gf_real *b,
 }
 
 // u^T A v over the leading d x d block of a (rows of as entries).
-SMALL_HELPER gf_real quad(const gf_real *u, const gf_real *a, size_t as,
+static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
                           const gf_real *v, size_t d)
 {
     gf_real acc = 0;
@@ -102,11 +95,39 @@ static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
 }
 
 // Entry (i, c) of I - K H (k: rows of 3, h: rows of 3, m columns of K).
-SMALL_HELPER gf_real ikh(const gf_real *k, const gf_real *h, size_t m,
+static gf_real ikh(const gf_real *k, const gf_real *h, size_t m,
                    size_t i, size_t c)
 {
     return ((i == c) ? GF_R(1.0) : GF_R(0.0)) -
            dot(&k[i * 3], 1, &h[c], 3, m);
+}
+
+// S^-1 in place (rows of 3) by Gauss-Jordan elimination, s_diag holding
+// S's diagonal. Pivot p is a Schur complement of S, the square of a
+// Cholesky pivot: singular unless above GF_PD_RTOL times S_pp, as
+// gf_mat3_chol tests it (NaN fails too).
+static gf_status spd_inverse(gf_real *l, const gf_real *s_diag, size_t m)
+{
+    for (size_t p = 0; p < m; p++) {
+        const gf_real d = l[p * 3 + p];
+        if (!(d > GF_PD_RTOL * s_diag[p])) {
+            return GF_ERR_SINGULAR;
+        }
+        l[p * 3 + p] = 1;
+        for (size_t j = 0; j < m; j++) {
+            l[p * 3 + j] /= d;
+        }
+        for (size_t i = 0; i < m; i++) {
+            if (i != p) {
+                const gf_real f = l[i * 3 + p];
+                l[i * 3 + p] = 0;
+                for (size_t j = 0; j < m; j++) {
+                    l[i * 3 + j] -= f * l[p * 3 + j];
+                }
+            }
+        }
+    }
+    return GF_OK;
 }
 
 // The correction of both filters (Table 3.1/3.3, lines 4-6), its inputs
@@ -190,26 +211,10 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         }
         k[i] = l[i * 3 + i];
     }
-    // S^-1 in place; pivot p is S's Schur complement, singular unless above
-    // GF_PD_RTOL times S_pp (NaN fails too).
-    for (size_t p = 0; p < m; p++) {
-        const gf_real d = l[p * 3 + p];
-        if (!(d > GF_PD_RTOL * k[p])) {
-            return GF_ERR_SINGULAR;
-        }
-        l[p * 3 + p] = 1;
-        for (size_t j = 0; j < m; j++) {
-            l[p * 3 + j] /= d;
-        }
-        for (size_t i = 0; i < m; i++) {
-            if (i != p) {
-                const gf_real f = l[i * 3 + p];
-                l[i * 3 + p] = 0;
-                for (size_t j = 0; j < m; j++) {
-                    l[i * 3 + j] -= f * l[p * 3 + j];
-                }
-            }
-        }
+    // S^-1
+    gf_status st = spd_inverse(l, k, m);
+    if (st != GF_OK) {
+        return st;
     }
 
     // NIS = y^T S^-1 y
@@ -217,7 +222,6 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
     if (!GF_ISFINITE(nis)) {
         return GF_ERR_NONFINITE;
     }
-    gf_status st = GF_OK;
     if (gate > 0 && nis > gate) {
         st = GF_ERR_GATED;
     } else {

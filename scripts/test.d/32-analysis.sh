@@ -20,8 +20,15 @@ out="$GF_BUILD/analysis-cppcheck.txt"
 mkdir -p "$GF_BUILD/analysis-cppcheck"
 for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION "-DGF_SMALL -UGF_SINGLE_PRECISION" \
     "-DGF_SMALL -DGF_SINGLE_PRECISION"; do
+    # With GF_SMALL, kf2.c's and ekf3.c's fast paths are compiled out, and
+    # with them every use of their KF2_*/EKF3_* inlining macros: cppcheck
+    # still sees the #defines (rule 2.5, unused macro). Only there, only then.
+    small=()
+    case $def in *GF_SMALL*)
+        small=(--suppress=misra-c2012-2.5:src/kf2.c --suppress=misra-c2012-2.5:src/ekf3.c) ;;
+    esac
     # shellcheck disable=SC2086
-    cppcheck --std=c99 --language=c --enable=warning,style,performance,portability \
+    cppcheck "${small[@]}" --std=c99 --language=c --enable=warning,style,performance,portability \
         --addon=misra --inline-suppr --suppressions-list="$an/misra-suppressions.txt" \
         --cppcheck-build-dir="$GF_BUILD/analysis-cppcheck" \
         --error-exitcode=1 -q -Iinclude $def \
