@@ -302,19 +302,23 @@ KF2_OUTLINE gf_status update_general(gf_kf2 *kf, const gf_kf2_meas *meas,
     const gf_vec2 *mu = &kf->mu;
     const gf_mat2 *sig = &kf->sigma;
 
-    // PCt = Sigma_bar C^T (2 x m); S = C Sigma_bar C^T + Q (m x m)
-    gf_mat2 PCt = {{{0, 0}, {0, 0}}};
-    for (unsigned j = 0; j < m; j++) {
-        PCt.m[0][j] = sig->m[0][0] * meas->C.m[j][0] +
-                      sig->m[0][1] * meas->C.m[j][1];
-        PCt.m[1][j] = sig->m[1][0] * meas->C.m[j][0] +
-                      sig->m[1][1] * meas->C.m[j][1];
+    // PCt = Sigma_bar C^T (2 x m); S = C Sigma_bar C^T + Q (m x m). Both
+    // columns of PCt are always computed (from zeros past row m of C), which
+    // also keeps gcc -O3 from a false maybe-uninitialized warning.
+    gf_mat2 C = meas->C;
+    if (m == 1) {
+        C.m[1][0] = 0;
+        C.m[1][1] = 0;
     }
-    gf_mat2 S = Q;
-    for (unsigned i = 0; i < m; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            S.m[i][j] += meas->C.m[i][0] * PCt.m[0][j] +
-                         meas->C.m[i][1] * PCt.m[1][j];
+    gf_mat2 PCt;
+    for (unsigned j = 0; j < 2; j++) {
+        PCt.m[0][j] = sig->m[0][0] * C.m[j][0] + sig->m[0][1] * C.m[j][1];
+        PCt.m[1][j] = sig->m[1][0] * C.m[j][0] + sig->m[1][1] * C.m[j][1];
+    }
+    gf_mat2 S = Q; // zero past m, as C is
+    for (unsigned i = 0; i < 2; i++) {
+        for (unsigned j = 0; j < 2; j++) {
+            S.m[i][j] += C.m[i][0] * PCt.m[0][j] + C.m[i][1] * PCt.m[1][j];
         }
     }
 
