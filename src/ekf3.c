@@ -1,21 +1,13 @@
 #include "gaussfilt/ekf3.h"
 
+#include "gf_internal.h"
+
 // gcc's basic-block vectorizer (on at -O2 since gcc 12) packs these scalar
 // formulas into SSE2 pairs with more shuffles than it saves: scripts/bench
 // counts more instructions and time per step with it. Off for this file.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("no-tree-slp-vectorize")
 #endif
-
-static int vec3_is_finite(const gf_vec3 *x, unsigned n)
-{
-    for (unsigned i = 0; i < n; i++) {
-        if (!GF_ISFINITE(x->v[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
@@ -72,7 +64,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!ekf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!vec3_is_finite(mu, 3)) {
+    if (!gf_vec3_is_finite_n(mu, 3)) {
         return GF_ERR_NONFINITE;
     }
     gf_status st = gf_mat3_check_psd(sigma, 3);
@@ -87,15 +79,6 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
 }
 
 #ifndef GF_SMALL // GF_SMALL: predict and update are in small.c
-
-// A model callback's status, with anything that is not a known failure
-// mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
-// gate may report (the caller then expects the innovation to be written).
-static gf_status callback_status(gf_status st)
-{
-    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
-               ? GF_ERR_MODEL : st;
-}
 
 // How the checks stay cheap (as in kf2.c; docs/performance.md): a NaN or
 // inf cannot vanish through + - *, so the finiteness of every input and of
@@ -145,7 +128,7 @@ EKF3_SLOW gf_status predict_diagnose(const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return st;
     }
-    return (vec3_is_finite(mu, 3) && gf_mat3_is_finite(G)) ? GF_OK
+    return (gf_vec3_is_finite_n(mu, 3) && gf_mat3_is_finite(G)) ? GF_OK
                                                           : GF_ERR_NONFINITE;
 }
 
@@ -216,7 +199,7 @@ EKF3_OUTLINE gf_status ekf3_predict_callback(gf_ekf3 *ekf,
     st = motion->g(motion->ctx, &ekf->mu, u, &mu, &G);
     if (st != GF_OK) {
         gf_status rs = gf_mat3_check_psd(R, 3); // inf in R comes first
-        return rs != GF_OK ? rs : callback_status(st);
+        return rs != GF_OK ? rs : gf_callback_status(st);
     }
     mu.v[2] = wrap(mu.v[2]);
 
@@ -245,7 +228,7 @@ EKF3_OUTLINE gf_status ekf3_predict_callback(gf_ekf3 *ekf,
         if (st != GF_OK) {
             return st;
         }
-        if (!vec3_is_finite(&mu, 3) || !sym3_is_finite(&n)) {
+        if (!gf_vec3_is_finite_n(&mu, 3) || !sym3_is_finite(&n)) {
             return GF_ERR_NONFINITE; // overflow: keep the last good belief
         }
     }
@@ -291,33 +274,27 @@ EKF3_OUTLINE gf_status ekf3_update_general(gf_ekf3 *ekf,
                                            const gf_vec3 *z,
                                            gf_innovation *info)
 {
-    if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
+    if (!ekf) {
         return GF_ERR_ARG;
     }
-    const unsigned m = meas->m;
-    if (!vec3_is_finite(z, m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = gf_mat3_check_psd(&meas->Q, m);
+    gf_status st = gf_meas3_check(meas, z);
     if (st != GF_OK) {
         return st;
     }
+    const unsigned m = meas->m;
 
     // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows)
     gf_vec3 zh = {{0, 0, 0}};
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
     if (st != GF_OK) {
-        return callback_status(st);
+        return gf_callback_status(st);
     }
     for (unsigned i = m; i < 3; i++) { // rows the model must not use
         zh.v[i] = 0;
         H.m[i][0] = H.m[i][1] = H.m[i][2] = 0;
     }
-    if (!vec3_is_finite(&zh, m) || !gf_mat3_is_finite(&H)) {
+    if (!gf_vec3_is_finite_n(&zh, m) || !gf_mat3_is_finite(&H)) {
         return GF_ERR_NONFINITE;
     }
 
@@ -365,10 +342,7 @@ EKF3_OUTLINE gf_status ekf3_update_general(gf_ekf3 *ekf,
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (meas->gate > 0 && in.nis > meas->gate) {
-        if (info) {
-            *info = in;
-        }
+    if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
 
@@ -415,7 +389,7 @@ EKF3_OUTLINE gf_status ekf3_update_general(gf_ekf3 *ekf,
         }
     }
 
-    if (!vec3_is_finite(&mu, 3) || !gf_mat3_is_finite(&sigma)) {
+    if (!gf_vec3_is_finite_n(&mu, 3) || !gf_mat3_is_finite(&sigma)) {
         return GF_ERR_NONFINITE;
     }
     ekf->mu = mu;
@@ -512,10 +486,7 @@ static gf_status ekf3_update1_finish(gf_ekf3 *ekf,
     in.y[0] = r->y;
     in.y[1] = in.y[2] = 0;
     in.nis = r->nis;
-    if (meas->gate > 0 && r->nis > meas->gate) {
-        if (info) {
-            *info = in;
-        }
+    if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
     ekf->mu.v[0] = r->m[0];
@@ -535,17 +506,6 @@ static gf_status ekf3_update1_finish(gf_ekf3 *ekf,
 }
 
 // The checks gf_ekf3_update makes before it calls h, in its order.
-static gf_status update_prechecks(const gf_ekf3_meas *meas, const gf_vec3 *z)
-{
-    if (!vec3_is_finite(z, meas->m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    return gf_mat3_check_psd(&meas->Q, meas->m);
-}
-
 // A scalar update the cheap test doubted: every check in the documented
 // order, then the same computation again.
 EKF3_SLOW gf_status ekf3_update1_slow(gf_ekf3 *ekf,
@@ -553,7 +513,7 @@ EKF3_SLOW gf_status ekf3_update1_slow(gf_ekf3 *ekf,
                                       const gf_vec3 *z, gf_innovation *info,
                                       gf_real zh, const gf_real *h)
 {
-    gf_status st = update_prechecks(meas, z);
+    gf_status st = gf_meas3_check(meas, z);
     if (st != GF_OK) {
         return st;
     }
@@ -606,8 +566,8 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     H.m[0][0] = H.m[0][1] = H.m[0][2] = 0;
     gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
     if (st != GF_OK) {
-        gf_status pre = update_prechecks(meas, z);
-        return pre != GF_OK ? pre : callback_status(st);
+        gf_status pre = gf_meas3_check(meas, z);
+        return pre != GF_OK ? pre : gf_callback_status(st);
     }
     ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
     if (!ekf3_update1_ok(meas, &r)) {

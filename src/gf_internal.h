@@ -31,6 +31,21 @@ static inline gf_status gf_callback_status(gf_status st)
                ? GF_ERR_MODEL : st;
 }
 
+// The gate every update applies once it has the innovation: a NIS above a
+// set gate (gate > 0) rejects the measurement, and the caller still gets
+// the innovation. 1 if gated (info written), else 0 (info untouched).
+static inline int gf_gated(const gf_innovation *in, gf_real gate,
+                           gf_innovation *info)
+{
+    if (!(gate > 0 && in->nis > gate)) {
+        return 0;
+    }
+    if (info) {
+        *info = *in;
+    }
+    return 1;
+}
+
 // The checks every update with an EKF3 measurement model starts with, in
 // the order of the status rules: GF_ERR_ARG (NULL model, h, z; m not 1..3),
 // GF_ERR_NONFINITE (z, gate), GF_ERR_ARG (gate < 0), then Q's

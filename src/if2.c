@@ -260,10 +260,7 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
         if (st != GF_OK) {
             return st;
         }
-        if (meas->gate > 0 && in.nis > meas->gate) {
-            if (info) {
-                *info = in;
-            }
+        if (gf_gated(&in, meas->gate, info)) {
             return GF_ERR_GATED;
         }
     }

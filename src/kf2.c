@@ -1,5 +1,7 @@
 #include "gaussfilt/kf2.h"
 
+#include "gf_internal.h"
+
 // gcc's basic-block vectorizer (on at -O2 since gcc 12) packs these scalar
 // formulas into SSE2 pairs with more shuffles than it saves: scripts/bench
 // counts more instructions and time per step with it. Off for this file.
@@ -9,17 +11,12 @@
 
 #ifndef GF_SMALL // GF_SMALL: init, predict and update are in small.c
 
-static int vec2_is_finite(const gf_vec2 *x)
-{
-    return GF_ISFINITE(x->v[0]) && GF_ISFINITE(x->v[1]);
-}
-
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 {
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!vec2_is_finite(mu)) {
+    if (!gf_vec2_is_finite(mu)) {
         return GF_ERR_NONFINITE;
     }
     gf_status st = gf_mat2_check_psd(sigma);
@@ -130,7 +127,7 @@ KF2_SLOW gf_status predict_slow(gf_kf2 *kf, const gf_kf2_model *model,
                               const gf_vec2 *u)
 {
     if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
-        !vec2_is_finite(&model->c) || (u && !vec2_is_finite(u))) {
+        !gf_vec2_is_finite(&model->c) || (u && !gf_vec2_is_finite(u))) {
         return GF_ERR_NONFINITE;
     }
     gf_status st = gf_mat2_check_psd(&model->R);
@@ -218,10 +215,7 @@ static gf_status update1_finish(gf_kf2 *kf, const gf_kf2_meas *meas,
     in.y[0] = r->y;
     in.y[1] = in.y[2] = 0;
     in.nis = r->nis;
-    if (meas->gate > 0 && r->nis > meas->gate) {
-        if (info) {
-            *info = in;
-        }
+    if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
     step_commit(kf, &r->b);
@@ -357,10 +351,7 @@ KF2_OUTLINE gf_status update_general(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (meas->gate > 0 && in.nis > meas->gate) {
-        if (info) {
-            *info = in;
-        }
+    if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
 
@@ -408,7 +399,7 @@ KF2_OUTLINE gf_status update_general(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     gf_mat2_symmetrize(&sig_new);
 
-    if (!vec2_is_finite(&mu_new) || !gf_mat2_is_finite(&sig_new)) {
+    if (!gf_vec2_is_finite(&mu_new) || !gf_mat2_is_finite(&sig_new)) {
         return GF_ERR_NONFINITE;
     }
     kf->mu = mu_new;

@@ -265,10 +265,7 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (meas->gate > 0 && in.nis > meas->gate) {
-        if (info) {
-            *info = in;
-        }
+    if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
 
