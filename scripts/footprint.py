@@ -43,7 +43,7 @@ CALLBACKS = {
     # EKF3's out-of-line paths for models other than the inlined built-ins.
     "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
     "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "ekf3_update1_slow": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ekf3_update1_callback": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # GF_SMALL (src/small.c): the shared correction calls EKF3's model.
     "correct": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).

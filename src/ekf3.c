@@ -85,16 +85,30 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
 // the result is tested by one isfinite() of the sum of the outputs. That
 // test can only err on the safe side, and any doubt runs the full checks
 // in the documented order, so failures keep their statuses.
-// Under -Os the computations are left to the compiler (one copy, called),
-// which keeps the flash cost of the slow paths small.
+//
+// Stack (issue 4: no public function deeper than 256 bytes on an MCU):
+// each way through gf_ekf3_update (the built-in x, a scalar callback, m =
+// 2 or 3) and the predict's callback way is a function of its own, so only
+// one way's locals are ever on the stack, and none of them calls a helper
+// that holds a 3x3 temporary of its own. Under -O2 the two scalar ways are
+// inlined into gf_ekf3_update (W2's step in scripts/bench); under -Os every
+// way is called, and the computations are left to the compiler (one copy,
+// called), which keeps the flash cost of the slow paths small.
 #if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define EKF3_INLINE static inline __attribute__((always_inline))
 #define EKF3_SLOW static __attribute__((noinline, cold))
 #define EKF3_OUTLINE static __attribute__((noinline))
+#define EKF3_WAY static inline __attribute__((always_inline))
+#elif defined(__GNUC__)
+#define EKF3_INLINE static inline
+#define EKF3_SLOW static __attribute__((noinline))
+#define EKF3_OUTLINE static __attribute__((noinline))
+#define EKF3_WAY static __attribute__((noinline))
 #else
 #define EKF3_INLINE static inline
 #define EKF3_SLOW static
 #define EKF3_OUTLINE static
+#define EKF3_WAY static
 #endif
 
 // The angle a wrapped to (-pi, pi], with the common case inline.
@@ -117,19 +131,6 @@ EKF3_INLINE int psd3_quick(const gf_mat3 *R)
     return GF_FABS(r[0][1] - r[1][0]) + GF_FABS(r[0][2] - r[2][0]) +
                    GF_FABS(r[1][2] - r[2][1]) <= 0 &&
            r[0][0] >= b + c && r[1][1] >= b + e && r[2][2] >= c + e;
-}
-
-// Why a prediction whose outputs were not all finite failed, in the order
-// gf_ekf3_predict reports it; GF_OK if only the cheap test doubted.
-EKF3_SLOW gf_status predict_diagnose(const gf_ekf3_motion *motion,
-                                     const gf_vec3 *mu, const gf_mat3 *G)
-{
-    gf_status st = gf_mat3_check_psd(&motion->R, 3);
-    if (st != GF_OK) {
-        return st;
-    }
-    return (gf_vec3_is_finite_n(mu, 3) && gf_mat3_is_finite(G)) ? GF_OK
-                                                          : GF_ERR_NONFINITE;
 }
 
 // The unique entries of a symmetric 3x3.
@@ -211,30 +212,57 @@ EKF3_OUTLINE gf_status ekf3_predict_callback(gf_ekf3 *ekf,
             GF_FABS(g[2][2] - 1) <= 0) { // (NaN fails the test)
         n = shear_sandwich(&ekf->sigma, g[0][2], g[1][2], R);
     } else {
-        gf_mat3 t;
-        gf_mat3_sandwich(&G, &ekf->sigma, &t);
-        n.n00 = t.m[0][0] + R->m[0][0];
-        n.n01 = t.m[0][1] + R->m[0][1];
-        n.n02 = t.m[0][2] + R->m[0][2];
-        n.n11 = t.m[1][1] + R->m[1][1];
-        n.n12 = t.m[1][2] + R->m[1][2];
-        n.n22 = t.m[2][2] + R->m[2][2];
+        gf_mat3_sandwich(&G, &ekf->sigma, &G); // over G: no second 3x3
+        n.n00 = g[0][0] + R->m[0][0];
+        n.n01 = g[0][1] + R->m[0][1];
+        n.n02 = g[0][2] + R->m[0][2];
+        n.n11 = g[1][1] + R->m[1][1];
+        n.n12 = g[1][2] + R->m[1][2];
+        n.n22 = g[2][2] + R->m[2][2];
     }
 
-    // mu_bar and G reach the outputs, so do R's upper entries (its lower
-    // ones passed the exact symmetry test or gf_mat3_check_psd).
+    // mu_bar and G reach the outputs (a NaN or inf in G reaches every
+    // entry of its row of G Sigma G^T, diagonal included), so do R's upper
+    // entries (its lower ones passed the exact symmetry test or
+    // gf_mat3_check_psd). Why outputs that are not all finite failed, in
+    // the documented order: R first, then what g returned; a sum that only
+    // overflowed is fine.
     if (!GF_ISFINITE(mu.v[0] + mu.v[1] + mu.v[2] + sym3_sum(&n))) {
-        st = predict_diagnose(motion, &mu, &G);
+        st = gf_mat3_check_psd(R, 3);
         if (st != GF_OK) {
             return st;
         }
         if (!gf_vec3_is_finite_n(&mu, 3) || !sym3_is_finite(&n)) {
-            return GF_ERR_NONFINITE; // overflow: keep the last good belief
+            return GF_ERR_NONFINITE; // or overflow: keep the last good belief
         }
     }
     ekf->mu = mu;
     sym3_store(&ekf->sigma, &n);
     return GF_OK;
+}
+
+// The built-in motion, inline: the formulas of gf_ekf3_motion_forward_turn,
+// with its Jacobian's shape known, so no call through the pointer, no G to
+// fill and test. Same results to the bit. 1 with the belief written, or 0
+// with nothing written on any doubt (a non-finite sum): the callback way
+// then finds the status.
+EKF3_WAY int ekf3_predict_builtin(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+                                  const gf_real *u)
+{
+    const gf_real d = u[0], phi = u[1], th = ekf->mu.v[2];
+    gf_real s, c;
+    gf_sincos(th, &s, &c);
+    const gf_real m0 = ekf->mu.v[0] + d * c, m1 = ekf->mu.v[1] + d * s;
+    const gf_real m2 = wrap(th + phi);
+    sym3 n = shear_sandwich(&ekf->sigma, -d * s, d * c, &motion->R);
+    if (!GF_ISFINITE(m0 + m1 + m2 + sym3_sum(&n))) {
+        return 0;
+    }
+    ekf->mu.v[0] = m0;
+    ekf->mu.v[1] = m1;
+    ekf->mu.v[2] = m2;
+    sym3_store(&ekf->sigma, &n);
+    return 1;
 }
 
 gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
@@ -243,101 +271,87 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
-    if (motion->g != gf_ekf3_motion_forward_turn || !u ||
-        !psd3_quick(&motion->R)) {
-        return ekf3_predict_callback(ekf, motion, u);
+    if (motion->g == gf_ekf3_motion_forward_turn && psd3_quick(&motion->R) &&
+        u && ekf3_predict_builtin(ekf, motion, u)) {
+        return GF_OK;
     }
-    // The built-in motion, inline: the formulas of
-    // gf_ekf3_motion_forward_turn, with its Jacobian's shape known, so no
-    // call through the pointer, no G to fill and test. Same results to the
-    // bit. Any doubt (a non-finite sum) goes the callback way, which finds
-    // the status.
-    const gf_real d = u[0], phi = u[1], th = ekf->mu.v[2];
-    gf_real s, c;
-    gf_sincos(th, &s, &c);
-    const gf_real m0 = ekf->mu.v[0] + d * c, m1 = ekf->mu.v[1] + d * s;
-    const gf_real m2 = wrap(th + phi);
-    sym3 n = shear_sandwich(&ekf->sigma, -d * s, d * c, &motion->R);
-    if (!GF_ISFINITE(m0 + m1 + m2 + sym3_sum(&n))) {
-        return ekf3_predict_callback(ekf, motion, u);
-    }
-    ekf->mu.v[0] = m0;
-    ekf->mu.v[1] = m1;
-    ekf->mu.v[2] = m2;
-    sym3_store(&ekf->sigma, &n);
-    return GF_OK;
+    return ekf3_predict_callback(ekf, motion, u);
 }
 
-// gf_ekf3_update for any m (used for m = 2 and 3): Cholesky of S.
+// gf_ekf3_update for m = 2 and 3, its input checks (gf_meas3_check) done:
+// Cholesky of S, the factored Joseph form. Few live temporaries, each
+// reused as it frees up: H (then I - K H, then the new Sigma), K (after P =
+// Sigma_bar H^T), L (S, then its Cholesky factor; packed), v (z_hat, then
+// S^-1 y, then the new mu) and the innovation.
 EKF3_OUTLINE gf_status ekf3_update_general(gf_ekf3 *ekf,
                                            const gf_ekf3_meas *meas,
                                            const gf_vec3 *z,
                                            gf_innovation *info)
 {
-    if (!ekf) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = gf_meas3_check(meas, z);
-    if (st != GF_OK) {
-        return st;
-    }
     const unsigned m = meas->m;
+    const gf_mat3 *sig = &ekf->sigma;
+    gf_innovation in;
+    gf_vec3 v = {{0, 0, 0}};
+    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    gf_mat3 K;
+    gf_real L[6];
 
     // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows)
-    gf_vec3 zh = {{0, 0, 0}};
-    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    gf_status st = meas->h(meas->ctx, &ekf->mu, &v, &H);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
     for (unsigned i = m; i < 3; i++) { // rows the model must not use
-        zh.v[i] = 0;
         H.m[i][0] = H.m[i][1] = H.m[i][2] = 0;
     }
-    if (!gf_vec3_is_finite_n(&zh, m) || !gf_mat3_is_finite(&H)) {
+    if (!gf_vec3_is_finite_n(&v, m) || !gf_mat3_is_finite(&H)) {
         return GF_ERR_NONFINITE;
     }
-
-    const gf_mat3 *sig = &ekf->sigma;
-    // PHt = Sigma_bar H^T (3 x m), S = H Sigma_bar H^T + Q (m x m)
-    gf_mat3 PHt = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned i = 0; i < 3; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            PHt.m[i][j] = sig->m[i][0] * H.m[j][0] + sig->m[i][1] * H.m[j][1] +
-                          sig->m[i][2] * H.m[j][2];
-        }
-    }
-    gf_mat3 S = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned i = 0; i < m; i++) {
-        for (unsigned j = i; j < m; j++) {
-            S.m[i][j] = H.m[i][0] * PHt.m[0][j] + H.m[i][1] * PHt.m[1][j] +
-                        H.m[i][2] * PHt.m[2][j] +
-                        GF_R(0.5) * (meas->Q.m[i][j] + meas->Q.m[j][i]);
-            S.m[j][i] = S.m[i][j];
-        }
-    }
-    gf_mat3 L;
-    st = gf_mat3_chol(&S, m, &L);
-    if (st != GF_OK) {
-        return gf_mat3_is_finite(&S) ? st : GF_ERR_NONFINITE;
-    }
-
     // y = z - h(mu_bar), angle residuals wrapped
-    gf_innovation in;
     in.m = m;
     in.y[0] = in.y[1] = in.y[2] = 0;
     for (unsigned i = 0; i < m; i++) {
-        in.y[i] = z->v[i] - zh.v[i];
+        in.y[i] = z->v[i] - v.v[i];
         if (meas->angle_mask & (1u << i)) {
             in.y[i] = gf_angle_wrap(in.y[i]);
         }
     }
+
+    // P = Sigma_bar H^T (3 x m), in K
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = 0; j < m; j++) {
+            K.m[i][j] = sig->m[i][0] * H.m[j][0] + sig->m[i][1] * H.m[j][1] +
+                        sig->m[i][2] * H.m[j][2];
+        }
+    }
+    // S = H P + Q (m x m, Q's two halves averaged), lower triangle in L,
+    // factored there: S = L L^T. A NaN or inf in S (which the
+    // factorisation would reject) is reported as such.
+    for (unsigned i = 0; i < m; i++) {
+        for (unsigned j = i; j < m; j++) {
+            L[GF_TRI(j, i)] = H.m[i][0] * K.m[0][j] + H.m[i][1] * K.m[1][j] +
+                              H.m[i][2] * K.m[2][j] +
+                              GF_R(0.5) * (meas->Q.m[i][j] + meas->Q.m[j][i]);
+            if (!GF_ISFINITE(L[GF_TRI(j, i)])) {
+                return GF_ERR_NONFINITE;
+            }
+        }
+    }
+    st = gf_chol_packed(L, m);
+    if (st != GF_OK) {
+        return st;
+    }
+    // S^-1 y, then K = P S^-1 (row i of K solves S k = row i of P)
+    v.v[0] = in.y[0];
+    v.v[1] = in.y[1];
+    v.v[2] = in.y[2];
+    for (unsigned i = 0; i < 4; i++) {
+        gf_chol_solve_packed(L, m, i == 0 ? v.v : K.m[i - 1]);
+    }
     // NIS = y^T S^-1 y
-    gf_vec3 yv = {{in.y[0], in.y[1], in.y[2]}}, Siy;
-    gf_mat3_chol_solve(&L, m, &yv, &Siy);
     in.nis = 0;
     for (unsigned i = 0; i < m; i++) {
-        in.nis += in.y[i] * Siy.v[i];
+        in.nis += in.y[i] * v.v[i];
     }
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
@@ -346,54 +360,69 @@ EKF3_OUTLINE gf_status ekf3_update_general(gf_ekf3 *ekf,
         return GF_ERR_GATED;
     }
 
-    // K = Sigma_bar H^T S^-1: row i of K solves S k = row i of PHt
-    gf_mat3 K = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned i = 0; i < 3; i++) {
-        gf_vec3 row = {{PHt.m[i][0], PHt.m[i][1], PHt.m[i][2]}}, k;
-        gf_mat3_chol_solve(&L, m, &row, &k);
-        for (unsigned j = 0; j < m; j++) {
-            K.m[i][j] = k.v[j];
-        }
-    }
-
     // mu = mu_bar + K y
-    gf_vec3 mu = ekf->mu;
+    v = ekf->mu;
     for (unsigned i = 0; i < 3; i++) {
         for (unsigned j = 0; j < m; j++) {
-            mu.v[i] += K.m[i][j] * in.y[j];
+            v.v[i] += K.m[i][j] * in.y[j];
         }
     }
-    mu.v[2] = gf_angle_wrap(mu.v[2]);
+    v.v[2] = gf_angle_wrap(v.v[2]);
 
-    // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, then symmetrized
-    gf_mat3 IKH = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    for (unsigned i = 0; i < 3; i++) {
-        for (unsigned k = 0; k < 3; k++) {
-            for (unsigned j = 0; j < m; j++) {
-                IKH.m[i][k] -= K.m[i][j] * H.m[j][k];
-            }
+    // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T. First I - K H over
+    // H, column by column (column c of I - K H needs column c of H alone).
+    for (unsigned c = 0; c < 3; c++) {
+        gf_real a0 = c == 0 ? GF_R(1.0) : GF_R(0.0);
+        gf_real a1 = c == 1 ? GF_R(1.0) : GF_R(0.0);
+        gf_real a2 = c == 2 ? GF_R(1.0) : GF_R(0.0);
+        for (unsigned j = 0; j < m; j++) {
+            a0 -= K.m[0][j] * H.m[j][c];
+            a1 -= K.m[1][j] * H.m[j][c];
+            a2 -= K.m[2][j] * H.m[j][c];
         }
+        H.m[0][c] = a0;
+        H.m[1][c] = a1;
+        H.m[2][c] = a2;
     }
-    gf_mat3 sigma;
-    gf_mat3_sandwich(&IKH, sig, &sigma);
+    // Then row i of T = (I - K H) Sigma_bar, and the upper entries (i, j)
+    // of T (I - K H)^T + K Q K^T, over row i of I - K H (no longer needed
+    // once T's row is formed; rows j > i are read, not written).
+    gf_real(*a)[3] = H.m;
+    gf_real sum = v.v[0] + v.v[1] + v.v[2];
     for (unsigned i = 0; i < 3; i++) {
-        for (unsigned k = i; k < 3; k++) {
+        const gf_real t0 = a[i][0] * sig->m[0][0] + a[i][1] * sig->m[1][0] +
+                           a[i][2] * sig->m[2][0];
+        const gf_real t1 = a[i][0] * sig->m[0][1] + a[i][1] * sig->m[1][1] +
+                           a[i][2] * sig->m[2][1];
+        const gf_real t2 = a[i][0] * sig->m[0][2] + a[i][1] * sig->m[1][2] +
+                           a[i][2] * sig->m[2][2];
+        for (unsigned j = i; j < 3; j++) {
             gf_real kqk = 0;
-            for (unsigned a = 0; a < m; a++) {
-                for (unsigned b = 0; b < m; b++) {
-                    kqk += K.m[i][a] * meas->Q.m[a][b] * K.m[k][b];
+            for (unsigned r = 0; r < m; r++) {
+                for (unsigned c = 0; c < m; c++) {
+                    kqk += K.m[i][r] * meas->Q.m[r][c] * K.m[j][c];
                 }
             }
-            sigma.m[i][k] += kqk;
-            sigma.m[k][i] = sigma.m[i][k];
+            a[i][j] = (t0 * a[j][0] + t1 * a[j][1] + t2 * a[j][2]) + kqk;
+            sum += a[i][j];
         }
     }
-
-    if (!gf_vec3_is_finite_n(&mu, 3) || !gf_mat3_is_finite(&sigma)) {
-        return GF_ERR_NONFINITE;
+    gf_mat3 *n = &H; // the new Sigma, upper triangle
+    // The one test of the fast paths, then the entries if in doubt
+    if (!GF_ISFINITE(sum)) {
+        n->m[1][0] = n->m[0][1];
+        n->m[2][0] = n->m[0][2];
+        n->m[2][1] = n->m[1][2];
+        if (!gf_vec3_is_finite_n(&v, 3) || !gf_mat3_is_finite(n)) {
+            return GF_ERR_NONFINITE;
+        }
     }
-    ekf->mu = mu;
-    ekf->sigma = sigma;
+    ekf->mu = v;
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = i; j < 3; j++) {
+            ekf->sigma.m[i][j] = ekf->sigma.m[j][i] = n->m[i][j];
+        }
+    }
     if (info) {
         *info = in;
     }
@@ -415,10 +444,17 @@ EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
                                               const gf_vec3 *z, gf_real zh,
                                               const gf_real *h)
 {
+    ekf3_update1 r;
+    // y = z - h(mu_bar) (wrapped if an angle) first and the heading's wrap
+    // last, so that no value is held across their calls (a smaller frame
+    // where they are not inline).
+    r.y = z->v[0] - zh;
+    if (meas->angle_mask & 1u) {
+        r.y = wrap(r.y);
+    }
     const gf_mat3 *S = &ekf->sigma;
     const gf_real s00 = S->m[0][0], s01 = S->m[0][1], s02 = S->m[0][2];
     const gf_real s11 = S->m[1][1], s12 = S->m[1][2], s22 = S->m[2][2];
-    ekf3_update1 r;
     gf_real p0, p1, p2;
 
     // p = Sigma_bar H^T, s = H p + Q
@@ -436,17 +472,13 @@ EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
     }
     const gf_real si = GF_R(1.0) / r.s;
     r.si = si;
-    // y = z - h(mu_bar) (wrapped if an angle), NIS = y s^-1 y
-    r.y = z->v[0] - zh;
-    if (meas->angle_mask & 1u) {
-        r.y = wrap(r.y);
-    }
+    // NIS = y s^-1 y
     r.nis = r.y * si * r.y;
     // K = p s^-1, mu = mu_bar + K y
     const gf_real k0 = p0 * si, k1 = p1 * si, k2 = p2 * si;
     r.m[0] = ekf->mu.v[0] + k0 * r.y;
     r.m[1] = ekf->mu.v[1] + k1 * r.y;
-    r.m[2] = wrap(ekf->mu.v[2] + k2 * r.y);
+    r.m[2] = ekf->mu.v[2] + k2 * r.y;
     // Joseph form multiplied out for a scalar measurement, as in kf2.c:
     // Sigma = Sigma_bar - K p^T - p K^T + s K K^T
     //       = Sigma_bar - p K^T + K w^T,  w = s K - p;
@@ -459,6 +491,7 @@ EKF3_INLINE ekf3_update1 ekf3_update1_compute(const gf_ekf3 *ekf,
     r.n11 = s11 - p1 * k1 + k1 * w1;
     r.n12 = s12 - p1 * k2 + k1 * w2;
     r.n22 = s22 - p2 * k2 + k2 * w2;
+    r.m[2] = wrap(r.m[2]);
     return r;
 }
 
@@ -505,13 +538,14 @@ static gf_status ekf3_update1_finish(gf_ekf3 *ekf,
     return GF_OK;
 }
 
-// The checks gf_ekf3_update makes before it calls h, in its order.
-// A scalar update the cheap test doubted: every check in the documented
-// order, then the same computation again.
+// A scalar update the cheap test doubted, r computed from z_hat and the
+// row h: every check of gf_ekf3_update in the documented order (those
+// before h is called first), then the rest.
 EKF3_SLOW gf_status ekf3_update1_slow(gf_ekf3 *ekf,
                                       const gf_ekf3_meas *meas,
                                       const gf_vec3 *z, gf_innovation *info,
-                                      gf_real zh, const gf_real *h)
+                                      gf_real zh, const gf_real *h,
+                                      const ekf3_update1 *r)
 {
     gf_status st = gf_meas3_check(meas, z);
     if (st != GF_OK) {
@@ -521,42 +555,45 @@ EKF3_SLOW gf_status ekf3_update1_slow(gf_ekf3 *ekf,
           GF_ISFINITE(h[2]))) {
         return GF_ERR_NONFINITE;
     }
-    ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, zh, h);
-    if (!GF_ISFINITE(r.s)) {
+    if (!GF_ISFINITE(r->s)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(r.s > 0)) {
+    if (!(r->s > 0)) {
         return GF_ERR_SINGULAR;
     }
-    if (!GF_ISFINITE(r.nis)) {
+    if (!GF_ISFINITE(r->nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(meas->gate > 0 && r.nis > meas->gate) &&
-        !(GF_ISFINITE(r.m[0]) && GF_ISFINITE(r.m[1]) && GF_ISFINITE(r.m[2]) &&
-          GF_ISFINITE(r.n00) && GF_ISFINITE(r.n01) && GF_ISFINITE(r.n02) &&
-          GF_ISFINITE(r.n11) && GF_ISFINITE(r.n12) && GF_ISFINITE(r.n22))) {
+    if (!(meas->gate > 0 && r->nis > meas->gate) &&
+        !(GF_ISFINITE(r->m[0]) && GF_ISFINITE(r->m[1]) &&
+          GF_ISFINITE(r->m[2]) && GF_ISFINITE(r->n00) &&
+          GF_ISFINITE(r->n01) && GF_ISFINITE(r->n02) &&
+          GF_ISFINITE(r->n11) && GF_ISFINITE(r->n12) &&
+          GF_ISFINITE(r->n22))) {
+        return GF_ERR_NONFINITE;
+    }
+    return ekf3_update1_finish(ekf, meas, r, info);
+}
+
+// A scalar update with the built-in measurement of x, inline: z_hat = x,
+// H = (1 0 0). GF_OK or GF_ERR_GATED when done; GF_ERR_NONFINITE, with
+// nothing written, on any doubt (the callback way then finds the status).
+EKF3_WAY gf_status ekf3_update1_x(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                  const gf_vec3 *z, gf_innovation *info)
+{
+    const ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, ekf->mu.v[0], 0);
+    if (!ekf3_update1_ok(meas, &r)) {
         return GF_ERR_NONFINITE;
     }
     return ekf3_update1_finish(ekf, meas, &r, info);
 }
 
-gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                         const gf_vec3 *z, gf_innovation *info)
+// A scalar update with the model called through its pointer.
+EKF3_WAY gf_status ekf3_update1_callback(gf_ekf3 *ekf,
+                                         const gf_ekf3_meas *meas,
+                                         const gf_vec3 *z,
+                                         gf_innovation *info)
 {
-    if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
-        return GF_ERR_ARG;
-    }
-    if (meas->m != 1) {
-        return ekf3_update_general(ekf, meas, z, info);
-    }
-    if (meas->h == gf_ekf3_meas_x) {
-        // The built-in measurement of x, inline: z_hat = x, H = (1 0 0).
-        // Any doubt goes the callback way below, which finds the status.
-        ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, ekf->mu.v[0], 0);
-        if (ekf3_update1_ok(meas, &r)) {
-            return ekf3_update1_finish(ekf, meas, &r, info);
-        }
-    }
     // z_hat = h(mu_bar), H = dh/dx at mu_bar; only row 0 is read for m = 1
     // (the model may write the others; they are ignored, as in the general
     // path).
@@ -569,11 +606,31 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         gf_status pre = gf_meas3_check(meas, z);
         return pre != GF_OK ? pre : gf_callback_status(st);
     }
-    ekf3_update1 r = ekf3_update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
+    const ekf3_update1 r =
+        ekf3_update1_compute(ekf, meas, z, zh.v[0], H.m[0]);
     if (!ekf3_update1_ok(meas, &r)) {
-        return ekf3_update1_slow(ekf, meas, z, info, zh.v[0], H.m[0]);
+        return ekf3_update1_slow(ekf, meas, z, info, zh.v[0], H.m[0], &r);
     }
     return ekf3_update1_finish(ekf, meas, &r, info);
+}
+
+gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                         const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
+        return GF_ERR_ARG;
+    }
+    if (meas->m != 1) {
+        const gf_status st = gf_meas3_check(meas, z);
+        return st != GF_OK ? st : ekf3_update_general(ekf, meas, z, info);
+    }
+    if (meas->h == gf_ekf3_meas_x) {
+        const gf_status st = ekf3_update1_x(ekf, meas, z, info);
+        if (st != GF_ERR_NONFINITE) {
+            return st;
+        }
+    }
+    return ekf3_update1_callback(ekf, meas, z, info);
 }
 
 #endif // GF_SMALL

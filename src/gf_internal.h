@@ -65,4 +65,78 @@ static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
     return gf_mat3_check_psd(&meas->Q, meas->m);
 }
 
+// Entry (i, j), j <= i, of a lower triangle packed by rows:
+// (0,0) (1,0) (1,1) (2,0) (2,1) (2,2).
+#define GF_TRI(i, j) ((i) * ((i) + 1u) / 2u + (j))
+
+// Cholesky factorisation in place: l holds the lower triangle (packed,
+// GF_TRI) of the leading n x n block (n = 1..3) of a symmetric
+// positive-definite matrix and receives its factor L (= L L^T) there. A
+// pivot below GF_PD_RTOL times its diagonal entry, NaN or inf gives
+// GF_ERR_SINGULAR, with l partly overwritten. gf_mat3_chol's arithmetic,
+// for callers that cannot spare a 3x3 copy.
+static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
+{
+    for (unsigned j = 0; j < n; j++) {
+        const gf_real sjj = l[GF_TRI(j, j)];
+        gf_real d = sjj;
+        for (unsigned k = 0; k < j; k++) {
+            d -= l[GF_TRI(j, k)] * l[GF_TRI(j, k)];
+        }
+        // Written so that NaN fails too.
+        if (!(d > GF_PD_RTOL * sjj) || !GF_ISFINITE(d)) {
+            return GF_ERR_SINGULAR;
+        }
+        const gf_real ljj = GF_SQRT(d);
+        l[GF_TRI(j, j)] = ljj;
+        for (unsigned i = j + 1; i < n; i++) {
+            gf_real v = l[GF_TRI(i, j)];
+            for (unsigned k = 0; k < j; k++) {
+                v -= l[GF_TRI(i, k)] * l[GF_TRI(j, k)];
+            }
+            l[GF_TRI(i, j)] = v / ljj;
+        }
+    }
+    return GF_OK;
+}
+
+// Solves L L^T x = b in place on the leading n entries of x (b in, x
+// out), L from gf_chol_packed.
+static inline void gf_chol_solve_packed(const gf_real l[6], unsigned n,
+                                        gf_real x[3])
+{
+    for (unsigned i = 0; i < n; i++) { // L y = b
+        for (unsigned k = 0; k < i; k++) {
+            x[i] -= l[GF_TRI(i, k)] * x[k];
+        }
+        x[i] /= l[GF_TRI(i, i)];
+    }
+    for (unsigned i = n; i-- > 0;) { // L^T x = y
+        for (unsigned k = i + 1; k < n; k++) {
+            x[i] -= l[GF_TRI(k, i)] * x[k];
+        }
+        x[i] /= l[GF_TRI(i, i)];
+    }
+}
+
+// The upper triangle (j >= i) of a s a^T into o, its lower triangle left
+// as it was: gf_mat3_sandwich's arithmetic (row i of t = a s, then row i of
+// t a^T), with no 3x3 temporary. o may be a itself (row i of a is last read
+// before row i of o is written), not s.
+static inline void gf_sandwich_upper(const gf_mat3 *a, const gf_mat3 *s,
+                                     gf_mat3 *o)
+{
+    for (unsigned i = 0; i < 3; i++) {
+        gf_real t[3];
+        for (unsigned k = 0; k < 3; k++) {
+            t[k] = a->m[i][0] * s->m[0][k] + a->m[i][1] * s->m[1][k] +
+                   a->m[i][2] * s->m[2][k];
+        }
+        for (unsigned j = i; j < 3; j++) {
+            o->m[i][j] = t[0] * a->m[j][0] + t[1] * a->m[j][1] +
+                         t[2] * a->m[j][2];
+        }
+    }
+}
+
 #endif

@@ -1,5 +1,7 @@
 #include "gaussfilt/mat.h"
 
+#include "gf_internal.h"
+
 // ---- 2x2 -----------------------------------------------------------------
 
 void gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out)
@@ -177,15 +179,13 @@ void gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out)
 
 void gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out)
 {
-    gf_mat3 t, r;
-    gf_mat3_mul(a, s, &t);
-    for (int i = 0; i < 3; i++) {
-        for (int j = i; j < 3; j++) {
-            r.m[i][j] = t.m[i][0] * a->m[j][0] + t.m[i][1] * a->m[j][1] +
-                        t.m[i][2] * a->m[j][2];
-            r.m[j][i] = r.m[i][j];
-        }
-    }
+    // The upper triangle row by row (no 3x3 temporary for a s, no call),
+    // then mirrored.
+    gf_mat3 r;
+    gf_sandwich_upper(a, s, &r);
+    r.m[1][0] = r.m[0][1];
+    r.m[2][0] = r.m[0][2];
+    r.m[2][1] = r.m[1][2];
     *out = r;
 }
 
@@ -258,27 +258,21 @@ gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)
     if (n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    gf_mat3 r = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned j = 0; j < n; j++) {
-        gf_real d = s->m[j][j];
-        for (unsigned k = 0; k < j; k++) {
-            d -= r.m[j][k] * r.m[j][k];
-        }
-        // Written so that NaN fails too.
-        if (!(d > GF_PD_RTOL * s->m[j][j]) || !GF_ISFINITE(d)) {
-            return GF_ERR_SINGULAR;
-        }
-        gf_real ljj = GF_SQRT(d);
-        r.m[j][j] = ljj;
-        for (unsigned i = j + 1; i < n; i++) {
-            gf_real v = s->m[i][j];
-            for (unsigned k = 0; k < j; k++) {
-                v -= r.m[i][k] * r.m[j][k];
-            }
-            r.m[i][j] = v / ljj;
+    gf_real p[6];
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j <= i; j++) {
+            p[GF_TRI(i, j)] = s->m[i][j];
         }
     }
-    *l = r;
+    gf_status st = gf_chol_packed(p, n);
+    if (st != GF_OK) {
+        return st;
+    }
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = 0; j < 3; j++) {
+            l->m[i][j] = (i < n && j <= i) ? p[GF_TRI(i, j)] : GF_R(0.0);
+        }
+    }
     return GF_OK;
 }
 
