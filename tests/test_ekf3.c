@@ -440,6 +440,251 @@ static void bad_input(void **state)
     assert_int_equal(info.m, 0);
 }
 
+// ---- m = 2 and 3 (the general update) against a double reference ----------
+
+// A linear measurement with a random H: z_hat = H mu_bar (first m rows).
+static gf_status meas_linear(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                             gf_mat3 *H)
+{
+    const gf_mat3 *h = ctx;
+    for (int i = 0; i < 3; i++) {
+        z_hat->v[i] = h->m[i][0] * mu_bar->v[0] + h->m[i][1] * mu_bar->v[1] +
+                      h->m[i][2] * mu_bar->v[2];
+        for (int j = 0; j < 3; j++) {
+            H->m[i][j] = h->m[i][j];
+        }
+    }
+    return GF_OK;
+}
+
+static unsigned long long lin_rng = 0x9E3779B97F4A7C15ull;
+
+static double lin_rand(double lo, double hi)
+{
+    lin_rng ^= lin_rng >> 12;
+    lin_rng ^= lin_rng << 25;
+    lin_rng ^= lin_rng >> 27;
+    double u = (double)((lin_rng * 2685821657736338717ull) >> 11) /
+               9007199254740992.0;
+    return lo + (hi - lo) * u;
+}
+
+// A random symmetric positive-definite n x n block (A A^T + d I).
+static void random_spd(int n, double d, double out[3][3])
+{
+    double a[3][3];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            a[i][j] = lin_rand(-1, 1);
+            out[i][j] = 0;
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            for (int k = 0; k < n; k++) {
+                out[i][j] += a[i][k] * a[j][k];
+            }
+        }
+        out[i][i] += d;
+    }
+}
+
+// Random beliefs, correlated noise and general H for m = 2 and 3: the
+// update against K = P H^T S^-1 (S inverted in double by cofactors) and the
+// factored Joseph form (I - K H) P (I - K H)^T + K Q K^T, written out here.
+static void general_random(void **state)
+{
+    (void)state;
+#ifdef GF_SINGLE_PRECISION
+    const double tol = 2e-4;
+#else
+    const double tol = 1e-10;
+#endif
+    for (int trial = 0; trial < 200; trial++) {
+        const int m = 2 + trial % 2;
+        double P[3][3], Q[3][3], Hd[3][3] = {{0}}, mu[3], z[3];
+        random_spd(3, 0.05, P);
+        random_spd(m, 0.1, Q);
+        gf_mat3 hm = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+        for (int i = 0; i < m; i++) {
+            for (int j = 0; j < 3; j++) {
+                hm.m[i][j] = (gf_real)lin_rand(-1.5, 1.5);
+                Hd[i][j] = (double)hm.m[i][j];
+            }
+        }
+        gf_ekf3 ekf;
+        gf_vec3 mu0;
+        gf_mat3 s0;
+        gf_ekf3_meas meas = {
+            .m = (unsigned)m, .h = meas_linear, .ctx = &hm,
+            .Q = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}, .angle_mask = 0,
+            .gate = 0,
+        };
+        gf_vec3 zv = {{0, 0, 0}};
+        for (int i = 0; i < 3; i++) {
+            mu0.v[i] = (gf_real)lin_rand(-0.5, 0.5);
+            for (int j = 0; j < 3; j++) {
+                s0.m[i][j] = (gf_real)P[i][j];
+                meas.Q.m[i][j] = (gf_real)Q[i][j];
+            }
+        }
+        assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
+        for (int i = 0; i < 3; i++) { // the reference starts from the same
+            mu[i] = (double)ekf.mu.v[i]; // (symmetrized) gf_real values
+            for (int j = 0; j < 3; j++) {
+                P[i][j] = (double)ekf.sigma.m[i][j];
+                Q[i][j] = i < m && j < m ? (double)meas.Q.m[i][j] : 0;
+            }
+        }
+        for (int i = 0; i < m; i++) {
+            zv.v[i] = (gf_real)lin_rand(-1, 1);
+            z[i] = (double)zv.v[i];
+        }
+        gf_innovation info;
+        assert_int_equal(gf_ekf3_update(&ekf, &meas, &zv, &info), GF_OK);
+
+        // Reference: S, S^-1 (identity padded to 3x3 for m = 2), K, y.
+        double PHt[3][3] = {{0}}, S[3][3], Si[3][3], K[3][3] = {{0}};
+        double y[3] = {0, 0, 0}, nis = 0;
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < m; j++) {
+                for (int k = 0; k < 3; k++) {
+                    PHt[i][j] += P[i][k] * Hd[j][k];
+                }
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) {
+                S[i][j] = i == j ? 1 : 0;
+                if (i < m && j < m) {
+                    S[i][j] = Q[i][j];
+                    for (int k = 0; k < 3; k++) {
+                        S[i][j] += Hd[i][k] * PHt[k][j];
+                    }
+                }
+            }
+        }
+        inv3(S, Si);
+        for (int i = 0; i < m; i++) {
+            y[i] = z[i] - (Hd[i][0] * mu[0] + Hd[i][1] * mu[1] +
+                           Hd[i][2] * mu[2]);
+        }
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < m; j++) {
+                for (int k = 0; k < m; k++) {
+                    K[i][j] += PHt[i][k] * Si[k][j];
+                }
+            }
+        }
+        for (int i = 0; i < m; i++) {
+            for (int j = 0; j < m; j++) {
+                nis += y[i] * Si[i][j] * y[j];
+            }
+        }
+        double A[3][3], T[3][3] = {{0}}, post[3][3];
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) {
+                A[i][j] = i == j ? 1 : 0;
+                for (int k = 0; k < m; k++) {
+                    A[i][j] -= K[i][k] * Hd[k][j];
+                }
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) {
+                for (int k = 0; k < 3; k++) {
+                    T[i][j] += A[i][k] * P[k][j];
+                }
+            }
+        }
+        double scale = 1;
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) {
+                post[i][j] = 0;
+                for (int k = 0; k < 3; k++) {
+                    post[i][j] += T[i][k] * A[j][k];
+                }
+                for (int a = 0; a < m; a++) {
+                    for (int b = 0; b < m; b++) {
+                        post[i][j] += K[i][a] * Q[a][b] * K[j][b];
+                    }
+                }
+                scale = fabs(P[i][j]) > scale ? fabs(P[i][j]) : scale;
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            double want = mu[i];
+            for (int k = 0; k < m; k++) {
+                want += K[i][k] * y[k];
+            }
+            assert_true(fabs((double)ekf.mu.v[i] - want) <= tol * scale);
+            for (int j = 0; j < 3; j++) {
+                assert_true(fabs((double)ekf.sigma.m[i][j] - post[i][j]) <=
+                            tol * scale);
+                // exactly symmetric
+                assert_true(ekf.sigma.m[i][j] == ekf.sigma.m[j][i]); // NOLINT
+            }
+        }
+        assert_int_equal(info.m, (unsigned)m);
+        assert_true(fabs((double)info.nis - nis) <= tol * (nis > 1 ? nis : 1));
+        for (int i = 0; i < m; i++) {
+            assert_true(fabs((double)info.y[i] - y[i]) <= tol * scale);
+        }
+    }
+}
+
+// A failing m = 2 or 3 update leaves the belief (and info) as they were.
+static void general_fails_unchanged(void **state)
+{
+    (void)state;
+    gf_ekf3 ekf;
+    const gf_vec3 mu0 = {{1, 2, 0.5}};
+    const gf_mat3 s0 = {{{4, 2, 0}, {2, 5, 1}, {0, 1, 3}}};
+    assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
+    gf_ekf3_meas xy = {
+        .m = 2, .h = gf_ekf3_meas_xy, .ctx = NULL,
+        .Q = {{{1, 0.5, 0}, {0.5, 2, 0}, {0, 0, 0}}},
+        .angle_mask = 0, .gate = 0,
+    };
+    const gf_vec3 z = {{2, 1, 0}};
+    gf_innovation info = {0, {0, 0, 0}, 0};
+
+    // Gated: the innovation is written, the belief is not.
+    gf_ekf3_meas q = xy;
+    q.gate = GF_R(0.01);
+    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    assert_int_equal(info.m, 2);
+    CHECK_CLOSE(info.y[0], 1);
+    CHECK_CLOSE(info.y[1], -1);
+    // Q not PSD, z not finite, a model that returns NaN in H.
+    gf_innovation keep = info;
+    q = xy;
+    q.Q.m[1][1] = GF_R(-2.0);
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    const gf_vec3 z_nan = {{2, (gf_real)NAN, 0}};
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &xy, &z_nan, &info));
+    gf_mat3 hn = {{{1, 0, 0}, {0, (gf_real)NAN, 0}, {0, 0, 0}}};
+    q = xy;
+    q.h = meas_linear;
+    q.ctx = &hn;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    // S singular: a state known exactly, a noiseless sensor; and S with an
+    // infinite entry (a huge H row squared).
+    gf_ekf3 known;
+    const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    assert_int_equal(gf_ekf3_init(&known, &mu0, &zero), GF_OK);
+    q = xy;
+    q.Q = zero;
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known, gf_ekf3_update(&known, &q, &z, &info));
+    const gf_real big = (gf_real)(sizeof(gf_real) == 4 ? 1e30 : 1e200);
+    gf_mat3 hb = {{{big, 0, 0}, {0, 1, 0}, {0, 0, 0}}};
+    q = xy;
+    q.h = meas_linear;
+    q.ctx = &hb;
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    assert_memory_equal(&keep, &info, sizeof info);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -451,6 +696,8 @@ int main(void)
         cmocka_unit_test(full_state_measurement),
         cmocka_unit_test(gate),
         cmocka_unit_test(bad_input),
+        cmocka_unit_test(general_random),
+        cmocka_unit_test(general_fails_unchanged),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
