@@ -9,7 +9,7 @@
 #pragma GCC optimize("no-tree-slp-vectorize")
 #endif
 
-#ifndef GF_SMALL // GF_SMALL: init, predict and update are in small.c
+#if !GF_SMALL // GF_SMALL: init, predict and update are in small.c
 
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 {
