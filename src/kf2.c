@@ -226,12 +226,13 @@ KF2_INLINE kf2_update1 update1_compute(const gf_kf2 *kf,
     // That holds for any gain K, so a rounding error dK in K adds only
     // s dK dK^T (positive semidefinite, second order): the property the
     // Joseph form is used for. With w = s K - p (zero but for rounding):
-    // Sigma = Sigma_bar - p K^T + K w^T; the upper triangle, mirrored on
-    // commit (so exactly symmetric).
+    // Sigma = Sigma_bar - p K^T + K w^T, whose diagonal is Sigma_bar_ii +
+    // k_i (w_i - p_i); the upper triangle, mirrored on commit (so exactly
+    // symmetric).
     const gf_real w0 = s * k0 - p0, w1 = s * k1 - p1;
-    r.b.s00 = s00 - p0 * k0 + k0 * w0;
+    r.b.s00 = s00 + k0 * (w0 - p0);
     r.b.s01 = s01 - p0 * k1 + k0 * w1;
-    r.b.s11 = s11 - p1 * k1 + k1 * w1;
+    r.b.s11 = s11 + k1 * (w1 - p1);
     return r;
 }
 
