@@ -1,3 +1,5 @@
+#include <stddef.h>
+
 #include "gaussfilt/kf2.h"
 
 #include "gf_internal.h"
@@ -8,6 +10,72 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("no-tree-slp-vectorize")
 #endif
+
+// The checks of a motion model (and of u, if not NULL), in the order of
+// gf_kf2_predict's statuses.
+static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u)
+{
+    if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
+        !gf_vec2_is_finite(&model->c) || (u && !gf_vec2_is_finite(u))) {
+        return GF_ERR_NONFINITE;
+    }
+    return gf_mat2_check_psd(&model->R);
+}
+
+// The checks of a measurement model with m = 1 or 2 (and of z, if not
+// NULL), in the order of gf_kf2_update's statuses.
+static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z)
+{
+    const unsigned m = meas->m;
+    for (unsigned i = 0; i < m; i++) {
+        if (!GF_ISFINITE(meas->C.m[i][0]) || !GF_ISFINITE(meas->C.m[i][1]) ||
+            !GF_ISFINITE(meas->c.v[i]) || (z && !GF_ISFINITE(z->v[i]))) {
+            return GF_ERR_NONFINITE;
+        }
+    }
+    if (!GF_ISFINITE(meas->gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    if (m != 1) {
+        return gf_mat2_check_psd(&meas->Q);
+    }
+    if (!GF_ISFINITE(meas->Q.m[0][0])) {
+        return GF_ERR_NONFINITE;
+    }
+    return meas->Q.m[0][0] < 0 ? GF_ERR_NOT_PSD : GF_OK;
+}
+
+gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
+{
+    if (!pm || !model) {
+        return GF_ERR_ARG;
+    }
+    gf_status st = model_check(model, NULL);
+    if (st != GF_OK) {
+        return st;
+    }
+    pm->model = *model;
+    return GF_OK;
+}
+
+gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
+{
+    if (!pq || !meas || meas->m < 1 || meas->m > 2) {
+        return GF_ERR_ARG;
+    }
+    gf_status st = meas_check(meas, NULL);
+    if (st != GF_OK) {
+        return st;
+    }
+    pq->meas = *meas;
+    // A gate of zero lets every NIS in: an infinite bound (the NIS itself
+    // is tested finite with the result).
+    pq->nis_max = meas->gate > 0 ? meas->gate : (gf_real)INFINITY;
+    return GF_OK;
+}
 
 #ifndef GF_SMALL // GF_SMALL: init, predict and update are in small.c
 
@@ -55,8 +123,9 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 #define KF2_INLINE static inline
 #define KF2_SLOW static
 #endif
-// update_general (m = 2) is never inlined: its frame (a dozen 2x2 locals)
-// would otherwise be the frame of gf_kf2_update, for m = 1 too.
+// update2 (m = 2) is never inlined: its frame (2x2 locals, a call to
+// gf_mat2_spd_inv) would otherwise be the frame of gf_kf2_update, for m = 1
+// too.
 #if defined(__GNUC__)
 #define KF2_OUTLINE static __attribute__((noinline))
 #else
@@ -155,11 +224,7 @@ KF2_INLINE int predict_model_ok(const gf_mat2 *R, gf_real fin)
 KF2_SLOW gf_status predict_slow(gf_kf2 *kf, const gf_kf2_model *model,
                                 const gf_vec2 *u)
 {
-    if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
-        !gf_vec2_is_finite(&model->c) || (u && !gf_vec2_is_finite(u))) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat2_check_psd(&model->R);
+    gf_status st = model_check(model, u);
     if (st != GF_OK) {
         return st;
     }
@@ -270,19 +335,9 @@ KF2_INLINE gf_status update1_commit(gf_kf2 *kf, const kf2_update1 *r,
 KF2_SLOW gf_status update1_slow(gf_kf2 *kf, const gf_kf2_meas *meas,
                                 const gf_vec2 *z, gf_innovation *info)
 {
-    if (!GF_ISFINITE(meas->C.m[0][0]) || !GF_ISFINITE(meas->C.m[0][1]) ||
-        !GF_ISFINITE(meas->c.v[0]) || !GF_ISFINITE(z->v[0]) ||
-        !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    if (!GF_ISFINITE(meas->Q.m[0][0])) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->Q.m[0][0] < 0) {
-        return GF_ERR_NOT_PSD;
+    gf_status st = meas_check(meas, z);
+    if (st != GF_OK) {
+        return st;
     }
     kf2_update1 r = update1_compute(kf, meas, z);
     if (!GF_ISFINITE(r.s)) {
@@ -305,95 +360,54 @@ KF2_SLOW gf_status update1_slow(gf_kf2 *kf, const gf_kf2_meas *meas,
     return update1_commit(kf, &r, info);
 }
 
-// gf_kf2_update for any m (used for m = 2), S inverted in closed form.
-KF2_OUTLINE gf_status update_general(gf_kf2 *kf, const gf_kf2_meas *meas,
-                                const gf_vec2 *z, gf_innovation *info)
+// gf_kf2_update for m = 2: S inverted in closed form, the factored Joseph
+// form. Out of line and with few 2x2 locals, each in the narrowest scope
+// (the compiler may then share their stack slots): its frame plus
+// gf_mat2_spd_inv's is gf_kf2_update's deepest stack on an MCU.
+KF2_OUTLINE gf_status update2(gf_kf2 *kf, const gf_kf2_meas *meas,
+                              const gf_vec2 *z, gf_innovation *info)
 {
-    const unsigned m = meas->m;
-    if (!z || m != 2) {
+    if (!z || meas->m != 2) {
         return GF_ERR_ARG;
     }
-    for (unsigned i = 0; i < m; i++) {
-        if (!GF_ISFINITE(meas->C.m[i][0]) || !GF_ISFINITE(meas->C.m[i][1]) ||
-            !GF_ISFINITE(meas->c.v[i]) || !GF_ISFINITE(z->v[i])) {
-            return GF_ERR_NONFINITE;
-        }
+    gf_status st = meas_check(meas, z);
+    if (st != GF_OK) {
+        return st;
     }
-    if (!GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
+    const gf_mat2 *C = &meas->C, *Q = &meas->Q, *sig = &kf->sigma;
+    const gf_vec2 *mu = &kf->mu;
+
+    // PCt = Sigma_bar C^T; S = C Sigma_bar C^T + Q, and its inverse
+    gf_mat2 PCt, Si;
+    for (unsigned j = 0; j < 2; j++) {
+        PCt.m[0][j] = sig->m[0][0] * C->m[j][0] + sig->m[0][1] * C->m[j][1];
+        PCt.m[1][j] = sig->m[1][0] * C->m[j][0] + sig->m[1][1] * C->m[j][1];
     }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    gf_mat2 Q = {{{0, 0}, {0, 0}}};
-    if (m == 1) {
-        Q.m[0][0] = meas->Q.m[0][0];
-        if (!GF_ISFINITE(Q.m[0][0])) {
-            return GF_ERR_NONFINITE;
+    {
+        gf_mat2 S;
+        for (unsigned i = 0; i < 2; i++) {
+            for (unsigned j = 0; j < 2; j++) {
+                S.m[i][j] = Q->m[i][j] + (C->m[i][0] * PCt.m[0][j] +
+                                          C->m[i][1] * PCt.m[1][j]);
+            }
         }
-        if (Q.m[0][0] < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-    } else {
-        gf_status st = gf_mat2_check_psd(&meas->Q);
+        st = gf_mat2_spd_inv(&S, &Si);
         if (st != GF_OK) {
             return st;
         }
-        Q = meas->Q;
     }
 
-    const gf_vec2 *mu = &kf->mu;
-    const gf_mat2 *sig = &kf->sigma;
-
-    // PCt = Sigma_bar C^T (2 x m); S = C Sigma_bar C^T + Q (m x m). Both
-    // columns of PCt are always computed (from zeros past row m of C), which
-    // also keeps gcc -O3 from a false maybe-uninitialized warning.
-    gf_mat2 C = meas->C;
-    if (m == 1) {
-        C.m[1][0] = 0;
-        C.m[1][1] = 0;
+    // y = z - c - C mu_bar, NIS = y^T S^-1 y
+    gf_innovation in;
+    in.m = 2;
+    in.y[2] = 0;
+    for (unsigned i = 0; i < 2; i++) {
+        in.y[i] = z->v[i] - meas->c.v[i] -
+                  (C->m[i][0] * mu->v[0] + C->m[i][1] * mu->v[1]);
     }
-    gf_mat2 PCt;
-    for (unsigned j = 0; j < 2; j++) {
-        PCt.m[0][j] = sig->m[0][0] * C.m[j][0] + sig->m[0][1] * C.m[j][1];
-        PCt.m[1][j] = sig->m[1][0] * C.m[j][0] + sig->m[1][1] * C.m[j][1];
-    }
-    gf_mat2 S = Q; // zero past m, as C is
+    in.nis = 0;
     for (unsigned i = 0; i < 2; i++) {
         for (unsigned j = 0; j < 2; j++) {
-            S.m[i][j] += C.m[i][0] * PCt.m[0][j] + C.m[i][1] * PCt.m[1][j];
-        }
-    }
-
-    // S^-1, in closed form
-    gf_mat2 Si = {{{0, 0}, {0, 0}}};
-    if (m == 1) {
-        if (!GF_ISFINITE(S.m[0][0])) {
-            return GF_ERR_NONFINITE;
-        }
-        if (!(S.m[0][0] > 0)) {
-            return GF_ERR_SINGULAR;
-        }
-        Si.m[0][0] = GF_R(1.0) / S.m[0][0];
-    } else {
-        gf_status st = gf_mat2_spd_inv(&S, &Si);
-        if (st != GF_OK) {
-            return st;
-        }
-    }
-
-    // y = z - c - C mu_bar
-    gf_innovation in;
-    in.m = m;
-    in.y[2] = 0;
-    for (unsigned i = 0; i < m; i++) {
-        in.y[i] = z->v[i] - meas->c.v[i] -
-                  (meas->C.m[i][0] * mu->v[0] + meas->C.m[i][1] * mu->v[1]);
-    }
-    // NIS = y^T S^-1 y
-    in.nis = 0;
-    for (unsigned i = 0; i < m; i++) {
-        for (unsigned j = 0; j < m; j++) {
             in.nis += in.y[i] * Si.m[i][j] * in.y[j];
         }
     }
@@ -404,55 +418,49 @@ KF2_OUTLINE gf_status update_general(gf_kf2 *kf, const gf_kf2_meas *meas,
         return GF_ERR_GATED;
     }
 
-    // K = Sigma_bar C^T S^-1 (2 x m)
-    gf_mat2 K = {{{0, 0}, {0, 0}}};
+    // K = Sigma_bar C^T S^-1, into PCt's place (row by row: a row of K
+    // needs only the same row of PCt)
+    gf_mat2 *K = &PCt;
     for (unsigned i = 0; i < 2; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            for (unsigned k = 0; k < m; k++) {
-                K.m[i][j] += PCt.m[i][k] * Si.m[k][j];
-            }
-        }
+        const gf_real p0 = PCt.m[i][0], p1 = PCt.m[i][1];
+        K->m[i][0] = p0 * Si.m[0][0] + p1 * Si.m[1][0];
+        K->m[i][1] = p0 * Si.m[0][1] + p1 * Si.m[1][1];
     }
 
     // mu = mu_bar + K y
-    gf_vec2 mu_new = *mu;
-    for (unsigned j = 0; j < m; j++) {
-        mu_new.v[0] += K.m[0][j] * in.y[j];
-        mu_new.v[1] += K.m[1][j] * in.y[j];
-    }
+    kf2_step r;
+    r.m0 = mu->v[0] + K->m[0][0] * in.y[0] + K->m[0][1] * in.y[1];
+    r.m1 = mu->v[1] + K->m[1][0] * in.y[0] + K->m[1][1] * in.y[1];
 
     // Sigma = (I - K C) Sigma_bar (I - K C)^T + K Q K^T, then symmetrized
-    gf_mat2 IKC = {{{1, 0}, {0, 1}}};
+    gf_mat2 sig_new;
+    {
+        gf_mat2 IKC;
+        for (unsigned i = 0; i < 2; i++) {
+            for (unsigned k = 0; k < 2; k++) {
+                IKC.m[i][k] = (i == k ? GF_R(1.0) : GF_R(0.0)) -
+                              K->m[i][0] * C->m[0][k] -
+                              K->m[i][1] * C->m[1][k];
+            }
+        }
+        gf_mat2_sandwich(&IKC, sig, &sig_new);
+    }
     for (unsigned i = 0; i < 2; i++) {
+        const gf_real kq0 = K->m[i][0] * Q->m[0][0] + K->m[i][1] * Q->m[1][0];
+        const gf_real kq1 = K->m[i][0] * Q->m[0][1] + K->m[i][1] * Q->m[1][1];
         for (unsigned k = 0; k < 2; k++) {
-            for (unsigned j = 0; j < m; j++) {
-                IKC.m[i][k] -= K.m[i][j] * meas->C.m[j][k];
-            }
+            sig_new.m[i][k] += kq0 * K->m[k][0];
+            sig_new.m[i][k] += kq1 * K->m[k][1];
         }
     }
-    gf_mat2 sig_new, KQ = {{{0, 0}, {0, 0}}};
-    gf_mat2_sandwich(&IKC, sig, &sig_new);
-    for (unsigned i = 0; i < 2; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            for (unsigned k = 0; k < m; k++) {
-                KQ.m[i][j] += K.m[i][k] * Q.m[k][j];
-            }
-        }
-    }
-    for (unsigned i = 0; i < 2; i++) {
-        for (unsigned k = 0; k < 2; k++) {
-            for (unsigned j = 0; j < m; j++) {
-                sig_new.m[i][k] += KQ.m[i][j] * K.m[k][j];
-            }
-        }
-    }
-    gf_mat2_symmetrize(&sig_new);
+    r.s00 = sig_new.m[0][0];
+    r.s01 = GF_R(0.5) * (sig_new.m[0][1] + sig_new.m[1][0]);
+    r.s11 = sig_new.m[1][1];
 
-    if (!gf_vec2_is_finite(&mu_new) || !gf_mat2_is_finite(&sig_new)) {
+    if (!step_is_finite(&r)) {
         return GF_ERR_NONFINITE;
     }
-    kf->mu = mu_new;
-    kf->sigma = sig_new;
+    step_commit(kf, &r);
     if (info) {
         *info = in;
     }
@@ -466,7 +474,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
         return GF_ERR_ARG;
     }
     if (meas->m != 1) {
-        return update_general(kf, meas, z, info); // m = 2, or GF_ERR_ARG
+        return update2(kf, meas, z, info); // m = 2, or GF_ERR_ARG
     }
     if (!z) {
         return GF_ERR_ARG;
@@ -483,6 +491,59 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
         return update1_slow(kf, meas, z, info);
     }
     return update1_commit(kf, &r, info);
+}
+
+// The prepared steps: the model's checks were done by prepare, so the
+// quick test is only the finiteness of the result (u and z reach it), and
+// for an update s > 0 and the gate. On any doubt the same slow paths as
+// above, on the stored model, which find the status gf_kf2_predict/update
+// report.
+gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
+                                  const gf_vec2 *u)
+{
+    if (!kf || !pm) {
+        return GF_ERR_ARG;
+    }
+    kf2_step r = predict_compute(kf, &pm->model, u);
+    if (!GF_ISFINITE(step_sum(&r))) {
+        return predict_slow(kf, &pm->model, u);
+    }
+    step_commit(kf, &r);
+    return GF_OK;
+}
+
+gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
+                                 const gf_vec2 *z, gf_innovation *info)
+{
+    if (!kf || !pq) {
+        return GF_ERR_ARG;
+    }
+    const gf_kf2_meas *meas = &pq->meas;
+    if (meas->m != 1) {
+        return update2(kf, meas, z, info);
+    }
+    if (!z) {
+        return GF_ERR_ARG;
+    }
+    kf2_update1 r = update1_compute(kf, meas, z);
+    if (!(GF_ISFINITE(update1_sum(&r)) && r.si > 0 && r.nis <= pq->nis_max)) {
+        return update1_slow(kf, meas, z, info);
+    }
+    return update1_commit(kf, &r, info);
+}
+
+#else // GF_SMALL: the plain steps of small.c on the stored model
+
+gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
+                                  const gf_vec2 *u)
+{
+    return pm ? gf_kf2_predict(kf, &pm->model, u) : GF_ERR_ARG;
+}
+
+gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
+                                 const gf_vec2 *z, gf_innovation *info)
+{
+    return pq ? gf_kf2_update(kf, &pq->meas, z, info) : GF_ERR_ARG;
 }
 
 #endif // GF_SMALL
