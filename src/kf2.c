@@ -116,11 +116,19 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 // pay for a call, and the slow paths stay out of line, so it needs no frame.
 // Under -Os all this is left to the compiler (one copy of each computation,
 // called), which keeps the flash cost of the slow paths small.
+// KF2_FAST: a fast path shared by two public functions, inlined into each
+// for speed, but one called copy under -Os.
 #if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define KF2_INLINE static inline __attribute__((always_inline))
+#define KF2_FAST static inline __attribute__((always_inline))
 #define KF2_SLOW static __attribute__((noinline, cold))
+#elif defined(__GNUC__)
+#define KF2_INLINE static inline
+#define KF2_FAST static __attribute__((noinline))
+#define KF2_SLOW static
 #else
 #define KF2_INLINE static inline
+#define KF2_FAST static
 #define KF2_SLOW static
 #endif
 // update2 (m = 2) is never inlined: its frame (2x2 locals, a call to
@@ -467,6 +475,39 @@ KF2_OUTLINE gf_status update2(gf_kf2 *kf, const gf_kf2_meas *meas,
     return GF_OK;
 }
 
+// The m = 1 update of gf_kf2_update (nis_max NULL: the model unchecked)
+// and of gf_kf2_update_prepared (nis_max: the prepared gate's bound).
+// Inlined into each at -O2, where the test of nis_max folds away; one copy,
+// called, under -Os, so that gf_kf2_update's own frame stays small on an
+// MCU (its deepest path is update2's).
+KF2_FAST gf_status update1(gf_kf2 *kf, const gf_kf2_meas *meas,
+                           const gf_vec2 *z, gf_innovation *info,
+                           const gf_real *nis_max)
+{
+    if (!z) {
+        return GF_ERR_ARG;
+    }
+    kf2_update1 r = update1_compute(kf, meas, z);
+    int ok;
+    if (nis_max) {
+        // A prepared model: the result finite, s > 0, the gate.
+        ok = GF_ISFINITE(update1_sum(&r)) && r.si > 0 && r.nis <= *nis_max;
+    } else {
+        // Q >= 0 and the sum (with the gate, which reaches no output)
+        // finite, folded into one comparison; s > 0 and finite; the gate
+        // lets the measurement in: the NIS is >= 0 (or NaN), so NIS <= gate
+        // is a gate >= 0 that passes it, and the other way in is a gate of
+        // zero (disabled), tested without ==.
+        const gf_real gate = meas->gate;
+        ok = meas->Q.m[0][0] + (update1_sum(&r) + gate) * 0 >= 0 &&
+             r.si > 0 && ((gate <= 0 && gate >= 0) || r.nis <= gate);
+    }
+    if (!ok) {
+        return update1_slow(kf, meas, z, info);
+    }
+    return update1_commit(kf, &r, info);
+}
+
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
                         const gf_vec2 *z, gf_innovation *info)
 {
@@ -476,21 +517,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (meas->m != 1) {
         return update2(kf, meas, z, info); // m = 2, or GF_ERR_ARG
     }
-    if (!z) {
-        return GF_ERR_ARG;
-    }
-    kf2_update1 r = update1_compute(kf, meas, z);
-    // The quick tests: Q >= 0 and the sum (with the gate, which reaches no
-    // output) finite, folded into one comparison; s > 0 and finite; the
-    // gate lets the measurement in: the NIS is >= 0 (or NaN), so NIS <=
-    // gate is a gate >= 0 that passes it, and the other way in is a gate of
-    // zero (disabled), tested without ==.
-    const gf_real gate = meas->gate;
-    if (!(meas->Q.m[0][0] + (update1_sum(&r) + gate) * 0 >= 0 &&
-          r.si > 0 && ((gate <= 0 && gate >= 0) || r.nis <= gate))) {
-        return update1_slow(kf, meas, z, info);
-    }
-    return update1_commit(kf, &r, info);
+    return update1(kf, meas, z, info, NULL);
 }
 
 // The prepared steps: the model's checks were done by prepare, so the
@@ -518,18 +545,10 @@ gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
     if (!kf || !pq) {
         return GF_ERR_ARG;
     }
-    const gf_kf2_meas *meas = &pq->meas;
-    if (meas->m != 1) {
-        return update2(kf, meas, z, info);
+    if (pq->meas.m != 1) {
+        return update2(kf, &pq->meas, z, info);
     }
-    if (!z) {
-        return GF_ERR_ARG;
-    }
-    kf2_update1 r = update1_compute(kf, meas, z);
-    if (!(GF_ISFINITE(update1_sum(&r)) && r.si > 0 && r.nis <= pq->nis_max)) {
-        return update1_slow(kf, meas, z, info);
-    }
-    return update1_commit(kf, &r, info);
+    return update1(kf, &pq->meas, z, info, &pq->nis_max);
 }
 
 #else // GF_SMALL: the plain steps of small.c on the stored model
