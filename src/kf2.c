@@ -103,7 +103,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 // outputs; inputs that reach no output (B without u, the gate) are added to
 // the same sum. One finiteness test of that sum then stands for all the
 // per-entry tests, and it can only err on the safe side (a sum of finite
-// values that overflows). It is folded into the sign tests: sum * 0 is a
+// values that overflows). It is folded into the sign tests: sum - sum is a
 // zero when the sum is finite and NaN when it is not, and added to a
 // quantity that must be >= 0 it makes that one comparison fail for both
 // reasons. On any doubt the slow path runs the full checks in their
@@ -215,7 +215,7 @@ KF2_INLINE kf2_step predict_compute(const gf_kf2 *kf,
 // determinant non-negative as gf_mat2_check_psd judges them. The last three
 // and fin are one comparison: det + tol r00 r11 >= 0 is exactly the
 // rounded det >= -tol r00 r11 of gf_mat2_check_psd (a rounded sum has the
-// sign of the exact one), fin * 0 makes it NaN for a fin that is not
+// sign of the exact one), fin - fin makes it NaN for a fin that is not
 // finite, and the minimum with the variances (NaN kept) makes it negative
 // for a negative variance.
 KF2_INLINE int predict_model_ok(const gf_mat2 *R, gf_real fin)
@@ -223,7 +223,7 @@ KF2_INLINE int predict_model_ok(const gf_mat2 *R, gf_real fin)
     const gf_real r00 = R->m[0][0], r01 = R->m[0][1], r11 = R->m[1][1];
     const gf_real r10 = R->m[1][0];
     const gf_real rdp = r00 * r11;
-    gf_real v = (rdp - r01 * r01) + GF_PD_RTOL * rdp + fin * 0;
+    gf_real v = (rdp - r01 * r01) + GF_PD_RTOL * rdp + (fin - fin);
     v = min_keep_b(r00, v);
     v = min_keep_b(r11, v);
     return r01 <= r10 && r01 >= r10 && v >= 0;
@@ -499,7 +499,8 @@ KF2_FAST gf_status update1(gf_kf2 *kf, const gf_kf2_meas *meas,
         // is a gate >= 0 that passes it, and the other way in is a gate of
         // zero (disabled), tested without ==.
         const gf_real gate = meas->gate;
-        ok = meas->Q.m[0][0] + (update1_sum(&r) + gate) * 0 >= 0 &&
+        const gf_real fin = update1_sum(&r) + gate;
+        ok = meas->Q.m[0][0] + (fin - fin) >= 0 &&
              r.si > 0 && ((gate <= 0 && gate >= 0) || r.nis <= gate);
     }
     if (!ok) {
