@@ -1,6 +1,7 @@
 // gf_rt.h: real-time placement for the LCM programs (gf_node, gf_lcmbench),
 // the way a latency-critical node is deployed: threads pinned to CPUs,
-// SCHED_FIFO, memory locked, 1 ns timer slack. Header-only, Linux only
+// SCHED_FIFO, memory locked (mlockall, as root or with an unlimited
+// RLIMIT_MEMLOCK, and only with SCHED_FIFO), 1 ns timer slack. Header-only, Linux only
 // (elsewhere every request is reported as not applied). Needs _GNU_SOURCE
 // before the first system header (sched_setaffinity, CPU_SET).
 //
@@ -25,6 +26,8 @@
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 #endif
 
 typedef struct gf_rt {
@@ -76,11 +79,18 @@ static int gf_rt_setup(gf_rt *rt, const char *who)
                             "SCHED_OTHER\n", who, rt->prio, strerror(errno));
             missed++;
         }
-        rt->mlock_ok = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
-        if (!rt->mlock_ok) {
-            fprintf(stderr, "%s: mlockall failed (%s): memory not locked\n",
-                    who, strerror(errno));
-            missed++;
+        // Locked memory only when nothing caps it: under a finite
+        // RLIMIT_MEMLOCK, MCL_FUTURE would make later allocations fail.
+        struct rlimit lim;
+        if (rt->fifo_ok && (geteuid() == 0 ||
+                            (getrlimit(RLIMIT_MEMLOCK, &lim) == 0 &&
+                             lim.rlim_cur == RLIM_INFINITY))) {
+            rt->mlock_ok = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
+            if (!rt->mlock_ok) {
+                fprintf(stderr, "%s: mlockall failed (%s): memory not "
+                                "locked\n", who, strerror(errno));
+                missed++;
+            }
         }
     }
 #else
