@@ -17,8 +17,10 @@
 //   gf_bench time WL PART N R  R timed runs of N iterations; prints the
 //                              median, min and max ns per iteration
 //   gf_bench floor WL PART     prints the hand-counted flop floor
-// WL is w1, w2, or w2c (W2 with the caller's own copies of the two models,
-// which take the core's general path); PART is step, predict, update or ref (the step done by
+// WL is w1, w1p (W1 through the prepared models: gf_kf2_prepare_model and
+// _meas once, then gf_kf2_predict_prepared and _update_prepared), w2, or
+// w2c (W2 with the caller's own copies of the two models, which take the
+// core's general path); PART is step, predict, update or ref (the step done by
 // the no-checks reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
@@ -90,6 +92,8 @@ static const gf_kf2_meas W1_MEAS = {
     1, {{{1, 0}, {0, 0}}}, {{{10, 0}, {0, 0}}}, {{0, 0}}, 0,
 };
 
+static gf_kf2_pmodel w1_pmodel; // W1_MODEL and W1_MEAS, prepared
+static gf_kf2_pmeas w1_pmeas;
 static gf_kf2 w1_init;         // belief at the start of each replay
 static gf_vec2 w1_z[TAB];      // measurement of step i
 static gf_kf2 w1_post[TAB];    // belief before step i's predict
@@ -122,6 +126,10 @@ static void setup_w1(void)
         die("w1 init", 0, GF_ERR_ARG);
     }
     kf = w1_init;
+    if (gf_kf2_prepare_model(&w1_pmodel, &W1_MODEL) != GF_OK ||
+        gf_kf2_prepare_meas(&w1_pmeas, &W1_MEAS) != GF_OK) {
+        die("w1 prepare", 0, GF_ERR_ARG);
+    }
     for (unsigned i = 0; i < TAB; i++) {
         double a = normal01();
         x += v + 0.5 * a;
@@ -269,6 +277,53 @@ NOINLINE static double bench_loop_w1_update(unsigned long n)
     return acc;
 }
 
+// W1 through the prepared models.
+NOINLINE static double bench_loop_w1p_step(unsigned long n)
+{
+    gf_kf2 kf = w1_init;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        if (j == 0) {
+            kf = w1_init;
+        }
+        if (gf_kf2_predict_prepared(&kf, &w1_pmodel, NULL) != GF_OK ||
+            gf_kf2_update_prepared(&kf, &w1_pmeas, &w1_z[j], &info_sink) !=
+                GF_OK) {
+            fail_sink = (double)i;
+            return -1;
+        }
+    }
+    return (double)kf.mu.v[0] + (double)kf.sigma.m[0][0];
+}
+
+NOINLINE static double bench_loop_w1p_predict(unsigned long n)
+{
+    double acc = 0;
+    for (unsigned long i = 0; i < n; i++) {
+        gf_kf2 kf = w1_post[i & (TAB - 1)];
+        if (gf_kf2_predict_prepared(&kf, &w1_pmodel, NULL) != GF_OK) {
+            return -1;
+        }
+        acc += (double)kf.sigma.m[0][0];
+    }
+    return acc;
+}
+
+NOINLINE static double bench_loop_w1p_update(unsigned long n)
+{
+    double acc = 0;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        gf_kf2 kf = w1_prior[j];
+        if (gf_kf2_update_prepared(&kf, &w1_pmeas, &w1_z[j], &info_sink) !=
+            GF_OK) {
+            return -1;
+        }
+        acc += (double)kf.sigma.m[0][0];
+    }
+    return acc;
+}
+
 NOINLINE static double bench_loop_w2_step(unsigned long n)
 {
     gf_ekf3 ekf = w2_init;
@@ -363,7 +418,8 @@ static int usage(void)
     fprintf(stderr,
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
-            "       WL = w1 | w2 | w2c, PART = step | predict | update | ref\n");
+            "       WL = w1 | w1p | w2 | w2c, PART = step | predict | update | "
+            "ref\n");
     return 2;
 }
 
@@ -375,7 +431,8 @@ int main(int argc, char **argv)
     const char *mode = argv[1], *wl = argv[2], *part = argv[3];
     int user = strcmp(wl, "w2c") == 0;
     int w2 = user || strcmp(wl, "w2") == 0;
-    if (!w2 && strcmp(wl, "w1") != 0) {
+    int prepared = strcmp(wl, "w1p") == 0;
+    if (!w2 && !prepared && strcmp(wl, "w1") != 0) {
         return usage();
     }
     int p; // 0 step, 1 predict, 2 update, 3 reference step
@@ -401,12 +458,14 @@ int main(int argc, char **argv)
         return 0;
     }
 
-    static const loop_fn loops[2][4] = {
+    static const loop_fn loops[3][4] = {
         {bench_loop_w1_step, bench_loop_w1_predict, bench_loop_w1_update,
          bench_loop_w1_ref},
         {bench_loop_w2_step, bench_loop_w2_predict, bench_loop_w2_update,
-         bench_loop_w2_ref}};
-    loop_fn loop = loops[w2][p];
+         bench_loop_w2_ref},
+        {bench_loop_w1p_step, bench_loop_w1p_predict, bench_loop_w1p_update,
+         bench_loop_w1_ref}};
+    loop_fn loop = loops[prepared ? 2 : w2][p];
     if (w2) {
         setup_w2(user);
     } else {

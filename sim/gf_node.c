@@ -24,13 +24,30 @@
 //               PF step also publishes a particles_t cloud on
 //               GF_PARTICLES_<track>)
 //   --seed      PF tracks' generator seed, plus the track id (default 1)
+//   --cpu N     pin the node's handling thread (the one that filters and
+//               publishes) to CPU N; with --rx-cpu M, LCM's receive thread
+//               (which reads the socket) goes to CPU M, else also to N.
+//               Latency is lowest with the receive thread on the CPU where
+//               the packets arrive (the sender's over loopback, the NIC
+//               interrupt's otherwise): its wake-up then needs no IPI
+//   --rt P      SCHED_FIFO priority P (1-99) and mlockall for every thread,
+//               as a latency-critical node is deployed; needs root or
+//               CAP_SYS_NICE, else it says so and runs SCHED_OTHER (the
+//               ready line says what took effect)
+//   --timing    time each message in the node, from LCM's receive
+//               timestamp to the return of its belief's publish, and print
+//               p50/p99/max at exit (see scripts/bench-lcm)
+#define _GNU_SOURCE // sched_setaffinity, CPU_SET (gf_rt.h)
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <lcm/lcm.h>
 
+#include "gf_rt.h"
 #include "node_core.h"
 
 static volatile sig_atomic_t g_stop; // set by the signal handler only
@@ -48,18 +65,61 @@ static int publish_lcm(void *ctx, const char *channel, const void *data,
                                                                         : -1;
 }
 
+// --timing: microseconds from LCM's receive timestamp (rbuf->recv_utime,
+// CLOCK_REALTIME) to the end of the handling (belief published), one
+// bucket per microsecond. LCM 1.5 takes that timestamp from the kernel
+// (SO_TIMESTAMP) only on the first use of each of its receive buffers;
+// on recycled ones (it does not clear the field) it is the time its
+// receive thread read the packet, so this is the node's own hand-off,
+// filter and publish, without the wake-up of LCM's receive thread.
+#define TIMING_BUCKETS 10000
+typedef struct node_ctx {
+    gf_node *node;
+    int timing;
+    unsigned long count;
+    int64_t max_us;
+    uint32_t hist[TIMING_BUCKETS + 1]; // last: TIMING_BUCKETS us or more
+} node_ctx;
+
 static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
                        void *user)
 {
-    gf_node_handle((gf_node *)user, channel, rbuf->data, rbuf->data_size,
+    node_ctx *c = user;
+    gf_node_handle(c->node, channel, rbuf->data, rbuf->data_size,
                    rbuf->recv_utime);
+    if (c->timing) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        int64_t us = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000 -
+                     rbuf->recv_utime;
+        if (us < 0)
+            us = 0;
+        c->hist[us < TIMING_BUCKETS ? us : TIMING_BUCKETS]++;
+        if (us > c->max_us)
+            c->max_us = us;
+        c->count++;
+    }
+}
+
+// The microsecond below which a fraction q of the timed messages fall.
+static long timing_quantile(const node_ctx *c, double q)
+{
+    unsigned long want = (unsigned long)((double)c->count * q), seen = 0;
+    long b;
+    for (b = 0; b < TIMING_BUCKETS; b++) {
+        seen += c->hist[b];
+        if (seen > want)
+            return b;
+    }
+    return TIMING_BUCKETS;
 }
 
 static void usage(void)
 {
     fprintf(stderr, "usage: gf_node [--url URL] [--out-url URL] "
                     "[--channels REGEX] [--queue N] [--filter ekf|ukf|pf] "
-                    "[--seed S]\n");
+                    "[--seed S] [--cpu N] [--rx-cpu M] [--rt PRIO] "
+                    "[--timing]\n");
 }
 
 int main(int argc, char **argv)
@@ -68,6 +128,9 @@ int main(int argc, char **argv)
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
     static gf_node node; // ~17 kB: keep it off the stack
     static gf_node_pf_pool pool; // ~270 kB, used with --filter pf only
+    static node_ctx ctx;         // ~40 kB: the --timing histogram
+    gf_rt rt = {-1, -1, 0, 0, 0, 0, 0};
+    char placement[96];
     gf_node_filter filter = GF_NODE_FILTER_EKF;
     const char *filter_name = "ekf";
     unsigned long seed = 1;
@@ -91,12 +154,22 @@ int main(int argc, char **argv)
             filter_name = argv[++i];
         else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc)
             seed = strtoul(argv[++i], NULL, 0);
+        else if (strcmp(argv[i], "--cpu") == 0 && i + 1 < argc)
+            rt.cpu = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--rx-cpu") == 0 && i + 1 < argc)
+            rt.rx_cpu = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--rt") == 0 && i + 1 < argc)
+            rt.prio = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--timing") == 0)
+            ctx.timing = 1;
         else {
             usage();
             return 2;
         }
     }
 
+    // LCM's receive thread, started by lcm_subscribe, inherits CPU and policy.
+    gf_rt_setup(&rt, "gf_node");
     in = lcm_create(url);
     if (in == NULL) {
         fprintf(stderr, "gf_node: cannot open LCM at %s\n",
@@ -121,7 +194,10 @@ int main(int argc, char **argv)
 
     gf_node_init(&node, publish_lcm, out);
     gf_node_set_filter(&node, filter, &pool, (uint32_t)seed);
-    sub = lcm_subscribe(in, channels, on_message, &node);
+    ctx.node = &node;
+    sub = lcm_subscribe(in, channels, on_message, &ctx);
+    gf_rt_pin_main(&rt, "gf_node");
+    gf_rt_describe(&rt, placement, sizeof placement);
     if (sub == NULL || queue < 1 ||
         lcm_subscription_set_queue_capacity(sub, queue) != 0) {
         fprintf(stderr, "gf_node: cannot subscribe to %s (queue %d)\n",
@@ -130,9 +206,9 @@ int main(int argc, char **argv)
         g_stop = 1;
     } else {
         printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
-               "track_bytes=%zu node_bytes=%zu filter=%s",
+               "track_bytes=%zu node_bytes=%zu filter=%s %s",
                channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
-               sizeof(gf_node), filter_name);
+               sizeof(gf_node), filter_name, placement);
         if (filter == GF_NODE_FILTER_PF)
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
@@ -148,6 +224,11 @@ int main(int argc, char **argv)
 
     gf_node_summary(&node, summary, sizeof(summary));
     printf("gf_node: summary %s\n", summary);
+    if (ctx.timing && ctx.count > 0)
+        printf("gf_node: timing messages=%lu in_node_p50_us=%ld "
+               "in_node_p99_us=%ld in_node_max_us=%lld\n",
+               ctx.count, timing_quantile(&ctx, 0.5),
+               timing_quantile(&ctx, 0.99), (long long)ctx.max_us);
     fflush(stdout);
     if (out != in)
         lcm_destroy(out);

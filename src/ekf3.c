@@ -78,7 +78,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     return GF_OK;
 }
 
-#ifndef GF_SMALL // GF_SMALL: predict and update are in small.c
+#if !GF_SMALL // GF_SMALL: predict and update are in small.c
 
 // How the checks stay cheap (as in kf2.c; docs/performance.md): a NaN or
 // inf cannot vanish through + - *, so the finiteness of every input and of

@@ -12,12 +12,12 @@
 // Q, A and G, R) are read as they are, without padded copies. Results go
 // to locals with rows of 3 and reach the belief only once all are finite.
 // Compiled in every build; empty (but for the declarations of ekf3.h)
-// without GF_SMALL.
+// unless GF_SMALL is 1 (config.h).
 #include <stddef.h>
 
 #include "gaussfilt/ekf3.h"
 
-#ifdef GF_SMALL
+#if GF_SMALL
 
 // 1 if the n entries of x are all finite.
 static int all_finite(const gf_real *x, size_t n)

@@ -381,6 +381,238 @@ static void bad_input(void **state)
     assert_int_equal(info.m, 0);
 }
 
+// ---- prepared models (gf_kf2_prepare_model/_meas, *_prepared) ----------
+
+// One predict with the plain and the prepared API from the same belief:
+// the same status, and the same belief bit for bit (changed or not).
+static void same_predict(const gf_kf2 *kf, const gf_kf2_model *model,
+                         const gf_vec2 *u)
+{
+    gf_kf2_pmodel pm;
+    assert_int_equal(gf_kf2_prepare_model(&pm, model), GF_OK);
+    gf_kf2 a = *kf, b = *kf;
+    assert_int_equal(gf_kf2_predict_prepared(&b, &pm, u),
+                     gf_kf2_predict(&a, model, u));
+    assert_memory_equal(&a, &b, sizeof a);
+}
+
+// The same for an update, info included (written or not).
+static gf_status same_update(const gf_kf2 *kf, const gf_kf2_meas *meas,
+                             const gf_vec2 *z)
+{
+    gf_kf2_pmeas pq;
+    assert_int_equal(gf_kf2_prepare_meas(&pq, meas), GF_OK);
+    gf_kf2 a = *kf, b = *kf;
+    gf_innovation ia, ib;
+    memset(&ia, 0xA5, sizeof ia);
+    memset(&ib, 0xA5, sizeof ib);
+    gf_status st = gf_kf2_update(&a, meas, z, &ia);
+    assert_int_equal(gf_kf2_update_prepared(&b, &pq, z, &ib), st);
+    assert_memory_equal(&a, &b, sizeof a);
+    assert_memory_equal(&ia, &ib, sizeof ia);
+    return st;
+}
+
+// The prepared steps equal the plain ones bit for bit: exercises 1 and 2
+// (Table 2.1's run), with u, the constants of exercise 5, a gate, m = 2.
+static void prepared_equals_plain(void **state)
+{
+    (void)state;
+    gf_kf2_model ctl = CAR;
+    ctl.B.m[0][0] = GF_R(0.5);
+    ctl.B.m[1][0] = GF_R(1.0);
+    ctl.c.v[0] = GF_R(0.25);
+    gf_kf2_meas gated = GPS;
+    gated.gate = GF_R(3.84);
+    gated.c.v[0] = GF_R(-0.5);
+    const gf_kf2_meas two = {.m = 2, .C = {{{1, 0}, {0, 1}}},
+                             .Q = {{{10, 1}, {1, 4}}}, .c = {{0, 0}},
+                             .gate = 0};
+    gf_kf2_pmodel pcar, pctl;
+    gf_kf2_pmeas pgps, pgated, ptwo;
+    assert_int_equal(gf_kf2_prepare_model(&pcar, &CAR), GF_OK);
+    assert_int_equal(gf_kf2_prepare_model(&pctl, &ctl), GF_OK);
+    assert_int_equal(gf_kf2_prepare_meas(&pgps, &GPS), GF_OK);
+    assert_int_equal(gf_kf2_prepare_meas(&pgated, &gated), GF_OK);
+    assert_int_equal(gf_kf2_prepare_meas(&ptwo, &two), GF_OK);
+
+    gf_kf2 a, b;
+    assert_int_equal(gf_kf2_init(&a, &ZERO2, &ZERO22), GF_OK);
+    b = a;
+    int gated_seen = 0;
+    for (int t = 1; t <= 60; t++) {
+        const gf_vec2 u = {{(gf_real)(t % 5) - 2, 0}};
+        const gf_vec2 z = {{(gf_real)(3 * t % 17) - GF_R(8.5),
+                            (gf_real)(t % 7) - 3}};
+        gf_innovation ia, ib;
+        const int k = t % 3;
+        const gf_kf2_model *m = k ? &CAR : &ctl;
+        const gf_kf2_pmodel *pm = k ? &pcar : &pctl;
+        assert_int_equal(gf_kf2_predict(&a, m, k ? NULL : &u), GF_OK);
+        assert_int_equal(gf_kf2_predict_prepared(&b, pm, k ? NULL : &u),
+                         GF_OK);
+        assert_memory_equal(&a, &b, sizeof a);
+        const gf_kf2_meas *q = k == 0 ? &GPS : k == 1 ? &gated : &two;
+        const gf_kf2_pmeas *pq = k == 0 ? &pgps : k == 1 ? &pgated : &ptwo;
+        memset(&ia, 0, sizeof ia);
+        memset(&ib, 0, sizeof ib);
+        gf_status st = gf_kf2_update(&a, q, &z, &ia);
+        assert_true(st == GF_OK || st == GF_ERR_GATED);
+        gated_seen += st == GF_ERR_GATED;
+        assert_int_equal(gf_kf2_update_prepared(&b, pq, &z, &ib), st);
+        assert_memory_equal(&a, &b, sizeof a);
+        assert_memory_equal(&ia, &ib, sizeof ia);
+    }
+    assert_true(gated_seen > 0); // the gate was exercised both ways
+    assert_true(gated_seen < 20);
+
+    // Table 1.1 through the prepared predict.
+    assert_int_equal(gf_kf2_init(&b, &ZERO2, &ZERO22), GF_OK);
+    for (int t = 1; t <= 5; t++) {
+        assert_int_equal(gf_kf2_predict_prepared(&b, &pcar, NULL), GF_OK);
+        check_belief(&b, &ZERO2, &TABLE_1_1[t]);
+    }
+}
+
+// Everything gf_kf2_predict/update refuse in a model, prepare refuses with
+// the same status, and leaves the prepared struct untouched.
+static void prepare_bad_input(void **state)
+{
+    (void)state;
+    gf_kf2 kf;
+    car_at_t5(&kf);
+    const gf_vec2 z = {{5, 0}};
+    gf_kf2_pmodel pm;
+    gf_kf2_pmeas pq;
+    memset(&pm, 0x5A, sizeof pm);
+    memset(&pq, 0x5A, sizeof pq);
+    const gf_real huge = (gf_real)(sizeof(gf_real) == 4 ? 1e30 : 1e200);
+
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pm, gf_kf2_prepare_model(NULL, &CAR));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pm, gf_kf2_prepare_model(&pm, NULL));
+    gf_kf2_model bad[6];
+    for (int i = 0; i < 6; i++) {
+        bad[i] = CAR;
+    }
+    bad[0].A.m[1][0] = (gf_real)NAN;
+    bad[1].B.m[0][1] = (gf_real)INFINITY; // reaches no output without u
+    bad[2].c.v[0] = (gf_real)-INFINITY;
+    bad[3].R.m[0][0] = GF_R(-0.25);
+    bad[4].R.m[1][0] = GF_R(0.6); // asymmetric
+    bad[5].R.m[0][1] = bad[5].R.m[1][0] = GF_R(0.75); // indefinite
+    const gf_status want_model[6] = {GF_ERR_NONFINITE, GF_ERR_NONFINITE,
+                                     GF_ERR_NONFINITE, GF_ERR_NOT_PSD,
+                                     GF_ERR_NOT_PSD, GF_ERR_NOT_PSD};
+    for (int i = 0; i < 6; i++) {
+        gf_kf2 k2 = kf;
+        CHECK_FAILS_UNCHANGED(want_model[i], &k2,
+                              gf_kf2_predict(&k2, &bad[i], NULL));
+        CHECK_FAILS_UNCHANGED(want_model[i], &pm,
+                              gf_kf2_prepare_model(&pm, &bad[i]));
+    }
+
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pq, gf_kf2_prepare_meas(NULL, &GPS));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pq, gf_kf2_prepare_meas(&pq, NULL));
+    gf_kf2_meas badq[10];
+    for (int i = 0; i < 10; i++) {
+        badq[i] = GPS;
+    }
+    badq[0].m = 0;
+    badq[1].m = 3;
+    badq[2].C.m[0][1] = (gf_real)NAN;
+    badq[3].c.v[0] = (gf_real)INFINITY;
+    badq[4].gate = (gf_real)NAN;
+    badq[5].gate = GF_R(-1.0);
+    badq[6].Q.m[0][0] = (gf_real)INFINITY;
+    badq[7].Q.m[0][0] = GF_R(-10.0);
+    badq[8].m = 2; // Q indefinite
+    badq[8].C.m[1][1] = 1;
+    badq[8].Q.m[0][1] = badq[8].Q.m[1][0] = 5;
+    badq[8].Q.m[1][1] = 1;
+    badq[9].C.m[0][0] = huge; // finite: prepares; S overflows in the step
+    const gf_status want_meas[9] = {
+        GF_ERR_ARG, GF_ERR_ARG, GF_ERR_NONFINITE, GF_ERR_NONFINITE,
+        GF_ERR_NONFINITE, GF_ERR_ARG, GF_ERR_NONFINITE, GF_ERR_NOT_PSD,
+        GF_ERR_NOT_PSD};
+    for (int i = 0; i < 9; i++) {
+        gf_kf2 k2 = kf;
+        CHECK_FAILS_UNCHANGED(want_meas[i], &k2,
+                              gf_kf2_update(&k2, &badq[i], &z, NULL));
+        CHECK_FAILS_UNCHANGED(want_meas[i], &pq,
+                              gf_kf2_prepare_meas(&pq, &badq[i]));
+    }
+    assert_int_equal(gf_kf2_prepare_meas(&pq, &badq[9]), GF_OK);
+    assert_int_equal(same_update(&kf, &badq[9], &z), GF_ERR_NONFINITE);
+}
+
+// What the prepared steps still check at every step (u, z, overflow, S,
+// the NIS and its gate, NULL): the plain API's status, belief and info
+// untouched (info written when gated), bit for bit the same.
+static void prepared_failures(void **state)
+{
+    (void)state;
+    gf_kf2 kf, known;
+    car_at_t5(&kf);
+    assert_int_equal(gf_kf2_init(&known, &ZERO2, &ZERO22), GF_OK);
+    const gf_real huge = (gf_real)(sizeof(gf_real) == 4 ? 1e30 : 1e200);
+    gf_kf2_pmodel pm;
+    gf_kf2_pmeas pq;
+    assert_int_equal(gf_kf2_prepare_model(&pm, &CAR), GF_OK);
+    assert_int_equal(gf_kf2_prepare_meas(&pq, &GPS), GF_OK);
+    const gf_vec2 z = {{5, 0}};
+
+    // predict: NULL, u not finite, a finite model whose result overflows
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_predict_prepared(NULL, &pm, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_predict_prepared(&kf, NULL, NULL));
+    gf_kf2_model m = CAR;
+    m.B.m[0][0] = 1;
+    const gf_vec2 u_nan = {{0, (gf_real)NAN}}, u_inf = {{(gf_real)INFINITY, 0}};
+    same_predict(&kf, &m, &u_nan);
+    same_predict(&kf, &m, &u_inf);
+    assert_int_equal(gf_kf2_prepare_model(&pm, &m), GF_OK);
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_predict_prepared(&kf, &pm, &u_nan));
+    m = CAR;
+    m.A.m[0][0] = m.A.m[0][1] = huge;
+    same_predict(&kf, &m, NULL);
+    assert_int_equal(gf_kf2_prepare_model(&pm, &m), GF_OK);
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_predict_prepared(&kf, &pm, NULL));
+
+    // update: NULL, z not finite, S = 0, gated, a NIS that overflows
+    gf_innovation info = {0, {0, 0, 0}, 0};
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update_prepared(NULL, &pq, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update_prepared(&kf, NULL, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update_prepared(&kf, &pq, NULL, &info));
+    const gf_vec2 z_inf = {{(gf_real)INFINITY, 0}}, z_nan = {{(gf_real)NAN, 0}};
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_update_prepared(&kf, &pq, &z_inf, &info));
+    assert_int_equal(info.m, 0); // info untouched
+    assert_int_equal(same_update(&kf, &GPS, &z_nan), GF_ERR_NONFINITE);
+    gf_kf2_meas q = GPS;
+    q.Q.m[0][0] = 0; // known state, noiseless sensor: S = 0
+    assert_int_equal(same_update(&known, &q, &z), GF_ERR_SINGULAR);
+    q = GPS;
+    q.gate = GF_R(3.84);
+    const gf_vec2 far = {{50, 0}};
+    assert_int_equal(same_update(&kf, &q, &far), GF_ERR_GATED);
+    assert_int_equal(same_update(&kf, &q, &z), GF_OK);
+    const gf_vec2 z_huge = {{huge, 0}}; // y^2 overflows: NIS = inf
+    assert_int_equal(same_update(&kf, &GPS, &z_huge), GF_ERR_NONFINITE);
+    // m = 2 through the prepared update: S singular, z not finite
+    gf_kf2_meas two = {.m = 2, .C = {{{1, 0}, {1, 0}}}, .Q = {{{0, 0}, {0, 0}}},
+                       .c = {{0, 0}}, .gate = 0};
+    assert_int_equal(same_update(&kf, &two, &z), GF_ERR_SINGULAR);
+    two.Q.m[0][0] = two.Q.m[1][1] = 1;
+    assert_int_equal(same_update(&kf, &two, &z_inf), GF_ERR_NONFINITE);
+    assert_int_equal(same_update(&kf, &two, &z), GF_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -392,6 +624,9 @@ int main(void)
         cmocka_unit_test(two_measurements),
         cmocka_unit_test(gate),
         cmocka_unit_test(bad_input),
+        cmocka_unit_test(prepared_equals_plain),
+        cmocka_unit_test(prepare_bad_input),
+        cmocka_unit_test(prepared_failures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -53,12 +53,25 @@ typedef double gf_real;
 #define GF_SYM_RTOL (GF_R(1024.0) * GF_REAL_EPSILON)
 #endif
 
-// Define GF_SMALL (CMake: -DGAUSSFILT_SMALL=ON) to build KF2's and EKF3's
-// predict and update for size instead of speed: one shared generic
-// correction and prediction (src/small.c), no fast paths, models always
-// called through their pointers. Same API, statuses and results within
-// rounding; less flash and stack on an MCU, more time per step. Define it
-// for the whole build (it is a PUBLIC definition of the CMake target).
+// GF_SMALL selects how KF2's and EKF3's steps are built. 1: for size
+// (src/small.c: one shared generic prediction and correction, no fast
+// paths, models always called through their pointers; less flash and
+// stack on an MCU, more time per step). 0: the fast paths of kf2.c and
+// ekf3.c. Same API, statuses and results within rounding either way.
+// Default: 1 when the compiler optimises for size (gcc and clang define
+// __OPTIMIZE_SIZE__ at -Os and -Oz, the usual firmware setting), else 0.
+// Force either with -DGF_SMALL=1 or -DGF_SMALL=0 (CMake: GAUSSFILT_SMALL
+// AUTO, the default, ON or OFF; ON and OFF are PUBLIC definitions of the
+// gaussfilt target). Code tests it with #if GF_SMALL. A program that
+// includes gaussfilt's headers need not be built like the library: the
+// choice is made where the library is compiled.
+#ifndef GF_SMALL
+#if defined(__OPTIMIZE_SIZE__)
+#define GF_SMALL 1
+#else
+#define GF_SMALL 0
+#endif
+#endif
 
 #define GF_PI GF_R(3.14159265358979323846)
 

@@ -77,6 +77,54 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
                         const gf_vec2 *z, gf_innovation *info);
 
+// ---- Prepared models: checked once, trusted every step ----------------
+//
+// A firmware loop predicts with the same motion model and updates with the
+// same measurement model at every step, so checking them at every step
+// (finite, R and Q PSD, gate >= 0) is repeated work. As CMSIS-DSP's *_init
+// functions do, gf_kf2_prepare_model and gf_kf2_prepare_meas check a model
+// once and keep what the step needs; gf_kf2_predict_prepared and
+// gf_kf2_update_prepared then test only what changes from step to step: u
+// and z, S > 0, the NIS and its gate, and that the new belief is finite.
+// Results equal gf_kf2_predict/update's bit for bit; a failing step leaves
+// the belief (and info) untouched and returns the status gf_kf2_predict/
+// update return for the same inputs. The step trusts the prepared struct:
+// to change a model, prepare it again (a prepared struct written any other
+// way may pass a model the checks would refuse, though never a non-finite
+// belief: the result's finiteness is tested at every step).
+
+// A checked motion model. Fill with gf_kf2_prepare_model only.
+typedef struct gf_kf2_pmodel {
+    gf_kf2_model model; // the model as given, checked
+} gf_kf2_pmodel;
+
+// A checked measurement model. Fill with gf_kf2_prepare_meas only.
+typedef struct gf_kf2_pmeas {
+    gf_kf2_meas meas; // the model as given, checked
+    gf_real nis_max;  // the gate's bound on the NIS: gate, or +inf for none
+} gf_kf2_pmeas;
+
+// Checks model as gf_kf2_predict does (A, B, c finite; R symmetric PSD)
+// and stores it in *pm. GF_ERR_ARG on NULL, GF_ERR_NONFINITE,
+// GF_ERR_NOT_PSD; *pm is untouched on failure.
+gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model);
+
+// Checks meas as gf_kf2_update does (m 1 or 2; C, c, gate finite; gate >=
+// 0; Q symmetric PSD) and stores it in *pq. GF_ERR_ARG on NULL, on m not 1
+// or 2 and on gate < 0, GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *pq is untouched
+// on failure.
+gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas);
+
+// gf_kf2_predict with a prepared model: checks u (may be NULL) and the
+// result. GF_ERR_ARG on NULL, GF_ERR_NONFINITE; belief untouched on failure.
+gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
+                                  const gf_vec2 *u);
+
+// gf_kf2_update with a prepared measurement model: checks z, S, the NIS,
+// the gate and the result. Statuses and info as gf_kf2_update.
+gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
+                                 const gf_vec2 *z, gf_innovation *info);
+
 #ifdef __cplusplus
 }
 #endif

@@ -40,13 +40,16 @@ SRC
         gf_die "cmocka's source is not version 1.x; firmware/cmocka/config.h is for 1.1"
 fi
 
-gf_log "qemu: build the tests for Cortex-M4F (float) and run them on mps2-an386"
-dir=$(gf_fw_build cortex-m4f float -DGF_FW_CMOCKA_DIR="$src" | tail -1)
+# The firmware build is -Os, where GF_SMALL defaults to 1: the tests run
+# once with the fast paths forced (GAUSSFILT_SMALL=OFF) and once as a
+# firmware project gets the library by default (compact steps, src/small.c).
+gf_log "qemu: the tests with the fast paths (GF_SMALL=0) on mps2-an386"
+dir=$(GF_FW_VARIANT=fast gf_fw_build cortex-m4f float -DGAUSSFILT_SMALL=OFF \
+    -DGF_FW_CMOCKA_DIR="$src" | tail -1)
+gf_fw_expect_small cortex-m4f "$dir" 0
 gf_ctest "$dir"
 
-# The same tests with GF_SMALL (src/small.c's compact predict/update), the
-# mode meant for small MCUs.
-gf_log "qemu: the same tests with GF_SMALL on mps2-an386"
-dir=$(GF_FW_VARIANT=small gf_fw_build cortex-m4f float -DGAUSSFILT_SMALL=ON \
-    -DGF_FW_CMOCKA_DIR="$src" | tail -1)
+gf_log "qemu: the same tests as built by default at -Os (GF_SMALL=1) on mps2-an386"
+dir=$(gf_fw_build cortex-m4f float -DGF_FW_CMOCKA_DIR="$src" | tail -1)
+gf_fw_expect_small cortex-m4f "$dir" 1
 gf_ctest "$dir"
