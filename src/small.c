@@ -145,12 +145,14 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
 {
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // then the new Sigma
     gf_vec3 y = {{0, 0, 0}};
-    gf_mat3 L;    // KF2's Q, S, S^-1, I - K H, then the new mu
+    gf_mat3 L = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // KF2's Q, S, S^-1,
+                                                     // I - K H, new mu
     gf_real k[9]; // S's diagonal, then K (n x m, rows of 3)
     gf_real *l = L.m[0];
     gf_real *mu, *sigma; // rows of n
     const gf_real *q;    // rows of n
     size_t n, m;
+    gf_real gate;
     gf_status st;
     if (em) {
         mu = ekf->mu.v;
@@ -158,18 +160,19 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         q = em->Q.m[0];
         n = 3;
         m = em->m;
+        gate = em->gate;
     } else {
         mu = kf->mu.v;
         sigma = kf->sigma.m[0];
         q = km->Q.m[0];
         n = 2;
         m = km->m;
+        gate = km->gate;
     }
-    const gf_real gate = em ? em->gate : km->gate;
     if ((em && !em->h) || m < 1 || m > n) {
         return GF_ERR_ARG;
     }
-    if ((km && (!all_finite(km->C.m[0], 2 * m) ||
+    if ((!em && (!all_finite(km->C.m[0], 2 * m) ||
                 !all_finite(km->c.v, m))) ||
         !all_finite(z, m) || !GF_ISFINITE(gate)) {
         return GF_ERR_NONFINITE;
