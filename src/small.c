@@ -10,7 +10,8 @@
 // The routines work on the belief in place, through row-major pointers
 // whose rows have n entries: KF2's 2x2 and EKF3's 3x3 matrices (C and H,
 // Q, A and G, R) are read as they are, without padded copies. Results go
-// to locals with rows of 3 and reach the belief only once all are finite.
+// to locals (the new Sigma with rows of n) and reach the belief only once
+// all are finite.
 // Compiled in every build; empty (but for the declarations of ekf3.h)
 // unless GF_SMALL is 1 (config.h).
 #include <stddef.h>
@@ -54,25 +55,20 @@ static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
     return acc;
 }
 
-// Writes mu_new (n entries, ms apart) and the upper triangle of s_new
-// (rows of 3), mirrored so that Sigma is exactly symmetric, if all are
-// finite; else GF_ERR_NONFINITE and the belief is untouched.
+// Writes the new belief: mu_new (n entries) and s_new (n x n, rows of n,
+// exactly symmetric), if all are finite; else GF_ERR_NONFINITE and the
+// belief is untouched.
 static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
-                        const gf_real *mu_new, size_t ms,
-                        const gf_real *s_new)
+                        const gf_real *mu_new, const gf_real *s_new)
 {
-    for (size_t i = 0; i < n; i++) {
-        if (!GF_ISFINITE(mu_new[i * ms]) ||
-            !all_finite(&s_new[i * 3 + i], n - i)) {
-            return GF_ERR_NONFINITE;
-        }
+    if (!all_finite(mu_new, n) || !all_finite(s_new, n * n)) {
+        return GF_ERR_NONFINITE;
     }
     for (size_t i = 0; i < n; i++) {
-        mu[i] = mu_new[i * ms];
-        for (size_t j = i; j < n; j++) {
-            sigma[i * n + j] = s_new[i * 3 + j];
-            sigma[j * n + i] = s_new[i * 3 + j];
-        }
+        mu[i] = mu_new[i];
+    }
+    for (size_t i = 0; i < n * n; i++) {
+        sigma[i] = s_new[i];
     }
     return GF_OK;
 }
@@ -84,22 +80,26 @@ static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
                          const gf_real *mu_bar, const gf_real *g,
                          const gf_real *r)
 {
-    gf_real s[9];
+    gf_real s[9]; // rows of n
     for (size_t i = 0; i < n; i++) {
         for (size_t j = i; j < n; j++) {
-            s[i * 3 + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
-                            r[i * n + j];
+            s[i * n + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
+                           r[i * n + j];
+            s[j * n + i] = s[i * n + j];
         }
     }
-    return commit(mu, sigma, n, mu_bar, 1, s);
+    return commit(mu, sigma, n, mu_bar, s);
 }
 
-// Entry (i, c) of I - K H (k: rows of 3, h: rows of 3, m columns of K).
-static gf_real ikh(const gf_real *k, const gf_real *h, size_t m,
-                   size_t i, size_t c)
+// gf_mat2_check_psd on the leading m x m block of s, through
+// gf_mat3_check_psd (the same tests) on its copy in t, so one PSD test is
+// linked, not two.
+static gf_status check_psd2(const gf_mat2 *s, unsigned m, gf_mat3 *t)
 {
-    return ((i == c) ? GF_R(1.0) : GF_R(0.0)) -
-           dot(&k[i * 3], 1, &h[c], 3, m);
+    *t = (gf_mat3){{{s->m[0][0], s->m[0][1], 0},
+                    {s->m[1][0], s->m[1][1], 0},
+                    {0, 0, 0}}};
+    return gf_mat3_check_psd(t, m);
 }
 
 // S^-1 in place (rows of 3) by Gauss-Jordan elimination, s_diag holding
@@ -130,10 +130,11 @@ static gf_status spd_inverse(gf_real *l, const gf_real *s_diag, size_t m)
     return GF_OK;
 }
 
-// The correction of both filters (Table 3.1/3.3, lines 4-6), its inputs
-// checked by the caller. The measurement is KF2's (km: z_hat = C mu_bar +
-// c, H = C) or EKF3's (em: its model called through the pointer); n = 2 or
-// 3 states, so KF2's 2x2 and EKF3's 3x3 belief are both read in place:
+// The update of both filters (Table 3.1/3.3, lines 4-6) once the caller
+// has checked for NULL: KF2's (kf, km: z_hat = C mu_bar + c, H = C) or
+// EKF3's (ekf, em: its model called through the pointer, km and kf 0).
+// Checks the measurement, z and Q in the order of kf2.c and ekf3.c, then
+// with n = 2 or 3 states (KF2's 2x2 and EKF3's 3x3 belief read in place):
 //   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,  mu = mu_bar + K y,
 //   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, exactly symmetric.
 // S is inverted by Gauss-Jordan elimination: its pivots are those of a
@@ -142,50 +143,63 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
                          const gf_ekf3_meas *em, const gf_real *z,
                          gf_innovation *info)
 {
+    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // then the new Sigma
+    gf_vec3 y = {{0, 0, 0}};
+    gf_mat3 L = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // KF2's Q, S, S^-1,
+                                                     // I - K H, new mu
+    gf_real k[9]; // S's diagonal, then K (n x m, rows of 3)
+    gf_real *l = L.m[0];
     gf_real *mu, *sigma; // rows of n
     const gf_real *q;    // rows of n
-    gf_real gate;
     size_t n, m;
-    unsigned mm;
-    if (em && ekf) {
+    gf_real gate;
+    gf_status st;
+    if (em) {
         mu = ekf->mu.v;
         sigma = ekf->sigma.m[0];
         q = em->Q.m[0];
-        gate = em->gate;
         n = 3;
-        mm = em->m;
-    } else if (km && kf) {
+        m = em->m;
+        gate = em->gate;
+    } else {
         mu = kf->mu.v;
         sigma = kf->sigma.m[0];
         q = km->Q.m[0];
-        gate = km->gate;
         n = 2;
-        mm = km->m;
-    } else {
+        m = km->m;
+        gate = km->gate;
+    }
+    if ((em && !em->h) || m < 1 || m > n) {
         return GF_ERR_ARG;
     }
-    m = mm;
-    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // rows of 3
-    gf_vec3 y = {{0, 0, 0}};
-    gf_real l[9]; // S, then S^-1, then the new Sigma
-    gf_real k[9]; // S's diagonal, then K (n x m), then the new mu
+    if ((!em && (!all_finite(km->C.m[0], 2 * m) ||
+                !all_finite(km->c.v, m))) ||
+        !all_finite(z, m) || !GF_ISFINITE(gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate < 0) {
+        return GF_ERR_ARG;
+    }
+    st = em ? gf_mat3_check_psd(&em->Q, (unsigned)m)
+            : check_psd2(&km->Q, (unsigned)m, &L);
+    if (st != GF_OK) {
+        return st;
+    }
 
-    if (em && ekf) {
+    if (em) {
         // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows read)
-        gf_status st = em->h(em->ctx, &ekf->mu, &y, &H);
+        st = em->h(em->ctx, &ekf->mu, &y, &H);
         if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
             return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
                        ? GF_ERR_MODEL : st;
         }
-    } else if (km) {
+    } else {
         // z_hat = C mu_bar + c, H = C
         for (size_t i = 0; i < m; i++) {
             H.m[i][0] = km->C.m[i][0];
             H.m[i][1] = km->C.m[i][1];
             y.v[i] = km->c.v[i] + dot(H.m[i], 1, mu, 1, 2);
         }
-    } else {
-        return GF_ERR_ARG; // not reached: one of the two was set above
     }
     // y = z - z_hat, angle residuals wrapped
     for (size_t i = 0; i < m; i++) {
@@ -197,13 +211,13 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
             y.v[i] = gf_angle_wrap(y.v[i]);
         }
     }
-    const gf_real *h = H.m[0];
+    gf_real *h = H.m[0]; // rows of 3, then the new Sigma's rows of n
 
     // S = H Sigma_bar H^T + Q (upper triangle of Q, mirrored)
     for (size_t i = 0; i < m; i++) {
         for (size_t j = i; j < m; j++) {
             l[i * 3 + j] = quad(&h[i * 3], sigma, n, &h[j * 3], n) +
-                            q[i * n + j];
+                           q[i * n + j];
             l[j * 3 + i] = l[i * 3 + j];
         }
         if (!all_finite(&l[i * 3], m)) {
@@ -212,7 +226,7 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         k[i] = l[i * 3 + i];
     }
     // S^-1
-    gf_status st = spd_inverse(l, k, m);
+    st = spd_inverse(l, k, m);
     if (st != GF_OK) {
         return st;
     }
@@ -236,46 +250,40 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
                 k[i * 3 + j] = v;
             }
         }
-        // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, upper triangle
+        // I - K H over S^-1
         for (size_t i = 0; i < n; i++) {
-            for (size_t j = i; j < n; j++) {
-                gf_real v = quad(&k[i * 3], q, n, &k[j * 3], m);
-                for (size_t c = 0; c < n; c++) {
-                    const gf_real u = ikh(k, h, m, i, c);
-                    for (size_t d = 0; d < n; d++) {
-                        v += u * sigma[c * n + d] * ikh(k, h, m, j, d);
-                    }
-                }
-                l[i * 3 + j] = v;
+            for (size_t c = 0; c < n; c++) {
+                l[i * 3 + c] = ((i == c) ? GF_R(1.0) : GF_R(0.0)) -
+                               dot(&k[i * 3], 1, &h[c], 3, m);
             }
         }
-        // mu = mu_bar + K y, into K's first column (row i is used up)
+        // Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T over H
+        // (upper triangle, mirrored; rows of n)
         for (size_t i = 0; i < n; i++) {
-            k[i * 3] = mu[i] + dot(&k[i * 3], 1, y.v, 1, m);
+            for (size_t j = i; j < n; j++) {
+                h[i * n + j] =
+                    quad(&l[i * 3], sigma, n, &l[j * 3], n) +
+                    quad(&k[i * 3], q, n, &k[j * 3], m);
+                h[j * n + i] = h[i * n + j];
+            }
+        }
+        // mu = mu_bar + K y over I - K H
+        for (size_t i = 0; i < n; i++) {
+            l[i] = mu[i] + dot(&k[i * 3], 1, y.v, 1, m);
         }
         if (em) {
-            k[6] = gf_angle_wrap(k[6]);
+            l[2] = gf_angle_wrap(l[2]);
         }
-        st = commit(mu, sigma, n, k, 3, l);
+        st = commit(mu, sigma, n, l, h);
     }
     if (st != GF_ERR_NONFINITE && info) {
-        info->m = mm;
+        info->m = (unsigned)m;
         for (size_t i = 0; i < 3; i++) {
             info->y[i] = (i < m) ? y.v[i] : GF_R(0.0);
         }
         info->nis = nis;
     }
     return st;
-}
-
-// gf_mat2_check_psd on the leading m x m block of s, through
-// gf_mat3_check_psd (the same tests), so one PSD test is linked, not two.
-static gf_status check_psd2(const gf_mat2 *s, unsigned m)
-{
-    const gf_mat3 t = {{{s->m[0][0], s->m[0][1], 0},
-                        {s->m[1][0], s->m[1][1], 0},
-                        {0, 0, 0}}};
-    return gf_mat3_check_psd(&t, m);
 }
 
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -286,7 +294,8 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!all_finite(mu->v, 2)) {
         return GF_ERR_NONFINITE;
     }
-    gf_status st = check_psd2(sigma, 2);
+    gf_mat3 t;
+    gf_status st = check_psd2(sigma, 2, &t);
     if (st != GF_OK) {
         return st;
     }
@@ -309,7 +318,8 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
         !all_finite(model->c.v, 2) || (u && !all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
-    gf_status st = check_psd2(&model->R, 2);
+    gf_mat3 t;
+    gf_status st = check_psd2(&model->R, 2, &t);
     if (st != GF_OK) {
         return st;
     }
@@ -330,20 +340,8 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
                         const gf_vec2 *z, gf_innovation *info)
 {
-    if (!kf || !meas || !z || meas->m < 1 || meas->m > 2) {
+    if (!kf || !meas || !z) {
         return GF_ERR_ARG;
-    }
-    const size_t m = meas->m;
-    if (!all_finite(meas->C.m[0], 2 * m) || !all_finite(meas->c.v, m) ||
-        !all_finite(z->v, m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = check_psd2(&meas->Q, meas->m);
-    if (st != GF_OK) {
-        return st;
     }
     return correct(kf, meas, 0, 0, z->v, info);
 }
@@ -375,18 +373,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info)
 {
-    if (!ekf || !meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
+    if (!ekf || !meas || !z) {
         return GF_ERR_ARG;
-    }
-    if (!all_finite(z->v, meas->m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = gf_mat3_check_psd(&meas->Q, meas->m);
-    if (st != GF_OK) {
-        return st;
     }
     return correct(0, 0, ekf, meas, z->v, info);
 }
