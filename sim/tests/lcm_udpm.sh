@@ -27,9 +27,10 @@ if [ "$(id -u)" -eq 0 ] && [ -z "${GF_IN_NETNS:-}" ] &&
     unshare -n true 2>/dev/null; then
     exec env GF_IN_NETNS=1 unshare -n bash "$0" "$@"
 fi
+GF_PROC_DIR=$work GF_PROC_TAG=lcm_udpm
+. "$(dirname "$0")/../tools/procs.sh"
 if [ -n "${GF_IN_NETNS:-}" ]; then
-    ip link set lo up
-    ip route add 224.0.0.0/4 dev lo
+    gf_netns_lo
     where="a private network namespace"
 else
     where="the host's loopback (not root: no namespace)"
@@ -39,35 +40,7 @@ rm -rf "$work"
 mkdir -p "$work"
 echo "lcm_udpm: $scenario on $URL in $where; files in $work"
 
-pids=()
 n=0
-cleanup() {
-    local p
-    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-}
-trap cleanup EXIT
-
-# start NAME CMD...: runs CMD in the background, output in $work/NAME.out;
-# its pid goes in the variable NAME_pid.
-start() {
-    local name=$1
-    shift
-    "$@" >"$work/$name.out" 2>&1 &
-    pids+=($!)
-    printf -v "${name}_pid" '%s' $!
-}
-
-# ready NAME: waits (up to 5 s) for NAME's "ready" line.
-ready() {
-    local i
-    for i in $(seq 50); do
-        grep -q ': ready' "$work/$1.out" 2>/dev/null && return 0
-        sleep 0.1
-    done
-    cat "$work/$1.out" >&2
-    echo "lcm_udpm: $1 never got ready" >&2
-    exit 1
-}
 
 # stop_node: SIGTERM, wait, print its summary line into $summary.
 stop_node() {

@@ -10,10 +10,9 @@ bin=$1 venv=$2 lcmbin=$3 out=$4 url=$5
 tools=$(cd "$(dirname "$0")" && pwd)
 log=$out/gaussfilt-demo.lcmlog
 
-if [ -n "${GF_IN_NETNS:-}" ]; then
-    ip link set lo up
-    ip route add 224.0.0.0/4 dev lo
-fi
+GF_PROC_DIR=$out GF_PROC_TAG=error
+. "$tools/procs.sh"
+[ -z "${GF_IN_NETNS:-}" ] || gf_netns_lo
 
 # Multicast self-test, before anything else.
 if ! "$venv/bin/python" "$tools/lcm_selftest.py" "$url"; then
@@ -29,29 +28,6 @@ MSG
 fi
 echo "LCM multicast self-test passed on $url"
 
-pids=()
-cleanup() {
-    local p
-    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-}
-trap cleanup EXIT
-start() { # start NAME CMD...
-    local name=$1
-    shift
-    "$@" >"$out/$name.out" 2>&1 &
-    pids+=($!)
-    printf -v "${name}_pid" '%s' $!
-}
-ready() { # ready NAME
-    local i
-    for i in $(seq 50); do
-        grep -q ': ready' "$out/$1.out" 2>/dev/null && return 0
-        sleep 0.1
-    done
-    cat "$out/$1.out" >&2
-    echo "error: $1 did not start" >&2
-    exit 1
-}
 
 rm -f "$log"
 start logger "$lcmbin/lcm-logger" --lcm-url="$url" -f "$log"

@@ -28,8 +28,9 @@ if [ -z "${GF_IN_NETNS:-}" ]; then
     fi
     exec env GF_IN_NETNS=1 unshare -n bash "$0" "$@"
 fi
-ip link set lo up
-ip route add 224.0.0.0/4 dev lo
+GF_PROC_DIR=$work GF_PROC_TAG=net
+. "$here/../../sim/tools/procs.sh"
+gf_netns_lo
 export PYTHONPATH=$pypath
 RCVBUF=4194304
 URL_A="udpm://239.255.76.67:$port?ttl=0&recv_buf_size=$RCVBUF"
@@ -38,32 +39,7 @@ rm -rf "$work"
 mkdir -p "$work"
 echo "net: $scenario in a private network namespace; files in $work"
 
-pids=()
-cleanup() {
-    local p
-    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-}
-trap cleanup EXIT
 die() { echo "net: $*" >&2; exit 1; }
-
-# start NAME CMD...: CMD in the background, output in $work/NAME.out, its
-# pid in NAME_pid.
-start() {
-    local name=$1
-    shift
-    "$@" >"$work/$name.out" 2>&1 &
-    pids+=($!)
-    printf -v "${name}_pid" '%s' $!
-}
-ready() {
-    local i
-    for i in $(seq 100); do
-        grep -q ': ready' "$work/$1.out" 2>/dev/null && return 0
-        sleep 0.05
-    done
-    cat "$work/$1.out" >&2
-    die "$1 never got ready"
-}
 # stop NAME: SIGTERM, and it must exit 0.
 stop() {
     local p="${1}_pid"
