@@ -173,8 +173,8 @@ load)
     [ "$applied" -eq "$got" ] || die "not every message applied"
     # A leak per message is at least one malloc chunk (32 bytes): 2.4 MB
     # over the 77 000 messages of the short run, 70 MB over a minute's soak.
-    # LCM's receive ring is allocated up front and touched page by page,
-    # which shows as a few steps of RSS early on: allow 512 kB.
+    # LCM's udpm receive ring (200 KiB) is allocated up front and touched
+    # page by page, which shows as a few steps of RSS: allow 512 kB.
     echo "load: RSS growth $((rssmax - rss0)) kB = $(echo "($rssmax - $rss0) * 1024 / $sent" | bc -l | cut -c1-6) bytes per message"
     [ "$rssmax" -le $((rss0 + 512)) ] || die "RSS grew from $rss0 to $rssmax kB"
     ;;
