@@ -49,7 +49,7 @@
 #include "gaussfilt_lcm_measurement_t.h"
 #include "gf_rt.h"
 
-#define MAX_TRACKS 64
+#define MAX_TRACKS 1024
 
 static int64_t now_ns(void)
 {
@@ -156,7 +156,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: gf_lcmbench --url URL [--belief-url URL2] "
                         "--rate R --seconds S [--tracks T] [--first ID] "
                         "[--tick NS] [--cpu N] [--rx-cpu M] [--rt P] "
-                        "[--dump FILE]\n");
+                        "[--dump FILE]\n"
+                        "  R >= 0 (0: flat out), S > 0, 1 <= T <= %d\n",
+                MAX_TRACKS);
         return 2;
     }
 

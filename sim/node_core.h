@@ -33,10 +33,17 @@
 extern "C" {
 #endif
 
-// The most tracks one node holds. A message for a new track beyond this is
-// rejected with GF_NODE_TRACK_LIMIT. Split more tracks over several nodes
-// by channel pattern.
+// The most tracks one node holds (232 bytes each, all inside gf_node). A
+// message for a new track beyond this is rejected with GF_NODE_TRACK_LIMIT.
+// Split more tracks over several nodes by channel pattern, or build with
+// another limit: CMake's GAUSSFILT_NODE_MAX_TRACKS (a PUBLIC definition of
+// gaussfilt_node_core, so every user of this header sees the same value).
+#ifndef GF_NODE_MAX_TRACKS
 #define GF_NODE_MAX_TRACKS 64
+#endif
+#if GF_NODE_MAX_TRACKS < 1
+#error "GF_NODE_MAX_TRACKS must be at least 1"
+#endif
 
 // The robot's filter (gf_node_set_filter; gf_node --filter ekf|ukf|pf).
 // The car is always KF2.
