@@ -26,14 +26,6 @@
 
 #if GF_SMALL
 
-// update is never inlined into correct, which tail-calls it: the checks'
-// frame is gone before the computation's is set up.
-#if defined(__GNUC__)
-#define SMALL_OUTLINE static __attribute__((noinline))
-#else
-#define SMALL_OUTLINE static
-#endif
-
 // 1 if the n entries of x are all finite.
 static int all_finite(const gf_real *x, size_t n)
 {
@@ -79,18 +71,13 @@ static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
     if (!all_finite(b, n * n + n)) {
         return GF_ERR_NONFINITE;
     }
-    // (copied through pointers: the frame of a loop over i < n * n is
-    // larger, gcc knowing n to be 2 or 3)
-    const gf_real *e = &b[n * n];
-    const gf_real *src = b;
-    gf_real *dst = sigma;
-    while (src != e) {
-        *dst = *src;
-        dst++;
-        src++;
+    // (up to the new mu's address: a loop over i < n * n takes two more
+    // saved registers here, gcc knowing n to be 2 or 3)
+    for (size_t i = 0; &b[i] != &b[n * n]; i++) {
+        sigma[i] = b[i];
     }
     for (size_t i = 0; i < n; i++) {
-        mu[i] = e[i];
+        mu[i] = b[n * n + i];
     }
     if (n == 3u) {
         mu[2] = gf_angle_wrap(mu[2]);
@@ -166,9 +153,14 @@ static gf_status spd_inverse(gf_real *l, const gf_real *s_diag, size_t m)
 //   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, exactly symmetric.
 // S is inverted by Gauss-Jordan elimination: its pivots are those of a
 // Cholesky factorisation, tested as gf_mat3_chol tests them.
-SMALL_OUTLINE gf_status update(gf_kf2 *kf, const gf_kf2_meas *km,
-                               gf_ekf3 *ekf, const gf_ekf3_meas *em,
-                               const gf_real *z, gf_innovation *info)
+// Never inlined into correct, which tail-calls it: the checks' frame is
+// gone before the computation's is set up.
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static gf_status update(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
+                        const gf_ekf3_meas *em, const gf_real *z,
+                        gf_innovation *info)
 {
     // w[0]: H (rows of 3), then the new Sigma (rows of n) and after it the
     // new mu (commit's layout; for n = 3 the mu spills into w[1]'s first
@@ -300,9 +292,19 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
                          const gf_ekf3_meas *em, const gf_real *z,
                          gf_innovation *info)
 {
-    const size_t n = em ? 3u : 2u;
-    const size_t m = em ? em->m : km->m;
-    const gf_real gate = em ? em->gate : km->gate;
+    size_t n, m;
+    gf_real gate;
+    if (em) {
+        n = 3;
+        m = em->m;
+        gate = em->gate;
+    } else if (km) {
+        n = 2;
+        m = km->m;
+        gate = km->gate;
+    } else {
+        return GF_ERR_ARG; // not reached: the callers pass km or em
+    }
     if ((em && !em->h) || m < 1 || m > n) {
         return GF_ERR_ARG;
     }
