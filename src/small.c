@@ -15,9 +15,12 @@
 //
 // Stack (issue 4: no public function deeper than 256 bytes on an MCU):
 // the update's checks (correct) end in a tail call to the computation
-// (update), so the two frames are never on the stack together; the
-// computation's frame holds H, y, S^-1 and K (120 B in float) and calls
-// only leaves (quad, commit, the model).
+// (update), so the two frames are never on the stack together (but on
+// Thumb-1, Cortex-M0+, where gcc makes no tail calls). The computation's
+// frame holds H, y, S^-1, K and the new belief (120 B in float); what it
+// calls has a small frame of its own (on Cortex-M4F quad 20 B, commit
+// 16 B: commit takes the new Sigma and mu in one buffer, a fifth argument
+// made its frame 24 B).
 // Compiled in every build; empty (but for the declarations of ekf3.h)
 // unless GF_SMALL is 1 (config.h).
 #include <stddef.h>
