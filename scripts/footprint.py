@@ -17,6 +17,19 @@ so libgcc's soft-float helpers (invisible to .ci) are counted. The only
 indirect calls are EKF3's model callbacks; they are counted as the deepest
 built-in model (see CALLBACKS) and the caller's frame at the call is
 reported so that a user callback's own depth can be added.
+
+Tail calls: a function that ends in a jump to another has released its
+own frame when the callee runs, so depth(f) = max(frame(f) + the deepest of
+its ordinary calls, the deepest of its tail calls). The jumps: on Arm a
+`b.w`/`b` with an R_ARM_THM_JUMP24/R_ARM_JUMP24 relocation (Cortex-M0+'s
+Thumb-1 has none: gcc calls there); on RISC-V `auipc tN` with
+R_RISCV_CALL(_PLT) followed by `jr tN` (gcc's `tail`), or `j` with
+R_RISCV_JAL. A jump counts as a tail call only when the disassembly shows
+it: the straight-line code right before it (back to the previous branch or
+branch target) gives back exactly the function's whole frame (Arm:
+pop/ldmia without pc, add sp, vpop; RISC-V: addi sp), so sp is the
+caller's again at the jump. Any other jump is counted like a call: its
+frame on top of the caller's whole frame (conservative).
 """
 import argparse
 import datetime
@@ -47,8 +60,9 @@ CALLBACKS = {
     "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
     "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "ekf3_update1_callback": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # GF_SMALL (src/small.c): the shared correction calls EKF3's model.
-    "correct": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # GF_SMALL (src/small.c): the shared update's computation calls EKF3's
+    # model.
+    "update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
@@ -204,18 +218,109 @@ def prologue_frame(insns, arm):
 CALL_RELOCS = re.compile(r"R_(ARM_THM_CALL|ARM_CALL|ARM_THM_JUMP24|"
                          r"ARM_JUMP24|RISCV_CALL|RISCV_CALL_PLT|RISCV_JAL)\s+"
                          r"([\w.$]+)")
+ARM_JUMP_RELOCS = ("ARM_THM_JUMP24", "ARM_JUMP24")
+# Arm instructions that end a straight-line run of code: branches, returns
+# (pop/ldmia with pc), IT blocks (conditional instructions follow).
+ARM_FLOW = re.compile(r"^(b|bl|blx|bx|cbz|cbnz|tbb|tbh|it\w*)(\.[nw])?$|"
+                      r"^b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le)"
+                      r"(\.[nw])?$")
+ARM_TARGET = re.compile(r"^(?:\w+, )*([0-9a-f]+) <[\w.$]+\+0x[0-9a-f]+>$")
+RISCV_FLOW = re.compile(r"^(c\.)?(b\w*|j|jal|jalr|jr|ret|tail|call|ebreak|"
+                        r"ecall|mret)$")
+RISCV_TARGET = re.compile(r"^(?:[\w.]+,)*([0-9a-f]+) <[\w.$+]+>$")
+
+
+def arm_release(text):
+    """Bytes an Arm instruction gives back to the stack (pop/ldmia sp!
+    without pc, add sp, vpop); None if it returns or moves sp down."""
+    parts = text.split(None, 1)
+    op, args = parts[0], parts[1] if len(parts) > 1 else ""
+    lst = ARM_REG_LIST.search(args)
+    if op in ("pop", "pop.w") or (op in ("ldmia", "ldmia.w") and
+                                   args.startswith("sp!")):
+        return None if "pc" in lst.group(1) else count_regs(lst.group(1), 4)
+    if op in ("vpop", "vldmia") and lst and (op == "vpop" or
+                                             args.startswith("sp!")):
+        regs = lst.group(1)
+        return count_regs(regs, 8 if "d" in regs else 4)
+    m = re.match(r"^sp, (sp, )?#(\d+)$", args)
+    if m and op in ("add", "add.w", "addw"):
+        return int(m.group(2))
+    if op in ("push", "push.w", "vpush", "stmdb", "vstmdb", "sub", "sub.w",
+              "subw") and args.startswith("sp"):
+        return None
+    return 0
+
+
+def riscv_release(text):
+    """Bytes a RISC-V instruction gives back to the stack (addi sp,sp,N);
+    None if it moves sp down."""
+    parts = text.split(None, 1)
+    m = re.match(r"^sp,sp,(-?\d+)$", parts[1] if len(parts) > 1 else "")
+    if m and parts[0] in ("addi", "add", "c.addi", "c.addi16sp"):
+        n = int(m.group(1))
+        return n if n >= 0 else None
+    return 0
+
+
+def tail_call(insns, i, frame, arm, labels):
+    """True if the jump at insns[i] (address, text) runs after the
+    function's whole frame is released: the straight-line code before it
+    (back to a branch, or to a branch target, included) gives back exactly
+    `frame` bytes. labels: addresses of local labels (branch targets).
+    Functions with a computed branch are never judged (targets unknown)."""
+    flow, target_re = (ARM_FLOW, ARM_TARGET) if arm else \
+        (RISCV_FLOW, RISCV_TARGET)
+    targets = set(labels)
+    for _, text in insns:
+        parts = text.split(None, 1)
+        if not parts:
+            continue
+        if arm and (parts[0] in ("tbb", "tbh") or (len(parts) > 1 and
+                                                  parts[1].startswith("pc"))):
+            return False  # computed branch: targets unknown
+        m = target_re.match(parts[1]) if len(parts) > 1 else None
+        if m and flow.match(parts[0]):
+            targets.add(int(m.group(1), 16))
+    released = 0
+    for addr, text in reversed(insns[:i]):
+        op = text.split(None, 1)[0] if text else ""
+        if flow.match(op):
+            break
+        r = arm_release(text) if arm else riscv_release(text)
+        if r is None:
+            return False
+        released += r
+        if addr in targets:
+            break
+    return released == frame
 
 
 def disassemble(prefix, archive, arm):
-    """{function: (frame, callees, has_indirect)} for an archive."""
+    """{function: (frame, callees, has_indirect, tail_callees)} for an
+    archive: tail_callees are the targets of the tail calls tail_call
+    accepts; any other call or jump is in callees."""
     out = run([prefix + "objdump", "-dr", "--no-show-raw-insn", archive])
     funcs, aliases = {}, {}
     name, insns, callees, indirect = None, [], set(), False
+    addrs, jumps, labels = [], [], set()
 
     def flush():
         if name:
             old = funcs.get(name)
-            new = (prologue_frame(insns, arm), callees, indirect)
+            frame = prologue_frame(insns, arm)
+            tails = set()
+            for i, target in jumps:
+                # RISC-V's auipc tN must be followed by jr tN.
+                ok = arm or insns[i].split()[0] == "j" or (
+                    i + 1 < len(insns) and insns[i + 1].split() ==
+                    ["jr", insns[i].split(None, 1)[1].split(",")[0]])
+                if ok and tail_call(list(zip(addrs, insns)), i, frame, arm,
+                                    labels):
+                    tails.add(target)
+                else:
+                    callees.add(target)
+            new = (frame, callees, indirect, tails - callees)
             if old is None or new[0] > old[0]:
                 funcs[name] = new
 
@@ -225,10 +330,14 @@ def disassemble(prefix, archive, arm):
         if m:
             section_fn = m.group(1)
             continue
+        m = re.match(r"^([0-9a-f]+) <([\w.$]+)>:$", line)
+        if m and m.group(2).startswith(".L"):
+            labels.add(int(m.group(1), 16))  # RISC-V keeps its local labels
         m = re.match(r"^[0-9a-f]+ <([\w.$]+)>:$", line)
         if m and not m.group(1).startswith(".L"):
             flush()
             name, insns, callees, indirect = m.group(1), [], set(), False
+            addrs, jumps, labels = [], [], set()
             # picolibc labels cosf's code _cosf; its section says cosf.
             if section_fn and section_fn != name:
                 aliases[name] = section_fn
@@ -239,14 +348,27 @@ def disassemble(prefix, archive, arm):
         m = CALL_RELOCS.search(line)
         if m:
             if not m.group(2).startswith(".L"):
-                callees.add(m.group(2))
+                # The relocation follows its instruction: a jump (b/b.w) is
+                # a tail call candidate, judged at flush().
+                parts = insns[-1].split(None, 1) if insns else [""]
+                op = parts[0]
+                rd = parts[1].split(",")[0] if len(parts) > 1 else ""
+                if (arm and m.group(1) in ARM_JUMP_RELOCS and
+                        op in ("b", "b.w")) or \
+                        (not arm and m.group(1).startswith("RISCV_CALL") and
+                         op == "auipc" and rd != "ra") or \
+                        (not arm and m.group(1) == "RISCV_JAL" and op == "j"):
+                    jumps.append((len(insns) - 1, m.group(2)))
+                else:
+                    callees.add(m.group(2))
             continue
-        m = re.match(r"^\s+[0-9a-f]+:\s+(.*)$", line)
-        if not m:
-            continue
-        text = m.group(1).split(";")[0].split("#")[0].strip() \
-            if not arm else m.group(1).split("@")[0].split(";")[0].strip()
+        m = re.match(r"^\s+([0-9a-f]+):\s+(.*)$", line)
+        if not m or m.group(2).startswith("R_"):
+            continue  # not an instruction (other relocations: RELAX, ...)
+        text = m.group(2).split(";")[0].split("#")[0].strip() \
+            if not arm else m.group(2).split("@")[0].split(";")[0].strip()
         insns.append(text)
+        addrs.append(int(m.group(1), 16))
         parts = text.split(None, 1)
         op = parts[0] if parts else ""
         args = parts[1] if len(parts) > 1 else ""
@@ -310,43 +432,58 @@ def stack_report(prefix, build, exclude=frozenset()):
         unknown.add(n)
         return 0
 
+    none = (0, set(), False, set())
+
+    def tails(n):
+        """Verified tail calls only (disassemble); .ci lists them as edges
+        too, so callees() leaves them out."""
+        return (core.get(n, none) if n in su else ext.get(n, none))[3]
+
     def callees(n):
         c = set()
         if n in su:
             c |= ci.get(n, set())
-            c |= core.get(n, (0, set(), False))[1]
+            c |= core.get(n, none)[1]
         elif n in ext:
             c |= ext[n][1]
-        if "__indirect_call" in c or core.get(n, (0, set(), False))[2]:
+        if "__indirect_call" in c or core.get(n, none)[2]:
             if n not in CALLBACKS:
                 sys.exit(f"{n}: indirect call not accounted for")
             c |= set(CALLBACKS[n])
         c.discard("__indirect_call")
+        c -= tails(n)
         c.discard(n)
         return {x.replace("__builtin_", "") for x in c}
 
     memo = {}
 
     def depth(n, path=()):
+        """(depth, deepest callee, 1 if that is a tail call): frame(n) plus
+        the deepest ordinary call, or the deepest tail call if deeper (n's
+        frame is gone by then)."""
         if n in path:
             sys.exit("recursion: " + " -> ".join(path + (n,)))
         if n not in memo:
-            best, via = 0, None
+            best, via, tail = frame(n), None, 0
             for c in sorted(callees(n) - exclude):
-                d, _ = depth(c, path + (n,))
+                d = frame(n) + depth(c, path + (n,))[0]
                 if d > best:
                     best, via = d, c
-            memo[n] = (frame(n) + best, via)
+            for c in sorted(tails(n) - exclude):
+                d = depth(c, path + (n,))[0]
+                if d > best:
+                    best, via, tail = d, c, 1
+            memo[n] = (best, via, tail)
         return memo[n]
 
     public = sorted(n for n in su if n.startswith("gf_"))
     rows = {}
     for n in public:
-        d, via = depth(n)
-        chain = [n]
+        d, via, tail = depth(n)
+        chain = n
         while via:
-            chain.append(via)
-            via = memo[via][1]
+            chain += (" ⇢ " if tail else " → ") + via
+            _, via, tail = memo[via]
         rows[n] = (su[n], d, chain)
     return rows, mismatches, unknown
 
@@ -584,7 +721,15 @@ def report(root, build_root):
               "chain, libm/libc/libgcc included). EKF3's callbacks are counted "
               "as the deepest built-in model; a user model adds "
               "max(0, its own depth - the built-in's) on top of the caller's "
-              "frame.", "",
+              "frame. A tail call (⇢ in the chains: on Arm a `b.w` with an "
+              "R_ARM_THM_JUMP24 relocation, on RISC-V `auipc tN` + `jr tN` "
+              "with R_RISCV_CALL_PLT or `j` with R_RISCV_JAL; accepted only "
+              "where the disassembly shows the caller's whole frame given back "
+              "right before the jump) runs after the caller's frame is "
+              "released: depth = max(frame + deepest call, deepest tail call). "
+              "Any other jump is counted like a call (its frame on top of the "
+              "caller's); Cortex-M0+ code has no tail calls to other "
+              "functions.", "",
               "| function | " + " | ".join(
                   f"{results[k]['label']} frame / depth" for k, _, _ in TARGETS)
               + " | deepest chain (Cortex-M4F) |",
@@ -595,7 +740,7 @@ def report(root, build_root):
             f, d, _ = results[key]["stack"][0][n]
             flag = " **!**" if d > STACK_LIMIT else ""
             cells.append(f"{f} / {d}{flag}")
-        chain = " → ".join(m4["stack"][0][n][2])
+        chain = m4["stack"][0][n][2]
         lines.append(f"| `{n}` | " + " | ".join(cells) + f" | {chain} |")
     lines.append("")
     notes = []

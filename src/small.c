@@ -10,8 +10,17 @@
 // The routines work on the belief in place, through row-major pointers
 // whose rows have n entries: KF2's 2x2 and EKF3's 3x3 matrices (C and H,
 // Q, A and G, R) are read as they are, without padded copies. Results go
-// to locals (the new Sigma with rows of n) and reach the belief only once
-// all are finite.
+// to locals (the new Sigma with rows of n, then the new mu) and reach the
+// belief only once all are finite.
+//
+// Stack (issue 4: no public function deeper than 256 bytes on an MCU):
+// the update's checks (correct) end in a tail call to the computation
+// (update), so the two frames are never on the stack together (but on
+// Thumb-1, Cortex-M0+, where gcc makes no tail calls). The computation's
+// frame holds H, y, S^-1, K and the new belief (120 B in float); what it
+// calls has a small frame of its own (on Cortex-M4F quad 20 B, commit
+// 16 B: commit takes the new Sigma and mu in one buffer, a fifth argument
+// made its frame 24 B).
 // Compiled in every build; empty (but for the declarations of ekf3.h)
 // unless GF_SMALL is 1 (config.h).
 #include <stddef.h>
@@ -55,20 +64,26 @@ static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
     return acc;
 }
 
-// Writes the new belief: mu_new (n entries) and s_new (n x n, rows of n,
-// exactly symmetric), if all are finite; else GF_ERR_NONFINITE and the
-// belief is untouched.
+// Writes the new belief from b: the new Sigma (n x n, rows of n, exactly
+// symmetric) and after it the new mu (n entries), if all are finite; else
+// GF_ERR_NONFINITE and the belief is untouched. EKF3's (n = 3) heading is
+// wrapped to (-pi, pi].
 static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
-                        const gf_real *mu_new, const gf_real *s_new)
+                        const gf_real *b)
 {
-    if (!all_finite(mu_new, n) || !all_finite(s_new, n * n)) {
+    if (!all_finite(b, n * n + n)) {
         return GF_ERR_NONFINITE;
     }
-    for (size_t i = 0; i < n; i++) {
-        mu[i] = mu_new[i];
+    // (up to the new mu's address: a loop over i < n * n takes two more
+    // saved registers here, gcc knowing n to be 2 or 3)
+    for (size_t i = 0; &b[i] != &b[n * n]; i++) {
+        sigma[i] = b[i];
     }
-    for (size_t i = 0; i < n * n; i++) {
-        sigma[i] = s_new[i];
+    for (size_t i = 0; i < n; i++) {
+        mu[i] = b[n * n + i];
+    }
+    if (n == 3u) {
+        mu[2] = gf_angle_wrap(mu[2]);
     }
     return GF_OK;
 }
@@ -80,26 +95,28 @@ static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
                          const gf_real *mu_bar, const gf_real *g,
                          const gf_real *r)
 {
-    gf_real s[9]; // rows of n
+    gf_real s[12]; // Sigma_bar (rows of n), then mu_bar
     for (size_t i = 0; i < n; i++) {
         for (size_t j = i; j < n; j++) {
             s[i * n + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
                            r[i * n + j];
             s[j * n + i] = s[i * n + j];
         }
+        s[n * n + i] = mu_bar[i];
     }
-    return commit(mu, sigma, n, mu_bar, s);
+    return commit(mu, sigma, n, s);
 }
 
 // gf_mat2_check_psd on the leading m x m block of s, through
-// gf_mat3_check_psd (the same tests) on its copy in t, so one PSD test is
-// linked, not two.
-static gf_status check_psd2(const gf_mat2 *s, unsigned m, gf_mat3 *t)
+// gf_mat3_check_psd (the same tests) on a padded copy, so one PSD test is
+// linked, not two. The copy is this function's own, so that its callers
+// take no local's address (correct's tail call needs that).
+static gf_status check_psd2(const gf_mat2 *s, unsigned m)
 {
-    *t = (gf_mat3){{{s->m[0][0], s->m[0][1], 0},
-                    {s->m[1][0], s->m[1][1], 0},
-                    {0, 0, 0}}};
-    return gf_mat3_check_psd(t, m);
+    const gf_mat3 t = {{{s->m[0][0], s->m[0][1], 0},
+                        {s->m[1][0], s->m[1][1], 0},
+                        {0, 0, 0}}};
+    return gf_mat3_check_psd(&t, m);
 }
 
 // S^-1 in place (rows of 3) by Gauss-Jordan elimination, s_diag holding
@@ -130,25 +147,33 @@ static gf_status spd_inverse(gf_real *l, const gf_real *s_diag, size_t m)
     return GF_OK;
 }
 
-// The update of both filters (Table 3.1/3.3, lines 4-6) once the caller
-// has checked for NULL: KF2's (kf, km: z_hat = C mu_bar + c, H = C) or
-// EKF3's (ekf, em: its model called through the pointer, km and kf 0).
-// Checks the measurement, z and Q in the order of kf2.c and ekf3.c, then
-// with n = 2 or 3 states (KF2's 2x2 and EKF3's 3x3 belief read in place):
+// The computation of the update of both filters (Table 3.1/3.3, lines
+// 4-6), once correct has checked its inputs: KF2's (kf, km: z_hat = C
+// mu_bar + c, H = C) or EKF3's (ekf, em: its model called through the
+// pointer, km and kf 0). With n = 2 or 3 states (KF2's 2x2 and EKF3's 3x3
+// belief read in place):
 //   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,  mu = mu_bar + K y,
 //   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, exactly symmetric.
 // S is inverted by Gauss-Jordan elimination: its pivots are those of a
 // Cholesky factorisation, tested as gf_mat3_chol tests them.
-static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
-                         const gf_ekf3_meas *em, const gf_real *z,
-                         gf_innovation *info)
+// Never inlined into correct, which tail-calls it: the checks' frame is
+// gone before the computation's is set up.
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static gf_status update(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
+                        const gf_ekf3_meas *em, const gf_real *z,
+                        gf_innovation *info)
 {
-    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // then the new Sigma
+    // w[0]: H (rows of 3), then the new Sigma (rows of n) and after it the
+    // new mu (commit's layout; for n = 3 the mu spills into w[1]'s first
+    // row). w[1]: S, S^-1, I - K H.
+    gf_mat3 w[2] = {{{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                    {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
     gf_vec3 y = {{0, 0, 0}};
-    gf_mat3 L = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}; // KF2's Q, S, S^-1,
-                                                     // I - K H, new mu
     gf_real k[9]; // S's diagonal, then K (n x m, rows of 3)
-    gf_real *l = L.m[0];
+    gf_real *h = w[0].m[0];
+    gf_real *l = w[1].m[0];
     gf_real *mu, *sigma; // rows of n
     const gf_real *q;    // rows of n
     size_t n, m;
@@ -161,6 +186,12 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         n = 3;
         m = em->m;
         gate = em->gate;
+        // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows read)
+        st = em->h(em->ctx, &ekf->mu, &y, &w[0]);
+        if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
+            return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+                       ? GF_ERR_MODEL : st;
+        }
     } else {
         mu = kf->mu.v;
         sigma = kf->sigma.m[0];
@@ -168,42 +199,16 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         n = 2;
         m = km->m;
         gate = km->gate;
-    }
-    if ((em && !em->h) || m < 1 || m > n) {
-        return GF_ERR_ARG;
-    }
-    if ((!em && (!all_finite(km->C.m[0], 2 * m) ||
-                !all_finite(km->c.v, m))) ||
-        !all_finite(z, m) || !GF_ISFINITE(gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gate < 0) {
-        return GF_ERR_ARG;
-    }
-    st = em ? gf_mat3_check_psd(&em->Q, (unsigned)m)
-            : check_psd2(&km->Q, (unsigned)m, &L);
-    if (st != GF_OK) {
-        return st;
-    }
-
-    if (em) {
-        // z_hat = h(mu_bar), H = dh/dx at mu_bar (first m rows read)
-        st = em->h(em->ctx, &ekf->mu, &y, &H);
-        if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
-            return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
-                       ? GF_ERR_MODEL : st;
-        }
-    } else {
         // z_hat = C mu_bar + c, H = C
         for (size_t i = 0; i < m; i++) {
-            H.m[i][0] = km->C.m[i][0];
-            H.m[i][1] = km->C.m[i][1];
-            y.v[i] = km->c.v[i] + dot(H.m[i], 1, mu, 1, 2);
+            h[i * 3] = km->C.m[i][0];
+            h[i * 3 + 1] = km->C.m[i][1];
+            y.v[i] = km->c.v[i] + dot(&h[i * 3], 1, mu, 1, 2);
         }
     }
     // y = z - z_hat, angle residuals wrapped
     for (size_t i = 0; i < m; i++) {
-        if (!GF_ISFINITE(y.v[i]) || !all_finite(H.m[i], 3)) {
+        if (!GF_ISFINITE(y.v[i]) || !all_finite(&h[i * 3], 3)) {
             return GF_ERR_NONFINITE;
         }
         y.v[i] = z[i] - y.v[i];
@@ -211,7 +216,6 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
             y.v[i] = gf_angle_wrap(y.v[i]);
         }
     }
-    gf_real *h = H.m[0]; // rows of 3, then the new Sigma's rows of n
 
     // S = H Sigma_bar H^T + Q (upper triangle of Q, mirrored)
     for (size_t i = 0; i < m; i++) {
@@ -267,14 +271,11 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
                 h[j * n + i] = h[i * n + j];
             }
         }
-        // mu = mu_bar + K y over I - K H
+        // mu = mu_bar + K y after it (over I - K H's first row if n = 3)
         for (size_t i = 0; i < n; i++) {
-            l[i] = mu[i] + dot(&k[i * 3], 1, y.v, 1, m);
+            h[n * n + i] = mu[i] + dot(&k[i * 3], 1, y.v, 1, m);
         }
-        if (em) {
-            l[2] = gf_angle_wrap(l[2]);
-        }
-        st = commit(mu, sigma, n, l, h);
+        st = commit(mu, sigma, n, h);
     }
     if (st != GF_ERR_NONFINITE && info) {
         info->m = (unsigned)m;
@@ -286,6 +287,46 @@ static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
     return st;
 }
 
+// The update of both filters once the caller has checked for NULL: KF2's
+// (kf, km; ekf and em 0) or EKF3's (ekf, em; kf and km 0). Checks the
+// measurement, z and Q in the order of kf2.c and ekf3.c, then hands over
+// to update by a tail call (nothing of this frame is needed there).
+static gf_status correct(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
+                         const gf_ekf3_meas *em, const gf_real *z,
+                         gf_innovation *info)
+{
+    size_t n, m;
+    gf_real gate;
+    if (em) {
+        n = 3;
+        m = em->m;
+        gate = em->gate;
+    } else if (km) {
+        n = 2;
+        m = km->m;
+        gate = km->gate;
+    } else {
+        return GF_ERR_ARG; // not reached: the callers pass km or em
+    }
+    if ((em && !em->h) || m < 1 || m > n) {
+        return GF_ERR_ARG;
+    }
+    if ((!em && (!all_finite(km->C.m[0], 2 * m) ||
+                !all_finite(km->c.v, m))) ||
+        !all_finite(z, m) || !GF_ISFINITE(gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate < 0) {
+        return GF_ERR_ARG;
+    }
+    const gf_status st = em ? gf_mat3_check_psd(&em->Q, (unsigned)m)
+                            : check_psd2(&km->Q, (unsigned)m);
+    if (st != GF_OK) {
+        return st;
+    }
+    return update(kf, km, ekf, em, z, info);
+}
+
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 {
     if (!kf || !mu || !sigma) {
@@ -294,8 +335,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!all_finite(mu->v, 2)) {
         return GF_ERR_NONFINITE;
     }
-    gf_mat3 t;
-    gf_status st = check_psd2(sigma, 2, &t);
+    gf_status st = check_psd2(sigma, 2);
     if (st != GF_OK) {
         return st;
     }
@@ -318,8 +358,7 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
         !all_finite(model->c.v, 2) || (u && !all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
-    gf_mat3 t;
-    gf_status st = check_psd2(&model->R, 2, &t);
+    gf_status st = check_psd2(&model->R, 2);
     if (st != GF_OK) {
         return st;
     }
@@ -364,8 +403,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
         return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
                    ? GF_ERR_MODEL : st;
     }
-    mu.v[2] = gf_angle_wrap(mu.v[2]);
-    // Sigma_bar = G Sigma G^T + R (a non-finite G reaches the diagonal)
+    // Sigma_bar = G Sigma G^T + R (a non-finite G reaches the diagonal);
+    // commit wraps the heading
     return predict(ekf->mu.v, ekf->sigma.m[0], 3, mu.v, G.m[0],
                    motion->R.m[0]);
 }
