@@ -420,15 +420,25 @@ def stack_report(prefix, build, exclude=frozenset()):
 
     unknown = set()
 
+    def save_area(n):
+        """Bytes a library function's registers take through libgcc's
+        millicode (rv32 -msave-restore: `jal t0, __riscv_save_N` before the
+        prologue's own sp adjustment): they stay on the stack during every
+        call the function makes, so they belong to its frame."""
+        total = 0
+        for c in (ext[n][1] if n in ext and n not in su else ()):
+            m = RISCV_SAVE.match(c)
+            if m and m.group(1) == "save":
+                total = max(total, 16 * (int(m.group(2)) // 4 + 1))
+        return total
+
     def frame(n):
         if n in su:
             return su[n]
+        if RISCV_SAVE.match(n):
+            return 0  # counted in its caller's frame (save_area)
         if n in ext:
-            return ext[n][0]
-        m = RISCV_SAVE.match(n)
-        if m:
-            return 16 * (int(m.group(2)) // 4 + 1) if m.group(1) == "save" \
-                else 0
+            return ext[n][0] + save_area(n)
         unknown.add(n)
         return 0
 
@@ -451,6 +461,7 @@ def stack_report(prefix, build, exclude=frozenset()):
                 sys.exit(f"{n}: indirect call not accounted for")
             c |= set(CALLBACKS[n])
         c.discard("__indirect_call")
+        c = {x for x in c if not RISCV_SAVE.match(x)}  # in frame(n)
         c -= tails(n)
         c.discard(n)
         return {x.replace("__builtin_", "") for x in c}
