@@ -5,6 +5,15 @@
 
 #include "gaussfilt/ekf3.h"
 
+// Inlined into every caller by gcc and clang, at -Os too, for helpers whose
+// own frame would otherwise sit on top of a large caller's (the stack
+// budget of scripts/footprint); a plain inline elsewhere.
+#if defined(__GNUC__)
+#define GF_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define GF_ALWAYS_INLINE static inline
+#endif
+
 // 1 if both entries of x are finite.
 static inline int gf_vec2_is_finite(const gf_vec2 *x)
 {
@@ -106,8 +115,8 @@ static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
 // gf_mat3_check_psd. A pivot within GF_PD_RTOL of zero gives a zero
 // column. gf_mat3_sqrt_psd's arithmetic, for callers that cannot spare a
 // 3x3 temporary (entries of l beyond the block are zeroed).
-static inline void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
-                                      gf_real l[6])
+GF_ALWAYS_INLINE void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
+                                     gf_real l[6])
 {
     for (unsigned k = 0; k < 6u; k++) {
         l[k] = 0;
