@@ -49,12 +49,12 @@ CALLBACKS = {
     "ekf3_update1_callback": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # GF_SMALL (src/small.c): the shared correction calls EKF3's model.
     "correct": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
+    # UKF3 and PF3 take EKF3's callbacks (PF3's update from a static helper;
+    # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "move": ["gf_ekf3_motion_forward_turn"],
     "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
 STACK_LIMIT = 256

@@ -240,7 +240,7 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
         }
     }
 
-    gf_innovation in;
+    gf_innovation in = {0u, {0, 0, 0}, 0};
     if (info || meas->gate > 0) {
         st = innovation(inf, meas, z, &in);
         if (st != GF_OK) {

@@ -15,6 +15,15 @@
 // the compiler can lay them over each other, and the helpers under the
 // deepest frames are leaves or call only gf_angle_wrap.
 
+// UKF3_SMALL_CALL: a small helper of the large frames, called under -Os
+// (its few bytes of frame on top of theirs cost less than its code inlined
+// into theirs), inlined under gcc and clang otherwise, for speed.
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define UKF3_SMALL_CALL static inline __attribute__((always_inline))
+#else
+#define UKF3_SMALL_CALL static
+#endif
+
 static inline gf_real weight_c(const gf_ukf3 *ukf, unsigned j)
 {
     return j == 0 ? ukf->wc0 : ukf->wi;
@@ -34,33 +43,41 @@ static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6],
 }
 
 // chi_j = mu + off_j.
-static void sigma_point(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
-                        gf_vec3 *chi)
+UKF3_SMALL_CALL void sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
+                                 unsigned j, gf_vec3 *chi)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
         chi->v[k] = ukf->mu.v[k] + offset(ukf, l, j, k);
     }
 }
 
+// Entry e of a residual finished by the bits of wrap_flagged for it: bit
+// 0 clear, zeroed; else bit 3 set, wrapped; else kept.
+GF_ALWAYS_INLINE void wrap_entry(gf_real *e, unsigned b)
+{
+    if ((b & 1u) == 0u) {
+        *e = 0;
+    } else if ((b & (1u << N_STATE)) != 0u) {
+        *e = gf_angle_wrap(*e);
+    } else {
+        // kept as it is
+    }
+}
+
 // The flagged entries among the first n of d wrapped to (-pi, pi], the
 // entries from n on zeroed: the second half of a residual, and the last
 // step of a mean. The one helper that calls out (gf_angle_wrap), so that
-// the large frames above it need not.
-static void wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_mask)
+// the large frames above it need not; entry by entry, so that only d and
+// the bits (k: entry k kept, 3 + k: entry k wrapped) are kept across the
+// calls.
+UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n,
+                                  unsigned angle_mask)
 {
-    // bits 0..2: entry kept; bits 3..5: entry wrapped (one word, so that
-    // the loop keeps three registers across the calls)
     const unsigned keep = (1u << n) - 1u;
     const unsigned bits = keep | ((angle_mask & keep) << N_STATE);
-    for (unsigned k = 0; k < N_STATE; k++) {
-        if (((bits >> k) & 1u) == 0u) {
-            d->v[k] = 0;
-        } else if (((bits >> (k + N_STATE)) & 1u) != 0u) {
-            d->v[k] = gf_angle_wrap(d->v[k]);
-        } else {
-            // kept as it is
-        }
-    }
+    wrap_entry(&d->v[0], bits);
+    wrap_entry(&d->v[1], bits >> 1);
+    wrap_entry(&d->v[2], bits >> 2);
 }
 
 // d = p - ref on the first n entries, those flagged in angle_mask wrapped,
@@ -153,17 +170,19 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         }
     }
 
+    // mu_bar = sum_j w_m,j chi_bar*_j (heading on the circle), taken as
+    // chi_bar*_0 plus the weighted residuals about it (the weights sum to
+    // one, and w_m,j = w_i for j > 0): exact when the points coincide, and
+    // no large offsets cancel.
     {
-        // mu_bar = sum_j w_m,j chi_bar*_j (heading on the circle), taken as
-        // chi_bar*_0 plus the weighted residuals about it (the weights sum
-        // to one, and w_m,j = w_i for j > 0): exact when the points
-        // coincide, and no large offsets cancel.
-        gf_vec3 mu = {{0, 0, 0}}, d;
-        gf_mat3 sigma;
-        for (unsigned j = 1; j < N_SIGMA; j++) {
-            residual(&y[j], &y[0], N_STATE, HEADING_MASK, &d);
-            for (unsigned k = 0; k < N_STATE; k++) {
-                mu.v[k] += ukf->wi * d.v[k];
+        gf_vec3 mu = {{0, 0, 0}};
+        {
+            gf_vec3 d;
+            for (unsigned j = 1; j < N_SIGMA; j++) {
+                residual(&y[j], &y[0], N_STATE, HEADING_MASK, &d);
+                for (unsigned k = 0; k < N_STATE; k++) {
+                    mu.v[k] += ukf->wi * d.v[k];
+                }
             }
         }
         for (unsigned k = 0; k < N_STATE; k++) {
@@ -171,15 +190,16 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         }
         wrap_flagged(&mu, N_STATE, HEADING_MASK);
 
-        // Sigma_bar = sum_j w_c,j (chi_bar*_j - mu_bar)(...)^T + R
-        sigma = motion->R;
+        // Sigma_bar = sum_j w_c,j (chi_bar*_j - mu_bar)(...)^T + R, the
+        // residuals in place of the points
+        gf_mat3 sigma = motion->R;
         gf_mat3_symmetrize(&sigma);
         for (unsigned j = 0; j < N_SIGMA; j++) {
-            residual(&y[j], &mu, N_STATE, HEADING_MASK, &d);
+            residual(&y[j], &mu, N_STATE, HEADING_MASK, &y[j]);
             const gf_real w = weight_c(ukf, j);
             for (unsigned a = 0; a < N_STATE; a++) {
                 for (unsigned b = a; b < N_STATE; b++) {
-                    sigma.m[a][b] += w * d.v[a] * d.v[b];
+                    sigma.m[a][b] += w * y[j].v[a] * y[j].v[b];
                 }
             }
         }
@@ -275,8 +295,8 @@ typedef struct ukf3_post {
 // gives
 //   mu = mu_bar + K y = mu_bar + W^T u  (heading wrapped),
 //   Sigma = Sigma_bar - K S K^T = Sigma_bar - W^T W  (symmetric as built).
-static gf_status correct(gf_ukf3 *ukf, const gf_real l_s[6], gf_mat3 *pxz,
-                         ukf3_post *q)
+static gf_status posterior(gf_ukf3 *ukf, const gf_real l_s[6],
+                           gf_mat3 *pxz, ukf3_post *q)
 {
     const unsigned m = q->in.m;
     for (unsigned a = 0; a < N_STATE; a++) { // row a of Sigma^xz: L_S w = p_a
@@ -407,7 +427,7 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         if (gf_gated(&q.in, meas->gate, info)) {
             return GF_ERR_GATED;
         }
-        st = correct(ukf, s, &Pxz, &q);
+        st = posterior(ukf, s, &Pxz, &q);
         if (st != GF_OK) {
             return st;
         }
