@@ -63,18 +63,15 @@ CALLBACKS = {
     # GF_SMALL (src/small.c): the shared update's computation calls EKF3's
     # model.
     "update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # UKF3 and PF3 take EKF3's callbacks (PF3 calls them from static helpers).
+    # UKF3 and PF3 take EKF3's callbacks (PF3's update from a static helper;
+    # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "move": ["gf_ekf3_motion_forward_turn"],
     "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
 STACK_LIMIT = 256
-# Public functions of the filters beyond the EKF (issue 7): in every table,
-# but not held to the core's stack budget.
-BEYOND = ("gf_if2_", "gf_ukf3_", "gf_pf3_", "gf_rng_")
 IMAGE_LIMIT = 4096
 RAM_LIMITS = {"gf_kf2": 64, "gf_ekf3": 128}
 # A double-precision libm function or soft-double helper in a float image
@@ -596,13 +593,10 @@ def report(root, build_root):
                   if DOUBLE_SYMS.match(ln.split()[-1])})
     kf2 = m4["structs"]["gf_kf2"]
     ekf3 = m4["structs"]["gf_ekf3"]
-    # The stack budget is the core's (KF2, EKF3 and their helpers); the
-    # filters beyond the EKF are listed with their own depths below.
-    in_budget = lambda n: not n.startswith(BEYOND)  # noqa: E731
-    worst = max(((d, n) for n, (_, d, _) in m4["stack"][0].items()
-                  if in_budget(n)))
-    reach = max(((d, n) for n, (_, d, _) in m4["stack_reach"][0].items()
-                 if in_budget(n)))
+    # The stack budget holds for every public function of every module
+    # (KF2, EKF3, their helpers, and IF2, UKF3, PF3, the generator).
+    worst = max((d, n) for n, (_, d, _) in m4["stack"][0].items())
+    reach = max((d, n) for n, (_, d, _) in m4["stack_reach"][0].items())
     met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
     # Information, not targets: the same with the fast paths forced
     # (GF_SMALL=0, the default of a build not optimised for size).
@@ -616,8 +610,7 @@ def report(root, build_root):
         fstack = stack_report(pfx, fb)[0]
         fast[key] = {
             "label": label, "min": fmin, "base": fbase, "stack": fstack,
-            "worst": max(((d, n) for n, (_, d, _) in fstack.items()
-                          if in_budget(n))),
+            "worst": max((d, n) for n, (_, d, _) in fstack.items()),
         }
     fast_rows = []
     if "cortex-m4f" in fast:
@@ -627,8 +620,8 @@ def report(root, build_root):
             f"| *information, not a target:* the same image with the fast "
             f"paths forced (`-DGAUSSFILT_SMALL=OFF`, GF_SMALL=0) | (4 KiB) | "
             f"{fmt_delta(fd)} | information |",
-            f"| *information, not a target:* deepest public function of "
-            f"KF2/EKF3 with the fast paths forced (GF_SMALL=0) | (256 B) | "
+            f"| *information, not a target:* deepest public function, "
+            f"every module, with the fast paths forced (GF_SMALL=0) | (256 B) | "
             f"{f4['worst'][0]} B (`{f4['worst'][1]}`) | information |",
         ]
     lines += [
@@ -639,7 +632,7 @@ def report(root, build_root):
         f"libm included) | 4 KiB | {fmt_delta(d_flash)} | {met(d_flash <= IMAGE_LIMIT)} |",
         f"| one KF2 belief (`sizeof(gf_kf2)`) | < 64 B | {kf2} B | {met(kf2 < 64)} |",
         f"| one EKF3 belief (`sizeof(gf_ekf3)`) | < 128 B | {ekf3} B | {met(ekf3 < 128)} |",
-        f"| deepest public function of KF2/EKF3 (built-in models) | 256 B | {worst[0]} B "
+        f"| deepest public function, every module (built-in models) | 256 B | {worst[0]} B "
         f"(`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
         f"| the same, without newlib's large-argument path of sinf/cosf "
         f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "

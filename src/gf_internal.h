@@ -5,6 +5,15 @@
 
 #include "gaussfilt/ekf3.h"
 
+// Inlined into every caller by gcc and clang, at -Os too, for helpers whose
+// own frame would otherwise sit on top of a large caller's (the stack
+// budget of scripts/footprint); a plain inline elsewhere.
+#if defined(__GNUC__)
+#define GF_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define GF_ALWAYS_INLINE static inline
+#endif
+
 // 1 if both entries of x are finite.
 static inline int gf_vec2_is_finite(const gf_vec2 *x)
 {
@@ -98,6 +107,38 @@ static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
         }
     }
     return GF_OK;
+}
+
+// Square root of a symmetric positive SEMIdefinite matrix, packed: l
+// (GF_TRI) receives the lower triangle of L, L L^T = the leading n x n
+// block (n = 1..3) of s, which the caller has checked with
+// gf_mat3_check_psd. A pivot within GF_PD_RTOL of zero gives a zero
+// column. gf_mat3_sqrt_psd's arithmetic, for callers that cannot spare a
+// 3x3 temporary (entries of l beyond the block are zeroed).
+GF_ALWAYS_INLINE void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
+                                     gf_real l[6])
+{
+    for (unsigned k = 0; k < 6u; k++) {
+        l[k] = 0;
+    }
+    for (unsigned j = 0; j < n; j++) {
+        gf_real d = s->m[j][j];
+        for (unsigned k = 0; k < j; k++) {
+            d -= l[GF_TRI(j, k)] * l[GF_TRI(j, k)];
+        }
+        if (!(d > GF_PD_RTOL * s->m[j][j])) {
+            continue; // semidefinite direction: zero column
+        }
+        const gf_real ljj = GF_SQRT(d);
+        l[GF_TRI(j, j)] = ljj;
+        for (unsigned i = j + 1; i < n; i++) {
+            gf_real v = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
+            for (unsigned k = 0; k < j; k++) {
+                v -= l[GF_TRI(i, k)] * l[GF_TRI(j, k)];
+            }
+            l[GF_TRI(i, j)] = v / ljj;
+        }
+    }
 }
 
 // Solves L L^T x = b in place on the leading n entries of x (b in, x

@@ -48,22 +48,20 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
     return GF_OK;
 }
 
-// The moments of a canonical belief with positive-definite Omega.
+// The moments of a canonical belief with positive-definite Omega, written
+// straight to mu and sigma: the callers pass their own scratch and keep it
+// only on GF_OK (no second copy here, on top of theirs).
 static gf_status moments(const gf_if2 *inf, gf_vec2 *mu, gf_mat2 *sigma)
 {
     // Sigma = Omega^-1, mu = Sigma xi
-    gf_mat2 s;
-    gf_status st = gf_mat2_spd_inv(&inf->omega, &s);
+    const gf_status st = gf_mat2_spd_inv(&inf->omega, sigma);
     if (st != GF_OK) {
         return st;
     }
-    gf_vec2 m;
-    gf_mat2_mulv(&s, &inf->xi, &m);
-    if (!gf_mat2_is_finite(&s) || !gf_vec2_is_finite(&m)) {
+    gf_mat2_mulv(sigma, &inf->xi, mu);
+    if (!gf_mat2_is_finite(sigma) || !gf_vec2_is_finite(mu)) {
         return GF_ERR_NONFINITE;
     }
-    *mu = m;
-    *sigma = s;
     return GF_OK;
 }
 
@@ -147,31 +145,23 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 }
 
 // The innovation of the moments form (for info and the gate):
-// y = z - c - C mu_bar, NIS = y^T (C Sigma_bar C^T + Q)^-1 y.
+// y = z - c - C mu_bar, NIS = y^T (C Sigma_bar C^T + Q)^-1 y, into out
+// (the caller's scratch, kept only on GF_OK).
 static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
-                            const gf_mat2 *Q, const gf_vec2 *z,
-                            gf_innovation *out)
+                            const gf_vec2 *z, gf_innovation *out)
 {
     const unsigned m = meas->m;
     gf_vec2 mu;
-    gf_mat2 sig;
+    gf_mat2 sig, S;
     gf_status st = moments(inf, &mu, &sig);
     if (st != GF_OK) {
         return st;
     }
-    // S = C Sigma_bar C^T + Q; for m = 1 only S[0][0] is used, and the
-    // unused row of C is replaced by (0, 1) to keep S invertible.
-    gf_mat2 C = meas->C;
-    if (m == 1) {
-        C.m[1][0] = 0;
-        C.m[1][1] = 1;
-    }
-    gf_mat2 S, Si;
-    gf_mat2_sandwich(&C, &sig, &S);
-    S.m[0][0] += Q->m[0][0];
-    S.m[0][1] += Q->m[0][1];
-    S.m[1][0] += Q->m[1][0];
-    S.m[1][1] += Q->m[1][1];
+    // S = C Sigma_bar C^T + Q. For m = 1 only S[0][0] is used (row 1 of
+    // C, which need not be set, does not enter it), inverted as a scalar;
+    // for m = 2, S^-1 replaces Sigma_bar.
+    gf_mat2_sandwich(&meas->C, &sig, &S);
+    S.m[0][0] += meas->Q.m[0][0];
     if (m == 1) {
         if (!GF_ISFINITE(S.m[0][0])) {
             return GF_ERR_NONFINITE;
@@ -179,32 +169,29 @@ static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
         if (!(S.m[0][0] > 0)) {
             return GF_ERR_SINGULAR;
         }
-        Si.m[0][0] = GF_R(1.0) / S.m[0][0];
-        Si.m[0][1] = Si.m[1][0] = Si.m[1][1] = 0;
+        sig.m[0][0] = GF_R(1.0) / S.m[0][0];
     } else {
-        st = gf_mat2_spd_inv(&S, &Si);
+        S.m[0][1] += meas->Q.m[0][1];
+        S.m[1][0] += meas->Q.m[1][0];
+        S.m[1][1] += meas->Q.m[1][1];
+        st = gf_mat2_spd_inv(&S, &sig);
         if (st != GF_OK) {
             return st;
         }
     }
-    gf_innovation in;
-    in.m = m;
-    in.y[0] = in.y[1] = in.y[2] = 0;
+    out->m = m;
+    out->y[0] = out->y[1] = out->y[2] = 0;
     for (unsigned i = 0; i < m; i++) {
-        in.y[i] = z->v[i] - meas->c.v[i] -
-                  (C.m[i][0] * mu.v[0] + C.m[i][1] * mu.v[1]);
+        out->y[i] = z->v[i] - meas->c.v[i] -
+                    (meas->C.m[i][0] * mu.v[0] + meas->C.m[i][1] * mu.v[1]);
     }
-    in.nis = 0;
+    out->nis = 0;
     for (unsigned i = 0; i < m; i++) {
         for (unsigned j = 0; j < m; j++) {
-            in.nis += in.y[i] * Si.m[i][j] * in.y[j];
+            out->nis += out->y[i] * sig.m[i][j] * out->y[j];
         }
     }
-    if (!GF_ISFINITE(in.nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    *out = in;
-    return GF_OK;
+    return GF_ISFINITE(out->nis) ? GF_OK : GF_ERR_NONFINITE;
 }
 
 gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
@@ -228,35 +215,34 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
     }
 
     // Q^-1 (m x m); a zero variance is infinite information: singular.
-    gf_mat2 Q = {{{0, 0}, {0, 0}}}, Qi = {{{0, 0}, {0, 0}}};
+    gf_mat2 Qi = {{{0, 0}, {0, 0}}};
     gf_status st;
     if (m == 1) {
-        Q.m[0][0] = meas->Q.m[0][0];
-        if (!GF_ISFINITE(Q.m[0][0])) {
+        const gf_real q = meas->Q.m[0][0];
+        if (!GF_ISFINITE(q)) {
             return GF_ERR_NONFINITE;
         }
-        if (Q.m[0][0] < 0) {
+        if (q < 0) {
             return GF_ERR_NOT_PSD;
         }
-        if (!(Q.m[0][0] > 0)) {
+        if (!(q > 0)) {
             return GF_ERR_SINGULAR;
         }
-        Qi.m[0][0] = GF_R(1.0) / Q.m[0][0];
+        Qi.m[0][0] = GF_R(1.0) / q;
     } else {
         st = gf_mat2_check_psd(&meas->Q);
         if (st != GF_OK) {
             return st;
         }
-        Q = meas->Q;
-        st = gf_mat2_spd_inv(&Q, &Qi);
+        st = gf_mat2_spd_inv(&meas->Q, &Qi);
         if (st != GF_OK) {
             return st;
         }
     }
 
-    gf_innovation in;
+    gf_innovation in = {0u, {0, 0, 0}, 0};
     if (info || meas->gate > 0) {
-        st = innovation(inf, meas, &Q, z, &in);
+        st = innovation(inf, meas, z, &in);
         if (st != GF_OK) {
             return st;
         }
@@ -265,30 +251,32 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
         }
     }
 
-    // CtQi = C^T Q^-1 (2 x m)
-    gf_mat2 CtQi = {{{0, 0}, {0, 0}}};
-    for (unsigned i = 0; i < 2; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            for (unsigned k = 0; k < m; k++) {
-                CtQi.m[i][j] += meas->C.m[k][i] * Qi.m[k][j];
+    {
+        // CtQi = C^T Q^-1 (2 x m)
+        gf_mat2 CtQi = {{{0, 0}, {0, 0}}};
+        for (unsigned i = 0; i < 2; i++) {
+            for (unsigned j = 0; j < m; j++) {
+                for (unsigned k = 0; k < m; k++) {
+                    CtQi.m[i][j] += meas->C.m[k][i] * Qi.m[k][j];
+                }
             }
         }
-    }
-    // Omega = Omega_bar + C^T Q^-1 C,  xi = xi_bar + C^T Q^-1 (z - c)
-    gf_if2 r = *inf;
-    for (unsigned i = 0; i < 2; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            r.omega.m[i][0] += CtQi.m[i][j] * meas->C.m[j][0];
-            r.omega.m[i][1] += CtQi.m[i][j] * meas->C.m[j][1];
-            r.xi.v[i] += CtQi.m[i][j] * (z->v[j] - meas->c.v[j]);
+        // Omega = Omega_bar + C^T Q^-1 C,  xi = xi_bar + C^T Q^-1 (z - c)
+        gf_if2 r = *inf;
+        for (unsigned i = 0; i < 2; i++) {
+            for (unsigned j = 0; j < m; j++) {
+                r.omega.m[i][0] += CtQi.m[i][j] * meas->C.m[j][0];
+                r.omega.m[i][1] += CtQi.m[i][j] * meas->C.m[j][1];
+                r.xi.v[i] += CtQi.m[i][j] * (z->v[j] - meas->c.v[j]);
+            }
         }
-    }
-    gf_mat2_symmetrize(&r.omega);
+        gf_mat2_symmetrize(&r.omega);
 
-    if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
-        return GF_ERR_NONFINITE;
+        if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
+            return GF_ERR_NONFINITE;
+        }
+        *inf = r;
     }
-    *inf = r;
     if (info) {
         *info = in;
     }

@@ -35,6 +35,19 @@ static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
     return GF_OK;
 }
 
+// L = sqrt(s) for s checked PSD: gf_mat3_sqrt_psd's result, through the
+// packed square root (its 3x3 temporary, and frame, are not under ours).
+static void sqrt_psd(const gf_mat3 *s, gf_mat3 *L)
+{
+    gf_real l[6];
+    gf_sqrt_psd_packed(s, 3, l);
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = 0; j < 3; j++) {
+            L->m[i][j] = (j <= i) ? l[GF_TRI(i, j)] : GF_R(0.0);
+        }
+    }
+}
+
 gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
                       uint32_t seed, const gf_vec3 *mu,
                       const gf_mat3 *sigma)
@@ -45,24 +58,26 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     if (!gf_vec3_is_finite_n(mu, 3)) {
         return GF_ERR_NONFINITE;
     }
-    gf_mat3 L;
-    gf_status st = gf_mat3_sqrt_psd(sigma, 3, &L);
+    gf_status st = gf_mat3_check_psd(sigma, 3);
     if (st != GF_OK) {
         return st;
     }
+    gf_mat3 L;
+    sqrt_psd(sigma, &L);
     // Dry run: every draw mu + L n_k must be finite before anything is
-    // written (an enormous sigma could overflow).
+    // written (an enormous sigma could overflow). The generator is then
+    // seeded again, so the draws kept are the ones checked.
     gf_rng rng;
     (void)gf_rng_seed(&rng, seed);
-    gf_rng dry = rng;
     for (unsigned k = 0; k < n; k++) {
         gf_vec3 x;
-        gf_rng_mvn3(&dry, mu, &L, &x);
+        gf_rng_mvn3(&rng, mu, &L, &x);
         if (!gf_vec3_is_finite_n(&x, 3)) {
             return GF_ERR_NONFINITE;
         }
     }
     // x^[k] ~ N(mu, Sigma), w^[k] = 1/n
+    (void)gf_rng_seed(&rng, seed);
     const gf_real w = GF_R(1.0) / (gf_real)n;
     for (unsigned k = 0; k < n; k++) {
         gf_rng_mvn3(&rng, mu, &L, &particles[k].x);
@@ -75,82 +90,84 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     return GF_OK;
 }
 
-// One particle's move: out = g(u, x) + L n, n ~ N(0, I) from rng, heading
-// wrapped.
-static gf_status move(const gf_ekf3_motion *motion, const gf_real *u,
-                      const gf_mat3 *L, gf_rng *rng, const gf_vec3 *x,
-                      gf_vec3 *out)
-{
-    gf_vec3 gx = *x, r;
-    gf_mat3 G_unused;
-    gf_status st = motion->g(motion->ctx, x, u, &gx, &G_unused);
-    if (st != GF_OK) {
-        return gf_callback_status(st);
-    }
-    if (!gf_vec3_is_finite_n(&gx, 3)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_rng_mvn3(rng, &gx, L, &r);
-    r.v[2] = gf_angle_wrap(r.v[2]);
-    if (!gf_vec3_is_finite_n(&r, 3)) {
-        return GF_ERR_NONFINITE;
-    }
-    *out = r;
-    return GF_OK;
-}
-
 gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
                          const gf_real *u)
 {
     if (!pf || !pf->p || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
-    gf_mat3 L;
-    gf_status st = gf_mat3_sqrt_psd(&motion->R, 3, &L);
+    gf_status st = gf_mat3_check_psd(&motion->R, 3);
     if (st != GF_OK) {
         return st;
     }
-    // Dry run on a copy of the generator: the commit below repeats exactly
-    // these computations, so it cannot fail half-way.
+    gf_mat3 L;
+    sqrt_psd(&motion->R, &L);
+    // x_t^[k] = g(u, x_{t-1}^[k]) + L n^[k], n^[k] ~ N(0, I), heading
+    // wrapped (G discarded). Pass 0 is a dry run on a copy of the
+    // generator that writes nothing and stops at the first failure; pass 1
+    // repeats exactly its computations on the filter's own generator and
+    // writes each particle, so it cannot fail half-way.
     gf_rng dry = pf->rng;
-    for (unsigned k = 0; k < pf->n; k++) {
-        gf_vec3 x;
-        st = move(motion, u, &L, &dry, &pf->p[k].x, &x);
-        if (st != GF_OK) {
-            return st;
+    for (unsigned pass = 0; pass < 2u; pass++) {
+        gf_rng *rng = (pass == 0u) ? &dry : &pf->rng;
+        for (unsigned k = 0; k < pf->n; k++) {
+            gf_vec3 x = pf->p[k].x;
+            {
+                gf_mat3 G_unused;
+                st = gf_callback_status(motion->g(motion->ctx, &pf->p[k].x,
+                                                  u, &x, &G_unused));
+            }
+            if (st == GF_OK && !gf_vec3_is_finite_n(&x, 3)) {
+                st = GF_ERR_NONFINITE;
+            }
+            if (st == GF_OK) {
+                gf_rng_mvn3(rng, &x, &L, &x);
+                x.v[2] = gf_angle_wrap(x.v[2]);
+                if (!gf_vec3_is_finite_n(&x, 3)) {
+                    st = GF_ERR_NONFINITE;
+                }
+            }
+            if (pass == 0u && st != GF_OK) {
+                return st;
+            }
+            if (pass != 0u && st == GF_OK) {
+                pf->p[k].x = x;
+            }
         }
-    }
-    // x_t^[k] = g(u, x_{t-1}^[k]) + eps^[k]
-    for (unsigned k = 0; k < pf->n; k++) {
-        (void)move(motion, u, &L, &pf->rng, &pf->p[k].x, &pf->p[k].x);
     }
     return GF_OK;
 }
 
-// d2 = r^T Q^-1 r, r = z - h(x) (flagged entries wrapped), L = chol(Q).
-static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_mat3 *L,
+// d2 = r^T Q^-1 r, r = z - h(x) (flagged entries wrapped), l = chol(Q)
+// packed as GF_TRI. H goes to a scratch matrix that is gone before the
+// solve.
+static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_real l[6],
                              const gf_vec3 *z, const gf_vec3 *x, gf_real *d2)
 {
     const unsigned m = meas->m;
-    gf_vec3 zh = {{0, 0, 0}}, r = {{0, 0, 0}}, qr;
-    gf_mat3 H_unused;
-    gf_status st = meas->h(meas->ctx, x, &zh, &H_unused);
-    if (st != GF_OK) {
-        return gf_callback_status(st);
+    gf_vec3 r = {{0, 0, 0}};
+    {
+        gf_mat3 H_unused;
+        const gf_status st = meas->h(meas->ctx, x, &r, &H_unused);
+        if (st != GF_OK) {
+            return gf_callback_status(st);
+        }
     }
-    if (!gf_vec3_is_finite_n(&zh, m)) {
+    if (!gf_vec3_is_finite_n(&r, m)) {
         return GF_ERR_NONFINITE;
     }
+    gf_real qr[3] = {0, 0, 0};
     for (unsigned i = 0; i < m; i++) {
-        r.v[i] = z->v[i] - zh.v[i];
+        r.v[i] = z->v[i] - r.v[i];
         if ((meas->angle_mask >> i) & 1u) {
             r.v[i] = gf_angle_wrap(r.v[i]);
         }
+        qr[i] = r.v[i];
     }
-    gf_mat3_chol_solve(L, m, &r, &qr);
+    gf_chol_solve_packed(l, m, qr);
     gf_real d = 0;
     for (unsigned i = 0; i < m; i++) {
-        d += r.v[i] * qr.v[i];
+        d += r.v[i] * qr[i];
     }
     if (!GF_ISFINITE(d)) {
         return GF_ERR_NONFINITE;
@@ -169,8 +186,14 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    gf_mat3 L;
-    st = gf_mat3_chol(&meas->Q, meas->m, &L);
+    // chol(Q), packed: gf_mat3_chol's arithmetic in 6 entries
+    gf_real L[6];
+    for (unsigned i = 0; i < meas->m; i++) {
+        for (unsigned j = 0; j <= i; j++) {
+            L[GF_TRI(i, j)] = meas->Q.m[i][j];
+        }
+    }
+    st = gf_chol_packed(L, meas->m);
     if (st != GF_OK) {
         return st;
     }
@@ -186,7 +209,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
     gf_real best = 0, d2min = 0;
     for (unsigned k = 0; k < pf->n; k++) {
         gf_real d2;
-        st = mahalanobis(meas, &L, z, &pf->p[k].x, &d2);
+        st = mahalanobis(meas, L, z, &pf->p[k].x, &d2);
         if (st != GF_OK) {
             return st;
         }
@@ -211,7 +234,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
     gf_real sum = 0;
     for (unsigned k = 0; k < pf->n; k++) {
         gf_real d2 = 0;
-        (void)mahalanobis(meas, &L, z, &pf->p[k].x, &d2);
+        (void)mahalanobis(meas, L, z, &pf->p[k].x, &d2);
         gf_real w = 0;
         if (pf->p[k].w > 0) {
             w = GF_EXP(GF_LOG(pf->p[k].w) - GF_R(0.5) * d2 - best);

@@ -86,13 +86,14 @@ gf_real gf_rng_normal(gf_rng *rng)
 void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l,
                  gf_vec3 *x)
 {
-    // x = mu + L n, n ~ N(0, I)
-    gf_vec3 n, ln;
+    // x = mu + L n, n ~ N(0, I); row i of L n as gf_mat3_mulv sums it,
+    // with no second temporary (x may be mu).
+    gf_vec3 n;
     for (unsigned i = 0; i < 3; i++) {
         n.v[i] = gf_rng_normal(rng);
     }
-    gf_mat3_mulv(l, &n, &ln);
     for (unsigned i = 0; i < 3; i++) {
-        x->v[i] = mu->v[i] + ln.v[i];
+        x->v[i] = mu->v[i] + (l->m[i][0] * n.v[0] + l->m[i][1] * n.v[1] +
+                              l->m[i][2] * n.v[2]);
     }
 }

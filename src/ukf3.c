@@ -6,78 +6,89 @@
 #define N_SIGMA (2u * N_STATE + 1u)
 #define HEADING_MASK (1u << 2) // state entry 2, theta, is an angle
 
-static gf_real weight_m(const gf_ukf3 *ukf, unsigned j)
-{
-    return j == 0 ? ukf->wm0 : ukf->wi;
-}
+// Stack (a firmware target gives a public function 256 bytes, built-in
+// models included; scripts/footprint): no array of sigma points is kept.
+// Each point is made when needed from the packed square root of Sigma
+// (chi_j = mu + off_j); the prediction keeps the 7 images through g, the
+// update none (it calls h twice per point: once for z_hat, once for the
+// moments about it). The locals of successive phases are grouped so that
+// the compiler can lay them over each other, and the helpers under the
+// deepest frames are leaves or call only gf_angle_wrap.
 
-static gf_real weight_c(const gf_ukf3 *ukf, unsigned j)
+// UKF3_SMALL_CALL: a small helper of the large frames, called under -Os
+// (its few bytes of frame on top of theirs cost less than its code inlined
+// into theirs), inlined under gcc and clang otherwise, for speed.
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define UKF3_SMALL_CALL static inline __attribute__((always_inline))
+#else
+#define UKF3_SMALL_CALL static
+#endif
+
+static inline gf_real weight_c(const gf_ukf3 *ukf, unsigned j)
 {
     return j == 0 ? ukf->wc0 : ukf->wi;
 }
 
-// chi_0 = mu, chi_{1+i} = mu + gamma L_i, chi_{4+i} = mu - gamma L_i, with
-// L_i the columns of a square root of sigma; off_j = chi_j - mu.
-static gf_status sigma_points(const gf_ukf3 *ukf, gf_vec3 chi[N_SIGMA],
-                              gf_vec3 off[N_SIGMA])
+// Entry k of off_j = chi_j - mu: off_0 = 0, off_{1+i} = gamma L_i,
+// off_{4+i} = -gamma L_i (L_i column i of L, packed as GF_TRI).
+static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6],
+                             unsigned j, unsigned k)
 {
-    gf_mat3 L;
-    gf_status st = gf_mat3_sqrt_psd(&ukf->sigma, N_STATE, &L);
-    if (st != GF_OK) {
-        return st;
+    const unsigned i = (j - 1u) % N_STATE;
+    gf_real o = 0;
+    if (j > 0u && k >= i) {
+        o = ukf->gamma * l[GF_TRI(k, i)];
     }
-    for (unsigned k = 0; k < N_STATE; k++) {
-        off[0].v[k] = 0;
-    }
-    for (unsigned i = 0; i < N_STATE; i++) {
-        for (unsigned k = 0; k < N_STATE; k++) {
-            off[1 + i].v[k] = ukf->gamma * L.m[k][i];
-            off[1 + N_STATE + i].v[k] = -ukf->gamma * L.m[k][i];
-        }
-    }
-    for (unsigned j = 0; j < N_SIGMA; j++) {
-        for (unsigned k = 0; k < N_STATE; k++) {
-            chi[j].v[k] = ukf->mu.v[k] + off[j].v[k];
-        }
-    }
-    return GF_OK;
+    return (j > N_STATE) ? -o : o;
 }
 
-// mean = sum_j w_m,j p_j on the first n entries, taken as p_0 plus the
-// weighted residuals about p_0 (the weights sum to one): exact when the
-// points coincide, and no large offsets cancel. An entry flagged in
-// angle_mask has its residuals wrapped (the mean on the circle near p_0),
-// and is wrapped itself.
-static void weighted_mean(const gf_ukf3 *ukf, const gf_vec3 p[N_SIGMA],
-                          unsigned n, unsigned angle_mask, gf_vec3 *mean)
-{
-    gf_vec3 r = {{0, 0, 0}};
-    for (unsigned k = 0; k < n; k++) {
-        const unsigned angle = (angle_mask >> k) & 1u;
-        const gf_real ref = p[0].v[k];
-        gf_real acc = 0;
-        for (unsigned j = 1; j < N_SIGMA; j++) {
-            gf_real d = p[j].v[k] - ref;
-            acc += weight_m(ukf, j) * ((angle != 0u) ? gf_angle_wrap(d) : d);
-        }
-        r.v[k] = (angle != 0u) ? gf_angle_wrap(ref + acc) : ref + acc;
-    }
-    *mean = r;
-}
-
-// d = p - mean on the first n entries, angles wrapped, the rest zero.
-static void residual(const gf_vec3 *p, const gf_vec3 *mean, unsigned n,
-                     unsigned angle_mask, gf_vec3 *d)
+// chi_j = mu + off_j.
+UKF3_SMALL_CALL void sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
+                                 unsigned j, gf_vec3 *chi)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
-        d->v[k] = 0;
+        chi->v[k] = ukf->mu.v[k] + offset(ukf, l, j, k);
     }
-    for (unsigned k = 0; k < n; k++) {
-        d->v[k] = p->v[k] - mean->v[k];
-        if ((angle_mask >> k) & 1u) {
-            d->v[k] = gf_angle_wrap(d->v[k]);
-        }
+}
+
+// Entry e of a residual finished by the bits of wrap_flagged for it: bit
+// 0 clear, zeroed; else bit 3 set, wrapped; else kept.
+GF_ALWAYS_INLINE void wrap_entry(gf_real *e, unsigned b)
+{
+    if ((b & 1u) == 0u) {
+        *e = 0;
+    } else if ((b & (1u << N_STATE)) != 0u) {
+        *e = gf_angle_wrap(*e);
+    } else {
+        // kept as it is
     }
+}
+
+// The flagged entries among the first n of d wrapped to (-pi, pi], the
+// entries from n on zeroed: the second half of a residual, and the last
+// step of a mean. The one helper that calls out (gf_angle_wrap), so that
+// the large frames above it need not; entry by entry, so that only d and
+// the bits (k: entry k kept, 3 + k: entry k wrapped) are kept across the
+// calls.
+UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n,
+                                  unsigned angle_mask)
+{
+    const unsigned keep = (1u << n) - 1u;
+    const unsigned bits = keep | ((angle_mask & keep) << N_STATE);
+    wrap_entry(&d->v[0], bits);
+    wrap_entry(&d->v[1], bits >> 1);
+    wrap_entry(&d->v[2], bits >> 2);
+}
+
+// d = p - ref on the first n entries, those flagged in angle_mask wrapped,
+// the rest zero; d may be p or ref.
+GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref,
+                               unsigned n, unsigned angle_mask, gf_vec3 *d)
+{
+    for (unsigned k = 0; k < N_STATE; k++) {
+        d->v[k] = p->v[k] - ref->v[k];
+    }
+    wrap_flagged(d, n, angle_mask);
 }
 
 gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
@@ -131,18 +142,26 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return st;
     }
-
-    // chi_{t-1} = (mu, mu + gamma sqrt(Sigma), mu - gamma sqrt(Sigma))
-    gf_vec3 chi[N_SIGMA], off[N_SIGMA], y[N_SIGMA];
-    st = sigma_points(ukf, chi, off);
+    st = gf_mat3_check_psd(&ukf->sigma, N_STATE);
     if (st != GF_OK) {
         return st;
     }
-    // chi_bar*_j = g(u, chi_j); G is not needed
+
+    // chi_{t-1} = (mu, mu + gamma sqrt(Sigma), mu - gamma sqrt(Sigma)),
+    // made in y; then chi_bar*_j = g(u, chi_j) replaces chi_j (G is not
+    // needed).
+    gf_vec3 y[N_SIGMA];
+    {
+        gf_real l[6];
+        gf_sqrt_psd_packed(&ukf->sigma, N_STATE, l);
+        for (unsigned j = 0; j < N_SIGMA; j++) {
+            sigma_point(ukf, l, j, &y[j]);
+        }
+    }
     for (unsigned j = 0; j < N_SIGMA; j++) {
+        gf_vec3 chi = y[j];
         gf_mat3 G_unused;
-        y[j] = chi[j];
-        st = motion->g(motion->ctx, &chi[j], u, &y[j], &G_unused);
+        st = motion->g(motion->ctx, &chi, u, &y[j], &G_unused);
         if (st != GF_OK) {
             return gf_callback_status(st);
         }
@@ -151,37 +170,169 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         }
     }
 
-    // mu_bar = sum_j w_m,j chi_bar*_j (heading on the circle)
-    gf_vec3 mu;
-    weighted_mean(ukf, y, N_STATE, HEADING_MASK, &mu);
-
-    // Sigma_bar = sum_j w_c,j (chi_bar*_j - mu_bar)(...)^T + R
-    gf_mat3 sigma = motion->R;
-    gf_mat3_symmetrize(&sigma);
-    for (unsigned j = 0; j < N_SIGMA; j++) {
-        gf_vec3 d;
-        residual(&y[j], &mu, N_STATE, HEADING_MASK, &d);
-        const gf_real w = weight_c(ukf, j);
-        for (unsigned a = 0; a < N_STATE; a++) {
-            for (unsigned b = a; b < N_STATE; b++) {
-                sigma.m[a][b] += w * d.v[a] * d.v[b];
+    // mu_bar = sum_j w_m,j chi_bar*_j (heading on the circle), taken as
+    // chi_bar*_0 plus the weighted residuals about it (the weights sum to
+    // one, and w_m,j = w_i for j > 0): exact when the points coincide, and
+    // no large offsets cancel.
+    {
+        gf_vec3 mu = {{0, 0, 0}};
+        {
+            gf_vec3 d;
+            for (unsigned j = 1; j < N_SIGMA; j++) {
+                residual(&y[j], &y[0], N_STATE, HEADING_MASK, &d);
+                for (unsigned k = 0; k < N_STATE; k++) {
+                    mu.v[k] += ukf->wi * d.v[k];
+                }
             }
+        }
+        for (unsigned k = 0; k < N_STATE; k++) {
+            mu.v[k] = y[0].v[k] + mu.v[k];
+        }
+        wrap_flagged(&mu, N_STATE, HEADING_MASK);
+
+        // Sigma_bar = sum_j w_c,j (chi_bar*_j - mu_bar)(...)^T + R, the
+        // residuals in place of the points
+        gf_mat3 sigma = motion->R;
+        gf_mat3_symmetrize(&sigma);
+        for (unsigned j = 0; j < N_SIGMA; j++) {
+            residual(&y[j], &mu, N_STATE, HEADING_MASK, &y[j]);
+            const gf_real w = weight_c(ukf, j);
+            for (unsigned a = 0; a < N_STATE; a++) {
+                for (unsigned b = a; b < N_STATE; b++) {
+                    sigma.m[a][b] += w * y[j].v[a] * y[j].v[b];
+                }
+            }
+        }
+        for (unsigned a = 0; a < N_STATE; a++) {
+            for (unsigned b = 0; b < a; b++) {
+                sigma.m[a][b] = sigma.m[b][a];
+            }
+        }
+        if (!gf_vec3_is_finite_n(&mu, N_STATE) ||
+            !gf_mat3_is_finite(&sigma)) {
+            return GF_ERR_NONFINITE;
+        }
+        st = gf_mat3_check_psd(&sigma, N_STATE);
+        if (st != GF_OK) {
+            return st;
+        }
+        ukf->mu = mu;
+        ukf->sigma = sigma;
+    }
+    return GF_OK;
+}
+
+// One sigma point of the update at a time: the packed square root of
+// Sigma_bar, the point, its image Z through h and h's unused H.
+typedef struct ukf3_point {
+    gf_real l[6];
+    gf_vec3 chi;
+    gf_vec3 Z;
+    gf_mat3 H;
+} ukf3_point;
+
+// Z = h(chi_bar_j) (first m entries, the rest zero), checked finite.
+GF_ALWAYS_INLINE gf_status measure(const gf_ukf3 *ukf,
+                                   const gf_ekf3_meas *meas, unsigned j,
+                                   ukf3_point *p)
+{
+    sigma_point(ukf, p->l, j, &p->chi);
+    p->Z.v[0] = p->Z.v[1] = p->Z.v[2] = 0;
+    const gf_status st = meas->h(meas->ctx, &p->chi, &p->Z, &p->H);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    return gf_vec3_is_finite_n(&p->Z, meas->m) ? GF_OK : GF_ERR_NONFINITE;
+}
+
+// S = Q (m x m, symmetrized; lower triangle packed, zero past the m x m
+// block) and Sigma^xz = 0, before the sums over the points.
+static void moments_init(const gf_ekf3_meas *meas, gf_real s[6],
+                         gf_mat3 *pxz)
+{
+    static const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    for (unsigned a = 0; a < N_STATE; a++) {
+        for (unsigned b = 0; b <= a; b++) {
+            s[GF_TRI(a, b)] =
+                (a < meas->m) ? GF_R(0.5) * (meas->Q.m[a][b] + meas->Q.m[b][a])
+                              : GF_R(0.0);
+        }
+    }
+    *pxz = zero;
+}
+
+// Point j's terms of S and Sigma^xz, dz_j in p->Z (zero past the m
+// measured entries, so the sums there stay zero).
+static void accumulate(const gf_ukf3 *ukf, unsigned j, const ukf3_point *p,
+                       gf_real s[6], gf_mat3 *pxz)
+{
+    const gf_real w = weight_c(ukf, j);
+    for (unsigned a = 0; a < N_STATE; a++) {
+        for (unsigned b = 0; b <= a; b++) {
+            s[GF_TRI(a, b)] += w * p->Z.v[a] * p->Z.v[b];
         }
     }
     for (unsigned a = 0; a < N_STATE; a++) {
-        for (unsigned b = 0; b < a; b++) {
-            sigma.m[a][b] = sigma.m[b][a];
+        const gf_real off = offset(ukf, p->l, j, a);
+        for (unsigned b = 0; b < N_STATE; b++) {
+            pxz->m[a][b] += w * off * p->Z.v[b];
         }
     }
-    if (!gf_vec3_is_finite_n(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
+}
+
+// What the update needs once the points are done with: the innovation,
+// the posterior, and u = L_S^-1 y.
+typedef struct ukf3_post {
+    gf_innovation in;
+    gf_vec3 u;
+    gf_vec3 mu;
+    gf_mat3 sigma;
+} ukf3_post;
+
+// The posterior, written to ukf only if finite and PSD. With S = L_S L_S^T
+// (l_s packed), W = L_S^-1 (Sigma^xz)^T (m x 3, row by row in place of
+// Sigma^xz's columns) and u = L_S^-1 y in q->u, the gain K = Sigma^xz S^-1
+// gives
+//   mu = mu_bar + K y = mu_bar + W^T u  (heading wrapped),
+//   Sigma = Sigma_bar - K S K^T = Sigma_bar - W^T W  (symmetric as built).
+static gf_status posterior(gf_ukf3 *ukf, const gf_real l_s[6],
+                           gf_mat3 *pxz, ukf3_post *q)
+{
+    const unsigned m = q->in.m;
+    for (unsigned a = 0; a < N_STATE; a++) { // row a of Sigma^xz: L_S w = p_a
+        for (unsigned i = 0; i < m; i++) {
+            for (unsigned k = 0; k < i; k++) {
+                pxz->m[a][i] -= l_s[GF_TRI(i, k)] * pxz->m[a][k];
+            }
+            pxz->m[a][i] /= l_s[GF_TRI(i, i)];
+        }
+    }
+    q->mu = ukf->mu;
+    q->sigma = ukf->sigma;
+    for (unsigned a = 0; a < N_STATE; a++) {
+        for (unsigned i = 0; i < m; i++) {
+            q->mu.v[a] += pxz->m[a][i] * q->u.v[i];
+        }
+        for (unsigned b = a; b < N_STATE; b++) {
+            gf_real ksk = 0;
+            for (unsigned i = 0; i < m; i++) {
+                ksk += pxz->m[a][i] * pxz->m[b][i];
+            }
+            q->sigma.m[a][b] -= ksk;
+            q->sigma.m[b][a] = q->sigma.m[a][b];
+        }
+    }
+    q->mu.v[2] = gf_angle_wrap(q->mu.v[2]);
+    if (!gf_vec3_is_finite_n(&q->mu, N_STATE) ||
+        !gf_mat3_is_finite(&q->sigma)) {
         return GF_ERR_NONFINITE;
     }
-    st = gf_mat3_check_psd(&sigma, N_STATE);
+    const gf_status st = gf_mat3_check_psd(&q->sigma, N_STATE);
     if (st != GF_OK) {
         return st;
     }
-    ukf->mu = mu;
-    ukf->sigma = sigma;
+    ukf->mu = q->mu;
+    ukf->sigma = q->sigma;
     return GF_OK;
 }
 
@@ -195,125 +346,94 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    const unsigned m = meas->m;
-
-    // chi_bar = (mu_bar, mu_bar +- gamma sqrt(Sigma_bar)), Z_j = h(chi_bar_j)
-    gf_vec3 chi[N_SIGMA], off[N_SIGMA], Z[N_SIGMA];
-    st = sigma_points(ukf, chi, off);
+    st = gf_mat3_check_psd(&ukf->sigma, N_STATE);
     if (st != GF_OK) {
         return st;
     }
-    for (unsigned j = 0; j < N_SIGMA; j++) {
-        gf_mat3 H_unused;
-        Z[j].v[0] = Z[j].v[1] = Z[j].v[2] = 0;
-        st = meas->h(meas->ctx, &chi[j], &Z[j], &H_unused);
-        if (st != GF_OK) {
-            return gf_callback_status(st);
+    const unsigned m = meas->m;
+    const unsigned mask = meas->angle_mask;
+
+    // chi_bar = (mu_bar, mu_bar +- gamma sqrt(Sigma_bar)), Z_j = h(chi_bar_j),
+    // twice over the points: pass 0 for z_hat = sum_j w_m,j Z_j (in y; the
+    // residuals about Z_0 are summed in s, not yet in use), pass 1 for the
+    // moments about it, with dz_j = Z_j - z_hat (angles wrapped):
+    //   S = sum_j w_c,j dz_j dz_j^T + Q   (m x m, lower triangle packed),
+    //   Sigma^xz = sum_j w_c,j (chi_bar_j - mu_bar) dz_j^T   (3 x m).
+    gf_real s[6];
+    gf_mat3 Pxz;
+    gf_vec3 y;
+    {
+        ukf3_point p;
+        gf_sqrt_psd_packed(&ukf->sigma, N_STATE, p.l);
+        for (unsigned pass = 0; pass < 2u; pass++) {
+            for (unsigned j = 0; j < N_SIGMA; j++) {
+                st = measure(ukf, meas, j, &p);
+                if (st != GF_OK) {
+                    return st;
+                }
+                if (pass == 0u && j == 0u) {
+                    y = p.Z;
+                    s[0] = s[1] = s[2] = 0;
+                } else if (pass == 0u) {
+                    residual(&p.Z, &y, m, mask, &p.Z);
+                    for (unsigned k = 0; k < N_STATE; k++) {
+                        s[k] += ukf->wi * p.Z.v[k];
+                    }
+                } else {
+                    residual(&p.Z, &y, m, mask, &p.Z);
+                    accumulate(ukf, j, &p, s, &Pxz);
+                }
+            }
+            if (pass == 0u) {
+                for (unsigned k = 0; k < N_STATE; k++) {
+                    y.v[k] = y.v[k] + s[k];
+                }
+                wrap_flagged(&y, m, mask);
+                moments_init(meas, s, &Pxz);
+            }
         }
-        if (!gf_vec3_is_finite_n(&Z[j], m)) {
+        // y = z - z_hat, angle residuals wrapped
+        residual(z, &y, m, mask, &y);
+    }
+    // S = L_S L_S^T in place (a non-finite entry fails it too)
+    for (unsigned k = 0; k < GF_TRI(m, 0u); k++) {
+        if (!GF_ISFINITE(s[k])) {
             return GF_ERR_NONFINITE;
         }
     }
-
-    // z_hat = sum_j w_m,j Z_j
-    gf_vec3 zh;
-    weighted_mean(ukf, Z, m, meas->angle_mask, &zh);
-
-    // S = sum_j w_c,j (Z_j - z_hat)(Z_j - z_hat)^T + Q   (m x m)
-    // Sigma^xz = sum_j w_c,j (chi_bar_j - mu_bar)(Z_j - z_hat)^T   (3 x m)
-    gf_mat3 S = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    gf_mat3 Pxz = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned a = 0; a < m; a++) {
-        for (unsigned b = 0; b < m; b++) {
-            S.m[a][b] = GF_R(0.5) * (meas->Q.m[a][b] + meas->Q.m[b][a]);
-        }
-    }
-    for (unsigned j = 0; j < N_SIGMA; j++) {
-        gf_vec3 dz;
-        residual(&Z[j], &zh, m, meas->angle_mask, &dz);
-        const gf_real w = weight_c(ukf, j);
-        for (unsigned a = 0; a < m; a++) {
-            for (unsigned b = 0; b < m; b++) {
-                S.m[a][b] += w * dz.v[a] * dz.v[b];
-            }
-        }
-        for (unsigned a = 0; a < N_STATE; a++) {
-            for (unsigned b = 0; b < m; b++) {
-                Pxz.m[a][b] += w * off[j].v[a] * dz.v[b];
-            }
-        }
-    }
-    gf_mat3 L;
-    st = gf_mat3_chol(&S, m, &L);
-    if (st != GF_OK) {
-        return gf_mat3_is_finite(&S) ? st : GF_ERR_NONFINITE;
-    }
-
-    // y = z - z_hat, angle residuals wrapped; NIS = y^T S^-1 y
-    gf_innovation in;
-    gf_vec3 yv, Siy;
-    residual(z, &zh, m, meas->angle_mask, &yv);
-    in.m = m;
-    for (unsigned i = 0; i < N_STATE; i++) {
-        in.y[i] = yv.v[i];
-    }
-    gf_mat3_chol_solve(&L, m, &yv, &Siy);
-    in.nis = 0;
-    for (unsigned i = 0; i < m; i++) {
-        in.nis += in.y[i] * Siy.v[i];
-    }
-    if (!GF_ISFINITE(in.nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gf_gated(&in, meas->gate, info)) {
-        return GF_ERR_GATED;
-    }
-
-    // K = Sigma^xz S^-1: row i of K solves S k = row i of Sigma^xz
-    gf_mat3 K = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned i = 0; i < N_STATE; i++) {
-        gf_vec3 row = {{Pxz.m[i][0], Pxz.m[i][1], Pxz.m[i][2]}}, k;
-        gf_mat3_chol_solve(&L, m, &row, &k);
-        for (unsigned j = 0; j < m; j++) {
-            K.m[i][j] = k.v[j];
-        }
-    }
-
-    // mu = mu_bar + K (z - z_hat)
-    gf_vec3 mu = ukf->mu;
-    for (unsigned i = 0; i < N_STATE; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            mu.v[i] += K.m[i][j] * in.y[j];
-        }
-    }
-    mu.v[2] = gf_angle_wrap(mu.v[2]);
-
-    // Sigma = Sigma_bar - K S K^T, with K S = Sigma^xz: K S K^T =
-    // Sigma^xz K^T, taken on the upper triangle and mirrored.
-    gf_mat3 sigma = ukf->sigma;
-    for (unsigned a = 0; a < N_STATE; a++) {
-        for (unsigned b = a; b < N_STATE; b++) {
-            gf_real ksk = 0;
-            for (unsigned j = 0; j < m; j++) {
-                ksk += GF_R(0.5) * (Pxz.m[a][j] * K.m[b][j] +
-                                    K.m[a][j] * Pxz.m[b][j]);
-            }
-            sigma.m[a][b] -= ksk;
-            sigma.m[b][a] = sigma.m[a][b];
-        }
-    }
-
-    if (!gf_vec3_is_finite_n(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
-        return GF_ERR_NONFINITE;
-    }
-    st = gf_mat3_check_psd(&sigma, N_STATE);
+    st = gf_chol_packed(s, m);
     if (st != GF_OK) {
         return st;
     }
-    ukf->mu = mu;
-    ukf->sigma = sigma;
-    if (info) {
-        *info = in;
+    {
+        // u = L_S^-1 y, NIS = y^T S^-1 y = u^T u
+        ukf3_post q;
+        q.in.m = m;
+        q.in.nis = 0;
+        for (unsigned i = 0; i < N_STATE; i++) {
+            q.in.y[i] = y.v[i];
+            q.u.v[i] = y.v[i];
+        }
+        for (unsigned i = 0; i < m; i++) {
+            for (unsigned k = 0; k < i; k++) {
+                q.u.v[i] -= s[GF_TRI(i, k)] * q.u.v[k];
+            }
+            q.u.v[i] /= s[GF_TRI(i, i)];
+            q.in.nis += q.u.v[i] * q.u.v[i];
+        }
+        if (!GF_ISFINITE(q.in.nis)) {
+            return GF_ERR_NONFINITE;
+        }
+        if (gf_gated(&q.in, meas->gate, info)) {
+            return GF_ERR_GATED;
+        }
+        st = posterior(ukf, s, &Pxz, &q);
+        if (st != GF_OK) {
+            return st;
+        }
+        if (info) {
+            *info = q.in;
+        }
     }
     return GF_OK;
 }

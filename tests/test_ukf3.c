@@ -65,6 +65,23 @@ static gf_status nan_meas(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
     return GF_OK;
 }
 
+// Measures x and counts its calls; fails (GF_ERR_MODEL) on call number
+// fail_at (1-based; 0: never).
+typedef struct counting {
+    unsigned calls;
+    unsigned fail_at;
+} counting;
+static gf_status counting_meas_x(void *ctx, const gf_vec3 *mu_bar,
+                                 gf_vec3 *z_hat, gf_mat3 *H)
+{
+    counting *c = ctx;
+    c->calls++;
+    if (c->calls == c->fail_at) {
+        return GF_ERR_MODEL;
+    }
+    return gf_ekf3_meas_x(NULL, mu_bar, z_hat, H);
+}
+
 static void check_same(const gf_ukf3 *ukf, const gf_ekf3 *ekf)
 {
     for (int i = 0; i < 3; i++) {
@@ -292,6 +309,47 @@ static void test_bad_inputs(void **state)
     CHECK_UKF(info.nis, 16 / 0.51);
 }
 
+// The update calls h twice per sigma point (z_hat first, then the moments
+// about it, no array of points kept): 14 calls; a failure in either pass,
+// the second included, leaves the belief and info untouched. The result
+// does not depend on the counting (a pure model).
+static void test_update_calls(void **state)
+{
+    (void)state;
+    const gf_ukf3_params p = {1, 2, 0};
+    counting c = {0, 0};
+    gf_ekf3_meas me = {1, counting_meas_x, &c,
+                       {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+    const gf_ekf3_meas plain = {1, gf_ekf3_meas_x, NULL,
+                                {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                                0, 0};
+    const gf_vec3 z = {{GF_R(1.3), 0, 0}};
+    gf_ukf3 ukf, ref;
+    gf_innovation info, info_ref;
+    assert_int_equal(gf_ukf3_init(&ukf, &mu_a, &sig_a, &p), GF_OK);
+    ref = ukf;
+    assert_int_equal(gf_ukf3_update(&ukf, &me, &z, &info), GF_OK);
+    assert_int_equal(c.calls, 14u);
+    assert_int_equal(gf_ukf3_update(&ref, &plain, &z, &info_ref), GF_OK);
+    assert_memory_equal(&ukf, &ref, sizeof ukf); // gf_reals only
+    assert_int_equal(info.m, info_ref.m);
+    assert_memory_equal(info.y, info_ref.y, sizeof info.y);
+    assert_memory_equal(&info.nis, &info_ref.nis, sizeof info.nis);
+    for (unsigned fail = 1; fail <= 14u; fail++) {
+        gf_ukf3 f;
+        assert_int_equal(gf_ukf3_init(&f, &mu_a, &sig_a, &p), GF_OK);
+        unsigned char untouched[sizeof info];
+        memset(&info, 0x5a, sizeof info);
+        memcpy(untouched, &info, sizeof info);
+        c.calls = 0;
+        c.fail_at = fail;
+        CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &f,
+                              gf_ukf3_update(&f, &me, &z, &info));
+        assert_int_equal(c.calls, fail);
+        assert_memory_equal(&info, untouched, sizeof info);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -299,6 +357,7 @@ int main(void)
         cmocka_unit_test(test_weights),
         cmocka_unit_test(test_heading_across_pi),
         cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_update_calls),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -66,11 +66,17 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
 //   S = sum_i w_c,i (Z_i - z_hat)(Z_i - z_hat)^T + Q,
 //   Sigma^xz = sum_i w_c,i (chi_bar_i - mu_bar)(Z_i - z_hat)^T,
 //   K = Sigma^xz S^-1,  mu = mu_bar + K (z - z_hat),
-//   Sigma = Sigma_bar - K S K^T, then symmetrized.
-// The callback is called 7 times; its H output is discarded. Status, gate
-// and info rules as gf_ekf3_update (angle_mask wraps the flagged entries
-// of z_hat's mean and of every residual); GF_ERR_NOT_PSD also when the
-// posterior Sigma comes out indefinite.
+//   Sigma = Sigma_bar - K S K^T,
+// with S = L L^T: K S K^T = W^T W, W = L^-1 (Sigma^xz)^T (symmetric as
+// computed), K (z - z_hat) = W^T L^-1 (z - z_hat), and the NIS is
+// |L^-1 (z - z_hat)|^2.
+// The callback is called 14 times, twice per sigma point: once for z_hat,
+// once for the moments about it (no array of points is kept, for the
+// stack), so it must be a pure function of its input, as PF3's are; its H
+// output is discarded. Status, gate and info rules as gf_ekf3_update
+// (angle_mask wraps the flagged entries of z_hat's mean and of every
+// residual); GF_ERR_NOT_PSD also when the posterior Sigma comes out
+// indefinite.
 gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info);
 
