@@ -4,7 +4,8 @@
 // file:// log) end it with a one-line summary on stdout.
 //
 //   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--queue N]
-//           [--filter ekf|ukf|pf] [--seed S]
+//           [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]
+//           [--rt PRIO] [--timing]
 //
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
@@ -126,8 +127,8 @@ int main(int argc, char **argv)
 {
     const char *url = NULL, *out_url = NULL;
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
-    static gf_node node; // ~17 kB: keep it off the stack
-    static gf_node_pf_pool pool; // ~270 kB, used with --filter pf only
+    static gf_node node; // ~15 kB: keep it off the stack
+    static gf_node_pf_pool pool; // ~516 kB, used with --filter pf only
     static node_ctx ctx;         // ~40 kB: the --timing histogram
     gf_rt rt = {-1, -1, 0, 0, 0, 0, 0};
     char placement[96];
