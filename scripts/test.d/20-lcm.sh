@@ -2,9 +2,10 @@
 # Stage lcm: the LCM message types, filter node and simulators (sim/),
 # built against PyPI lcm 1.5 in .venv, and their tests: encode/decode of
 # every type, the node's handling (duplicates, order, malformed, non-finite,
-# track limit), memq:// in process, and real processes over udpm (Tables
-# 1.1, 2.1, 4.2 from the wire, malformed packets, log replay), in a private
-# network namespace when root.
+# track limit), its UKF3 and PF3 robot filters in process, memq:// in
+# process, and real processes over udpm (Tables 1.1, 2.1, 4.2 from the wire,
+# malformed packets, exercise 4 through EKF, UKF and PF nodes, log replay),
+# in a private network namespace when root.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$(dirname "$0")/../lcm.sh"
