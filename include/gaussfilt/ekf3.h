@@ -79,7 +79,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 //   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,
 //   mu = mu_bar + K (z - h(mu_bar)),
 //   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, then symmetrized.
-// Status, gate and info rules as gf_kf2_update.
+// Status, gate and info rules as gf_kf2_update, with m = 1..3 and h's own
+// error passed on as in gf_ekf3_predict.
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info);
 

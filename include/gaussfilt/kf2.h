@@ -71,7 +71,7 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 //   Sigma = (I - K C) Sigma_bar (I - K C)^T + K Q K^T, then symmetrized.
 // z holds meas->m values. info (may be NULL) receives the innovation and
 // its NIS on GF_OK and on GF_ERR_GATED (NIS above meas->gate, belief
-// untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2),
+// untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2, gate < 0),
 // GF_ERR_NONFINITE, GF_ERR_NOT_PSD (Q), GF_ERR_SINGULAR (S); the belief and
 // info are untouched.
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
