@@ -95,9 +95,9 @@ gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l);
 
 // ---- angles --------------------------------------------------------------
 
-// The angle a wrapped to (-pi, pi]. NaN and inf give NaN. Beyond
-// GF_ANGLE_MAX (2^22 turns in float, 2^51 in double) a number no longer
-// holds a direction at its own precision, and wraps to 0.
+// The angle a wrapped to (-pi, pi]. NaN and inf give NaN. Beyond 2^22
+// turns in float, 2^51 in double (|a| / 2 pi; TURNS_MAX in src/angle.c) a
+// number no longer holds a direction at its own precision, and wraps to 0.
 gf_real gf_angle_wrap(gf_real a);
 
 // *s = sin(a), *c = cos(a), within about 2 ulp for every a that
