@@ -2,7 +2,7 @@
 
 #include "gf_internal.h"
 
-// exp() of gf_real; config.h may provide it.
+// exp() of gf_real; -DGF_EXP=... overrides it (config.h does not define it).
 #ifndef GF_EXP
 #ifdef GF_SINGLE_PRECISION
 #define GF_EXP expf
