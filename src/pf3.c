@@ -113,7 +113,8 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
         for (unsigned k = 0; k < pf->n; k++) {
             gf_vec3 x = pf->p[k].x;
             {
-                gf_mat3 G_unused;
+                // Not used, but the identity, as ekf3.h promises.
+                gf_mat3 G_unused = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
                 st = gf_callback_status(motion->g(motion->ctx, &pf->p[k].x,
                                                   u, &x, &G_unused));
             }

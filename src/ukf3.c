@@ -160,7 +160,9 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     }
     for (unsigned j = 0; j < N_SIGMA; j++) {
         gf_vec3 chi = y[j];
-        gf_mat3 G_unused;
+        // G is not used, but it arrives as the identity (ekf3.h's promise
+        // to every motion callback).
+        gf_mat3 G_unused = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
         st = motion->g(motion->ctx, &chi, u, &y[j], &G_unused);
         if (st != GF_OK) {
             return gf_callback_status(st);

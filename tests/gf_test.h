@@ -64,4 +64,22 @@ static inline void gf_check_close_(double got, double want, double tol,
         assert_memory_equal(before_, (obj), sizeof(*(obj)));               \
     } while (0)
 
+// ekf3.h's promise to a motion callback, for every filter that calls one:
+// mu_bar arrives as a copy of mu and G as the identity. This model counts
+// the calls that broke it in *(unsigned *)ctx, then moves like the
+// built-in (which it calls with ctx NULL).
+static inline gf_status gf_test_motion_checks_args(void *ctx,
+                                                   const gf_vec3 *mu,
+                                                   const gf_real *u,
+                                                   gf_vec3 *mu_bar,
+                                                   gf_mat3 *G)
+{
+    static const gf_mat3 eye = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    if (memcmp(mu_bar, mu, sizeof *mu) != 0 ||
+        memcmp(G, &eye, sizeof eye) != 0) {
+        ++*(unsigned *)ctx;
+    }
+    return gf_ekf3_motion_forward_turn(NULL, mu, u, mu_bar, G);
+}
+
 #endif

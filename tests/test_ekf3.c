@@ -685,12 +685,31 @@ static void general_fails_unchanged(void **state)
     assert_memory_equal(&keep, &info, sizeof info);
 }
 
+// The motion callback gets mu_bar = mu and G = I (ekf3.h), on the fast
+// paths and in the compact steps alike.
+static void motion_args(void **state)
+{
+    (void)state;
+    unsigned broken = 0;
+    const gf_ekf3_motion mo = {gf_test_motion_checks_args, &broken,
+                               {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
+                                 {0, 0, GF_R(0.01)}}}};
+    const gf_real u[2] = {1, GF_R(0.3)};
+    const gf_vec3 mu = {{1, 2, GF_R(0.5)}};
+    const gf_mat3 sig = {{{1, GF_R(0.1), 0}, {GF_R(0.1), 1, 0}, {0, 0, 1}}};
+    gf_ekf3 ekf;
+    assert_int_equal(gf_ekf3_init(&ekf, &mu, &sig), GF_OK);
+    assert_int_equal(gf_ekf3_predict(&ekf, &mo, u), GF_OK);
+    assert_int_equal(broken, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(table_4_1),
         cmocka_unit_test(table_4_2),
         cmocka_unit_test(motion_jacobian),
+        cmocka_unit_test(motion_args),
         cmocka_unit_test(angle_wrapping),
         cmocka_unit_test(xy_measurement),
         cmocka_unit_test(full_state_measurement),

@@ -366,6 +366,22 @@ static void test_bad_inputs(void **state)
     assert_true(neff == 0);
 }
 
+// Every particle's call of g, in both passes, gets mu_bar = its particle
+// and G = I.
+static void test_motion_args(void **state)
+{
+    (void)state;
+    unsigned broken = 0;
+    gf_pf3 pf;
+    const gf_ekf3_motion mo = {gf_test_motion_checks_args, &broken,
+                               {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
+                                 {0, 0, GF_R(0.01)}}}};
+    const gf_real u[2] = {1, GF_R(0.3)};
+    assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 5, &origin, &prior), GF_OK);
+    assert_int_equal(gf_pf3_predict(&pf, &mo, u), GF_OK);
+    assert_int_equal(broken, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -378,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_resample_matches_table_4_4),
         cmocka_unit_test(test_neff_and_estimate),
         cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_motion_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -350,6 +350,24 @@ static void test_update_calls(void **state)
     }
 }
 
+// Every sigma point's call of g gets mu_bar = its point and G = I.
+static void test_motion_args(void **state)
+{
+    (void)state;
+    unsigned broken = 0;
+    const gf_ekf3_motion mo = {gf_test_motion_checks_args, &broken,
+                               {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
+                                 {0, 0, GF_R(0.01)}}}};
+    const gf_real u[2] = {1, GF_R(0.3)};
+    const gf_vec3 mu = {{1, 2, GF_R(0.5)}};
+    const gf_mat3 sig = {{{1, GF_R(0.1), 0}, {GF_R(0.1), 1, 0}, {0, 0, 1}}};
+    const gf_ukf3_params p = {1, 2, 0};
+    gf_ukf3 ukf;
+    assert_int_equal(gf_ukf3_init(&ukf, &mu, &sig, &p), GF_OK);
+    assert_int_equal(gf_ukf3_predict(&ukf, &mo, u), GF_OK);
+    assert_int_equal(broken, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -358,6 +376,7 @@ int main(void)
         cmocka_unit_test(test_heading_across_pi),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_update_calls),
+        cmocka_unit_test(test_motion_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
