@@ -67,12 +67,16 @@ static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
 // Writes the new belief from b: the new Sigma (n x n, rows of n, exactly
 // symmetric) and after it the new mu (n entries), if all are finite; else
 // GF_ERR_NONFINITE and the belief is untouched. EKF3's (n = 3) heading is
-// wrapped to (-pi, pi].
+// wrapped to (-pi, pi] first, in b (a non-finite heading stays
+// non-finite); b's owner calls gf_angle_wrap, so that this is a leaf (on
+// RV32 its frame of 32 B was on top of update's).
 static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
                         const gf_real *b)
 {
-    if (!all_finite(b, n * n + n)) {
-        return GF_ERR_NONFINITE;
+    for (size_t i = 0; i < n * n + n; i++) { // (all_finite, not called)
+        if (!GF_ISFINITE(b[i])) {
+            return GF_ERR_NONFINITE;
+        }
     }
     // (up to the new mu's address: a loop over i < n * n takes two more
     // saved registers here, gcc knowing n to be 2 or 3)
@@ -81,9 +85,6 @@ static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
     }
     for (size_t i = 0; i < n; i++) {
         mu[i] = b[n * n + i];
-    }
-    if (n == 3u) {
-        mu[2] = gf_angle_wrap(mu[2]);
     }
     return GF_OK;
 }
@@ -103,6 +104,9 @@ static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
             s[j * n + i] = s[i * n + j];
         }
         s[n * n + i] = mu_bar[i];
+    }
+    if (n == 3u) {
+        s[11] = gf_angle_wrap(s[11]);
     }
     return commit(mu, sigma, n, s);
 }
@@ -274,6 +278,9 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *km, gf_ekf3 *ekf,
         // mu = mu_bar + K y after it (over I - K H's first row if n = 3)
         for (size_t i = 0; i < n; i++) {
             h[n * n + i] = mu[i] + dot(&k[i * 3], 1, y.v, 1, m);
+        }
+        if (n == 3u) {
+            h[11] = gf_angle_wrap(h[11]);
         }
         st = commit(mu, sigma, n, h);
     }
