@@ -52,18 +52,21 @@ static gf_real dot(const gf_real *a, size_t as, const gf_real *b,
 }
 
 // u^T A v over the leading d x d block of a (rows of as entries), summed
-// as u_i a_ij v_j over i, then j. Walks u and the rows by pointer: on
-// Thumb-1 (Cortex-M0+) gcc keeps fewer values on the stack across the
-// soft-float calls than with i * as + j (frame 40 B, not 56).
+// as u_i a_ij v_j over i, then j. Walks u and the rows by pointer, the
+// rows counted down: on Thumb-1 (Cortex-M0+) gcc then keeps fewer values
+// on the stack across the soft-float calls than with i * as + j (frame
+// 40 B, not 56).
 static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
                           const gf_real *v, size_t d)
 {
     gf_real acc = 0;
+    const gf_real *ui = u;
     const gf_real *row = a;
-    for (const gf_real *ui = u; ui != &u[d]; ui++) {
+    for (size_t i = d; i > 0u; i--) {
         for (size_t j = 0; j < d; j++) {
             acc += *ui * row[j] * v[j];
         }
+        ui++;
         row = &row[as];
     }
     return acc;
@@ -78,7 +81,7 @@ static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
 static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
                         const gf_real *b)
 {
-    for (size_t i = 0; i < n * n + n; i++) { // (all_finite, not called)
+    for (size_t i = 0; &b[i] != &b[n * n + n]; i++) { // all_finite's test
         if (!GF_ISFINITE(b[i])) {
             return GF_ERR_NONFINITE;
         }
