@@ -67,6 +67,9 @@ CALLBACKS = {
     # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # PF3's predict calls g from propagate (not inlined under -Os), or
+    # itself where propagate is inlined (other optimisation levels).
+    "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
     "propagate": ["gf_ekf3_motion_forward_turn"],
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],

@@ -94,9 +94,10 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
 }
 
 // x = g(u, p) through the motion's callback (G discarded), checked
-// finite. Never inlined: G's scratch is in this frame, which is gone
-// before gf_pf3_predict draws the noise (the deeper call).
-#if defined(__GNUC__)
+// finite. Not inlined under -Os (firmware): G's scratch is then in this
+// frame, which is gone before gf_pf3_predict draws the noise (the deeper
+// call). Inlined otherwise, for speed (a call per particle and pass).
+#if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
 __attribute__((noinline))
 #endif
 static gf_status propagate(const gf_ekf3_motion *motion, const gf_vec3 *p,
