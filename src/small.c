@@ -107,13 +107,15 @@ static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
                          const gf_real *r)
 {
     gf_real s[12]; // Sigma_bar (rows of n), then mu_bar
+    for (size_t i = 0; i < n; i++) { // (a loop of its own: a smaller frame)
+        s[n * n + i] = mu_bar[i];
+    }
     for (size_t i = 0; i < n; i++) {
         for (size_t j = i; j < n; j++) {
             s[i * n + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
                            r[i * n + j];
             s[j * n + i] = s[i * n + j];
         }
-        s[n * n + i] = mu_bar[i];
     }
     if (n == 3u) {
         s[11] = gf_angle_wrap(s[11]);
