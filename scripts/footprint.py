@@ -63,11 +63,14 @@ CALLBACKS = {
     # GF_SMALL (src/small.c): the shared update's computation calls EKF3's
     # model.
     "update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # UKF3 and PF3 take EKF3's callbacks (PF3's update from a static helper;
+    # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
     # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    # PF3's predict calls g from propagate (not inlined under -Os), or
+    # itself where propagate is inlined (other optimisation levels).
     "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "propagate": ["gf_ekf3_motion_forward_turn"],
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }

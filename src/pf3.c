@@ -76,18 +76,43 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
             return GF_ERR_NONFINITE;
         }
     }
-    // x^[k] ~ N(mu, Sigma), w^[k] = 1/n
+    // x^[k] ~ N(mu, Sigma), then w^[k] = 1/n (a loop of its own: no float
+    // kept across the draws' calls, so no FP register saved in this frame)
     (void)gf_rng_seed(&rng, seed);
-    const gf_real w = GF_R(1.0) / (gf_real)n;
     for (unsigned k = 0; k < n; k++) {
         gf_rng_mvn3(&rng, mu, &L, &particles[k].x);
         particles[k].x.v[2] = gf_angle_wrap(particles[k].x.v[2]);
+    }
+    const gf_real w = GF_R(1.0) / (gf_real)n;
+    for (unsigned k = 0; k < n; k++) {
         particles[k].w = w;
     }
     pf->p = particles;
     pf->n = n;
     pf->rng = rng;
     return GF_OK;
+}
+
+// x = g(u, p) through the motion's callback (G discarded), checked
+// finite. Not inlined under -Os (firmware): G's scratch is then in this
+// frame, which is gone before gf_pf3_predict draws the noise (the deeper
+// call). Inlined otherwise, for speed (a call per particle and pass).
+#if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
+__attribute__((noinline))
+#endif
+static gf_status propagate(const gf_ekf3_motion *motion, const gf_vec3 *p,
+                           const gf_real *u, gf_vec3 *x)
+{
+    // G is not used, but it arrives as the identity (ekf3.h's promise to
+    // every motion callback).
+    gf_mat3 G_unused = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    *x = *p;
+    gf_status st = gf_callback_status(
+        motion->g(motion->ctx, p, u, x, &G_unused));
+    if (st == GF_OK && !gf_vec3_is_finite_n(x, 3)) {
+        st = GF_ERR_NONFINITE;
+    }
+    return st;
 }
 
 gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
@@ -111,16 +136,8 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
     for (unsigned pass = 0; pass < 2u; pass++) {
         gf_rng *rng = (pass == 0u) ? &dry : &pf->rng;
         for (unsigned k = 0; k < pf->n; k++) {
-            gf_vec3 x = pf->p[k].x;
-            {
-                // Not used, but the identity, as ekf3.h promises.
-                gf_mat3 G_unused = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-                st = gf_callback_status(motion->g(motion->ctx, &pf->p[k].x,
-                                                  u, &x, &G_unused));
-            }
-            if (st == GF_OK && !gf_vec3_is_finite_n(&x, 3)) {
-                st = GF_ERR_NONFINITE;
-            }
+            gf_vec3 x;
+            st = propagate(motion, &pf->p[k].x, u, &x);
             if (st == GF_OK) {
                 gf_rng_mvn3(rng, &x, &L, &x);
                 x.v[2] = gf_angle_wrap(x.v[2]);

@@ -30,24 +30,33 @@ static inline gf_real weight_c(const gf_ukf3 *ukf, unsigned j)
 }
 
 // Entry k of off_j = chi_j - mu: off_0 = 0, off_{1+i} = gamma L_i,
-// off_{4+i} = -gamma L_i (L_i column i of L, packed as GF_TRI).
+// off_{4+i} = -gamma L_i (L_i column i of L, packed as GF_TRI). With
+// WEIGHTED added to k, entry k of w_c,j off_j: the weight is read here,
+// so that no caller keeps it in an FP register across the call (which
+// its large frame would have to save; an argument more would go on the
+// stack on Arm).
+#define WEIGHTED 4u
 static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6],
                              unsigned j, unsigned k)
 {
     const unsigned i = (j - 1u) % N_STATE;
+    const unsigned e = k % WEIGHTED;
     gf_real o = 0;
-    if (j > 0u && k >= i) {
-        o = ukf->gamma * l[GF_TRI(k, i)];
+    if (j > 0u && e >= i) {
+        o = ukf->gamma * l[GF_TRI(e, i)];
     }
-    return (j > N_STATE) ? -o : o;
+    o = (j > N_STATE) ? -o : o;
+    return (k >= WEIGHTED) ? weight_c(ukf, j) * o : o;
 }
 
-// chi_j = mu + off_j.
+// chi_j = mu + off_j (the offset first: no float is kept across
+// offset's call).
 UKF3_SMALL_CALL void sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
                                  unsigned j, gf_vec3 *chi)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
-        chi->v[k] = ukf->mu.v[k] + offset(ukf, l, j, k);
+        const gf_real o = offset(ukf, l, j, k);
+        chi->v[k] = ukf->mu.v[k] + o;
     }
 }
 
@@ -178,14 +187,13 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     // no large offsets cancel.
     {
         gf_vec3 mu = {{0, 0, 0}};
-        {
-            gf_vec3 d;
-            for (unsigned j = 1; j < N_SIGMA; j++) {
-                residual(&y[j], &y[0], N_STATE, HEADING_MASK, &d);
-                for (unsigned k = 0; k < N_STATE; k++) {
-                    mu.v[k] += ukf->wi * d.v[k];
-                }
-            }
+        for (unsigned j = 1; j < N_SIGMA; j++) {
+            // the residual about chi_bar*_0 entry by entry (no vector
+            // of it on the stack), the heading wrapped
+            const gf_real dth = gf_angle_wrap(y[j].v[2] - y[0].v[2]);
+            mu.v[0] += ukf->wi * (y[j].v[0] - y[0].v[0]);
+            mu.v[1] += ukf->wi * (y[j].v[1] - y[0].v[1]);
+            mu.v[2] += ukf->wi * dth;
         }
         for (unsigned k = 0; k < N_STATE; k++) {
             mu.v[k] = y[0].v[k] + mu.v[k];
@@ -275,9 +283,9 @@ static void accumulate(const gf_ukf3 *ukf, unsigned j, const ukf3_point *p,
         }
     }
     for (unsigned a = 0; a < N_STATE; a++) {
-        const gf_real off = offset(ukf, p->l, j, a);
+        const gf_real wo = offset(ukf, p->l, j, WEIGHTED + a);
         for (unsigned b = 0; b < N_STATE; b++) {
-            pxz->m[a][b] += w * off * p->Z.v[b];
+            pxz->m[a][b] += wo * p->Z.v[b];
         }
     }
 }
