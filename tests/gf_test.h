@@ -82,4 +82,25 @@ static inline gf_status gf_test_motion_checks_args(void *ctx,
     return gf_ekf3_motion_forward_turn(NULL, mu, u, mu_bar, G);
 }
 
+// The set-up of the tests of that promise: a motion with that model
+// counting into *broken (and a little noise), a belief N(mu, sig) with a
+// correlated sig, and the control u (1 forward, turn 0.3).
+typedef struct gf_test_args {
+    gf_ekf3_motion mo;
+    gf_vec3 mu;
+    gf_mat3 sig;
+    gf_real u[2];
+} gf_test_args;
+
+static inline gf_test_args gf_test_args_make(unsigned *broken)
+{
+    const gf_test_args a = {
+        {gf_test_motion_checks_args, broken,
+         {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, GF_R(0.01)}}}},
+        {{1, 2, GF_R(0.5)}},
+        {{{1, GF_R(0.1), 0}, {GF_R(0.1), 1, 0}, {0, 0, 1}}},
+        {1, GF_R(0.3)}};
+    return a;
+}
+
 #endif

@@ -372,13 +372,10 @@ static void test_motion_args(void **state)
 {
     (void)state;
     unsigned broken = 0;
+    const gf_test_args a = gf_test_args_make(&broken);
     gf_pf3 pf;
-    const gf_ekf3_motion mo = {gf_test_motion_checks_args, &broken,
-                               {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                                 {0, 0, GF_R(0.01)}}}};
-    const gf_real u[2] = {1, GF_R(0.3)};
-    assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 5, &origin, &prior), GF_OK);
-    assert_int_equal(gf_pf3_predict(&pf, &mo, u), GF_OK);
+    assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 5, &a.mu, &a.sig), GF_OK);
+    assert_int_equal(gf_pf3_predict(&pf, &a.mo, a.u), GF_OK);
     assert_int_equal(broken, 0);
 }
 

@@ -355,16 +355,11 @@ static void test_motion_args(void **state)
 {
     (void)state;
     unsigned broken = 0;
-    const gf_ekf3_motion mo = {gf_test_motion_checks_args, &broken,
-                               {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                                 {0, 0, GF_R(0.01)}}}};
-    const gf_real u[2] = {1, GF_R(0.3)};
-    const gf_vec3 mu = {{1, 2, GF_R(0.5)}};
-    const gf_mat3 sig = {{{1, GF_R(0.1), 0}, {GF_R(0.1), 1, 0}, {0, 0, 1}}};
+    const gf_test_args a = gf_test_args_make(&broken);
     const gf_ukf3_params p = {1, 2, 0};
     gf_ukf3 ukf;
-    assert_int_equal(gf_ukf3_init(&ukf, &mu, &sig, &p), GF_OK);
-    assert_int_equal(gf_ukf3_predict(&ukf, &mo, u), GF_OK);
+    assert_int_equal(gf_ukf3_init(&ukf, &a.mu, &a.sig, &p), GF_OK);
+    assert_int_equal(gf_ukf3_predict(&ukf, &a.mo, a.u), GF_OK);
     assert_int_equal(broken, 0);
 }
 
