@@ -22,7 +22,9 @@
 // each; commit takes the new Sigma and mu in one buffer, a fifth argument
 // made its frame larger). commit is a leaf (it tests finiteness itself,
 // the caller wraps the heading): on RV32 a call from it cost a 32 B frame
-// on top of update's 240 B.
+// on top of update's 240 B. The prediction's public functions own the
+// new belief's buffer and call predict (the covariance) and commit one
+// after the other, so that on Cortex-M0+ neither is on top of the other.
 // Compiled in every build; empty (but for the declarations of ekf3.h)
 // unless GF_SMALL is 1 (config.h).
 #include <stddef.h>
@@ -80,6 +82,10 @@ static gf_real quad(const gf_real *u, const gf_real *a, size_t as,
 // has been wrapped to (-pi, pi] in b by its owner (a non-finite heading
 // stays non-finite), so that this is a leaf (a call from here gave it a
 // 32 B frame on RV32, on top of update's).
+// Never inlined: gcc would then see KF2's 2x2 through its first row.
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
 static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
                         const gf_real *b)
 {
@@ -99,28 +105,42 @@ static gf_status commit(gf_real *mu, gf_real *sigma, size_t n,
     return GF_OK;
 }
 
-// The prediction of both filters, mu_bar given:
+// The covariance prediction of both filters into s (rows of n):
 //   Sigma_bar = G Sigma G^T + R (upper triangle of R, mirrored).
-// g, sigma and r have rows of n entries.
-static gf_status predict(gf_real *mu, gf_real *sigma, size_t n,
-                         const gf_real *mu_bar, const gf_real *g,
-                         const gf_real *r)
+// g, sigma and r have rows of n entries. The caller owns s, with the new
+// mu after it (commit's layout), and commits it: on Cortex-M0+ commit's
+// finiteness test (soft-float compares, 60 B) is then not on top of this
+// frame, and this frame holds no array. quad's sum is written out here
+// (Cortex-M0+: this frame + 32 B, where a call to quad cost + 40 + 32 B);
+// one loop over the n x n entries keeps fewer values on the stack.
+static void predict(gf_real *s, const gf_real *sigma, size_t n,
+                    const gf_real *g, const gf_real *r)
 {
-    gf_real s[12]; // Sigma_bar (rows of n), then mu_bar
-    for (size_t i = 0; i < n; i++) { // (a loop of its own: a smaller frame)
-        s[n * n + i] = mu_bar[i];
-    }
-    for (size_t i = 0; i < n; i++) {
-        for (size_t j = i; j < n; j++) {
-            s[i * n + j] = quad(&g[i * n], sigma, n, &g[j * n], n) +
-                           r[i * n + j];
-            s[j * n + i] = s[i * n + j];
+    // entry k = (i, j), row by row: the upper triangle computed, the
+    // lower one mirrored from the rows already done
+    size_t i = 0, j = 0;
+    for (size_t k = 0; k < n * n; k++) {
+        if (j < i) {
+            s[k] = s[j * n + i];
+        } else {
+            gf_real acc = 0; // quad's sum
+            const gf_real *ui = &g[i * n];
+            const gf_real *row = sigma;
+            for (size_t a = n; a > 0u; a--) {
+                for (size_t b = 0; b < n; b++) {
+                    acc += *ui * row[b] * g[j * n + b];
+                }
+                ui++;
+                row = &row[n];
+            }
+            s[k] = acc + r[k];
+        }
+        j++;
+        if (j == n) {
+            j = 0;
+            i++;
         }
     }
-    if (n == 3u) {
-        s[11] = gf_angle_wrap(s[11]);
-    }
-    return commit(mu, sigma, n, s);
 }
 
 // gf_mat2_check_psd on the leading m x m block of s, through
@@ -381,18 +401,18 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     if (st != GF_OK) {
         return st;
     }
-    // mu_bar = A mu + B u + c
-    gf_real mu[2];
+    // b: Sigma_bar (rows of 2), then mu_bar = A mu + B u + c
+    gf_real b[6];
     for (size_t i = 0; i < 2u; i++) {
-        mu[i] = dot(model->A.m[i], 1, kf->mu.v, 1, 2);
+        gf_real m = dot(model->A.m[i], 1, kf->mu.v, 1, 2);
         if (u) {
-            mu[i] += dot(model->B.m[i], 1, u->v, 1, 2);
+            m += dot(model->B.m[i], 1, u->v, 1, 2);
         }
-        mu[i] += model->c.v[i];
+        b[4u + i] = m + model->c.v[i];
     }
     // Sigma_bar = A Sigma A^T + R
-    return predict(kf->mu.v, kf->sigma.m[0], 2, mu, model->A.m[0],
-                   model->R.m[0]);
+    predict(b, kf->sigma.m[0], 2, model->A.m[0], model->R.m[0]);
+    return commit(kf->mu.v, kf->sigma.m[0], 2, b);
 }
 
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
@@ -414,18 +434,22 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return st;
     }
-    // mu_bar = g(u, mu), G = dg/dx at mu
+    // mu_bar = g(u, mu), G = dg/dx at mu. w[0]: Sigma_bar, then (in w[1]'s
+    // first row, once G is done with) mu_bar: commit's layout. w[1]: G.
+    gf_mat3 w[2] = {{{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                    {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
     gf_vec3 mu = ekf->mu;
-    gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    st = motion->g(motion->ctx, &ekf->mu, u, &mu, &G);
+    st = motion->g(motion->ctx, &ekf->mu, u, &mu, &w[1]);
     if (st != GF_OK) { // a status the enum lacks, or GATED: MODEL
         return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
                    ? GF_ERR_MODEL : st;
     }
-    // Sigma_bar = G Sigma G^T + R (a non-finite G reaches the diagonal);
-    // commit wraps the heading
-    return predict(ekf->mu.v, ekf->sigma.m[0], 3, mu.v, G.m[0],
-                   motion->R.m[0]);
+    // Sigma_bar = G Sigma G^T + R (a non-finite G reaches the diagonal)
+    predict(w[0].m[0], ekf->sigma.m[0], 3, w[1].m[0], motion->R.m[0]);
+    w[1].m[0][0] = mu.v[0];
+    w[1].m[0][1] = mu.v[1];
+    w[1].m[0][2] = gf_angle_wrap(mu.v[2]);
+    return commit(ekf->mu.v, ekf->sigma.m[0], 3, w[0].m[0]);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
