@@ -5,39 +5,32 @@
 //
 // Two threads play ping-pong over a pair of pipes, as LCM's udpm receive
 // thread hands a message to the handling thread: one byte written, the
-// other thread blocked in read() wakes and answers. Both SCHED_FIFO when
-// permitted (priorities 50 and 40, as gf_node and gf_lcmbench). Printed:
+// other thread blocked in read() wakes and answers. Both placed by
+// sim/gf_rt.h as gf_node and gf_lcmbench place theirs: pinned, SCHED_FIFO
+// when permitted (priorities 50 and 40), memory locked. Printed:
 // the median and p99 round trip, twice per placement, with the two threads
 // on different CPUs (0 and 1) and on the same CPU (0): back to back, and
 // with 200 us of sleep between rounds, so that the CPUs go idle as they do
 // between messages at a moderate rate. One-way wake-up = half a round trip.
 #define _GNU_SOURCE
 #include <pthread.h>
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "gf_rt.h"
+
 typedef struct pong {
     int in, out, cpu, rounds;
 } pong;
-
-static int place(int cpu, int prio)
-{
-    cpu_set_t s;
-    CPU_ZERO(&s);
-    CPU_SET(cpu, &s);
-    int ok = pthread_setaffinity_np(pthread_self(), sizeof s, &s) == 0;
-    struct sched_param p = {.sched_priority = prio};
-    return ok && pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) == 0;
-}
 
 static void *ponger(void *arg)
 {
     const pong *p = arg;
     char c;
-    place(p->cpu, 50);
+    gf_rt rt = {p->cpu, -1, 50, 0, 0, 0, 0}; // the calling thread only
+    (void)gf_rt_setup(&rt, "gf_wake");
     for (int i = 0; i < p->rounds; i++)
         if (read(p->in, &c, 1) != 1 || write(p->out, &c, 1) != 1)
             return NULL;
@@ -50,7 +43,8 @@ static int cmp(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static int measure(int cpu, int idle_us, int rounds, long *rt, int *fifo)
+static int measure(int cpu, int idle_us, int rounds, long *rt, char *placed,
+                   size_t len)
 {
     int a2b[2], b2a[2];
     if (pipe(a2b) != 0 || pipe(b2a) != 0)
@@ -59,7 +53,9 @@ static int measure(int cpu, int idle_us, int rounds, long *rt, int *fifo)
     pthread_t th;
     if (pthread_create(&th, NULL, ponger, &p) != 0)
         return -1;
-    *fifo = place(0, 40);
+    gf_rt me = {0, -1, 40, 0, 0, 0, 0};
+    (void)gf_rt_setup(&me, "gf_wake");
+    gf_rt_describe(&me, placed, len);
     char c = 'x';
     struct timespec gap = {0, (long)idle_us * 1000};
     for (int i = 0; i < rounds; i++) {
@@ -89,19 +85,18 @@ int main(int argc, char **argv)
     long *rt = malloc(sizeof *rt * (size_t)rounds);
     if (!rt)
         return 1;
-    int fifo = 0;
+    char placed[64] = "";
     for (int cpu = ncpu > 1 ? 1 : 0; cpu >= 0; cpu--) {
         for (int idle = 0; idle <= 200; idle += 200) {
-            if (measure(cpu, idle, rounds, rt, &fifo) != 0) {
+            if (measure(cpu, idle, rounds, rt, placed, sizeof placed) != 0) {
                 perror("gf_wake");
                 return 1;
             }
             printf("gf_wake: cpu0<->cpu%d%s: round trip p50 %.1f us, p99 "
-                   "%.1f us (%d rounds%s)\n", cpu,
+                   "%.1f us (%d rounds; caller %s)\n", cpu,
                    idle ? ", 200 us idle between" : ", back to back",
                    (double)rt[rounds / 2] / 1e3,
-                   (double)rt[rounds / 100 * 99] / 1e3, rounds,
-                   fifo ? ", SCHED_FIFO" : ", SCHED_OTHER: not permitted");
+                   (double)rt[rounds / 100 * 99] / 1e3, rounds, placed);
         }
     }
     free(rt);

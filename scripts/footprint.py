@@ -263,12 +263,10 @@ def riscv_release(text):
     return 0
 
 
-def tail_call(insns, i, frame, arm, labels):
-    """True if the jump at insns[i] (address, text) runs after the
-    function's whole frame is released: the straight-line code before it
-    (back to a branch, or to a branch target, included) gives back exactly
-    `frame` bytes. labels: addresses of local labels (branch targets).
-    Functions with a computed branch are never judged (targets unknown)."""
+def branch_targets(insns, arm, labels):
+    """The addresses a function's code branches to (insns: (address, text);
+    labels: addresses of its local labels), or None if it has a computed
+    branch (targets unknown: none of its jumps is judged a tail call)."""
     flow, target_re = (ARM_FLOW, ARM_TARGET) if arm else \
         (RISCV_FLOW, RISCV_TARGET)
     targets = set(labels)
@@ -278,10 +276,19 @@ def tail_call(insns, i, frame, arm, labels):
             continue
         if arm and (parts[0] in ("tbb", "tbh") or (len(parts) > 1 and
                                                   parts[1].startswith("pc"))):
-            return False  # computed branch: targets unknown
+            return None
         m = target_re.match(parts[1]) if len(parts) > 1 else None
         if m and flow.match(parts[0]):
             targets.add(int(m.group(1), 16))
+    return targets
+
+
+def tail_call(insns, i, frame, arm, targets):
+    """True if the jump at insns[i] (address, text) runs after the
+    function's whole frame is released: the straight-line code before it
+    (back to a branch, or to a branch target, included) gives back exactly
+    `frame` bytes. targets: branch_targets() of the function, not None."""
+    flow = ARM_FLOW if arm else RISCV_FLOW
     released = 0
     for addr, text in reversed(insns[:i]):
         op = text.split(None, 1)[0] if text else ""
@@ -310,13 +317,15 @@ def disassemble(prefix, archive, arm):
             old = funcs.get(name)
             frame = prologue_frame(insns, arm)
             tails = set()
+            code = list(zip(addrs, insns))
+            targets = branch_targets(code, arm, labels) if jumps else None
             for i, target in jumps:
                 # RISC-V's auipc tN must be followed by jr tN.
                 ok = arm or insns[i].split()[0] == "j" or (
                     i + 1 < len(insns) and insns[i + 1].split() ==
                     ["jr", insns[i].split(None, 1)[1].split(",")[0]])
-                if ok and tail_call(list(zip(addrs, insns)), i, frame, arm,
-                                    labels):
+                if ok and targets is not None and \
+                        tail_call(code, i, frame, arm, targets):
                     tails.add(target)
                 else:
                     callees.add(target)

@@ -39,7 +39,7 @@ typedef struct gf_rt {
 
 #ifdef __linux__
 // Pins the calling thread to cpu; 0 on success, else says why and -1.
-static int gf_rt_pin(const char *who, const char *what, int cpu)
+static inline int gf_rt_pin(const char *who, const char *what, int cpu)
 {
     cpu_set_t set;
     CPU_ZERO(&set);
@@ -53,7 +53,7 @@ static int gf_rt_pin(const char *who, const char *what, int cpu)
 #endif
 
 // Before lcm_subscribe. Returns the number of requests not met.
-static int gf_rt_setup(gf_rt *rt, const char *who)
+static inline int gf_rt_setup(gf_rt *rt, const char *who)
 {
     int missed = 0;
     rt->cpu_ok = rt->rx_ok = rt->fifo_ok = rt->mlock_ok = 0;
@@ -106,7 +106,7 @@ static int gf_rt_setup(gf_rt *rt, const char *who)
 // After lcm_subscribe (and after creating any thread that should share LCM
 // receive thread's CPU): moves the calling thread to rt->cpu when the
 // receive thread was given a CPU of its own. Returns 0, or -1 if not met.
-static int gf_rt_pin_main(gf_rt *rt, const char *who)
+static inline int gf_rt_pin_main(gf_rt *rt, const char *who)
 {
 #ifdef __linux__
     if (rt->rx_cpu >= 0 && rt->cpu >= 0) {
@@ -121,7 +121,7 @@ static int gf_rt_pin_main(gf_rt *rt, const char *who)
 }
 
 // What took effect, e.g. "cpu=1 rx_cpu=0 sched=fifo:50 mlock=yes".
-static void gf_rt_describe(const gf_rt *rt, char *buf, size_t len)
+static inline void gf_rt_describe(const gf_rt *rt, char *buf, size_t len)
 {
     char cpu[16] = "any", rx[16] = "any", sched[24] = "other";
     if (rt->cpu_ok)

@@ -113,8 +113,9 @@ static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
 // (GF_TRI) receives the lower triangle of L, L L^T = the leading n x n
 // block (n = 1..3) of s, which the caller has checked with
 // gf_mat3_check_psd. A pivot within GF_PD_RTOL of zero gives a zero
-// column. gf_mat3_sqrt_psd's arithmetic, for callers that cannot spare a
-// 3x3 temporary (entries of l beyond the block are zeroed).
+// column. The one implementation: gf_mat3_sqrt_psd unpacks it; UKF3 and
+// PF3 keep it packed (no 3x3 temporary). Entries of l beyond the block
+// are zeroed.
 GF_ALWAYS_INLINE void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
                                      gf_real l[6])
 {

@@ -308,26 +308,15 @@ gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l)
     }
     // Cholesky-Banachiewicz on the symmetrized block; a pivot that is zero
     // within the tolerance leaves its column zero (the matrix has no spread
-    // in that direction once the earlier ones are accounted for).
-    gf_mat3 r = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    for (unsigned j = 0; j < n; j++) {
-        gf_real d = s->m[j][j];
-        for (unsigned k = 0; k < j; k++) {
-            d -= r.m[j][k] * r.m[j][k];
-        }
-        if (!(d > GF_PD_RTOL * s->m[j][j])) {
-            continue; // semidefinite direction: zero column
-        }
-        gf_real ljj = GF_SQRT(d);
-        r.m[j][j] = ljj;
-        for (unsigned i = j + 1; i < n; i++) {
-            gf_real v = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
-            for (unsigned k = 0; k < j; k++) {
-                v -= r.m[i][k] * r.m[j][k];
-            }
-            r.m[i][j] = v / ljj;
+    // in that direction once the earlier ones are accounted for). Packed
+    // by gf_sqrt_psd_packed (UKF3's and PF3's), then unpacked.
+    // p is zero beyond the block, and l may be s: written only now.
+    gf_real p[6];
+    gf_sqrt_psd_packed(s, n, p);
+    for (unsigned i = 0; i < 3u; i++) {
+        for (unsigned j = 0; j < 3u; j++) {
+            l->m[i][j] = (j <= i) ? p[GF_TRI(i, j)] : GF_R(0.0);
         }
     }
-    *l = r;
     return GF_OK;
 }

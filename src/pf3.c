@@ -35,8 +35,8 @@ static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
     return GF_OK;
 }
 
-// l = sqrt(s), packed (GF_TRI), for s checked PSD: gf_mat3_sqrt_psd's
-// arithmetic in a frame of its own (the square roots' calls are not on
+// l = sqrt(s), packed (GF_TRI), for s checked PSD: gf_sqrt_psd_packed
+// in a frame of its own (the square roots' calls are not on
 // top of the caller's frame). Packed, not a 3x3 matrix: 12 B less in the
 // callers' frames (Cortex-M0+).
 #if defined(__GNUC__)
