@@ -1,6 +1,6 @@
 #include "gaussfilt/ekf3.h"
 
-#include "gf_internal.h"
+#include "udu.h"
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
@@ -84,7 +84,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_psd_check(motion->R.m[0], 3, 3);
+    gf_real f[3][3], e[3]; // R's factors (unused)
+    gf_status st = gf_psd_check(motion->R.m[0], 3, 3, f, e);
     if (st != GF_OK) {
         return st;
     }
@@ -95,13 +96,13 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    if (!gf_vec3_is_finite_n(&nb.mu, 3) || !gf_mat3_is_finite(&G)) {
+    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(G.m[0], 9)) {
         return GF_ERR_NONFINITE;
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_cov_predict(ekf->sigma.m[0], 3, G.m[0], motion->R.m[0],
                    nb.sigma.m[0]);
-    if (!gf_mat3_is_finite(&nb.sigma)) {
+    if (!gf_all_finite(nb.sigma.m[0], 9)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     *ekf = nb;
@@ -148,9 +149,11 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         }
         y[i] = in.y[i];
     }
+    gf_real v[3][3], e[3];
+    (void)gf_udu_factor(meas->Q.m[0], 3, m, 1, v, e);
     gf_ekf3 nb = *ekf;
-    st = gf_cov_correct(3, nb.mu.v, nb.sigma.m[0], m, H.m[0], y,
-                        meas->Q.m[0], &in.nis);
+    st = gf_cov_correct(3, nb.mu.v, nb.sigma.m[0], m, H.m[0], y, v, e,
+                        &in.nis);
     if (st != GF_OK) {
         return st;
     }
@@ -161,7 +164,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return GF_ERR_GATED;
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    if (!gf_vec3_is_finite_n(&nb.mu, 3) || !gf_mat3_is_finite(&nb.sigma)) {
+    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.sigma.m[0], 9)) {
         return GF_ERR_NONFINITE;
     }
     *ekf = nb;

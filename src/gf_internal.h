@@ -74,43 +74,6 @@ static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
     return gf_mat3_check_psd(&meas->Q, meas->m);
 }
 
-// ---- src/udu.c: the covariance arithmetic of KF2 and EKF3 ---------------
-// Matrices are row-major with rows of `stride` (n for the belief and the
-// models: KF2's 2x2, EKF3's 3x3).
-
-// s = U D U^T for the leading n x n block of a symmetric s (upper triangle
-// read): u unit upper triangular (3x3, identity beyond n), d >= 0. A pivot
-// below its diagonal entry times GF_PD_RTOL (check != 0) or GF_UDU_RTOL
-// (check == 0: the filter's own covariance) is zero, with a zero column.
-// check != 0 also judges: GF_ERR_NOT_PSD for a pivot below -GF_PD_RTOL
-// times its diagonal entry or an entry coupled to a zero pivot (correlation
-// form); else GF_OK.
-gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
-                        int check, gf_real u[3][3], gf_real d[3]);
-
-// The verdict on a covariance passed in (n x n block): GF_ERR_NONFINITE,
-// GF_ERR_NOT_PSD (not symmetric within GF_SYM_RTOL, a negative variance,
-// or gf_udu_factor's verdict), else GF_OK.
-gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n);
-
-// out = G Sigma G^T + R as (G U) D (G U)^T + R (Sigma = U D U^T), upper
-// triangle of R, result exactly symmetric; out may be sigma.
-void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_real *g,
-                    const gf_real *r, gf_real *out);
-
-// The correction with m = 1..n measured quantities, in place on the
-// caller's copies: mu (mu_bar in, mu out), sigma (Sigma_bar in, Sigma
-// out), y (z - h(mu_bar), angles wrapped; overwritten). h: the m x n
-// Jacobian, q: the m x m noise (checked by gf_psd_check), rows of n.
-// Q = V E V^T decorrelates the quantities, then one Bierman scalar update
-// per quantity; *nis = the sum of their y_i^2 / alpha_i, which is
-// y^T S^-1 y. GF_ERR_NONFINITE (an innovation variance overflowed),
-// GF_ERR_SINGULAR (an exact quantity, e_i = 0, with h Sigma h^T zero in
-// the correlation form); the outputs are partly written then.
-gf_status gf_cov_correct(unsigned n, gf_real *mu, gf_real *sigma,
-                         unsigned m, const gf_real *h, gf_real *y,
-                         const gf_real *q, gf_real *nis);
-
 // Entry (i, j), j <= i, of a lower triangle packed by rows:
 // (0,0) (1,0) (1,1) (2,0) (2,1) (2,2).
 #define GF_TRI(i, j) ((i) * ((i) + 1u) / 2u + (j))

@@ -2,17 +2,18 @@
 
 #include "gaussfilt/kf2.h"
 
-#include "gf_internal.h"
+#include "udu.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses.
 static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u)
 {
-    if (!gf_mat2_is_finite(&model->A) || !gf_mat2_is_finite(&model->B) ||
-        !gf_vec2_is_finite(&model->c) || (u && !gf_vec2_is_finite(u))) {
+    if (!gf_all_finite(model->A.m[0], 4) || !gf_all_finite(model->B.m[0], 4) ||
+        !gf_all_finite(model->c.v, 2) || (u && !gf_all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
-    return gf_psd_check(model->R.m[0], 2, 2);
+    gf_real f[3][3], d[3]; // R's factors (unused)
+    return gf_psd_check(model->R.m[0], 2, 2, f, d);
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
@@ -35,7 +36,8 @@ static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z)
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    return gf_psd_check(meas->Q.m[0], 2, m);
+    gf_real v[3][3], e[3];
+    return gf_psd_check(meas->Q.m[0], 2, m, v, e);
 }
 
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -74,7 +76,7 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
     nb.mu.v[1] += model->c.v[1];
     gf_cov_predict(kf->sigma.m[0], 2, model->A.m[0], model->R.m[0],
                    nb.sigma.m[0]);
-    if (!gf_vec2_is_finite(&nb.mu) || !gf_mat2_is_finite(&nb.sigma)) {
+    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.sigma.m[0], 4)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     *kf = nb;
@@ -99,9 +101,11 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
                    meas->C.m[i][1] * kf->mu.v[1]);
         y[i] = in.y[i];
     }
+    gf_real v[3][3], e[3];
+    (void)gf_udu_factor(meas->Q.m[0], 2, m, 1, v, e);
     gf_kf2 nb = *kf;
     gf_status st = gf_cov_correct(2, nb.mu.v, nb.sigma.m[0], m,
-                                  meas->C.m[0], y, meas->Q.m[0], &in.nis);
+                                  meas->C.m[0], y, v, e, &in.nis);
     if (st != GF_OK) {
         return st;
     }
@@ -111,7 +115,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
-    if (!gf_vec2_is_finite(&nb.mu) || !gf_mat2_is_finite(&nb.sigma)) {
+    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.sigma.m[0], 4)) {
         return GF_ERR_NONFINITE;
     }
     *kf = nb;

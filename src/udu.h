@@ -11,11 +11,47 @@
 //               which every new d_j is d_j times a ratio in [0, 1]: the
 //               posterior is positive semidefinite by construction, and
 //               the gain never comes from a difference of large numbers.
-// Matrices are row-major with rows of n entries (KF2's 2x2 and EKF3's 3x3
-// read in place); the factors are locals of at most 3x3.
+// Matrices are row-major with rows of `stride` entries (n for the belief
+// and the models: KF2's 2x2 and EKF3's 3x3 read in place); the factors are
+// locals of at most 3x3.
+//
+// Everything here is static inline, included by kf2.c, ekf3.c and mat.c:
+// each filter's copy is compiled for its own n, so that an optimising
+// build unrolls the loops (sizes 2 and 3 known), while a build for size
+// keeps them as loops. One implementation either way.
+#ifndef GAUSSFILT_SRC_UDU_H
+#define GAUSSFILT_SRC_UDU_H
+
 #include "gf_internal.h"
 
-gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
+// 1 if the n entries of x are all finite: one test of their sum (a NaN or
+// inf cannot vanish in a sum), entry by entry only if the sum is not
+// finite (finite entries whose sum overflows).
+static inline int gf_all_finite(const gf_real *x, unsigned n)
+{
+    gf_real sum = 0;
+    for (unsigned i = 0; i < n; i++) {
+        sum += x[i];
+    }
+    if (GF_ISFINITE(sum)) {
+        return 1;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        if (!GF_ISFINITE(x[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+// s = U D U^T for the leading n x n block of a symmetric s (upper triangle
+// read): u unit upper triangular (upper triangle and diagonal written), d
+// >= 0. A pivot below its diagonal entry times GF_PD_RTOL (check != 0) or
+// GF_UDU_RTOL (check == 0: the filter's own covariance) is zero, with a zero
+// column. check != 0 also judges: GF_ERR_NOT_PSD for a pivot below
+// -GF_PD_RTOL times its diagonal entry or an entry coupled to a zero pivot
+// (correlation form); else GF_OK.
+static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
                         int check, gf_real u[3][3], gf_real d[3])
 {
     // The pivot tolerance: a pivot is a variance left once the later states
@@ -27,10 +63,9 @@ gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
     if (n > 3u) {
         return GF_ERR_ARG;
     }
-    for (unsigned i = 0; i < 3u; i++) {
-        for (unsigned j = 0; j < 3u; j++) {
-            a[i][j] = (i < n && j >= i && j < n) ? s[i * stride + j] : 0;
-            u[i][j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = i; j < n; j++) {
+            a[i][j] = s[i * stride + j];
         }
     }
     // s = U D U^T from the last column back: d_j = a_jj, u_ij = a_ij / d_j,
@@ -38,6 +73,7 @@ gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
     for (unsigned j = n; j-- > 0u;) {
         const gf_real sjj = s[j * stride + j];
         const gf_real p = a[j][j];
+        u[j][j] = 1;
         if (p > rtol * sjj) { // (NaN fails)
             d[j] = p;
             for (unsigned i = 0; i < j; i++) {
@@ -67,17 +103,24 @@ gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
             }
         }
         d[j] = 0;
+        for (unsigned i = 0; i < j; i++) {
+            u[i][j] = 0;
+        }
     }
     return GF_OK;
 }
 
-gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
+// The verdict on a covariance passed in (n x n block, rows of stride):
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (not symmetric within GF_SYM_RTOL, a
+// negative variance, or gf_udu_factor's verdict), else GF_OK with its
+// factors in u and d.
+static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
+                                     unsigned n, gf_real u[3][3],
+                                     gf_real d[3])
 {
     for (unsigned i = 0; i < n; i++) {
-        for (unsigned j = 0; j < n; j++) {
-            if (!GF_ISFINITE(s[i * stride + j])) {
-                return GF_ERR_NONFINITE;
-            }
+        if (!gf_all_finite(&s[i * stride], n)) {
+            return GF_ERR_NONFINITE;
         }
     }
     // Symmetric: |a_ij - a_ji| <= GF_SYM_RTOL (|a_ij| + |a_ji|), exact for
@@ -93,14 +136,13 @@ gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
             return GF_ERR_NOT_PSD;
         }
     }
-    gf_real u[3][3], d[3];
     return gf_udu_factor(s, stride, n, 1, u, d);
 }
 
 // sigma = U D U^T (rows of n), exactly symmetric: entry (i, j), j >= i,
 // is the sum over k >= j of u_ik d_k u_jk, so every variance is a sum of
 // non-negative terms.
-static void recompose(gf_real u[3][3], const gf_real d[3], unsigned n,
+static inline void gf_udu_recompose(gf_real u[3][3], const gf_real d[3], unsigned n,
                       gf_real *sigma)
 {
     for (unsigned i = 0; i < n; i++) {
@@ -115,7 +157,9 @@ static void recompose(gf_real u[3][3], const gf_real d[3], unsigned n,
     }
 }
 
-void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_real *g,
+// out = G Sigma G^T + R as (G U) D (G U)^T + R (Sigma = U D U^T), upper
+// triangle of R, result exactly symmetric; out may be sigma.
+static inline void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_real *g,
                     const gf_real *r, gf_real *out)
 {
     gf_real u[3][3], d[3];
@@ -154,7 +198,7 @@ void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_real *g,
 // only with r = 0 and every earlier v zero, and then b is zero too: no u
 // changes. (Bierman, Factorization Methods for Discrete Sequential
 // Estimation, 1977, section V.3.)
-static gf_real bierman(gf_real u[3][3], gf_real d[3], unsigned n,
+static inline gf_real gf_bierman(gf_real u[3][3], gf_real d[3], unsigned n,
                        const gf_real *h, gf_real r, gf_real b[3])
 {
     gf_real f[3], v[3];
@@ -184,16 +228,24 @@ static gf_real bierman(gf_real u[3][3], gf_real d[3], unsigned n,
     return alpha;
 }
 
-gf_status gf_cov_correct(unsigned n, gf_real *mu, gf_real *sigma,
-                         unsigned m, const gf_real *h, gf_real *y,
-                         const gf_real *q, gf_real *nis)
+// The correction with m = 1..n measured quantities, in place on the
+// caller's copies: mu (mu_bar in, mu out), sigma (Sigma_bar in, Sigma
+// out), y (z - h(mu_bar), angles wrapped; overwritten). h: the m x n
+// Jacobian (rows of n); v, e: the factors Q = V E V^T of the noise, from
+// gf_psd_check. The quantities V^-1 z have independent noises e_i, so they
+// are m scalar measurements: one Bierman update each, *nis = the sum of
+// their y_i^2 / alpha_i, which is y^T S^-1 y. GF_ERR_NONFINITE (an
+// innovation variance overflowed), GF_ERR_SINGULAR (an exact quantity,
+// e_i = 0, with h Sigma h^T zero in the correlation form); the outputs are
+// partly written then.
+static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
+                                       gf_real *sigma, unsigned m,
+                                       const gf_real *h, gf_real *y,
+                                       gf_real v[3][3], const gf_real e[3],
+                                       gf_real *nis)
 {
-    // Q = V E V^T (V unit upper, E >= 0; Q checked by the caller): the
-    // quantities V^-1 z have independent noises e_i, so z - h(mu_bar), the
-    // rows of H and Q become m scalar measurements. V^-1 by back
-    // substitution, into y and a copy of H.
-    gf_real v[3][3], e[3], hw[3][3];
-    (void)gf_udu_factor(q, n, m, 1, v, e);
+    // V^-1 by back substitution, into y and a copy of H
+    gf_real hw[3][3];
     for (unsigned i = m; i-- > 0u;) {
         for (unsigned j = 0; j < n; j++) {
             gf_real acc = h[i * n + j];
@@ -218,7 +270,7 @@ gf_status gf_cov_correct(unsigned n, gf_real *mu, gf_real *sigma,
             yi -= hw[i][j] * dx[j];
         }
         gf_real b[3];
-        const gf_real alpha = bierman(u, d, n, hw[i], e[i], b);
+        const gf_real alpha = gf_bierman(u, d, n, hw[i], e[i], b);
         if (!GF_ISFINITE(alpha)) {
             return GF_ERR_NONFINITE;
         }
@@ -241,10 +293,12 @@ gf_status gf_cov_correct(unsigned n, gf_real *mu, gf_real *sigma,
         }
         total += yi * g;
     }
-    recompose(u, d, n, sigma);
+    gf_udu_recompose(u, d, n, sigma);
     for (unsigned j = 0; j < n; j++) {
         mu[j] += dx[j];
     }
     *nis = total;
     return GF_OK;
 }
+
+#endif
