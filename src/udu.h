@@ -63,6 +63,7 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigne
     if (n > 3u) {
         return GF_ERR_ARG;
     }
+    d[0] = d[1] = d[2] = 0;
     for (unsigned i = 0; i < n; i++) {
         for (unsigned j = i; j < n; j++) {
             a[i][j] = s[i * stride + j];
@@ -245,7 +246,7 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
                                        gf_real *nis)
 {
     // V^-1 by back substitution, into y and a copy of H
-    gf_real hw[3][3];
+    gf_real hw[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (unsigned i = m; i-- > 0u;) {
         for (unsigned j = 0; j < n; j++) {
             gf_real acc = h[i * n + j];
@@ -269,7 +270,7 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
         for (unsigned j = 0; j < n; j++) {
             yi -= hw[i][j] * dx[j];
         }
-        gf_real b[3];
+        gf_real b[3] = {0, 0, 0};
         const gf_real alpha = gf_bierman(u, d, n, hw[i], e[i], b);
         if (!GF_ISFINITE(alpha)) {
             return GF_ERR_NONFINITE;
