@@ -58,17 +58,6 @@ typedef double gf_real;
 #define GF_PD_RTOL (GF_R(64.0) * GF_REAL_EPSILON)
 #endif
 
-// GF_UDU_RTOL: the pivot below which the filter's own covariance (always
-// positive semidefinite, but rounded) is treated as exact in that
-// direction when it is factored for a step. Dividing by a pivot at the
-// rounding level of the stored entries (a few eps) would amplify their
-// rounding; dropping it changes the covariance by at most sqrt(GF_UDU_RTOL)
-// in the correlation form, and only where it is singular to that level.
-// 8 eps. Float: 9.5e-7; double: 1.8e-15.
-#ifndef GF_UDU_RTOL
-#define GF_UDU_RTOL (GF_R(8.0) * GF_REAL_EPSILON)
-#endif
-
 // Relative tolerance of the symmetry test on covariances the caller passes
 // in: |a_ij - a_ji| <= GF_SYM_RTOL * (|a_ij| + |a_ji|).
 #ifndef GF_SYM_RTOL
