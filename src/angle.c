@@ -96,6 +96,9 @@ static gf_real cos_kernel(gf_real x)
 
 void gf_sincos(gf_real a, gf_real *s, gf_real *c)
 {
+    if (!s || !c) {
+        return;
+    }
     // a = k pi/2 + r, |r| <= pi/4, k in -2..2 once a is wrapped.
     const gf_real w = gf_angle_wrap(a);
     const gf_real k = round_nearest(w * TWO_OVER_PI);
