@@ -33,8 +33,8 @@ extern "C" {
 // mean as about u |g| / alpha^2, however the sums are arranged. Below
 // GF_UKF3_ALPHA_MIN (alpha^2 = 2^-10 in float, 2^-40 in double: about
 // 1e-4 |g| in the mean) gf_ukf3_init refuses alpha with GF_ERR_ARG. At the
-// floor the error still grows with |g| / sigma: in float, measured, 2.5%
-// of sigma in the mean at |g| = 2000 sigma. Where the spread is small enough for a
+// floor the error still grows with |g| / sigma: measured, 3% of sigma in
+// the mean at |g| = 1800 sigma (2% in double). Where the spread is small enough for a
 // small alpha to matter little, the floor costs little: on exercise 4's
 // motion with Sigma = 0.01 I, the exact transform's Sigma_bar moves by
 // less than 1e-5 relative from alpha = 0.03 to 0 (docs/ukf3.md has the
