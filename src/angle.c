@@ -101,10 +101,8 @@ void gf_sincos(gf_real a, gf_real *s, gf_real *c)
     if (!s || !c) {
         return;
     }
-    // a = k pi/2 + r, |r| <= pi/4, k in -2..2 once a is wrapped. -GF_PI
-    // is kept as it is, not wrapped to GF_PI: as a number it lies in
-    // (-pi, pi] (GF_PI < pi), and the wrap would move it by 2 (pi - GF_PI).
-    const gf_real w = (a >= -GF_PI && a <= GF_PI) ? a : gf_angle_wrap(a);
+    // a = k pi/2 + r, |r| <= pi/4, k in -2..2 once a is wrapped.
+    const gf_real w = gf_angle_wrap(a);
     const gf_real k = round_nearest(w * TWO_OVER_PI);
     // pi/2 in three parts: near a multiple of pi/2, where r is far
     // smaller than pi/2, the first two subtractions are exact (Sterbenz)
