@@ -24,10 +24,10 @@ gf_skip() {
 # README shows. Fails if the block is missing or empty.
 gf_readme_block() {
     local text
-    text=$(awk -v open="<!-- $1 -->" -v close="<!-- /$1 -->" '
-        $0 == close { inside = 0 }
+    text=$(awk -v start="<!-- $1 -->" -v stop="<!-- /$1 -->" '
+        $0 == stop { inside = 0 }
         inside && !/^```/ { print }
-        $0 == open { inside = 1 }' "$GF_ROOT/README.md")
+        $0 == start { inside = 1 }' "$GF_ROOT/README.md")
     [ -n "$text" ] || gf_die "README.md has no block <!-- $1 --> ... <!-- /$1 -->"
     printf '%s\n' "$text"
 }
