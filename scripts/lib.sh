@@ -137,7 +137,8 @@ gf_check_build() {
         dir=$(cd "$(dirname "$cache")" && pwd -P)
         was=$(sed -n 's/^CMAKE_CACHEFILE_DIR:INTERNAL=//p' "$cache")
         if [ -n "$was" ] && [ "$was" != "$dir" ] && [ "$was" != "$(dirname "$cache")" ]; then
-            gf_die "$(basename "$GF_BUILD")/ was configured for ${was%/*}, not $GF_BUILD (the checkout moved): remove it: rm -rf $GF_BUILD"
+            gf_die "$(basename "$GF_BUILD")/ was configured for $(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cache") \
+(${cache#"$GF_BUILD"/} says $was), and this checkout is $GF_ROOT: remove it: rm -rf $GF_BUILD"
         fi
     done
 }
@@ -148,7 +149,7 @@ gf_check_venv() {
     local was
     [ -e "$GF_VENV" ] || return 0
     if [ ! -w "$GF_VENV" ] || [ -n "$(find "$GF_VENV" -maxdepth 1 ! -user "$(id -u)" -print -quit 2>/dev/null)" ]; then
-        gf_die "$GF_VENV was made by another user ($(stat -c %U "$GF_VENV")): remove it as that user (rm -rf $GF_VENV), or use another: GF_VENV=\$HOME/gaussfilt-venv $0"
+        gf_die "$GF_VENV was made by another user ($(stat -c %U "$GF_VENV")): remove it as that user (rm -rf $GF_VENV), or use another: export GF_VENV=\$HOME/gaussfilt-venv"
     fi
     was=$(sed -n 's/^VIRTUAL_ENV=["'"'"']\{0,1\}\([^"'"'"']*\).*/\1/p' "$GF_VENV/bin/activate" 2>/dev/null | head -1)
     if [ -n "$was" ] && [ "$was" != "$GF_VENV" ] &&
