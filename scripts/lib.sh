@@ -123,15 +123,19 @@ gf_ctest() {
     return "$rc"
 }
 
-# gf_check_build: build/ (GF_BUILD) is this user's and every CMake tree in it
-# was configured here. A tree made by another user, or in a checkout that has
+# gf_check_build: build/ (GF_BUILD) and every CMake tree in it are this
+# user's, and every tree was configured here. A tree made by another user, or in a checkout that has
 # moved since, is named with its fix; nothing is rebuilt over it.
 gf_check_build() {
-    local cache dir was
+    local cache dir was me owner
     [ -e "$GF_BUILD" ] || return 0
-    if [ ! -w "$GF_BUILD" ] || [ -n "$(find "$GF_BUILD" -maxdepth 2 ! -user "$(id -u)" -print -quit 2>/dev/null)" ]; then
-        gf_die "$GF_BUILD was made by another user ($(stat -c %U "$GF_BUILD")): remove it as that user (rm -rf $GF_BUILD), or use another: GF_BUILD=\$HOME/gaussfilt-build $0 $*"
-    fi
+    me=$(id -un)
+    for cache in "$GF_BUILD" "$GF_BUILD"/*/CMakeCache.txt "$GF_BUILD"/*/*/CMakeCache.txt; do
+        [ -e "$cache" ] || continue
+        owner=$(stat -c %U "$cache")
+        [ "$owner" = "$me" ] && [ -w "$cache" ] ||
+            gf_die "$GF_BUILD was made by another user ($owner${cache#"$GF_BUILD"}): remove it as that user (rm -rf $GF_BUILD), or build elsewhere: export GF_BUILD=\$HOME/gaussfilt-build"
+    done
     for cache in "$GF_BUILD"/*/CMakeCache.txt "$GF_BUILD"/*/*/CMakeCache.txt; do
         [ -f "$cache" ] || continue
         dir=$(cd "$(dirname "$cache")" && pwd -P)
@@ -157,3 +161,6 @@ gf_check_venv() {
         gf_die "$GF_VENV was made for $was (the checkout moved; its programs point there): remove it: rm -rf $GF_VENV"
     fi
 }
+
+# Every script that sources this file checks build/ first.
+gf_check_build "$@"
