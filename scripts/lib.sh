@@ -127,9 +127,11 @@ gf_ctest() {
 # user's, and every tree was configured here. A tree made by another user, or in a checkout that has
 # moved since, is named with its fix; nothing is rebuilt over it.
 gf_check_build() {
-    local cache dir was me owner
+    local cache dir was me owner root_p build_p
     [ -e "$GF_BUILD" ] || return 0
     me=$(id -un)
+    root_p=$(cd "$GF_ROOT" && pwd -P)
+    build_p=$(cd "$GF_BUILD" && pwd -P)
     for cache in "$GF_BUILD" "$GF_BUILD"/*/CMakeCache.txt "$GF_BUILD"/*/*/CMakeCache.txt; do
         [ -e "$cache" ] || continue
         owner=$(stat -c %U "$cache")
@@ -144,6 +146,12 @@ gf_check_build() {
             gf_die "$(basename "$GF_BUILD")/ was configured for $(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cache") \
 (${cache#"$GF_BUILD"/} says $was), and this checkout is $GF_ROOT: remove it: rm -rf $GF_BUILD"
         fi
+        was=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cache")
+        case $was in
+        "" | "$GF_ROOT" | "$GF_ROOT"/* | "$GF_BUILD"/* | "$root_p" | "$root_p"/* | "$build_p"/*) ;;
+        *) gf_die "$(basename "$GF_BUILD")/ was configured for the sources in $was \
+(${cache#"$GF_BUILD"/}), not this checkout, $GF_ROOT: remove it: rm -rf $GF_BUILD" ;;
+        esac
     done
 }
 
