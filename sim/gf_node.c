@@ -3,18 +3,22 @@
 // and publishes the beliefs it returns. SIGINT/SIGTERM (or the end of a
 // file:// log) end it with a one-line summary on stdout.
 //
-//   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--queue N]
-//           [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]
-//           [--rt PRIO] [--timing]
+//   gf_node [--config FILE] [--url URL] [--out-url URL] [--channels REGEX]
+//           [--queue N] [--filter ekf|ukf|pf] [--seed S] [--cpu N]
+//           [--rx-cpu M] [--rt PRIO] [--timing] [--help]
 //
+//   --config    the tracks' models (sim/node_model.h, docs/node.md):
+//               channel patterns to car and robot models; tracks no model
+//               names run the book's presets (book-car, book-robot)
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
 //   --out-url   publish beliefs on another LCM instead (needed with a
 //               file:// input, which cannot publish), e.g.
 //               file:///out.lcmlog?mode=w
 //   --channels  regex of the channels to take (default
-//               GF_(MEAS|CTRL)_-?[0-9]+); e.g. 'GF_(MEAS|CTRL)_[0-4]' so
-//               that several nodes split the tracks
+//               GF_(MEAS|CTRL|MODEL)_-?[0-9]+); e.g.
+//               'GF_(MEAS|CTRL|MODEL)_[0-4]' so that several nodes split
+//               the tracks
 //   --queue     messages LCM may hold for the node between two dispatches
 //               (default 4096; LCM's own default of 30 drops bursts).
 //               The kernel's socket buffer is set in the URL:
@@ -115,17 +119,58 @@ static long timing_quantile(const node_ctx *c, double q)
     return TIMING_BUCKETS;
 }
 
+static const char usage_text[] =
+    "usage: gf_node [--config FILE] [--url URL] [--out-url URL]\n"
+    "               [--channels REGEX] [--queue N] [--filter ekf|ukf|pf]\n"
+    "               [--seed S] [--cpu N] [--rx-cpu M] [--rt PRIO] [--timing]\n";
+
 static void usage(void)
 {
-    fprintf(stderr, "usage: gf_node [--url URL] [--out-url URL] "
-                    "[--channels REGEX] [--queue N] [--filter ekf|ukf|pf] "
-                    "[--seed S] [--cpu N] [--rx-cpu M] [--rt PRIO] "
-                    "[--timing]\n");
+    fputs(usage_text, stderr);
+    fputs("gf_node --help says more\n", stderr);
+}
+
+static void help(void)
+{
+    fputs("gf_node: the gaussfilt filter node. Takes each track's controls\n"
+          "(GF_CTRL_<id>) and measurements (GF_MEAS_<id>) over LCM, runs the\n"
+          "track's filter (KF2 for a car, EKF3/UKF3/PF3 for a robot) and\n"
+          "publishes its belief on GF_BELIEF_<id> after every input.\n"
+          "GF_MODEL_<id> (model_t) sets a track's model at run time. At exit\n"
+          "(SIGINT, SIGTERM, end of a log) one summary line of counters.\n\n",
+          stdout);
+    fputs(usage_text, stdout);
+    fputs("\n"
+          "  --config FILE   models for channel patterns (docs/node.md); other\n"
+          "                  tracks run the book's presets book-car, book-robot\n"
+          "  --url URL       where to listen (default $LCM_DEFAULT_URL or LCM's\n"
+          "                  udpm default); file:///x.lcmlog?speed=0 replays a log\n"
+          "  --out-url URL   publish beliefs there instead (needed with file://)\n"
+          "  --channels RE   channels to take (default "
+          GF_CHANNEL_NODE_DEFAULT ")\n"
+          "  --queue N       messages LCM may hold for the node (default 65536)\n"
+          "  --filter F      robot filter: ekf (default), ukf or pf\n"
+          "  --seed S        PF tracks' generator seed, plus the track id (1)\n"
+          "  --cpu N, --rx-cpu M, --rt PRIO   thread placement, SCHED_FIFO\n"
+          "  --timing        per-message time in the node, p50/p99/max at exit\n"
+          "  --help          this text\n\n"
+          "example:\n"
+          "  gf_node --config car100.conf --url 'udpm://239.255.76.67:7667?ttl=0'\n",
+          stdout);
+}
+
+// The node's model lookup: the configuration's (node_model.h).
+static const gf_node_model *lookup_model(const void *ctx, int32_t id,
+                                         int8_t kind)
+{
+    return gf_node_config_lookup((const gf_node_config *)ctx, id, kind);
 }
 
 int main(int argc, char **argv)
 {
-    const char *url = NULL, *out_url = NULL;
+    const char *url = NULL, *out_url = NULL, *config_path = NULL;
+    static gf_node_config config;
+    char err[256];
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
     static gf_node node; // ~15 kB: keep it off the stack
     static gf_node_pf_pool pool; // ~516 kB, used with --filter pf only
@@ -138,11 +183,16 @@ int main(int argc, char **argv)
     char summary[512];
     lcm_t *in, *out;
     struct sigaction sa;
-    int i, rc = 0, queue = 4096;
+    int i, rc = 0, queue = 65536;
     lcm_subscription_t *sub;
 
     for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return 0;
+        } else if (strcmp(argv[i], "--config") == 0 && i + 1 < argc)
+            config_path = argv[++i];
+        else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
             url = argv[++i];
         else if (strcmp(argv[i], "--out-url") == 0 && i + 1 < argc)
             out_url = argv[++i];
@@ -167,6 +217,12 @@ int main(int argc, char **argv)
             usage();
             return 2;
         }
+    }
+
+    if (config_path != NULL &&
+        gf_node_config_load(&config, config_path, err, sizeof err) != 0) {
+        fprintf(stderr, "gf_node: %s\n", err);
+        return 2;
     }
 
     // LCM's receive thread, started by lcm_subscribe, inherits CPU and policy.
@@ -195,6 +251,7 @@ int main(int argc, char **argv)
 
     gf_node_init(&node, publish_lcm, out);
     gf_node_set_filter(&node, filter, &pool, (uint32_t)seed);
+    gf_node_set_models(&node, lookup_model, &config);
     ctx.node = &node;
     sub = lcm_subscribe(in, channels, on_message, &ctx);
     gf_rt_pin_main(&rt, "gf_node");
@@ -207,9 +264,11 @@ int main(int argc, char **argv)
         g_stop = 1;
     } else {
         printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
-               "track_bytes=%zu node_bytes=%zu filter=%s %s",
+               "track_bytes=%zu node_bytes=%zu filter=%s models=%u%s%s %s",
                channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
-               sizeof(gf_node), filter_name, placement);
+               sizeof(gf_node), filter_name, config.count,
+               config_path ? " config=" : "", config_path ? config_path : "",
+               placement);
         if (filter == GF_NODE_FILTER_PF)
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
@@ -234,5 +293,6 @@ int main(int argc, char **argv)
     if (out != in)
         lcm_destroy(out);
     lcm_destroy(in);
+    gf_node_config_free(&config);
     return rc;
 }
