@@ -4,6 +4,8 @@
 //          [--meas-every K] [--meas-var V] [--turn PHI] [--session S]
 //          [--url URL]
 //   gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]
+//   gf_sim --config FILE --model NAME [--runs M] [--track N] [--steps N]
+//          [--seed S] [--rate HZ] [--turn PHI] [--session S] [--url URL]
 //
 // car (exercises 1-2): each step a random acceleration a ~ N(0, 1) moves the
 //   true state (x += v + a/2, v += a); every K-th step the position is
@@ -11,6 +13,15 @@
 // robot (exercise 4): from (0, 0) with a heading drawn uniformly, each step
 //   "move 1 forward, then turn PHI" (default 0.1 rad) by odometry, then x is
 //   observed with variance V (default 0.01).
+// --config: the model NAME of a node configuration (sim/node_model.h; the
+//   presets book-car and book-robot too): the truth starts from a draw of
+//   the model's prior and moves as the model says (the car with a white
+//   acceleration of variance accel_var over dt; the robot "move 1, turn
+//   PHI" with the odometry's noise on d and phi), and each step is
+//   measured as the model's measure says, with noise drawn from meas_cov
+//   and sent as q. --runs M: M independent runs at once on tracks N ..
+//   N + M - 1, run k seeded S + k (the Monte-Carlo runs of a consistency
+//   test). utime is t * dt for the car, t seconds for the robot.
 // --exercise replays the book exactly:
 //   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
 //   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
@@ -44,6 +55,7 @@
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
 #include "gf_channels.h"
+#include "node_model.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
 #define MODEL_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
@@ -157,6 +169,29 @@ static void send_meas(sim *s, long t, double z, double q)
     s->sent_meas++;
 }
 
+static void send_meas_m(sim *s, long t, int m, const double *z,
+                        const double q[3][3])
+{
+    gaussfilt_lcm_measurement_t msg;
+    int i, j;
+    memset(&msg, 0, sizeof(msg));
+    msg.utime = t * s->step_us;
+    msg.seq = ++s->seq;
+    msg.session = s->session;
+    msg.track = s->track;
+    msg.model = s->model;
+    msg.m = (int8_t)m;
+    for (i = 0; i < m; i++) {
+        msg.z[i] = z[i];
+        for (j = 0; j < m; j++)
+            msg.q[i][j] = q[i][j];
+    }
+    send(s, s->ch_meas,
+         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
+                                            &msg));
+    s->sent_meas++;
+}
+
 static void send_truth(sim *s, long t, int n, const double *x)
 {
     gaussfilt_lcm_groundtruth_t g;
@@ -190,6 +225,74 @@ static void pace(struct timespec *next, long period_ns)
         ;
 }
 
+// x = mean + L w, L L^T = cov (n x n PSD; a zero pivot adds nothing).
+static void draw(rng *r, unsigned n, const double *mean,
+                 const double cov[3][3], double *x)
+{
+    double l[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, w[3];
+    unsigned i, j, k;
+    for (j = 0; j < n; j++) {
+        double d = cov[j][j];
+        for (k = 0; k < j; k++)
+            d -= l[j][k] * l[j][k];
+        l[j][j] = d > 0.0 ? sqrt(d) : 0.0;
+        for (i = j + 1; i < n; i++) {
+            double v = cov[i][j];
+            for (k = 0; k < j; k++)
+                v -= l[i][k] * l[j][k];
+            l[i][j] = l[j][j] > 0.0 ? v / l[j][j] : 0.0;
+        }
+    }
+    for (i = 0; i < n; i++)
+        w[i] = rng_normal(r);
+    for (i = 0; i < n; i++) {
+        x[i] = mean[i];
+        for (k = 0; k <= i; k++)
+            x[i] += l[i][k] * w[k];
+    }
+}
+
+#define MAX_RUNS 64
+
+// One run of a configured model (see the top): the state, its generator.
+typedef struct run {
+    sim s;
+    rng r;
+    double x[3];
+} run;
+
+// The measurement of truth x under model mdl, noise included.
+static int measure(const gf_node_model *mdl, rng *r, const double *x,
+                   double *z)
+{
+    static const double zero[3] = {0, 0, 0};
+    double noise[3] = {0, 0, 0};
+    int measure = mdl->measure;
+    unsigned m;
+    if (measure == GF_NODE_MEASURE_AUTO)
+        measure = GF_NODE_MEASURE_X;
+    m = gf_node_measure_m(mdl->kind, (int8_t)measure);
+    draw(r, m, zero, mdl->meas_cov, noise);
+    z[1] = 0.0;
+    switch (measure) {
+    case GF_NODE_MEASURE_X: z[0] = x[0]; break;
+    case GF_NODE_MEASURE_V: z[0] = x[1]; break;
+    case GF_NODE_MEASURE_XV:
+    case GF_NODE_MEASURE_XY: z[0] = x[0]; z[1] = x[1]; break;
+    default: {
+        double dx = mdl->landmark[0] - x[0], dy = mdl->landmark[1] - x[1];
+        z[0] = sqrt(dx * dx + dy * dy);
+        z[1] = atan2(dy, dx) - x[2];
+    }
+    }
+    z[0] += noise[0];
+    if (m == 2)
+        z[1] += noise[1];
+    if (measure == GF_NODE_MEASURE_RANGE_BEARING)
+        z[1] = remainder(z[1], 2.0 * 3.14159265358979323846);
+    return (int)m;
+}
+
 static volatile sig_atomic_t g_stop; // set by the signal handler only
 
 static void on_signal(int sig)
@@ -211,7 +314,12 @@ static void usage(void)
 
 int main(int argc, char **argv)
 {
-    const char *url = NULL;
+    const char *url = NULL, *config_path = NULL, *model_name = NULL;
+    static gf_node_config config;
+    static run runs[MAX_RUNS];
+    const gf_node_model *mdl = NULL;
+    long nruns = 1;
+    char err[256];
     int exercise = 0, i;
     long steps = -1, meas_every = 1, t;
     double rate = 0.0, meas_var = -1.0, turn = 0.1;
@@ -239,6 +347,12 @@ int main(int argc, char **argv)
             s.model = MODEL_CAR;
         else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0)
             s.model = MODEL_ROBOT;
+        else if (strcmp(a, "--model") == 0)
+            model_name = v;
+        else if (strcmp(a, "--config") == 0)
+            config_path = v;
+        else if (strcmp(a, "--runs") == 0)
+            nruns = atol(v);
         else if (strcmp(a, "--exercise") == 0)
             exercise = atoi(v);
         else if (strcmp(a, "--track") == 0)
@@ -264,6 +378,24 @@ int main(int argc, char **argv)
             return 2;
         }
     }
+    if (model_name != NULL) {
+        if (config_path != NULL &&
+            gf_node_config_load(&config, config_path, err, sizeof err) != 0) {
+            fprintf(stderr, "gf_sim: %s\n", err);
+            return 2;
+        }
+        mdl = gf_node_config_find(&config, model_name);
+        if (mdl == NULL) {
+            fprintf(stderr, "gf_sim: no model %s%s%s\n", model_name,
+                    config_path ? " in " : "", config_path ? config_path : "");
+            return 2;
+        }
+        if (nruns < 1 || nruns > MAX_RUNS) {
+            fprintf(stderr, "gf_sim: --runs 1..%d\n", MAX_RUNS);
+            return 2;
+        }
+        s.model = mdl->kind;
+    }
     if (exercise == 1 || exercise == 2)
         s.model = MODEL_CAR;
     else if (exercise == 4)
@@ -277,7 +409,11 @@ int main(int argc, char **argv)
     if (meas_var < 0.0)
         meas_var = s.model == MODEL_CAR ? 10.0 : 0.01;
     s.step_us = 1000000;
-    if (rate > 0.0) {
+    if (mdl != NULL && mdl->kind == MODEL_CAR)
+        s.step_us = (int64_t)(mdl->dt * 1e6 + 0.5);
+    if (rate > 0.0 && mdl != NULL)
+        period_ns = (long)(1e9 / rate);
+    else if (rate > 0.0) {
         period_ns = (long)(1e9 / rate);
         s.step_us = (int64_t)(1e6 / rate);
     }
@@ -308,7 +444,62 @@ int main(int argc, char **argv)
     rng_seed(&r, seed);
     clock_gettime(CLOCK_MONOTONIC, &next);
 
-    if (exercise == 1 || exercise == 2) {
+    if (mdl != NULL) {
+        long k;
+        unsigned n = mdl->kind == MODEL_CAR ? 2u : 3u;
+        for (k = 0; k < nruns; k++) {
+            run *q = &runs[k];
+            q->s = s;
+            q->s.track = s.track + (int32_t)k;
+            snprintf(q->s.ch_ctrl, sizeof(q->s.ch_ctrl), "%s%ld",
+                     GF_CHANNEL_CTRL, (long)q->s.track);
+            snprintf(q->s.ch_meas, sizeof(q->s.ch_meas), "%s%ld",
+                     GF_CHANNEL_MEAS, (long)q->s.track);
+            snprintf(q->s.ch_truth, sizeof(q->s.ch_truth), "%s%ld",
+                     GF_CHANNEL_TRUTH, (long)q->s.track);
+            rng_seed(&q->r, seed + (uint64_t)k);
+            draw(&q->r, n, mdl->prior_mean, mdl->prior_cov, q->x);
+        }
+        for (t = 1; t <= steps && !g_stop; t++) {
+            for (k = 0; k < nruns; k++) {
+                run *q = &runs[k];
+                double z[3];
+                int m;
+                if (mdl->kind == MODEL_CAR) {
+                    double a = sqrt(mdl->accel_var) * rng_normal(&q->r);
+                    double dt = mdl->dt;
+                    q->x[0] += q->x[1] * dt + 0.5 * a * dt * dt;
+                    q->x[1] += a * dt;
+                    send_ctrl(&q->s, t, 0, 0.0, 0.0);
+                } else {
+                    const double *al = mdl->odometry;
+                    double d = 1.0, phi = turn;
+                    double dd = d + sqrt(al[0] * d * d + al[1] * phi * phi) *
+                                        rng_normal(&q->r);
+                    double dp = phi + sqrt(al[2] * d * d + al[3] * phi * phi) *
+                                          rng_normal(&q->r);
+                    q->x[0] += dd * cos(q->x[2]);
+                    q->x[1] += dd * sin(q->x[2]);
+                    q->x[2] = remainder(q->x[2] + dp,
+                                        2.0 * 3.14159265358979323846);
+                    send_ctrl(&q->s, t, 2, d, phi);
+                }
+                send_truth(&q->s, t, (int)n, q->x);
+                if (t % meas_every == 0) {
+                    m = measure(mdl, &q->r, q->x, z);
+                    send_meas_m(&q->s, t, m, z, mdl->meas_cov);
+                }
+            }
+            pace(&next, period_ns);
+        }
+        s.sent_ctrl = s.sent_meas = s.sent_truth = 0;
+        for (k = 0; k < nruns; k++) {
+            s.sent_ctrl += runs[k].s.sent_ctrl;
+            s.sent_meas += runs[k].s.sent_meas;
+            s.sent_truth += runs[k].s.sent_truth;
+            s.failed |= runs[k].s.failed;
+        }
+    } else if (exercise == 1 || exercise == 2) {
         for (t = 1; t <= steps && !g_stop; t++) {
             send_ctrl(&s, t, 0, 0.0, 0.0);
             if (exercise == 2 && t == 5)
@@ -349,11 +540,12 @@ int main(int argc, char **argv)
         }
     }
 
-    printf("gf_sim: track=%ld session=%lld sent controls=%lu measurements=%lu "
-           "truths=%lu%s%s\n",
-           (long)s.track, (long long)s.session, s.sent_ctrl, s.sent_meas,
+    printf("gf_sim: track=%ld runs=%ld session=%lld sent controls=%lu "
+           "measurements=%lu truths=%lu%s%s\n",
+           (long)s.track, nruns, (long long)s.session, s.sent_ctrl, s.sent_meas,
            s.sent_truth, g_stop ? " (stopped by a signal)" : "",
            s.failed ? " (some publishes FAILED)" : "");
     lcm_destroy(s.lcm);
+    gf_node_config_free(&config);
     return s.failed ? 1 : 0;
 }

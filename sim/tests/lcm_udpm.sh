@@ -17,6 +17,16 @@
 #              the node twice with the file:// provider (speed=0): the two
 #              belief logs are identical, and Table 2.1 is in them; and
 #              gf_sim gives the same bytes for the same seed (and session)
+#   config     node_test.conf: a car at 100 Hz (position and velocity), a
+#              robot with odometry noise seeing (x, y), and one seeing the
+#              range and bearing of a landmark; three nodes (one per model,
+#              all with --config), M = 50 runs of each model streamed by
+#              gf_sim over udpm, every input applied, and the NEES and NIS
+#              of the beliefs consistent (gf_consist, 95% bounds per step)
+#   model      a node without a configuration; gf_setmodel gives track 150
+#              the car100 model at run time; after it, every belief of the
+#              track equals that of a node configured with car100 from the
+#              start (gf_logcmp)
 #   ex4three   exercise 4 through three nodes (--filter ekf, ukf, pf):
 #              gf_ex4check sees the EKF at (0.15, 0), the UKF's predicted
 #              mean inside the unit circle, the PF's two modes
@@ -172,6 +182,73 @@ ex4three)
     # 3 beliefs from each node, and 3 clouds from the PF node
     grep -q 'published=6 ' "$work/node_pf.out" ||
         { echo "lcm_udpm: the PF node did not publish 3 beliefs + 3 clouds" >&2; exit 1; }
+    ;;
+config)
+    conf=$(dirname "$0")/node_test.conf
+    runs=50 steps=100
+    for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        start "node$k" "$bin/gf_node" --config "$conf" --url "$URL" \
+            --channels "GF_(MEAS|CTRL|MODEL)_${k}[0-9][0-9]" \
+            --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
+        ready "node$k"
+    done
+    grep -q 'models=3 config=' "$work/node1.out" ||
+        { echo "lcm_udpm: the ready line does not name the models" >&2; exit 1; }
+    for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        # the same stream twice: over udpm to the node, and into a file
+        # for its truths
+        for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
+            "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
+                --track "${k}00" --runs $runs --steps $steps --seed $k \
+                --session 1 --rate 200
+        done
+    done
+    for k in 1 2 3; do
+        node_pid=$(eval echo "\$node${k}_pid")
+        kill -TERM "$node_pid"
+        wait "$node_pid" || { echo "lcm_udpm: node $k exit status $?" >&2; exit 1; }
+        summary=$(grep 'gf_node: summary' "$work/node$k.out")
+        echo "node $k: $summary"
+        expect received $((2 * runs * steps))
+        expect applied $((2 * runs * steps))
+        expect gaps 0
+        expect dropped 0
+        expect tracks $runs
+    done
+    for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        "$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
+            --url "file://$work/beliefs-$m.lcmlog?speed=0" --first "${k}00" \
+            --runs $runs --steps $steps --label "$m" ||
+            { echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
+    done
+    ;;
+model)
+    conf=$(dirname "$0")/node_test.conf
+    start node "$bin/gf_node" --url "$URL" \
+        --out-url "file://$work/beliefs-set.lcmlog?mode=w"
+    ready node
+    "$bin/gf_setmodel" --url "$URL" --config "$conf" --model car100 \
+        --track 150 --reset --utime 10000
+    sleep 0.2
+    "$bin/gf_sim" --url "$URL" --config "$conf" --model car100 --track 150 \
+        --steps 50 --seed 5 --session 1 --rate 500
+    sleep 0.2
+    stop_node
+    expect models 1
+    expect received 101
+    expect applied 101
+    # the same inputs through a node configured with car100 from the start
+    "$bin/gf_sim" --url "file://$work/in.lcmlog?mode=w" --config "$conf" \
+        --model car100 --track 150 --steps 50 --seed 5 --session 1
+    "$bin/gf_node" --config "$conf" --url "file://$work/in.lcmlog?speed=0" \
+        --out-url "file://$work/beliefs-conf.lcmlog?mode=w" >"$work/node-conf.out"
+    cat "$work/node-conf.out"
+    # 1 initial belief (the model message's) + 100
+    "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect 101 \
+        "$work/beliefs-set.lcmlog" "$work/beliefs-conf.lcmlog"
     ;;
 *)
     echo "lcm_udpm: no scenario $scenario" >&2
