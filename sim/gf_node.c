@@ -19,10 +19,14 @@
 //               GF_(MEAS|CTRL|MODEL)_-?[0-9]+); e.g.
 //               'GF_(MEAS|CTRL|MODEL)_[0-4]' so that several nodes split
 //               the tracks
-//   --queue     messages LCM may hold for the node between two dispatches
-//               (default 4096; LCM's own default of 30 drops bursts).
-//               The kernel's socket buffer is set in the URL:
-//               udpm://...?recv_buf_size=BYTES
+//   --queue     messages the node's input queue holds (default 65536, in
+//               GF_INQ_BYTES_PER_MSG bytes each: sim/gf_inq.h). LCM's
+//               dispatch only copies each message into it; the handling
+//               thread filters and publishes. A message that finds it
+//               full is dropped and counted (dropped= in the summary,
+//               apart from gaps); a file:// replay waits instead. The
+//               kernel's socket buffer is set in the URL:
+//               udpm://...?recv_buf_size=BYTES (the ready line says both)
 //   --filter    the robot tracks' filter (the car is always KF2): ekf
 //               (EKF3, default), ukf (UKF3) or pf (PF3, GF_NODE_PF_PARTICLES
 //               particles per track, at most GF_NODE_PF_TRACKS tracks; each
@@ -31,7 +35,8 @@
 //   --seed      PF tracks' generator seed, plus the track id (default 1)
 //   --cpu N     pin the node's handling thread (the one that filters and
 //               publishes) to CPU N; with --rx-cpu M, LCM's receive thread
-//               (which reads the socket) goes to CPU M, else also to N.
+//               (which reads the socket) and the thread that copies each
+//               message into the node's queue go to CPU M, else also to N.
 //               Latency is lowest with the receive thread on the CPU where
 //               the packets arrive (the sender's over loopback, the NIC
 //               interrupt's otherwise): its wake-up then needs no IPI
@@ -50,8 +55,11 @@
 #include <string.h>
 #include <time.h>
 
+#include <pthread.h>
+
 #include <lcm/lcm.h>
 
+#include "gf_inq.h"
 #include "gf_rt.h"
 #include "node_core.h"
 
@@ -80,30 +88,55 @@ static int publish_lcm(void *ctx, const char *channel, const void *data,
 #define TIMING_BUCKETS 10000
 typedef struct node_ctx {
     gf_node *node;
+    gf_inq q;
+    gf_rt *rt;
+    pthread_mutex_t mu; // with started: the handling thread is placed
+    pthread_cond_t cv;
+    int started;
     int timing;
     unsigned long count;
     int64_t max_us;
     uint32_t hist[TIMING_BUCKETS + 1]; // last: TIMING_BUCKETS us or more
 } node_ctx;
 
+// LCM's dispatch: the message into the node's input queue, nothing else.
 static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
                        void *user)
 {
     node_ctx *c = user;
-    gf_node_handle(c->node, channel, rbuf->data, rbuf->data_size,
-                   rbuf->recv_utime);
-    if (c->timing) {
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        int64_t us = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000 -
-                     rbuf->recv_utime;
-        if (us < 0)
-            us = 0;
-        c->hist[us < TIMING_BUCKETS ? us : TIMING_BUCKETS]++;
-        if (us > c->max_us)
-            c->max_us = us;
-        c->count++;
+    (void)gf_inq_push(&c->q, channel, rbuf->data, rbuf->data_size,
+                      rbuf->recv_utime);
+}
+
+// The handling thread: every queued message through gf_node_handle (which
+// publishes), in order, until the queue is closed and empty.
+static void *handling(void *arg)
+{
+    node_ctx *c = arg;
+    const gf_inq_entry *e;
+    gf_rt_pin_main(c->rt, "gf_node");
+    pthread_mutex_lock(&c->mu);
+    c->started = 1;
+    pthread_cond_signal(&c->cv);
+    pthread_mutex_unlock(&c->mu);
+    while ((e = gf_inq_peek(&c->q)) != NULL) {
+        gf_node_handle(c->node, gf_inq_channel(e), gf_inq_data(e), e->len,
+                       e->recv_utime);
+        if (c->timing) {
+            struct timespec ts;
+            clock_gettime(CLOCK_REALTIME, &ts);
+            int64_t us = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000 -
+                         e->recv_utime;
+            if (us < 0)
+                us = 0;
+            c->hist[us < TIMING_BUCKETS ? us : TIMING_BUCKETS]++;
+            if (us > c->max_us)
+                c->max_us = us;
+            c->count++;
+        }
+        gf_inq_release(&c->q, e);
     }
+    return NULL;
 }
 
 // The microsecond below which a fraction q of the timed messages fall.
@@ -183,7 +216,9 @@ int main(int argc, char **argv)
     char summary[512];
     lcm_t *in, *out;
     struct sigaction sa;
-    int i, rc = 0, queue = 65536;
+    int i, rc = 0, queue = 65536, have_handler = 0, replay;
+    pthread_t handler;
+    char rcvbuf[32];
     lcm_subscription_t *sub;
 
     for (i = 1; i < argc; i++) {
@@ -225,6 +260,13 @@ int main(int argc, char **argv)
         return 2;
     }
 
+    // the kernel's socket buffer as the URL asks (LCM's default otherwise)
+    {
+        const char *r = url ? strstr(url, "recv_buf_size=") : NULL;
+        snprintf(rcvbuf, sizeof rcvbuf, "%s", r ? r + 14 : "default");
+        rcvbuf[strcspn(rcvbuf, "&,")] = '\0';
+    }
+
     // LCM's receive thread, started by lcm_subscribe, inherits CPU and policy.
     gf_rt_setup(&rt, "gf_node");
     in = lcm_create(url);
@@ -253,22 +295,39 @@ int main(int argc, char **argv)
     gf_node_set_filter(&node, filter, &pool, (uint32_t)seed);
     gf_node_set_models(&node, lookup_model, &config);
     ctx.node = &node;
+    ctx.rt = &rt;
+    pthread_mutex_init(&ctx.mu, NULL);
+    pthread_cond_init(&ctx.cv, NULL);
+    {
+        const char *u = url != NULL ? url : getenv("LCM_DEFAULT_URL");
+        replay = u != NULL && strncmp(u, "file://", 7) == 0;
+    }
+    if (queue < 1 || gf_inq_init(&ctx.q, (unsigned)queue, replay) != 0) {
+        fprintf(stderr, "gf_node: no input queue of %d messages\n", queue);
+        return 1;
+    }
     sub = lcm_subscribe(in, channels, on_message, &ctx);
-    gf_rt_pin_main(&rt, "gf_node");
-    gf_rt_describe(&rt, placement, sizeof placement);
-    if (sub == NULL || queue < 1 ||
-        lcm_subscription_set_queue_capacity(sub, queue) != 0) {
-        fprintf(stderr, "gf_node: cannot subscribe to %s (queue %d)\n",
-                channels, queue);
+    // LCM's own limit off: every message goes to on_message (the queue
+    // above is the node's bound, and it counts what it drops)
+    if (sub == NULL || lcm_subscription_set_queue_capacity(sub, 0) != 0 ||
+        pthread_create(&handler, NULL, handling, &ctx) != 0) {
+        fprintf(stderr, "gf_node: cannot subscribe to %s\n", channels);
         rc = 1;
         g_stop = 1;
     } else {
-        printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
-               "track_bytes=%zu node_bytes=%zu filter=%s models=%u%s%s %s",
-               channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
-               sizeof(gf_node), filter_name, config.count,
-               config_path ? " config=" : "", config_path ? config_path : "",
-               placement);
+        have_handler = 1;
+        pthread_mutex_lock(&ctx.mu);
+        while (!ctx.started)
+            pthread_cond_wait(&ctx.cv, &ctx.mu);
+        pthread_mutex_unlock(&ctx.mu);
+        gf_rt_describe(&rt, placement, sizeof placement);
+        printf("gf_node: ready channels=%s queue=%d queue_bytes=%zu "
+               "rcvbuf=%s max_tracks=%d track_bytes=%zu node_bytes=%zu "
+               "filter=%s models=%u%s%s %s",
+               channels, queue, ctx.q.cap, rcvbuf, GF_NODE_MAX_TRACKS,
+               sizeof(gf_node_track), sizeof(gf_node), filter_name,
+               config.count, config_path ? " config=" : "",
+               config_path ? config_path : "", placement);
         if (filter == GF_NODE_FILTER_PF)
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
@@ -282,8 +341,12 @@ int main(int argc, char **argv)
             break;
     }
 
+    gf_inq_close(&ctx.q);
+    if (have_handler)
+        pthread_join(handler, NULL);
+    gf_node_add_dropped(&node, ctx.q.dropped);
     gf_node_summary(&node, summary, sizeof(summary));
-    printf("gf_node: summary %s\n", summary);
+    printf("gf_node: summary %s queue_peak=%u\n", summary, ctx.q.peak);
     if (ctx.timing && ctx.count > 0)
         printf("gf_node: timing messages=%lu in_node_p50_us=%ld "
                "in_node_p99_us=%ld in_node_max_us=%lld\n",
@@ -294,5 +357,6 @@ int main(int argc, char **argv)
         lcm_destroy(out);
     lcm_destroy(in);
     gf_node_config_free(&config);
+    gf_inq_free(&ctx.q);
     return rc;
 }
