@@ -186,9 +186,12 @@ ex4three)
 config)
     conf=$(dirname "$0")/node_test.conf
     runs=50 steps=100
+    # every node's socket sees every model's stream: room for the bursts
+    # of 100 messages each step brings
     for spec in car100:1 rover-xy:2 rover-landmark:3; do
         m=${spec%:*} k=${spec#*:}
-        start "node$k" "$bin/gf_node" --config "$conf" --url "$URL" \
+        start "node$k" "$bin/gf_node" --config "$conf" \
+            --url "$URL&recv_buf_size=4194304" \
             --channels "GF_(MEAS|CTRL|MODEL)_${k}[0-9][0-9]" \
             --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
         ready "node$k"
@@ -202,7 +205,7 @@ config)
         for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
             "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
                 --track "${k}00" --runs $runs --steps $steps --seed $k \
-                --session 1 --rate 200
+                --session 1 --rate 100
         done
     done
     for k in 1 2 3; do
