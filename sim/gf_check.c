@@ -26,6 +26,7 @@
 #include "gaussfilt/gaussfilt.h"
 #include "gaussfilt_lcm_belief_t.h"
 #include "gf_channels.h"
+#include "gf_help.h"
 
 #define MAX_BELIEFS 64
 // The node's filter runs in gf_real: exact to 1e-12 in double, a few float
@@ -253,6 +254,17 @@ static long elapsed_ms(const struct timespec *t0)
            (t1.tv_nsec - t0->tv_nsec) / 1000000L;
 }
 
+static const char help_text[] =
+    "gf_check: listens to one track's beliefs and checks them against a table\n"
+    "of Probabilistic Robotics ch. 3's worked exercises; exit 0 if they agree.\n\n"
+    "usage: gf_check --table 1.1|2.1|4.2 --track N [--url URL] [--timeout-ms MS]\n"
+    "       gf_check --count N --track N [--url URL] [--timeout-ms MS]\n\n"
+    "  --table T       1.1 (gf_sim --exercise 1), 2.1 (2) or 4.2 (4)\n"
+    "  --count N       only wait for N beliefs and print them\n"
+    "  --track N       the track; --url URL (default LCM's); --timeout-ms\n\n"
+    "example:\n"
+    "  gf_check --table 2.1 --track 2 & gf_node & gf_sim --exercise 2 --track 2\n";
+
 int main(int argc, char **argv)
 {
     const char *url = NULL, *table = NULL;
@@ -263,6 +275,7 @@ int main(int argc, char **argv)
     struct timespec t0;
     lcm_t *lcm;
 
+    gf_help(argc, argv, help_text);
     for (i = 1; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--url") == 0)
             url = argv[i + 1];

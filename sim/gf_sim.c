@@ -55,6 +55,7 @@
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
 #include "gf_channels.h"
+#include "gf_help.h"
 #include "node_model.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
@@ -309,8 +310,32 @@ static void usage(void)
             "              [--meas-every K] [--meas-var V] [--turn PHI] "
             "[--session S] [--url URL]\n"
             "       gf_sim --exercise 1|2|4 [--track N] [--session S] "
-            "[--url URL]\n");
+            "[--url URL]\n"
+            "       gf_sim --config FILE --model NAME [--runs M] ... "
+            "(gf_sim --help)\n");
 }
+
+static const char help_text[] =
+    "gf_sim: streams a simulated car or robot over LCM: each step a control\n"
+    "(GF_CTRL_<track>), the true state (GF_TRUTH_<track>) and a measurement\n"
+    "(GF_MEAS_<track>), for a gf_node to filter.\n\n"
+    "usage: gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]\n"
+    "       gf_sim --model car|robot [--track N] [--steps N] [--seed S]\n"
+    "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
+    "       gf_sim --config FILE --model NAME [--runs M] [--track N]\n"
+    "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n\n"
+    "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 exactly\n"
+    "  --model car|robot  the exercises' car or robot with random motion\n"
+    "  --config FILE --model NAME  a model of a gf_node configuration (or\n"
+    "                  book-car, book-robot): truth from its prior, its noise\n"
+    "  --runs M        M independent runs on tracks N..N+M-1 (seed S+k)\n"
+    "  --track N       track id (default 1); --steps N; --seed S (default 1)\n"
+    "  --rate HZ       steps per second of wall-clock time (default: flat out)\n"
+    "  --meas-every K, --meas-var V, --turn PHI  (car/robot without --config)\n"
+    "  --session S     the run's session (default: the start time in us)\n"
+    "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w writes\n\n"
+    "example:\n"
+    "  gf_sim --config examples/node.conf --model car100 --track 100 --rate 100\n";
 
 int main(int argc, char **argv)
 {
@@ -334,6 +359,7 @@ int main(int argc, char **argv)
     memset(&s, 0, sizeof(s));
     s.track = 1;
     s.model = 0;
+    gf_help(argc, argv, help_text);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (v == NULL) {
