@@ -25,6 +25,8 @@
 // --exercise replays the book exactly:
 //   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
 //   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
+//      --steps N, --z Z and --meas-var V change exercise 2's numbers
+//      (examples/book.h, where every exercise number is);
 //   4: the robot moves once (u = (1, 0)), then observes x = -0.7 (Q = 0.01)
 //      (Table 4.2).
 //
@@ -54,6 +56,7 @@
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "book.h"
 #include "gf_channels.h"
 #include "gf_help.h"
 #include "node_model.h"
@@ -324,7 +327,8 @@ static const char help_text[] =
     "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
     "       gf_sim --config FILE --model NAME [--runs M] [--track N]\n"
     "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n\n"
-    "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 exactly\n"
+    "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 exactly;\n"
+    "                  exercise 2 with --steps N, --z Z, --meas-var V changed\n"
     "  --model car|robot  the exercises' car or robot with random motion\n"
     "  --config FILE --model NAME  a model of a gf_node configuration (or\n"
     "                  book-car, book-robot): truth from its prior, its noise\n"
@@ -340,6 +344,7 @@ static const char help_text[] =
 int main(int argc, char **argv)
 {
     const char *url = NULL, *config_path = NULL, *model_name = NULL;
+    gf_book book = GF_BOOK_DEFAULTS;
     static gf_node_config config;
     static run runs[MAX_RUNS];
     const gf_node_model *mdl = NULL;
@@ -369,6 +374,13 @@ int main(int argc, char **argv)
         i++;
         if (strcmp(a, "--url") == 0)
             url = v;
+        else if (strcmp(a, "--z") == 0 || strcmp(a, "--heading-var") == 0) {
+            // exercise 2's z; exercise 4's heading variance is the node's
+            // prior, not the stream's: taken so one command line fits all
+            int k = i - 1;
+            if (gf_book_option(&book, argc, argv, &k) != 1)
+                return 2;
+        }
         else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0)
             s.model = MODEL_CAR;
         else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0)
@@ -431,7 +443,15 @@ int main(int argc, char **argv)
         return 2;
     }
     if (steps < 0)
-        steps = exercise == 1 ? 10 : exercise == 2 ? 5 : exercise == 4 ? 1 : 100;
+        steps = exercise == 1   ? GF_BOOK_EX1_STEPS
+                : exercise == 2 ? book.ex2_steps
+                : exercise == 4 ? 1
+                                : 100;
+    if (exercise == 2) { // --steps and --meas-var are exercise 2's
+        book.ex2_steps = (int)steps;
+        if (meas_var > 0.0)
+            book.ex2_q = meas_var;
+    }
     if (meas_var < 0.0)
         meas_var = s.model == MODEL_CAR ? 10.0 : 0.01;
     s.step_us = 1000000;
@@ -528,13 +548,13 @@ int main(int argc, char **argv)
     } else if (exercise == 1 || exercise == 2) {
         for (t = 1; t <= steps && !g_stop; t++) {
             send_ctrl(&s, t, 0, 0.0, 0.0);
-            if (exercise == 2 && t == 5)
-                send_meas(&s, t, 5.0, 10.0);
+            if (exercise == 2 && t == book.ex2_steps)
+                send_meas(&s, t, book.ex2_z, book.ex2_q);
             pace(&next, period_ns);
         }
     } else if (exercise == 4) {
-        send_ctrl(&s, 1, 2, 1.0, 0.0);
-        send_meas(&s, 1, -0.7, 0.01);
+        send_ctrl(&s, 1, 2, GF_BOOK_EX4_D, GF_BOOK_EX4_PHI);
+        send_meas(&s, 1, GF_BOOK_EX4_Z, GF_BOOK_EX4_Q);
     } else if (s.model == MODEL_CAR) {
         double x[2] = {0.0, 0.0};
         for (t = 1; t <= steps && !g_stop; t++) {

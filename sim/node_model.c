@@ -11,27 +11,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "book.h"
 #include "gf_channels.h"
 
 // ---- presets ----------------------------------------------------------------
 
+// The book's numbers come from examples/book.h.
 static const gf_node_model book_car = {
     "book-car", GF_NODE_KIND_CAR, GF_NODE_MEASURE_AUTO,
-    1.0, 1.0,         // dt = 1 s, acceleration of variance 1 (Table 1.1)
+    GF_BOOK_CAR_DT, GF_BOOK_CAR_ACCEL_VAR, // R = ((0.25, 0.5), (0.5, 1))
     {0, 0, 0, 0}, {0, 0}, 0.0,
-    {0, 0, 0},        // at rest at 0, known exactly (exercise 1)
+    {0, 0, 0}, // at rest at 0, known exactly (exercise 1)
     {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
-    {{10, 0, 0}, {0, 0, 0}, {0, 0, 0}}, // Q = 10 (exercise 2)
+    {{GF_BOOK_EX2_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
 };
 
 static const gf_node_model book_robot = {
     "book-robot", GF_NODE_KIND_ROBOT, GF_NODE_MEASURE_AUTO,
     0.0, 0.0,
-    {0, 0, 0, 0},     // R = 0 (exercise 4)
+    {0, 0, 0, 0}, // R = 0 (exercise 4)
     {0, 0}, 0.0,
-    {0, 0, 0},        // at the origin, heading unknown
-    {{0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 10000}},
-    {{0.01, 0, 0}, {0, 0, 0}, {0, 0, 0}}, // Q = 0.01 (Table 4.2)
+    {0, 0, 0},    // at the origin, heading unknown
+    {{GF_BOOK_EX4_XY_VAR, 0, 0},
+     {0, GF_BOOK_EX4_XY_VAR, 0},
+     {0, 0, GF_BOOK_EX4_HEADING_VAR}},
+    {{GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
 };
 
 const gf_node_model *gf_node_model_book_car(void) { return &book_car; }
