@@ -1,7 +1,9 @@
-// gf_node: the filter node. Subscribes to the controls and measurements of
-// its tracks over LCM, hands each message to gf_node_handle() (node_core.c)
-// and publishes the beliefs it returns. SIGINT/SIGTERM (or the end of a
-// file:// log) end it with a one-line summary on stdout.
+// gf_node: the filter node. Subscribes to the controls, measurements and
+// models of its tracks over LCM; LCM's dispatch copies each message into
+// the node's input queue (gf_inq.h), and a handling thread hands it to
+// gf_node_handle() (node_core.c), which publishes the beliefs.
+// SIGINT/SIGTERM (or the end of a file:// log) end it, once the queue is
+// drained, with a one-line summary on stdout.
 //
 //   gf_node [--config FILE] [--url URL] [--out-url URL] [--channels REGEX]
 //           [--queue N] [--filter ekf|ukf|pf] [--seed S] [--cpu N]
