@@ -146,9 +146,9 @@ typedef struct gf_node_counts {
 
 // Inputs rejected as out_of_order in a row before a track's sequence
 // reference is reset (see the top): far more than the reordering a network
-// does to one track (tests/net's fault relay holds a message up to 40 ms,
-// and pauses the wire around a node restart; 16 in a row were seen there),
-// about 1.3 s of a 100 Hz track's controls and measurements.
+// does to one track (tests/net's fault relay holds a message up to 40 ms
+// and pauses the wire around a node restart, which makes runs of 16 and
+// more), about 1.3 s of a 100 Hz track's controls and measurements.
 #define GF_NODE_RESYNC_AFTER 256
 
 // The PF summary's status in belief_t.status (belief_t.STATUS_NO_SUMMARY,
