@@ -289,7 +289,7 @@ static void run_family(int kind, tally *t)
                     // The long-double sequential form from the same prior,
                     // against the batch form: not asserted, reported (how
                     // much the sequential form itself loses).
-                    gr_real nis_seq;
+                    gr_real nis_seq = 0;
                     next.seq = r.ref;
                     if (gr_update_seq(&next.seq, sc.m, sc.H, sc.Q, z,
                                       &nis_seq)) {
@@ -473,7 +473,7 @@ static void reference_itself(void **state)
     gr_filt f;
     gr_filt_init(&f, &sc, 0, 0);
     gf_real z[3] = {2, 0, 0};
-    gr_real nis;
+    gr_real nis = 0;
     assert_true(gr_update_batch(&f, 1, sc.H, sc.Q, z, &nis));
     const double tiny = 16 * (double)LDBL_EPSILON;
     assert_true(fabs((double)(f.P[0][0] - 0.8L)) < tiny);
@@ -498,7 +498,7 @@ static void reference_itself(void **state)
     gr_filt_init(&fb, &s3, 0, 0);
     fs = fb;
     gf_real z3[3] = {1, -2, GF_R(0.5)};
-    gr_real nb, ns;
+    gr_real nb = 0, ns = 0;
     assert_true(gr_update_batch(&fb, 3, s3.H, s3.Q, z3, &nb));
     assert_true(gr_update_seq(&fs, 3, s3.H, s3.Q, z3, &ns));
     double es, em;
