@@ -66,6 +66,11 @@ static const case3 CASES3[] = {
     {SEMI, {{{1, 2, -1}, {2, 4, -2}, {-1, -2, 1}}}}, // rank 1
     {SEMI, {{{1, 0, 1}, {0, 1, 1}, {1, 1, 2}}}},     // rank 2
     {SEMI, {{{1, 0, 0}, {0, 0, 0}, {0, 0, 2}}}},     // a zero variance
+    // G G^T, G = ((0.75, 0.5), (0.25, 1.125), (0.25, 1)): rank 2, every
+    // entry and product exact in binary (eighths).
+    {SEMI, {{{GF_R(0.8125), GF_R(0.75), GF_R(0.6875)},
+             {GF_R(0.75), GF_R(1.328125), GF_R(1.1875)},
+             {GF_R(0.6875), GF_R(1.1875), GF_R(1.0625)}}}},
     // Item 2's indefinite matrix (accepted at 1e13 in float).
     {INDEF, {{{1, GF_R(0.9), GF_R(0.9)}, {GF_R(0.9), 1, GF_R(-0.9)},
               {GF_R(0.9), GF_R(-0.9), 1}}}},
