@@ -1,9 +1,10 @@
 // Shared by tests/test_random.c and bench/accuracy.c: seeded random
 // scenarios for KF2 and EKF3, a reference Joseph filter in long double (the
-// batch form, and the sequential form it is checked against), a running
-// first-order bound on the error of a filter computed in gf_real, and an
-// independent positive-semidefiniteness test. Test code: static inline
-// helpers, no state outside the structs the caller owns.
+// batch form; its perturbed copies, which measure a scenario's
+// conditioning; and the sequential form, for comparison), an independent
+// positive-semidefiniteness test, and a textbook Joseph filter in gf_real.
+// Test code: static inline helpers, no state outside the structs the
+// caller owns.
 //
 // The generator works in double, rounds every input to gf_real once, and
 // the reference reads those rounded inputs: the reference and the filter
