@@ -93,9 +93,6 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
             if (lib_predict(&l, &sc) != GF_OK) {
                 break;
             }
-            if (kind == GR_EKF3_TURN) {
-                l.ctx.theta = unwrap_ld(l.ekf.mu.v[2], ref.mu[2]);
-            }
             gr_tb_predict(&tb, &sc);
             gr_scen_move(&sc);
             gr_filt *f[3] = {&ref, &pa, &pb};

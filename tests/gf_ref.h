@@ -68,17 +68,61 @@ static inline double gr_unif(gr_rng *r)
     return (double)(gr_next(r) >> 11) * 0x1.0p-53;
 }
 
+// exp, log, sin and cos of our own, from +, *, / and frexp/ldexp only
+// (sqrt is correctly rounded everywhere): every machine draws the same
+// scenarios bit for bit, whatever its libm. Accurate to a few ulps, which
+// is all the generator and the reference's turn need.
+static inline double gr_exp(double x)
+{
+    double k = floor(x / 0.6931471805599453 + 0.5);
+    double r = x - k * 0.6931471805599453, t = 1.0, e = 1.0;
+    for (int i = 1; i < 24; i++) {
+        t *= r / i;
+        e += t;
+    }
+    return ldexp(e, (int)k);
+}
+
+static inline double gr_log(double x)
+{
+    int k;
+    double m = frexp(x, &k) * 2.0; // x = m 2^(k-1), m in [1, 2)
+    double z = (m - 1.0) / (m + 1.0), z2 = z * z, t = z, s = 0;
+    for (int i = 1; i < 60; i += 2) {
+        s += t / i;
+        t *= z2;
+    }
+    return 2.0 * s + (k - 1) * 0.6931471805599453;
+}
+
+// sin and cos of a reduced to [-pi, pi] by multiples of 2 pi.
+static inline void gr_sincos(double a, double *s, double *c)
+{
+    const double two_pi = 6.283185307179586;
+    double x = a - two_pi * floor(a / two_pi + 0.5);
+    double x2 = x * x, ts = x, tc = 1.0, ss = x, cc = 1.0;
+    for (int i = 1; i < 20; i++) {
+        ts *= -x2 / ((2 * i) * (2 * i + 1));
+        tc *= -x2 / ((2 * i - 1) * (2 * i));
+        ss += ts;
+        cc += tc;
+    }
+    *s = ss;
+    *c = cc;
+}
+
 // Standard normal (Box-Muller).
 static inline double gr_normal(gr_rng *r)
 {
-    double u1 = 1.0 - gr_unif(r), u2 = gr_unif(r);
-    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+    double u1 = 1.0 - gr_unif(r), u2 = gr_unif(r), s, c;
+    gr_sincos(6.283185307179586 * u2, &s, &c);
+    return sqrt(-2.0 * gr_log(u1)) * c;
 }
 
 // Log-uniform in [lo, hi].
 static inline double gr_logu(gr_rng *r, double lo, double hi)
 {
-    return exp(log(lo) + gr_unif(r) * (log(hi) - log(lo)));
+    return gr_exp(gr_log(lo) + gr_unif(r) * (gr_log(hi) - gr_log(lo)));
 }
 
 static inline unsigned gr_below(gr_rng *r, unsigned n)
@@ -147,10 +191,10 @@ static inline void gr_corr_factor(gr_rng *r, int n, double cond, int rank,
     double lam[3];
     for (int i = 0; i < n; i++) {
         double t = n > 1 ? (double)i / (double)(n - 1) : 0.0;
-        lam[i] = i < rank ? exp(-t * log(cond)) : 0.0;
+        lam[i] = i < rank ? gr_exp(-t * gr_log(cond)) : 0.0;
     }
     if (rank >= 2 && n == 3 && rank == 3) {
-        lam[1] = exp(-gr_unif(r) * log(cond)); // middle eigenvalue anywhere
+        lam[1] = gr_exp(-gr_unif(r) * gr_log(cond)); // middle one anywhere
     }
     for (int i = 0; i < n; i++) {
         double nn = 0;
@@ -195,9 +239,10 @@ typedef struct gr_scen {
 static inline void gr_turn_d(const double x[3], const gf_real u[2],
                              double out[3])
 {
-    double d = (double)u[0];
-    out[0] = x[0] + d * cos(x[2]);
-    out[1] = x[1] + d * sin(x[2]);
+    double d = (double)u[0], s, c;
+    gr_sincos(x[2], &s, &c);
+    out[0] = x[0] + d * c;
+    out[1] = x[1] + d * s;
     out[2] = x[2] + (double)u[1];
 }
 
@@ -231,6 +276,9 @@ static inline void gr_scen_make(gr_scen *sc, int kind, uint64_t seed,
     if (kind != GR_KF2) {
         unit[1] = unit[0];
         unit[2] = 1.0;
+    }
+    if (kind == GR_EKF3_TURN) {
+        zunit[2] = 1.0; // a measured heading is an angle, in radians
     }
 
     // Prior: std devs (in units) spread over 1e-2..1e2, correlation form
@@ -482,17 +530,33 @@ static inline void gr_scen_measure(gr_scen *sc, gf_real z[3])
 // measured on the scenario rather than estimated from norms.
 typedef struct gr_filt {
     int n;
+    int angle_row; // the measurement row whose residual is an angle, or -1
     gr_real mu[3];
     gr_real P[3][3];
     double eps;
     gr_rng rng;
 } gr_filt;
 
+// The residual row that is a heading: forward_turn's third measured
+// quantity (EKF3 measures it with angle_mask bit 2 set), else -1.
+static inline int gr_angle_row(const gr_scen *sc)
+{
+    return (sc->kind == GR_EKF3_TURN && sc->m == 3) ? 2 : -1;
+}
+
+// a wrapped to [-pi, pi], in long double.
+static inline gr_real gr_wrap(gr_real a)
+{
+    const gr_real two_pi = 6.283185307179586476925L;
+    return a - two_pi * (gr_real)floor((double)(a / two_pi) + 0.5);
+}
+
 static inline void gr_filt_init(gr_filt *f, const gr_scen *sc, double eps,
                                 uint64_t seed)
 {
     memset(f, 0, sizeof *f);
     f->n = sc->n;
+    f->angle_row = gr_angle_row(sc);
     f->eps = eps;
     f->rng.s = seed;
     for (int i = 0; i < sc->n; i++) {
@@ -588,15 +652,17 @@ static inline void gr_predict_lin(gr_filt *f, gf_real A[3][3],
 }
 
 // Prediction with forward_turn: mu = g(u, mu), G = dg/dx at mu,
-// P = G P G^T + R, at the reference's own heading (cos and sin in double:
-// their error is far below float's, and below the double build's
-// perturbations).
+// P = G P G^T + R, at the reference's own heading (gr_sincos, in double:
+// its error of a few ulps of double is far below float's, and below the
+// double build's perturbations).
 static inline void gr_predict_turn(gr_filt *f, const gf_real uu[2],
                                    gf_real R[3][3])
 {
     double th = (double)f->mu[2];
     gr_real dist = gr_in(f, uu[0]), phi = gr_in(f, uu[1]);
-    gr_real s = (gr_real)sin(th), co = (gr_real)cos(th);
+    double sd, cd;
+    gr_sincos(th, &sd, &cd);
+    gr_real s = (gr_real)sd, co = (gr_real)cd;
     gr_real g[3][3] = {{1, 0, -dist * s}, {0, 1, dist * co}, {0, 0, 1}};
     gr_real mu[3] = {f->mu[0] + dist * co, f->mu[1] + dist * s,
                      f->mu[2] + phi};
@@ -770,6 +836,9 @@ static inline int gr_update_batch(gr_filt *f, int m, gf_real Hin[3][3],
         for (int k = 0; k < n; k++) {
             y[i] -= H[i][k] * f->mu[k];
         }
+        if (i == f->angle_row) {
+            y[i] = gr_wrap(y[i]);
+        }
         y[i] = gr_pert(f, y[i]);
     }
     gr_real nis = 0;
@@ -881,6 +950,9 @@ static inline int gr_update_seq(gr_filt *f, int m, gf_real H[3][3],
         for (int k = 0; k < n; k++) {
             y[i] -= (gr_real)H[i][k] * f->mu[k];
         }
+        if (i == f->angle_row) {
+            y[i] = gr_wrap(y[i]);
+        }
         for (int j = 0; j < n; j++) {
             h[i][j] = (gr_real)H[i][j];
         }
@@ -976,7 +1048,8 @@ static inline void gr_errors(const gr_filt *f, const gr_real mu[3],
             gr_real dd = P[i][j] - f->P[i][j];
             gr_real den = f->P[i][i] * f->P[j][j];
             double e = dd == 0 ? 0.0
-                       : den > 0 ? sqrt((double)(dd * dd / den)) : (double)INFINITY;
+                       : den > 0 ? sqrt((double)(dd * dd / den))
+                                 : (double)INFINITY;
             s = e > s ? e : s;
         }
         gr_real dm = (angle && i == 2) ? gr_angle_diff(mu[i], f->mu[i])
@@ -1043,7 +1116,7 @@ static inline int gr_psd(int n, gr_real M[3][3], double tol)
 // pivot of S is not positive or a result is not finite. Used to calibrate
 // the bound (a textbook filter must meet it) and by bench/accuracy.c.
 typedef struct gr_tb {
-    int n;
+    int n, angle_row;
     gf_real mu[3], P[3][3];
 } gr_tb;
 
@@ -1051,6 +1124,7 @@ static inline void gr_tb_init(gr_tb *t, const gr_scen *sc)
 {
     memset(t, 0, sizeof *t);
     t->n = sc->n;
+    t->angle_row = gr_angle_row(sc);
     memcpy(t->mu, sc->mu0, sizeof t->mu);
     memcpy(t->P, sc->S0, sizeof t->P);
 }
@@ -1158,6 +1232,9 @@ static inline int gr_tb_update(gr_tb *t, const gr_scen *sc, const gf_real z[3])
         y[i] = z[i];
         for (int k = 0; k < n; k++) {
             y[i] -= sc->H[i][k] * t->mu[k];
+        }
+        if (i == t->angle_row) {
+            y[i] = gf_angle_wrap(y[i]);
         }
     }
     for (int i = 0; i < n; i++) {

@@ -13,7 +13,9 @@
 // library's heading unwrapped is tracked here: a prediction's is what
 // lin_motion computed; an update's is the wrapped result taken at the turn
 // nearest the prediction's plus the reference's change of heading (0 when
-// the reference has none to give).
+// the reference has none to give). forward_turn's heading needs no
+// tracking: its model is periodic and its measured heading a wrapped
+// residual.
 typedef struct lin_ctx {
     const gr_scen *sc;
     gr_real theta; // the library's heading, unwrapped
@@ -31,7 +33,8 @@ static inline gf_real unwrap(gf_real th, const lin_ctx *c)
     return (gf_real)unwrap_ld(th, c->theta);
 }
 
-static inline gf_status lin_motion(void *ctx, const gf_vec3 *mu, const gf_real *u,
+static inline gf_status lin_motion(void *ctx, const gf_vec3 *mu,
+                                   const gf_real *u,
                             gf_vec3 *mu_bar, gf_mat3 *G)
 {
     lin_ctx *c = ctx;
@@ -53,7 +56,10 @@ static inline gf_status lin_meas(void *ctx, const gf_vec3 *mu, gf_vec3 *z_hat,
                           gf_mat3 *H)
 {
     const lin_ctx *c = ctx;
-    gf_real x[3] = {mu->v[0], mu->v[1], unwrap(mu->v[2], c)};
+    // forward_turn's heading is an angle: measured as it is, its residual
+    // wrapped by the filter (angle_mask); the linear model's is unwrapped.
+    gf_real th = c->sc->kind == GR_EKF3_TURN ? mu->v[2] : unwrap(mu->v[2], c);
+    gf_real x[3] = {mu->v[0], mu->v[1], th};
     for (int i = 0; i < 3; i++) {
         gf_real s = 0;
         for (int j = 0; j < 3; j++) {
@@ -118,7 +124,8 @@ static inline gf_status lib_predict(lib *l, const gr_scen *sc)
     return gf_ekf3_predict(&l->ekf, &mo, NULL);
 }
 
-static inline gf_status lib_update(lib *l, const gr_scen *sc, const gf_real z[3],
+static inline gf_status lib_update(lib *l, const gr_scen *sc,
+                                   const gf_real z[3],
                             gf_real gate, gf_innovation *info)
 {
     if (sc->kind == GR_KF2) {
@@ -148,6 +155,7 @@ static inline gf_status lib_update(lib *l, const gr_scen *sc, const gf_real z[3]
         }
     }
     me.gate = gate;
+    me.angle_mask = gr_angle_row(sc) >= 0 ? 1u << gr_angle_row(sc) : 0u;
     gf_vec3 zz = {{z[0], z[1], z[2]}};
     return gf_ekf3_update(&l->ekf, &me, &zz, info);
 }

@@ -420,7 +420,8 @@ static void verdicts_do_not_depend_on_units(void **state)
     const gf_real small[] = {1e-160, 1e-170, 1e-200};
 #endif
     for (unsigned k = 0; k < sizeof small / sizeof small[0]; k++) {
-        const gf_mat2 b = {{{small[k], 2 * small[k]}, {2 * small[k], small[k]}}};
+        const gf_mat2 b = {
+            {{small[k], 2 * small[k]}, {2 * small[k], small[k]}}};
         assert_int_equal(gf_mat2_check_psd(&b), GF_ERR_NOT_PSD);
         gf_kf2 kf;
         const gf_mat2 id = {{{1, 0}, {0, 1}}};
@@ -473,7 +474,8 @@ static void ekf3_diffuse_heading_accepted(void **state)
     // belief is one init accepts.
     for (int i = 0; i < 2; i++) {
         assert_true(ekf.sigma.m[i][i] > 0 &&
-                    ekf.sigma.m[i][i] <= GF_R(0.01) * (1 + 4 * GF_REAL_EPSILON));
+                    ekf.sigma.m[i][i] <=
+                        GF_R(0.01) * (1 + 4 * GF_REAL_EPSILON));
     }
     gf_ekf3 again;
     assert_int_equal(gf_ekf3_init(&again, &ekf.mu, &ekf.sigma), GF_OK);
