@@ -1,0 +1,654 @@
+// The defects found in the core, each as the smallest call sequence that
+// showed it, against long-double values computed here or exact ones:
+// the scalar update collapsing the covariance, verdicts that depended on
+// units, float refusing a valid update, NULL pointers that crashed, and
+// statuses that depended on how the library was built.
+#include "gf_test.h"
+
+// Each update is checked against the long-double update of the prior the
+// filter holds (the stored gf_real belief after its prediction), so that
+// what is measured is the update's own error, not the rounding of the
+// stored prior (a float Sigma_bar cannot hold a correlation 1 - 1e-10; see
+// kf2_scalar_update_keeps_the_noise). Relative tolerance, stated once: a
+// Joseph update in precision u loses about 2u + u^2 r on a prior/noise
+// ratio r (the rounding of I - K C, squared, times the prior), a factored
+// one less; the worst below is r = 1e10 in float, u^2 r = 3.6e-5. Float:
+// 1e-3, far below the collapse (a relative error of 1). Double: 1e-12
+// (u^2 r < 1e-20 here).
+#ifdef GF_SINGLE_PRECISION
+#define REL_TOL 1e-3
+#else
+#define REL_TOL 1e-12
+#endif
+
+typedef long double ld;
+
+// The tolerance in force: REL_TOL, or, for an update from a prior whose
+// correlation form has condition number kappa, 16 u kappa when larger
+// (the prior held is known to u relative, and an update that factors or
+// inverts it has u kappa of uncertainty; set by prior_held).
+static double tol_now = REL_TOL;
+
+#ifdef GF_SINGLE_PRECISION
+#define U_REAL (0.5 * (double)FLT_EPSILON)
+#else
+#define U_REAL (0.5 * DBL_EPSILON)
+#endif
+
+// kappa estimated as the product of the diagonal over the determinant
+// (the reciprocal of the product of the correlation form's eigenvalues,
+// >= 1 / lambda_min).
+static void prior_held(ld P[3][3], int n)
+{
+    ld det, prod;
+    if (n == 2) {
+        det = P[0][0] * P[1][1] - P[0][1] * P[1][0];
+        prod = P[0][0] * P[1][1];
+    } else {
+        det = P[0][0] * (P[1][1] * P[2][2] - P[1][2] * P[2][1]) -
+              P[0][1] * (P[1][0] * P[2][2] - P[1][2] * P[2][0]) +
+              P[0][2] * (P[1][0] * P[2][1] - P[1][1] * P[2][0]);
+        prod = P[0][0] * P[1][1] * P[2][2];
+    }
+    double kappa = det > 0 ? (double)(prod / det) : 1e300;
+    tol_now = fmax(REL_TOL, 16.0 * U_REAL * kappa);
+}
+
+static void check_rel(double got, ld want, const char *what, int line)
+{
+    ld d = (ld)got - want;
+    ld scale = want < 0 ? -want : want;
+    if (!(d <= (ld)tol_now * scale && -d <= (ld)tol_now * scale)) {
+        print_error("%s: got %.9g, want %.9Lg (relative tolerance %g)\n",
+                    what, got, want, tol_now);
+        _fail(__FILE__, line);
+    }
+}
+#define CHECK_REL(got, want) check_rel((double)(got), (want), #got, __LINE__)
+
+// A 2x2 covariance entry relative to sqrt(want_ii want_jj).
+static void check_cov2(const gf_mat2 *got, ld want[2][2], int line)
+{
+    for (int i = 0; i < 2; i++) {
+        for (int j = 0; j < 2; j++) {
+            ld d = (ld)got->m[i][j] - want[i][j];
+            ld s2 = want[i][i] * want[j][j];
+            if (!(d * d <= (ld)(tol_now * tol_now) * s2)) {
+                print_error("sigma[%d][%d]: got %.9g, want %.9Lg\n", i, j,
+                            (double)got->m[i][j], want[i][j]);
+                _fail(__FILE__, line);
+            }
+        }
+    }
+}
+
+static void check_cov3(const gf_mat3 *got, ld want[3][3], int line)
+{
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            ld d = (ld)got->m[i][j] - want[i][j];
+            ld s2 = want[i][i] * want[j][j];
+            if (!(d * d <= (ld)(tol_now * tol_now) * s2)) {
+                print_error("sigma[%d][%d]: got %.9g, want %.9Lg\n", i, j,
+                            (double)got->m[i][j], want[i][j]);
+                _fail(__FILE__, line);
+            }
+        }
+    }
+}
+
+// The long-double scalar Joseph update of an n-state covariance P with the
+// row c and noise q (n = 2 or 3), and the mean.
+static void ld_update(int n, ld P[3][3], ld mu[3], const ld c[3], ld q,
+                      ld z)
+{
+    ld p[3] = {0, 0, 0}, s = q, y = z, k[3], N[3][3];
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            p[i] += P[i][j] * c[j];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        s += c[i] * p[i];
+        y -= c[i] * mu[i];
+    }
+    for (int i = 0; i < n; i++) {
+        k[i] = p[i] / s;
+    }
+    ld M[3][3], MP[3][3];
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            M[i][j] = (i == j ? 1.0L : 0.0L) - k[i] * c[j];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            MP[i][j] = 0;
+            for (int a = 0; a < n; a++) {
+                MP[i][j] += M[i][a] * P[a][j];
+            }
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            N[i][j] = q * k[i] * k[j];
+            for (int a = 0; a < n; a++) {
+                N[i][j] += MP[i][a] * M[j][a];
+            }
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        mu[i] += k[i] * y;
+        for (int j = 0; j < n; j++) {
+            P[i][j] = N[i][j];
+        }
+    }
+}
+
+static void ld_from_kf2(const gf_kf2 *kf, ld P[3][3], ld mu[3])
+{
+    memset(P, 0, 9 * sizeof(ld));
+    mu[2] = 0;
+    for (int i = 0; i < 2; i++) {
+        mu[i] = (ld)kf->mu.v[i];
+        for (int j = 0; j < 2; j++) {
+            P[i][j] = (ld)kf->sigma.m[i][j];
+        }
+    }
+}
+
+static void ld_from_ekf3(const gf_ekf3 *e, ld P[3][3], ld mu[3])
+{
+    for (int i = 0; i < 3; i++) {
+        mu[i] = (ld)e->mu.v[i];
+        for (int j = 0; j < 3; j++) {
+            P[i][j] = (ld)e->sigma.m[i][j];
+        }
+    }
+}
+
+// P = A P A^T (no process noise).
+static void ld_predict(int n, ld P[3][3], ld mu[3], ld A[3][3])
+{
+    ld AP[3][3], N[3][3], m[3] = {0, 0, 0};
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            AP[i][j] = 0;
+            for (int a = 0; a < n; a++) {
+                AP[i][j] += A[i][a] * P[a][j];
+            }
+            m[i] += A[i][j] * mu[j];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            N[i][j] = 0;
+            for (int a = 0; a < n; a++) {
+                N[i][j] += AP[i][a] * A[j][a];
+            }
+        }
+    }
+    memcpy(P, N, sizeof N);
+    memcpy(mu, m, sizeof m);
+}
+
+// Item 1, KF2: mu0 = 0, Sigma0 = diag(1e6, 1e6), A = ((1, 10), (0, 1)),
+// R = 0, C = (1, 0), Q = 0.01, z = 0; update, predict, update, predict,
+// update. Long double: Sigma00 = 0.01, 0.01, 0.00833 after the updates (the
+// float fast path gave 0 after the second, and a gain of 0 forever). The
+// third is 0.00833 only to a belief that holds the second prediction's
+// correlation of 1 - 1e-10 between x and v: float rounds it to 1 (Sigma_bar
+// = ((1e8, 1e7), (1e7, 1e6)) exactly, singular), after which any filter
+// that stores Sigma in float gives 0.008; double holds it to u / 1e-10 =
+// 1e-6. Each update against long double from the prior held, and the
+// whole run against the figures within that storage limit: 5%
+// (float), 1e-5 (double).
+static void kf2_scalar_update_keeps_the_noise(void **state)
+{
+    (void)state;
+    const gf_kf2_model car = {
+        .A = {{{1, 10}, {0, 1}}},
+        .B = {{{0, 0}, {0, 0}}},
+        .R = {{{0, 0}, {0, 0}}},
+        .c = {{0, 0}},
+    };
+    const gf_kf2_meas pos = {
+        .m = 1,
+        .C = {{{1, 0}, {0, 0}}},
+        .Q = {{{GF_R(0.01), 0}, {0, 0}}},
+        .c = {{0, 0}},
+        .gate = 0,
+    };
+    const gf_vec2 mu0 = {{0, 0}}, z = {{0, 0}};
+    const gf_mat2 s0 = {{{GF_R(1e6), 0}, {0, GF_R(1e6)}}};
+    gf_kf2 kf;
+    assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
+
+    ld P[3][3], mu[3];
+    ld Pr[3][3] = {{1e6L, 0, 0}, {0, 1e6L, 0}, {0, 0, 0}}, mr[3] = {0, 0, 0};
+    ld A[3][3] = {{1, 10, 0}, {0, 1, 0}, {0, 0, 0}};
+    const ld c[3] = {1, 0, 0};
+    const ld q = (ld)GF_R(0.01);
+#ifdef GF_SINGLE_PRECISION
+    const double run_tol = 0.05;
+#else
+    const double run_tol = 1e-5;
+#endif
+    for (int t = 0; t < 3; t++) {
+        if (t > 0) {
+            assert_int_equal(gf_kf2_predict(&kf, &car, NULL), GF_OK);
+            ld_predict(2, Pr, mr, A);
+        }
+        ld_from_kf2(&kf, P, mu);
+        prior_held(P, 2);
+        assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
+        ld_update(2, P, mu, c, q, 0);
+        ld w[2][2] = {{P[0][0], P[0][1]}, {P[1][0], P[1][1]}};
+        check_cov2(&kf.sigma, w, __LINE__);
+        // The whole run in long double: 0.01, 0.01, 0.00833.
+        ld_update(2, Pr, mr, c, q, 0);
+        double want = (double)Pr[0][0];
+        assert_true(fabs(want - (t < 2 ? 0.01 : 0.00833)) < 5e-6);
+        assert_true(fabs((double)kf.sigma.m[0][0] - want) <= run_tol * want);
+        assert_true(kf.sigma.m[0][0] > 0 && kf.sigma.m[1][1] > 0);
+    }
+    // The gain is alive: a later reading of 1 moves the mean by
+    // K = Sigma00 / (Sigma00 + Q), about 0.45.
+    gf_kf2 after = kf;
+    const gf_vec2 one = {{1, 0}};
+    assert_int_equal(gf_kf2_update(&after, &pos, &one, NULL), GF_OK);
+    ld_from_kf2(&kf, P, mu);
+    prior_held(P, 2);
+    ld k = P[0][0] / (P[0][0] + q);
+    CHECK_REL(after.mu.v[0] - kf.mu.v[0], k);
+    tol_now = REL_TOL;
+}
+
+// Item 1, KF2: Sigma = ((1e8, 3e7), (3e7, 1e8)), C = (1, 0), Q = 1. Exact:
+// Sigma00 = 1e8 / (1e8 + 1), Sigma01 = 3e7 / (1e8 + 1), Sigma11 = 1e8 -
+// 9e14 / (1e8 + 1) (float gave 0 and 0, and negative variances).
+static void kf2_correlated_prior(void **state)
+{
+    (void)state;
+    const gf_vec2 mu0 = {{0, 0}}, z = {{0, 0}};
+    const gf_mat2 s0 = {{{GF_R(1e8), GF_R(3e7)}, {GF_R(3e7), GF_R(1e8)}}};
+    const gf_kf2_meas pos = {
+        .m = 1,
+        .C = {{{1, 0}, {0, 0}}},
+        .Q = {{{1, 0}, {0, 0}}},
+        .c = {{0, 0}},
+        .gate = 0,
+    };
+    gf_kf2 kf;
+    assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
+    assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
+    const ld s = 1e8L + 1;
+    ld w[2][2] = {{1e8L / s, 3e7L / s}, {3e7L / s, 1e8L - 9e14L / s}};
+    check_cov2(&kf.sigma, w, __LINE__);
+    assert_true(kf.sigma.m[0][0] > 0 && kf.sigma.m[1][1] > 0);
+}
+
+// Item 1, double: the same collapse from a prior/noise ratio of 1e10 (5e-7
+// relative) to 1e12 (2e-5). diag(1e12, 1e12), Q = 1; and for float,
+// where 1e12 is beyond what any Joseph form in float resolves (u^2 r =
+// 3.6e-3), diag(1e10, 1e10).
+static void kf2_large_ratio(void **state)
+{
+    (void)state;
+#ifdef GF_SINGLE_PRECISION
+    const ld v = 1e10L;
+#else
+    const ld v = 1e12L;
+#endif
+    const gf_vec2 mu0 = {{0, 0}}, z = {{GF_R(3.0), 0}};
+    const gf_mat2 s0 = {{{(gf_real)v, 0}, {0, (gf_real)v}}};
+    const gf_kf2_model car = {
+        .A = {{{1, 1}, {0, 1}}},
+        .B = {{{0, 0}, {0, 0}}},
+        .R = {{{0, 0}, {0, 0}}},
+        .c = {{0, 0}},
+    };
+    const gf_kf2_meas pos = {
+        .m = 1,
+        .C = {{{1, 0}, {0, 0}}},
+        .Q = {{{1, 0}, {0, 0}}},
+        .c = {{0, 0}},
+        .gate = 0,
+    };
+    gf_kf2 kf;
+    assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
+    ld P[3][3], mu[3];
+    const ld c[3] = {1, 0, 0};
+    (void)v;
+    for (int t = 0; t < 3; t++) {
+        if (t > 0) {
+            assert_int_equal(gf_kf2_predict(&kf, &car, NULL), GF_OK);
+        }
+        ld_from_kf2(&kf, P, mu);
+        prior_held(P, 2);
+        assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
+        ld_update(2, P, mu, c, 1, 3);
+        ld w[2][2] = {{P[0][0], P[0][1]}, {P[1][0], P[1][1]}};
+        check_cov2(&kf.sigma, w, __LINE__);
+        CHECK_REL(kf.mu.v[0], mu[0]);
+        assert_true(kf.sigma.m[0][0] > 0 && kf.sigma.m[1][1] > 0);
+    }
+    tol_now = REL_TOL;
+}
+
+// Item 1, EKF3 float: Sigma0 = diag(1e6, 1e6, 0.01), gf_ekf3_meas_x, Q =
+// 0.01; update, move 10 forward (heading 0, no noise), update, move,
+// update. The heading stays 0. Each update against long double from the
+// prior held.
+static void ekf3_scalar_update_keeps_the_noise(void **state)
+{
+    (void)state;
+    const gf_vec3 mu0 = {{0, 0, 0}}, z = {{0, 0, 0}};
+    const gf_mat3 s0 = {
+        {{GF_R(1e6), 0, 0}, {0, GF_R(1e6), 0}, {0, 0, GF_R(0.01)}}};
+    gf_ekf3_meas mx;
+    memset(&mx, 0, sizeof mx);
+    mx.m = 1;
+    mx.h = gf_ekf3_meas_x;
+    mx.Q.m[0][0] = GF_R(0.01);
+    gf_ekf3_motion mo;
+    memset(&mo, 0, sizeof mo);
+    mo.g = gf_ekf3_motion_forward_turn;
+    const gf_real u[2] = {10, 0};
+    gf_ekf3 ekf;
+    assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
+    ld P[3][3], mu[3];
+    const ld c[3] = {1, 0, 0};
+    for (int t = 0; t < 3; t++) {
+        if (t > 0) {
+            assert_int_equal(gf_ekf3_predict(&ekf, &mo, u), GF_OK);
+            assert_true(ekf.mu.v[2] == 0);
+        }
+        ld_from_ekf3(&ekf, P, mu);
+        prior_held(P, 3);
+        assert_int_equal(gf_ekf3_update(&ekf, &mx, &z, NULL), GF_OK);
+        ld_update(3, P, mu, c, (ld)GF_R(0.01), 0);
+        check_cov3(&ekf.sigma, P, __LINE__);
+        assert_true(ekf.sigma.m[0][0] > 0);
+    }
+    tol_now = REL_TOL;
+}
+
+// Item 2: verdicts that depended on units.
+static void verdicts_do_not_depend_on_units(void **state)
+{
+    (void)state;
+    const gf_vec3 mu3 = {{0, 0, 0}};
+    const gf_vec2 mu2 = {{0, 0}};
+    // Indefinite (smallest eigenvalue -0.8) and positive definite, scaled.
+    const gf_real bad[3][3] = {{1, GF_R(0.9), GF_R(0.9)},
+                               {GF_R(0.9), 1, GF_R(-0.9)},
+                               {GF_R(0.9), GF_R(-0.9), 1}};
+    const gf_real good[3][3] = {{1, GF_R(0.5), GF_R(0.3)},
+                                {GF_R(0.5), 1, GF_R(0.4)},
+                                {GF_R(0.3), GF_R(0.4), 1}};
+    // float accepted 1e13 * bad and refused 2^44 * good; double has the
+    // same edges near 1e155 and 1e-165.
+#ifdef GF_SINGLE_PRECISION
+    const gf_real scales[] = {GF_R(1e13), GF_R(17592186044416.0), /* 2^44 */
+                              GF_R(1e-13), GF_R(1e-18)};
+#else
+    const gf_real scales[] = {1e155, 1e-165, 1e150, 1e-150};
+#endif
+    for (unsigned k = 0; k < sizeof scales / sizeof scales[0]; k++) {
+        gf_mat3 b, g;
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) {
+                b.m[i][j] = scales[k] * bad[i][j];
+                g.m[i][j] = scales[k] * good[i][j];
+            }
+        }
+        gf_ekf3 ekf;
+        assert_int_equal(gf_ekf3_init(&ekf, &mu3, &g), GF_OK);
+        assert_int_equal(gf_mat3_check_psd(&g, 3), GF_OK);
+        gf_ekf3 keep = ekf;
+        CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf,
+                              gf_ekf3_init(&ekf, &mu3, &b));
+        assert_memory_equal(&keep, &ekf, sizeof ekf);
+        assert_int_equal(gf_mat3_check_psd(&b, 3), GF_ERR_NOT_PSD);
+    }
+    // 2x2 indefinite matrices passed below 1e-23 in float (products
+    // underflow): ((1, 2), (2, 1)) * s.
+#ifdef GF_SINGLE_PRECISION
+    const gf_real small[] = {GF_R(1e-20), GF_R(1e-24), GF_R(1e-30)};
+#else
+    const gf_real small[] = {1e-160, 1e-170, 1e-200};
+#endif
+    for (unsigned k = 0; k < sizeof small / sizeof small[0]; k++) {
+        const gf_mat2 b = {
+            {{small[k], 2 * small[k]}, {2 * small[k], small[k]}}};
+        assert_int_equal(gf_mat2_check_psd(&b), GF_ERR_NOT_PSD);
+        gf_kf2 kf;
+        const gf_mat2 id = {{{1, 0}, {0, 1}}};
+        assert_int_equal(gf_kf2_init(&kf, &mu2, &id), GF_OK);
+        CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf,
+                              gf_kf2_init(&kf, &mu2, &b));
+    }
+}
+
+// Item 3: EKF3, heading pi/4, Sigma0 = diag(0.01, 0.01, 1e5), move 1
+// forward, (x, y) update with Q = 0.01 I: float returned GF_ERR_SINGULAR,
+// though S >= Q > 0. The posterior against long double.
+static void ekf3_diffuse_heading_accepted(void **state)
+{
+    (void)state;
+    const gf_real th = GF_PI / 4;
+    const gf_vec3 mu0 = {{0, 0, th}};
+    const gf_mat3 s0 = {
+        {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, GF_R(1e5)}}};
+    gf_ekf3_motion mo;
+    memset(&mo, 0, sizeof mo);
+    mo.g = gf_ekf3_motion_forward_turn;
+    const gf_real u[2] = {1, 0};
+    gf_ekf3_meas mxy;
+    memset(&mxy, 0, sizeof mxy);
+    mxy.m = 2;
+    mxy.h = gf_ekf3_meas_xy;
+    mxy.Q.m[0][0] = mxy.Q.m[1][1] = GF_R(0.01);
+    gf_ekf3 ekf;
+    assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
+    assert_int_equal(gf_ekf3_predict(&ekf, &mo, u), GF_OK);
+    ld P[3][3], mu[3];
+    ld_from_ekf3(&ekf, P, mu);
+    prior_held(P, 3);
+    // The reading the filter expects: z = h(mu_bar), y = 0.
+    const gf_vec3 z = {{ekf.mu.v[0], ekf.mu.v[1], 0}};
+    gf_innovation info;
+    assert_int_equal(gf_ekf3_update(&ekf, &mxy, &z, &info), GF_OK);
+    CHECK_CLOSE(info.nis, 0);
+
+    // Long double from the prior held, the two rows one after another (Q
+    // is diagonal: the sequential and batch forms are the same).
+    const ld cx[3] = {1, 0, 0}, cy[3] = {0, 1, 0};
+    ld_update(3, P, mu, cx, (ld)GF_R(0.01), mu[0]);
+    ld_update(3, P, mu, cy, (ld)GF_R(0.01), mu[1]);
+    check_cov3(&ekf.sigma, P, __LINE__);
+    tol_now = REL_TOL;
+    // Whatever the float prior can hold of it: the x variance after
+    // measuring x with noise 0.01 lies in (0, 0.01], y's likewise, and the
+    // belief is one init accepts.
+    for (int i = 0; i < 2; i++) {
+        assert_true(ekf.sigma.m[i][i] > 0 &&
+                    ekf.sigma.m[i][i] <=
+                        GF_R(0.01) * (1 + 4 * GF_REAL_EPSILON));
+    }
+    gf_ekf3 again;
+    assert_int_equal(gf_ekf3_init(&again, &ekf.mu, &ekf.sigma), GF_OK);
+}
+
+// Item 6: NULL pointers that crashed; and every public function of mat.h,
+// kf2.h and ekf3.h that returns a status returns GF_ERR_ARG on NULL.
+static void null_pointers(void **state)
+{
+    (void)state;
+    const gf_mat2 s2 = {{{2, 0}, {0, 2}}};
+    const gf_mat3 s3 = {{{2, 0, 0}, {0, 2, 0}, {0, 0, 2}}};
+    gf_mat2 o2;
+    gf_mat3 o3;
+    gf_vec2 l2;
+    gf_real a;
+    assert_int_equal(gf_mat2_spd_inv(NULL, &o2), GF_ERR_ARG);
+    assert_int_equal(gf_mat2_spd_inv(&s2, NULL), GF_ERR_ARG);
+    assert_int_equal(gf_mat3_chol(NULL, 3, &o3), GF_ERR_ARG);
+    assert_int_equal(gf_mat3_chol(&s3, 3, NULL), GF_ERR_ARG);
+    assert_int_equal(gf_mat2_check_psd(NULL), GF_ERR_ARG);
+    assert_int_equal(gf_mat3_check_psd(NULL, 3), GF_ERR_ARG);
+    assert_int_equal(gf_mat3_sqrt_psd(NULL, 3, &o3), GF_ERR_ARG);
+    assert_int_equal(gf_mat3_sqrt_psd(&s3, 3, NULL), GF_ERR_ARG);
+    assert_int_equal(gf_mat2_eig_sym(NULL, &l2, &a), GF_ERR_ARG);
+    assert_int_equal(gf_mat2_eig_sym(&s2, NULL, &a), GF_ERR_ARG);
+    assert_int_equal(gf_mat2_eig_sym(&s2, &l2, NULL), GF_ERR_ARG);
+
+    const gf_vec2 m2 = {{0, 0}};
+    const gf_vec3 m3 = {{0, 0, 0}};
+    gf_kf2 kf;
+    assert_int_equal(gf_kf2_init(&kf, &m2, &s2), GF_OK);
+    assert_int_equal(gf_kf2_init(NULL, &m2, &s2), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(&kf, NULL, &s2));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(&kf, &m2, NULL));
+    gf_kf2_model mo;
+    memset(&mo, 0, sizeof mo);
+    mo.A.m[0][0] = mo.A.m[1][1] = 1;
+    gf_kf2_meas me;
+    memset(&me, 0, sizeof me);
+    me.m = 1;
+    me.C.m[0][0] = 1;
+    me.Q.m[0][0] = 1;
+    assert_int_equal(gf_kf2_predict(NULL, &mo, NULL), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_predict(&kf, NULL, NULL));
+    assert_int_equal(gf_kf2_update(NULL, &me, &m2, NULL), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update(&kf, NULL, &m2, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update(&kf, &me, NULL, NULL));
+    gf_kf2_pmodel pm;
+    gf_kf2_pmeas pq;
+    assert_int_equal(gf_kf2_prepare_model(NULL, &mo), GF_ERR_ARG);
+    assert_int_equal(gf_kf2_prepare_model(&pm, NULL), GF_ERR_ARG);
+    assert_int_equal(gf_kf2_prepare_meas(NULL, &me), GF_ERR_ARG);
+    assert_int_equal(gf_kf2_prepare_meas(&pq, NULL), GF_ERR_ARG);
+    assert_int_equal(gf_kf2_prepare_model(&pm, &mo), GF_OK);
+    assert_int_equal(gf_kf2_prepare_meas(&pq, &me), GF_OK);
+    assert_int_equal(gf_kf2_predict_prepared(NULL, &pm, NULL), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_predict_prepared(&kf, NULL, NULL));
+    assert_int_equal(gf_kf2_update_prepared(NULL, &pq, &m2, NULL),
+                     GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update_prepared(&kf, NULL, &m2, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update_prepared(&kf, &pq, NULL, NULL));
+
+    gf_ekf3 ekf;
+    assert_int_equal(gf_ekf3_init(&ekf, &m3, &s3), GF_OK);
+    assert_int_equal(gf_ekf3_init(NULL, &m3, &s3), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(&ekf, NULL, &s3));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(&ekf, &m3, NULL));
+    gf_ekf3_motion emo;
+    memset(&emo, 0, sizeof emo);
+    emo.g = gf_ekf3_motion_forward_turn;
+    gf_ekf3_meas eme;
+    memset(&eme, 0, sizeof eme);
+    eme.m = 1;
+    eme.h = gf_ekf3_meas_x;
+    eme.Q.m[0][0] = 1;
+    const gf_real u[2] = {1, 0};
+    assert_int_equal(gf_ekf3_predict(NULL, &emo, u), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(&ekf, NULL, u));
+    emo.g = NULL;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(&ekf, &emo, u));
+    assert_int_equal(gf_ekf3_update(NULL, &eme, &m3, NULL), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, NULL, &m3, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &eme, NULL, NULL));
+    eme.h = NULL;
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &eme, &m3, NULL));
+}
+
+// Item 7: one answer per call, however the library is built (this test
+// runs on the host at -O2/-O3 and on the Cortex-M4F at -Os).
+// - A measurement-noise variance of half the largest gf_real is finite and
+//   positive: the update is well-posed (S >= Q > 0), its gain tiny, the
+//   posterior finite: GF_OK, Sigma and mu as long double gives them.
+// - A zero prior with a denormal Q: S = Q > 0 is not singular; K = 0 and
+//   the reading the filter expects (y = 0): GF_OK, the belief unchanged
+//   in value, NIS 0.
+static void one_answer_per_call(void **state)
+{
+    (void)state;
+#ifdef GF_SINGLE_PRECISION
+    const gf_real half_max = FLT_MAX / 2, denorm = FLT_MIN / 1024;
+#else
+    const gf_real half_max = DBL_MAX / 2, denorm = DBL_MIN / 1024;
+#endif
+    const gf_vec2 mu0 = {{0, 0}}, z = {{1, 0}};
+    const gf_mat2 id = {{{1, 0}, {0, 1}}};
+    gf_kf2_meas me;
+    memset(&me, 0, sizeof me);
+    me.m = 1;
+    me.C.m[0][0] = 1;
+    me.Q.m[0][0] = half_max;
+    gf_kf2 kf;
+    assert_int_equal(gf_kf2_init(&kf, &mu0, &id), GF_OK);
+    gf_innovation info;
+    assert_int_equal(gf_kf2_update(&kf, &me, &z, &info), GF_OK);
+    const ld q = (ld)half_max, s = q + 1;
+    CHECK_REL(kf.sigma.m[0][0], q / s);
+    CHECK_REL(kf.sigma.m[1][1], 1.0L);
+    CHECK_REL(kf.mu.v[0], 1.0L / s);
+    CHECK_REL(info.nis, 1.0L / s);
+
+    const gf_mat2 zero = {{{0, 0}, {0, 0}}};
+    const gf_vec2 mu1 = {{GF_R(0.5), GF_R(-2.0)}}, z1 = {{GF_R(0.5), 0}};
+    me.Q.m[0][0] = denorm;
+    assert_int_equal(gf_kf2_init(&kf, &mu1, &zero), GF_OK);
+    assert_int_equal(gf_kf2_update(&kf, &me, &z1, &info), GF_OK);
+    assert_true(kf.mu.v[0] == mu1.v[0] && kf.mu.v[1] == mu1.v[1]);
+    assert_true(kf.sigma.m[0][0] == 0 && kf.sigma.m[0][1] == 0 &&
+                kf.sigma.m[1][1] == 0);
+    assert_true(info.nis == 0);
+
+    // EKF3 the same: Q = half the largest gf_real on x, and a zero prior
+    // with a denormal Q.
+    const gf_vec3 m3 = {{0, 0, 0}}, z3 = {{1, 0, 0}};
+    const gf_mat3 id3 = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    gf_ekf3_meas eme;
+    memset(&eme, 0, sizeof eme);
+    eme.m = 1;
+    eme.h = gf_ekf3_meas_x;
+    eme.Q.m[0][0] = half_max;
+    gf_ekf3 ekf;
+    assert_int_equal(gf_ekf3_init(&ekf, &m3, &id3), GF_OK);
+    assert_int_equal(gf_ekf3_update(&ekf, &eme, &z3, &info), GF_OK);
+    CHECK_REL(ekf.sigma.m[0][0], q / s);
+    CHECK_REL(ekf.mu.v[0], 1.0L / s);
+    const gf_mat3 zero3 = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    const gf_vec3 m31 = {{GF_R(0.5), 1, 0}}, z31 = {{GF_R(0.5), 0, 0}};
+    eme.Q.m[0][0] = denorm;
+    assert_int_equal(gf_ekf3_init(&ekf, &m31, &zero3), GF_OK);
+    assert_int_equal(gf_ekf3_update(&ekf, &eme, &z31, &info), GF_OK);
+    assert_true(ekf.mu.v[0] == m31.v[0] && ekf.mu.v[1] == m31.v[1]);
+    assert_true(info.nis == 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(kf2_scalar_update_keeps_the_noise),
+        cmocka_unit_test(kf2_correlated_prior),
+        cmocka_unit_test(kf2_large_ratio),
+        cmocka_unit_test(ekf3_scalar_update_keeps_the_noise),
+        cmocka_unit_test(verdicts_do_not_depend_on_units),
+        cmocka_unit_test(ekf3_diffuse_heading_accepted),
+        cmocka_unit_test(null_pointers),
+        cmocka_unit_test(one_answer_per_call),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
