@@ -84,8 +84,7 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
-    gf_real f[3][3], e[3]; // R's factors (unused)
-    gf_status st = gf_psd_check(motion->R.m[0], 3, 3, f, e);
+    gf_status st = gf_psd_check(motion->R.m[0], 3, 3);
     if (st != GF_OK) {
         return st;
     }
@@ -149,10 +148,10 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         }
         y[i] = in.y[i];
     }
-    gf_real v[3][3], e[3];
-    (void)gf_udu_factor(meas->Q.m[0], 3, m, 1, v, e);
+    gf_real e[3];
+    gf_decorrelate(meas->Q.m[0], 3, m, H.m[0], y, e);
     gf_ekf3 nb = *ekf;
-    st = gf_cov_correct(3, nb.mu.v, nb.sigma.m[0], m, H.m[0], y, v, e,
+    st = gf_cov_correct(3, nb.mu.v, nb.sigma.m[0], m, H.m[0], y, e,
                         &in.nis);
     if (st != GF_OK) {
         return st;

@@ -12,8 +12,7 @@ static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u)
         !gf_all_finite(model->c.v, 2) || (u && !gf_all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
-    gf_real f[3][3], d[3]; // R's factors (unused)
-    return gf_psd_check(model->R.m[0], 2, 2, f, d);
+    return gf_psd_check(model->R.m[0], 2, 2);
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
@@ -36,8 +35,7 @@ static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z)
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_real v[3][3], e[3];
-    return gf_psd_check(meas->Q.m[0], 2, m, v, e);
+    return gf_psd_check(meas->Q.m[0], 2, m);
 }
 
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -92,7 +90,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
 {
     const unsigned m = meas->m;
     gf_innovation in;
-    gf_real y[2];
+    gf_real y[2], h[4], e[3];
     in.m = m;
     in.y[1] = in.y[2] = 0;
     for (unsigned i = 0; i < m; i++) {
@@ -100,12 +98,13 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
                   (meas->C.m[i][0] * kf->mu.v[0] +
                    meas->C.m[i][1] * kf->mu.v[1]);
         y[i] = in.y[i];
+        h[2u * i] = meas->C.m[i][0];
+        h[2u * i + 1u] = meas->C.m[i][1];
     }
-    gf_real v[3][3], e[3];
-    (void)gf_udu_factor(meas->Q.m[0], 2, m, 1, v, e);
+    gf_decorrelate(meas->Q.m[0], 2, m, h, y, e);
     gf_kf2 nb = *kf;
-    gf_status st = gf_cov_correct(2, nb.mu.v, nb.sigma.m[0], m,
-                                  meas->C.m[0], y, v, e, &in.nis);
+    gf_status st = gf_cov_correct(2, nb.mu.v, nb.sigma.m[0], m, h, y, e,
+                                  &in.nis);
     if (st != GF_OK) {
         return st;
     }

@@ -65,8 +65,7 @@ int gf_mat2_is_finite(const gf_mat2 *a)
 
 gf_status gf_mat2_check_psd(const gf_mat2 *s)
 {
-    gf_real u[3][3], d[3];
-    return s ? gf_psd_check(s->m[0], 2, 2, u, d) : GF_ERR_ARG;
+    return s ? gf_psd_check(s->m[0], 2, 2) : GF_ERR_ARG;
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
@@ -230,8 +229,7 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    gf_real u[3][3], d[3];
-    return gf_psd_check(s->m[0], 3, n, u, d);
+    return gf_psd_check(s->m[0], 3, n);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)

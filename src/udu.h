@@ -2,18 +2,20 @@
 // for n = 2 or 3 states (docs/numerics.md says why it is this one).
 //
 // The belief keeps Sigma itself (mu and Sigma stay readable, and no larger
-// than n + n^2 numbers), but every step works on its factors
-// Sigma = U D U^T (U unit upper triangular, D >= 0 diagonal):
-//   prediction  Sigma_bar = (A U) D (A U)^T + R, a sum of squares with
+// than n + n^2 numbers), but every step works on a factorisation
+// Sigma = F D F^T (D >= 0 diagonal; F unit lower triangular in the order
+// of its pivots, each pivot the largest left relative to its own variance,
+// so that |F_ij| sqrt(d_j) <= sqrt(Sigma_ii): no entry of F grows):
+//   prediction  Sigma_bar = (A F) D (A F)^T + R, a sum of squares with
 //               weights d_k >= 0, so no variance can come out negative;
-//   correction  Bierman's scalar update of U and D, one measured quantity
-//               at a time (the measurement noise decorrelated first), in
-//               which every new d_j is d_j times a ratio in [0, 1]: the
-//               posterior is positive semidefinite by construction, and
-//               the gain never comes from a difference of large numbers.
+//   correction  the Joseph form on the factors, one measured quantity at a
+//               time (the measurement noise decorrelated first): with
+//               f = F^T h, s = r + sum d_k f_k^2 (a sum of non-negative
+//               terms) and K = F D f / s, the factor becomes [F - K f^T, K]
+//               with weights [D, r]: (I - K h) Sigma (I - K h)^T + r K K^T,
+//               without ever forming the difference of two covariances.
 // Matrices are row-major with rows of `stride` entries (n for the belief
-// and the models: KF2's 2x2 and EKF3's 3x3 read in place); the factors are
-// locals of at most 3x3.
+// and the models: KF2's 2x2 and EKF3's 3x3 read in place).
 //
 // Everything here is static inline, included by kf2.c, ekf3.c and mat.c:
 // each filter's copy is compiled for its own n, so that an optimising
@@ -21,6 +23,8 @@
 // keeps them as loops. One implementation either way.
 #ifndef GAUSSFILT_SRC_UDU_H
 #define GAUSSFILT_SRC_UDU_H
+
+#include <stddef.h>
 
 #include "gf_internal.h"
 
@@ -34,6 +38,9 @@
 #else
 #define GF_UNROLL
 #endif
+
+// Columns of a factor: the n states, then one per measured quantity.
+#define GF_FCOLS 6u
 
 // 1 if the n entries of x are all finite: one test of their sum (a NaN or
 // inf cannot vanish in a sum), entry by entry only if the sum is not
@@ -57,82 +64,139 @@ static inline int gf_all_finite(const gf_real *x, unsigned n)
     return 1;
 }
 
-// s = U D U^T for the leading n x n block of a symmetric s (upper triangle
-// read): u unit upper triangular (upper triangle and diagonal written), d
-// >= 0. A pivot below its diagonal entry times GF_PD_RTOL (check != 0), or
-// not above zero (check == 0: the filter's own covariance), is zero, with a
-// zero column. check != 0 also judges: GF_ERR_NOT_PSD for a pivot below
-// -GF_PD_RTOL times its diagonal entry or an entry coupled to a zero pivot
-// (correlation form); else GF_OK.
-static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
-                        int check, gf_real u[3][3], gf_real d[3])
+// 1 if |x|^2 <= y z for y, z >= 0, written without a product that could
+// overflow or a square root: (x / y) x <= z, and for y = 0 only x = 0.
+// The same answer for any power of two times x, y and z.
+static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
 {
-    // A pivot is a variance left once the later states are known; relative
-    // to the state's own variance (the pivot of the correlation form
-    // D^-1/2 S D^-1/2) it is in [0, 1]. A verdict (check) takes one below
-    // GF_PD_RTOL as zero. The filter's own covariance (no check) keeps
-    // every positive pivot, however small: calling a direction exactly
-    // known because its variance is at the rounding level of the others
-    // would make the filter overconfident there, the collapse this
-    // arithmetic exists to prevent; only a pivot <= 0 (rounding of a
-    // semidefinite covariance) is zero.
+    if (!(y > 0)) {
+        return !(GF_FABS(x) > 0);
+    }
+    return (x / y) * x <= z;
+}
+
+// s = F diag(d) F^T for the leading n x n block of a symmetric s (upper
+// triangle read). The pivot of each step is the state whose variance left
+// (once the earlier pivots' states are known) is the largest relative to
+// its own variance: the pivots of the correlation form D^-1/2 S D^-1/2,
+// in [0, 1], the same in any units; at the first step, where all are 1,
+// the state `first` if its variance is positive (n: the first such).
+// order[t] is the state of step t;
+// column order[t] of F is 1 there and zero on the earlier pivots' rows.
+// F, d and order may be NULL (a verdict only); F's columns beyond n are
+// not written.
+//
+// check != 0 judges s: a pivot up to GF_PD_RTOL is zero, and then so is
+// every state left (none is larger): each variance left must be >=
+// -GF_PD_RTOL times its own and each entry left coupling two of them
+// within the 2x2 bound a_ik^2 <= a_ii a_kk, both sides widened by
+// GF_PD_RTOL times their variance; else GF_ERR_NOT_PSD. check == 0 (the
+// filter's own covariance, positive semidefinite but rounded) keeps every
+// positive pivot, however small: taking a direction as known exactly
+// because its variance is at the rounding level of the others would make
+// the filter overconfident there, the collapse this arithmetic exists to
+// prevent.
+static inline gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n,
+                               int check, unsigned first,
+                               gf_real (*F)[GF_FCOLS], gf_real *d,
+                               unsigned *order)
+{
     const gf_real rtol = check ? GF_PD_RTOL : GF_R(0.0);
-    gf_real a[3][3]; // the Schur complements, upper triangle
+    gf_real a[3][3]; // the Schur complements (both triangles)
+    unsigned left = 0; // bit i: state i not a pivot yet
     if (n > 3u) {
         return GF_ERR_ARG;
     }
-    d[0] = d[1] = d[2] = 0;
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         GF_UNROLL
-        for (unsigned j = i; j < n; j++) {
-            a[i][j] = s[i * stride + j];
+        for (unsigned k = i; k < n; k++) {
+            a[i][k] = s[i * stride + k];
+            a[k][i] = a[i][k];
         }
+        left |= 1u << i;
     }
-    // s = U D U^T from the last column back: d_j = a_jj, u_ij = a_ij / d_j,
-    // then a_ik -= u_ij a_kj for i <= k < j.
-    GF_UNROLL
     for (unsigned t = 0; t < n; t++) {
-        const unsigned j = n - 1u - t;
-        const gf_real sjj = s[j * stride + j];
-        const gf_real p = a[j][j];
-        u[j][j] = 1;
-        if (p > rtol * sjj) { // (NaN fails)
-            d[j] = p;
-            GF_UNROLL
-            for (unsigned i = 0; i < j; i++) {
-                u[i][j] = a[i][j] / p;
-            }
-            GF_UNROLL
-            for (unsigned i = 0; i < j; i++) {
-                GF_UNROLL
-                for (unsigned k = i; k < j; k++) {
-                    a[i][k] -= u[i][j] * a[k][j];
+        // the pivot: the largest a_jj / s_jj left (all 1 at the first step)
+        unsigned j = 0;
+        gf_real best = -1;
+        for (unsigned k = 0; k < n; k++) {
+            const gf_real skk = s[k * stride + k];
+            if (left & (1u << k)) {
+                const gf_real ratio = !(skk > 0) ? GF_R(0.0)
+                                      : (t > 0u) ? a[k][k] / skk
+                                      : (k == first) ? GF_R(2.0) : GF_R(1.0);
+                if (ratio > best) {
+                    j = k;
+                    best = ratio;
                 }
             }
+        }
+        if (order) {
+            order[t] = j;
+        }
+        const gf_real p = a[j][j];
+        if (!(p > rtol * s[j * stride + j])) { // (NaN fails)
+            break; // this one and every state left are zero: below
+        }
+        left &= ~(1u << j);
+        if (d) {
+            d[j] = p;
+        }
+        GF_UNROLL
+        for (unsigned i = 0; i < n; i++) {
+            const gf_real l = (left & (1u << i)) ? a[i][j] / p : GF_R(0.0);
+            if (F) {
+                F[i][j] = (i == j) ? GF_R(1.0) : l;
+            }
+            GF_UNROLL
+            for (unsigned k = 0; k < n; k++) {
+                if ((left & (1u << i)) && (left & (1u << k))) {
+                    a[i][k] -= l * a[j][k];
+                }
+            }
+        }
+    }
+    // The states left (if any) have zero variance in the factorisation.
+    unsigned t = n;
+    for (unsigned k = 0; k < n; k++) {
+        if (left & (1u << k)) {
+            t--;
+        }
+    }
+    for (unsigned k = 0; k < n; k++) {
+        if (!(left & (1u << k))) {
             continue;
         }
         if (check) {
-            // Semidefinite in this direction only if the pivot is zero
-            // within the tolerance and nothing is coupled to it: |a_ij| <=
-            // rtol sqrt(s_ii s_jj), the correlation form's entry (by
-            // Cauchy-Schwarz it is at most sqrt(pivot) there).
-            if (!(p >= -rtol * sjj)) {
+            const gf_real skk = s[k * stride + k];
+            if (!(a[k][k] >= -rtol * skk)) {
                 return GF_ERR_NOT_PSD;
             }
-            GF_UNROLL
-            for (unsigned i = 0; i < j; i++) {
-                const gf_real lim =
-                    rtol * GF_SQRT(s[i * stride + i]) * GF_SQRT(sjj);
-                if (!(GF_FABS(a[i][j]) <= lim)) {
+            for (unsigned i = 0; i < k; i++) {
+                if (!(left & (1u << i))) {
+                    continue;
+                }
+                const gf_real yi = (a[i][i] > 0 ? a[i][i] : GF_R(0.0)) +
+                                   rtol * s[i * stride + i];
+                const gf_real zk = (a[k][k] > 0 ? a[k][k] : GF_R(0.0)) +
+                                   rtol * skk;
+                if (!gf_coupled_ok(a[i][k], yi, zk)) {
                     return GF_ERR_NOT_PSD;
                 }
             }
         }
-        d[j] = 0;
-        GF_UNROLL
-        for (unsigned i = 0; i < j; i++) {
-            u[i][j] = 0;
+        if (order) {
+            order[t] = k;
+        }
+        t++;
+        if (d) {
+            d[k] = 0;
+        }
+        if (F) {
+            for (unsigned i = 0; i < n; i++) {
+                F[i][k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
+            }
         }
     }
     return GF_OK;
@@ -140,11 +204,9 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigne
 
 // The verdict on a covariance passed in (n x n block, rows of stride):
 // GF_ERR_NONFINITE, GF_ERR_NOT_PSD (not symmetric within GF_SYM_RTOL, a
-// negative variance, or gf_udu_factor's verdict), else GF_OK with its
-// factors in u and d.
+// negative variance, or gf_ldl's verdict), else GF_OK.
 static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
-                                     unsigned n, gf_real u[3][3],
-                                     gf_real d[3])
+                                     unsigned n)
 {
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
@@ -169,64 +231,59 @@ static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
             return GF_ERR_NOT_PSD;
         }
     }
-    if (!(off > 0)) {
-        // Diagonal (the usual noise): its own factors, d = the variances.
-        GF_UNROLL
-        for (unsigned i = 0; i < 3u; i++) {
-            GF_UNROLL
-            for (unsigned j = 0; j < 3u; j++) {
-                u[i][j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
-            }
-            d[i] = (i < n) ? s[i * stride + i] : GF_R(0.0);
-        }
-        return GF_OK;
-    }
-    return gf_udu_factor(s, stride, n, 1, u, d);
+    // A diagonal matrix (the usual noise) with no negative variance is one.
+    return (off > 0) ? gf_ldl(s, stride, n, 1, n, NULL, NULL, NULL) : GF_OK;
 }
 
-// sigma = U D U^T (rows of n), exactly symmetric: entry (i, j), j >= i,
-// is the sum over k >= j of u_ik d_k u_jk, so every variance is a sum of
-// non-negative terms.
-static inline void gf_udu_recompose(gf_real u[3][3], const gf_real d[3], unsigned n,
-                      gf_real *sigma)
+// A covariance with a zero variance (in F W F^T a sum of non-negative
+// terms, so zero only when every term is) has zero covariances in its row
+// and column: the state is known exactly. So has a variance below the
+// smallest normal number (GF_REAL_MIN): it carries too few digits to be
+// told from zero, and its covariances too few to stay within
+// Cauchy-Schwarz, which the correlation form would then fail.
+static inline void gf_zero_known(gf_real *sigma, unsigned n)
 {
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
-        GF_UNROLL
-        for (unsigned j = i; j < n; j++) {
-            gf_real acc = 0;
+        if (!(sigma[i * n + i] >= GF_REAL_MIN)) {
             GF_UNROLL
-            for (unsigned k = j; k < n; k++) {
-                acc += u[i][k] * d[k] * u[j][k];
+            for (unsigned j = 0; j < n; j++) {
+                sigma[i * n + j] = 0;
+                sigma[j * n + i] = 0;
             }
-            sigma[i * n + j] = acc;
-            sigma[j * n + i] = acc;
         }
     }
 }
 
-// out = G Sigma G^T + R as (G U) D (G U)^T + R (Sigma = U D U^T), upper
-// triangle of R, result exactly symmetric; out may be sigma.
-static inline void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_real *g,
-                    const gf_real *r, gf_real *out)
+// out = G Sigma G^T + R as (G F) D (G F)^T + R (Sigma = F D F^T), the
+// upper triangle of R, exactly symmetric; out may not be sigma.
+static inline void gf_cov_predict(const gf_real *sigma, unsigned n,
+                                  const gf_real *g, const gf_real *r,
+                                  gf_real *out)
 {
-    gf_real u[3][3], d[3];
-    (void)gf_udu_factor(sigma, n, n, 0, u, d);
-    // W = G U
-    gf_real w[3][3];
+    gf_real f[3][GF_FCOLS] = {{0}}, d[3] = {0, 0, 0};
+    (void)gf_ldl(sigma, n, n, 0, n, f, d, NULL);
+    // W = G F, into out's place (rows of n)
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         GF_UNROLL
         for (unsigned k = 0; k < n; k++) {
             gf_real acc = 0;
             GF_UNROLL
-            for (unsigned l = 0; l <= k; l++) {
-                acc += g[i * n + l] * u[l][k];
+            for (unsigned l = 0; l < n; l++) {
+                acc += g[i * n + l] * f[l][k];
             }
-            w[i][k] = acc;
+            out[i * n + k] = acc;
         }
     }
-    // Sigma_bar = W D W^T + R (R's upper triangle, mirrored)
+    // Sigma_bar = W D W^T + R, W's rows kept in f
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
+        for (unsigned k = 0; k < n; k++) {
+            f[i][k] = out[i * n + k];
+        }
+    }
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         GF_UNROLL
@@ -234,136 +291,167 @@ static inline void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_rea
             gf_real acc = r[i * n + j];
             GF_UNROLL
             for (unsigned k = 0; k < n; k++) {
-                acc += w[i][k] * d[k] * w[j][k];
+                acc += f[i][k] * d[k] * f[j][k];
             }
             out[i * n + j] = acc;
             out[j * n + i] = acc;
         }
     }
+    gf_zero_known(out, n);
 }
 
-// Bierman's update of Sigma = U D U^T by one measured quantity z = h x +
-// noise of variance r >= 0. Returns alpha = h Sigma h^T + r (the
-// innovation's variance) and b = Sigma h^T (the gain is b / alpha); U and D
-// become the posterior's factors. With f = U^T h and v_j = d_j f_j:
-//   alpha_j = alpha_{j-1} + v_j f_j,  d_j *= alpha_{j-1} / alpha_j,
-//   u_ij -= b_i f_j / alpha_{j-1},  b_i += u_ij v_j  (old u_ij), b_j = v_j.
-// alpha only grows (every term is d_j f_j^2 >= 0). alpha_{j-1} = 0 happens
-// only with r = 0 and every earlier v zero, and then b is zero too: no u
-// changes. (Bierman, Factorization Methods for Discrete Sequential
-// Estimation, 1977, section V.3.)
-static inline gf_real gf_bierman(gf_real u[3][3], gf_real d[3], unsigned n,
-                       const gf_real *h, gf_real r, gf_real b[3])
+// The measurement noise decorrelated: q (m x m, rows of n, checked by
+// gf_psd_check) = V E V^T by gf_ldl, then h (m rows of n) and y (m
+// entries) replaced by V^-1 h and V^-1 y in place, e the noises of the m
+// quantities so made (independent). V^-1 by substitution in the pivots'
+// order, in which V is unit lower triangular.
+static inline void gf_decorrelate(const gf_real *q, unsigned n, unsigned m,
+                                  gf_real *h, gf_real *y, gf_real e[3])
 {
-    gf_real f[3], v[3];
-    GF_UNROLL
-    for (unsigned j = 0; j < n; j++) {
-        gf_real acc = h[j];
-        GF_UNROLL
-        for (unsigned i = 0; i < j; i++) {
-            acc += u[i][j] * h[i];
+    gf_real v[3][GF_FCOLS] = {{0}};
+    unsigned order[3] = {0, 0, 0};
+    (void)gf_ldl(q, n, m, 1, m, v, e, order);
+    for (unsigned t = 0; t < m; t++) {
+        const unsigned i = order[t];
+        for (unsigned u = 0; u < t; u++) {
+            const unsigned k = order[u];
+            const gf_real vik = v[i][k];
+            y[i] -= vik * y[k];
+            GF_UNROLL
+            for (unsigned j = 0; j < n; j++) {
+                h[i * n + j] -= vik * h[k * n + j];
+            }
         }
-        f[j] = acc;
-        v[j] = d[j] * acc;
     }
-    gf_real alpha = r;
-    GF_UNROLL
-    for (unsigned j = 0; j < n; j++) {
-        const gf_real prev = alpha;
-        alpha = prev + v[j] * f[j];
-        if (alpha > 0) {
-            d[j] *= prev / alpha;
-        }
-        const gf_real p = (prev > 0) ? f[j] / prev : GF_R(0.0);
-        GF_UNROLL
-        for (unsigned i = 0; i < j; i++) {
-            const gf_real uij = u[i][j];
-            u[i][j] = uij - b[i] * p;
-            b[i] += uij * v[j];
-        }
-        b[j] = v[j];
-    }
-    return alpha;
 }
 
-// The correction with m = 1..n measured quantities, in place on the
-// caller's copies: mu (mu_bar in, mu out), sigma (Sigma_bar in, Sigma
-// out), y (z - h(mu_bar), angles wrapped; overwritten). h: the m x n
-// Jacobian (rows of n); v, e: the factors Q = V E V^T of the noise, from
-// gf_psd_check. The quantities V^-1 z have independent noises e_i, so they
-// are m scalar measurements: one Bierman update each, *nis = the sum of
-// their y_i^2 / alpha_i, which is y^T S^-1 y. GF_ERR_NONFINITE (an
-// innovation variance overflowed), GF_ERR_SINGULAR (an exact quantity,
-// e_i = 0, with h Sigma h^T zero in the correlation form); the outputs are
-// partly written then.
+// The correction with m = 1..n measured quantities whose noises e (from
+// gf_decorrelate) are independent, in place on the caller's copies: mu
+// (mu_bar in, mu out), sigma (Sigma_bar in, Sigma out); h (m rows of n)
+// and y (z - h(mu_bar)) as gf_decorrelate left them. One quantity after
+// another, each innovation taken at the mean the earlier ones gave; *nis =
+// the sum of y_i^2 / s_i, which is y^T S^-1 y. GF_ERR_NONFINITE (an
+// innovation variance overflowed), GF_ERR_SINGULAR (a quantity with no
+// noise, e_i = 0, whose h Sigma h^T is zero relative to n sum h_j^2
+// Sigma_jj, its bound by Cauchy-Schwarz: the same in any units); the
+// outputs are partly written then.
 static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
                                        gf_real *sigma, unsigned m,
-                                       const gf_real *h, gf_real *y,
-                                       gf_real v[3][3], const gf_real e[3],
-                                       gf_real *nis)
+                                       const gf_real *h, const gf_real *y,
+                                       const gf_real e[3], gf_real *nis)
 {
+    gf_real f[3][GF_FCOLS] = {{0}}, w[GF_FCOLS] = {0};
     if (n > 3u || m > n) {
         return GF_ERR_ARG;
     }
-    // V^-1 by back substitution, into y and a copy of H
-    gf_real hw[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    GF_UNROLL
-    for (unsigned t = 0; t < m; t++) {
-        const unsigned i = m - 1u - t;
+    // The quantities in the order of how much they tell, the largest
+    // sum_j h_j^2 Sigma_jj / e_i first (a ratio of variances of z_i: the
+    // same in any units; e_i = 0, an exact quantity, before all), and the
+    // first one's main state (the largest h_j^2 Sigma_jj) the first pivot:
+    // its column of F then carries the most precise direction alone, and
+    // F - K c^T does not cancel in the others.
+    unsigned rank[3] = {0, 1, 2};
+    gf_real tell[3] = {0, 0, 0};
+    unsigned first = 0;
+    for (unsigned i = 0; i < m; i++) {
+        gf_real v = 0;
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            gf_real acc = h[i * n + j];
-            GF_UNROLL
-            for (unsigned k = i + 1u; k < m; k++) {
-                acc -= v[i][k] * hw[k][j];
-            }
-            hw[i][j] = acc;
+            v += h[i * n + j] * h[i * n + j] * sigma[j * n + j];
         }
-        GF_UNROLL
-        for (unsigned k = i + 1u; k < m; k++) {
-            y[i] -= v[i][k] * y[k];
+        tell[i] = (e[i] > 0) ? v / e[i] : (gf_real)INFINITY;
+    }
+    for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
+        for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]]; k--) {
+            const unsigned r = rank[k];
+            rank[k] = rank[k - 1u];
+            rank[k - 1u] = r;
         }
     }
-
-    gf_real u[3][3], d[3];
-    (void)gf_udu_factor(sigma, n, n, 0, u, d);
+    {
+        gf_real most = -1;
+        GF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real hj = h[rank[0] * n + j];
+            const gf_real part = hj * hj * sigma[j * n + j];
+            if (part > most) {
+                first = j;
+                most = part;
+            }
+        }
+    }
+    (void)gf_ldl(sigma, n, n, 0, first, f, w, NULL);
     gf_real dx[3] = {0, 0, 0}; // mu - mu_bar so far
     gf_real total = 0;
-    GF_UNROLL
-    for (unsigned i = 0; i < m; i++) {
-        // this quantity's innovation, at the mean of the rows before it
+    unsigned cols = n;
+    for (unsigned t = 0; t < m; t++) {
+        const unsigned i = rank[t];
+        const gf_real *hi = &h[i * n];
+        // this quantity's innovation, at the mean of the ones before it
         gf_real yi = y[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            yi -= hw[i][j] * dx[j];
+            yi -= hi[j] * dx[j];
         }
-        gf_real b[3] = {0, 0, 0};
-        const gf_real alpha = gf_bierman(u, d, n, hw[i], e[i], b);
-        if (!GF_ISFINITE(alpha)) {
+        // c = F^T h (into g), s = e_i + sum w_k c_k^2, b = F W c
+        gf_real g[GF_FCOLS], s = e[i];
+        for (unsigned k = 0; k < cols; k++) {
+            gf_real acc = 0;
+            GF_UNROLL
+            for (unsigned j = 0; j < n; j++) {
+                acc += hi[j] * f[j][k];
+            }
+            g[k] = acc;
+            s += w[k] * acc * acc;
+        }
+        if (!GF_ISFINITE(s)) {
             return GF_ERR_NONFINITE;
         }
-        // S >= Q > 0 is never singular. An exact quantity (e_i = 0) needs
-        // h Sigma_bar h^T > 0 relative to its scale: at most n sum
-        // h_j^2 Sigma_jj (Cauchy-Schwarz), the same for any units.
         if (!(e[i] > 0)) {
             gf_real scale = 0;
             GF_UNROLL
             for (unsigned j = 0; j < n; j++) {
-                scale += hw[i][j] * hw[i][j] * sigma[j * n + j];
+                scale += hi[j] * hi[j] * sigma[j * n + j];
             }
-            if (!(alpha > GF_PD_RTOL * (gf_real)n * scale)) {
+            if (!(s > GF_PD_RTOL * (gf_real)n * scale)) {
                 return GF_ERR_SINGULAR;
             }
         }
-        // mu += K y_i with K = b / alpha; NIS += y_i^2 / alpha
-        const gf_real g = yi / alpha;
+        // K = b / s; mu += K y_i, NIS += y_i^2 / s; F -= K c^T, then K
+        // joins F as a column of weight e_i
+        const gf_real gi = yi / s;
+        total += yi * gi;
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            dx[j] += b[j] * g;
+            gf_real b = 0;
+            for (unsigned k = 0; k < cols; k++) {
+                b += f[j][k] * w[k] * g[k];
+            }
+            dx[j] += b * gi;
+            const gf_real kj = b / s;
+            for (unsigned k = 0; k < cols; k++) {
+                f[j][k] -= kj * g[k];
+            }
+            f[j][cols] = kj;
         }
-        total += yi * g;
+        w[cols] = e[i];
+        cols++;
     }
-    gf_udu_recompose(u, d, n, sigma);
+    // Sigma = F W F^T, exactly symmetric, every variance a sum of
+    // non-negative terms
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
+        for (unsigned j = i; j < n; j++) {
+            gf_real acc = 0;
+            for (unsigned k = 0; k < cols; k++) {
+                acc += f[i][k] * w[k] * f[j][k];
+            }
+            sigma[i * n + j] = acc;
+            sigma[j * n + i] = acc;
+        }
+    }
+    gf_zero_known(sigma, n);
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         mu[j] += dx[j];
