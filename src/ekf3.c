@@ -88,9 +88,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return st;
     }
-    gf_ekf3 nb;
+    gf_ekf3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    nb.mu = ekf->mu;
     st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
     if (st != GF_OK) {
         return gf_callback_status(st);
@@ -168,7 +167,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     }
     *ekf = nb;
     if (info) {
-        *info = in;
+        gf_info_store(info, &in);
     }
     return GF_OK;
 }

@@ -40,6 +40,18 @@ static inline gf_status gf_callback_status(gf_status st)
                ? GF_ERR_MODEL : st;
 }
 
+// *info = *in field by field: a struct copy may carry the padding bytes
+// of the local (after m, in double), which callers comparing the whole
+// struct would see change from call to call.
+static inline void gf_info_store(gf_innovation *info, const gf_innovation *in)
+{
+    info->m = in->m;
+    info->y[0] = in->y[0];
+    info->y[1] = in->y[1];
+    info->y[2] = in->y[2];
+    info->nis = in->nis;
+}
+
 // The gate every update applies once it has the innovation: a NIS above a
 // set gate (gate > 0) rejects the measurement, and the caller still gets
 // the innovation. 1 if gated (info written), else 0 (info untouched).
@@ -50,7 +62,7 @@ static inline int gf_gated(const gf_innovation *in, gf_real gate,
         return 0;
     }
     if (info) {
-        *info = *in;
+        gf_info_store(info, in);
     }
     return 1;
 }

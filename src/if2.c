@@ -278,7 +278,7 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
         *inf = r;
     }
     if (info) {
-        *info = in;
+        gf_info_store(info, &in);
     }
     return GF_OK;
 }

@@ -119,7 +119,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     *kf = nb;
     if (info) {
-        *info = in;
+        gf_info_store(info, &in);
     }
     return GF_OK;
 }

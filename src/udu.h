@@ -31,10 +31,10 @@
 // Before each loop over states or measured quantities (at most 3 trips):
 // unrolled when the compiler optimises for speed, kept as a loop when it
 // optimises for size (-Os, -Oz: flash first).
+// (clang unrolls such loops by itself, and warns where a pragma asked it
+// to and the trip count is not known.)
 #if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
 #define GF_UNROLL _Pragma("GCC unroll 3")
-#elif defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
-#define GF_UNROLL _Pragma("unroll")
 #else
 #define GF_UNROLL
 #endif

@@ -438,7 +438,7 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
             return st;
         }
         if (info) {
-            *info = q.in;
+            gf_info_store(info, &q.in);
         }
     }
     return GF_OK;
