@@ -147,7 +147,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         }
         y[i] = in.y[i];
     }
-    gf_real e[3];
+    gf_real e[3] = {0, 0, 0};
     gf_decorrelate(meas->Q.m[0], 3, m, H.m[0], y, e);
     gf_ekf3 nb = *ekf;
     st = gf_cov_correct(3, nb.mu.v, nb.sigma.m[0], m, H.m[0], y, e,

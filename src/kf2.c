@@ -90,7 +90,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
 {
     const unsigned m = meas->m;
     gf_innovation in;
-    gf_real y[2], h[4], e[3];
+    gf_real y[2], h[2][2], e[3] = {0, 0, 0};
     in.m = m;
     in.y[1] = in.y[2] = 0;
     for (unsigned i = 0; i < m; i++) {
@@ -98,12 +98,12 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
                   (meas->C.m[i][0] * kf->mu.v[0] +
                    meas->C.m[i][1] * kf->mu.v[1]);
         y[i] = in.y[i];
-        h[2u * i] = meas->C.m[i][0];
-        h[2u * i + 1u] = meas->C.m[i][1];
+        h[i][0] = meas->C.m[i][0];
+        h[i][1] = meas->C.m[i][1];
     }
-    gf_decorrelate(meas->Q.m[0], 2, m, h, y, e);
+    gf_decorrelate(meas->Q.m[0], 2, m, h[0], y, e);
     gf_kf2 nb = *kf;
-    gf_status st = gf_cov_correct(2, nb.mu.v, nb.sigma.m[0], m, h, y, e,
+    gf_status st = gf_cov_correct(2, nb.mu.v, nb.sigma.m[0], m, h[0], y, e,
                                   &in.nis);
     if (st != GF_OK) {
         return st;
