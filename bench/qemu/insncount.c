@@ -4,7 +4,7 @@
 // functions of the plugin API used here are declared below, as that
 // release's include/qemu/qemu-plugin.h has them (plugin API version 1).
 //
-//   qemu-system-arm -M mps2-an386 ... -d plugin -D log \
+//   qemu-system-arm -M mps2-an386 ... -d plugin -D log
 //       -plugin libinsncount.so,start=0xA,stop=0xB,report=0xC[,call=0xD...]
 //
 // start, stop, report: entry addresses of the image's three marker
@@ -18,7 +18,7 @@
 //
 // vdiv and vsqrt are the VDIV.F32 and VSQRT.F32 among the N instructions
 // (14 cycles each on a Cortex-M4F, against 1 for most others); calls counts
-// how often the entries given as call= (up to 16: soft-float helpers such as
+// how often the entries given as call= (up to 64: soft-float helpers such as
 // __aeabi_ddiv, a libm function) were entered inside the regions. At exit
 // the plugin prints the instructions executed by the whole run:
 //
@@ -100,7 +100,7 @@ enum kind {
     K_CALL, // K_CALL + i: the entry of call[i]
 };
 
-#define MAX_CALLS 16
+#define MAX_CALLS 64
 
 static uint64_t mark_start, mark_stop, mark_report;
 static uint64_t call_addr[MAX_CALLS];
@@ -235,8 +235,9 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id,
             bad = parse_addr(a + 5, &mark_stop);
         } else if (strncmp(a, "report=", 7) == 0) {
             bad = parse_addr(a + 7, &mark_report);
-        } else if (strncmp(a, "call=", 5) == 0 && n_calls < MAX_CALLS) {
-            bad = parse_addr(a + 5, &call_addr[n_calls++]);
+        } else if (strncmp(a, "call=", 5) == 0) {
+            bad = n_calls == MAX_CALLS ||
+                  parse_addr(a + 5, &call_addr[n_calls++]);
         } else {
             bad = 1;
         }
