@@ -60,7 +60,7 @@ gf_m4f_count() {
         awk '{ wl = $2; part = $3; n = $4; r = $7; ins = $9; dv = $11; sq = $13; ca = $15
                if (r != n) { print "error: " wl " " part ": " r " regions for " n " steps" > "/dev/stderr"; exit 1 }
                if (wl == "empty") { e = ins / r }
-               printf "%s %s %d %.1f %.2f %.2f %d %d\n", wl, part, n, ins / r - e, dv / r, sq / r, ca, ins }' ||
+               printf "%s %s %d %.1f %.4g %.4g %d %d\n", wl, part, n, ins / r - e, dv / r, sq / r, ca, ins }' ||
         gf_die "the plugin's reports do not match the image's"
     awk '/^insncount: total/ {print "total " $3}' "$log"
     rm -f "$log" "$out"
