@@ -2,11 +2,9 @@
 """The firmware footprint report, from the build trees scripts/footprint
 made: per module and target .text/.rodata/.data/.bss, sizeof of the public
 structs, worst-case stack depth of every public function, and the minimal
-image's cost. The targets are judged on the build a firmware project gets
-at -Os by default (fw-TARGET-float: GF_SMALL=1, the compact KF2/EKF3
-steps); the fast paths forced (fw-TARGET-float-fast: GF_SMALL=0) are
-reported as information. Prints a Markdown fragment; --readme FILE splices it into FILE
-between the footprint markers under <!-- firmware -->.
+image's cost, in the float build at -Os (fw-TARGET-float), with the
+targets stated met or not. Prints a Markdown fragment; --docs FILE splices
+it into FILE between its footprint markers.
 
 Stack depth: a function's own frame is gcc's -fstack-usage figure (.su) for
 the core and, for what the core calls in libm, libc and libgcc (which Debian
@@ -44,8 +42,9 @@ TARGETS = [
     ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
-MODULES = ["mat", "cov2", "kf2", "ekf3", "small", "status", "rng", "if2",
-           "ukf3", "pf3"]
+# The modules: every src/*.c the build compiled, in this order first.
+MODULE_ORDER = ["mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3",
+                "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
            "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
@@ -60,9 +59,6 @@ CALLBACKS = {
     "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
     "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "ekf3_update1_callback": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # GF_SMALL (src/small.c): the shared update's computation calls EKF3's
-    # model.
-    "update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
     # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
@@ -74,9 +70,13 @@ CALLBACKS = {
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
+# Any other function with an indirect call: counted as the deepest of all
+# the built-in models (and named in the report's notes).
+ALL_MODELS = ["gf_ekf3_motion_forward_turn", "gf_ekf3_meas_x",
+              "gf_ekf3_meas_xy"]
 STACK_LIMIT = 256
-IMAGE_LIMIT = 4096
-RAM_LIMITS = {"gf_kf2": 64, "gf_ekf3": 128}
+IMAGE_LIMIT = 6 * 1024
+BELIEF_LIMITS = {"gf_kf2": 24, "gf_ekf3": 48}
 # A double-precision libm function or soft-double helper in a float image
 # means a float was promoted somewhere.
 DOUBLE_SYMS = re.compile(
@@ -100,10 +100,18 @@ def section_kind(name):
     return None
 
 
+def modules(build):
+    objs = glob.glob(os.path.join(
+        build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.c.obj"))
+    names = [os.path.basename(o)[:-len(".c.obj")] for o in objs]
+    return sorted(names, key=lambda n: (MODULE_ORDER.index(n)
+                                        if n in MODULE_ORDER else 99, n))
+
+
 def module_sizes(prefix, build):
     """{module: {text, rodata, data, bss}} from the objects' sections."""
     sizes = {}
-    for mod in MODULES:
+    for mod in modules(build):
         obj = os.path.join(build, "gaussfilt/CMakeFiles/gaussfilt.dir/src",
                            mod + ".c.obj")
         acc = {"text": 0, "rodata": 0, "data": 0, "bss": 0}
@@ -427,7 +435,7 @@ def stack_report(prefix, build, exclude=frozenset()):
     mismatches = [f"{n}: .su {su[n]}, prologue {core[n][0]}"
                   for n in su if n in core and core[n][0] != su[n]]
 
-    unknown = set()
+    unknown, guessed = set(), set()
 
     def save_area(n):
         """Bytes a library function's registers take through libgcc's
@@ -467,8 +475,8 @@ def stack_report(prefix, build, exclude=frozenset()):
             c |= ext[n][1]
         if "__indirect_call" in c or core.get(n, none)[2]:
             if n not in CALLBACKS:
-                sys.exit(f"{n}: indirect call not accounted for")
-            c |= set(CALLBACKS[n])
+                guessed.add(n)
+            c |= set(CALLBACKS.get(n, ALL_MODELS))
         c.discard("__indirect_call")
         c = {x for x in c if not RISCV_SAVE.match(x)}  # in frame(n)
         c -= tails(n)
@@ -505,7 +513,7 @@ def stack_report(prefix, build, exclude=frozenset()):
             chain += (" ⇢ " if tail else " → ") + via
             _, via, tail = memo[via]
         rows[n] = (su[n], d, chain)
-    return rows, mismatches, unknown
+    return rows, mismatches, unknown, guessed
 
 
 # ---- images -----------------------------------------------------------------
@@ -570,14 +578,10 @@ def report(root, build_root):
     for pfx in ("arm-none-eabi-", "riscv64-unknown-elf-"):
         v = run([pfx + "gcc", "--version"]).splitlines()[0]
         versions.append(f"`{v}`")
-    lines.append(f"Generated by `scripts/footprint --readme` on {today} with "
+    lines.append(f"Generated by `scripts/footprint --docs` on {today} with "
                  + " and ".join(versions)
                  + "; `-Os`, float build (`gf_real` = float), "
-                 "`-ffunction-sections -fdata-sections`, `--gc-sections`. "
-                 "At `-Os` GF_SMALL is 1 by default (`config.h`: KF2's and "
-                 "EKF3's compact steps, `src/small.c`); every table below is "
-                 "that build unless it says *fast paths forced* "
-                 "(`-DGAUSSFILT_SMALL=OFF`).")
+                 "`-ffunction-sections -fdata-sections`, `--gc-sections`.")
     lines.append("")
 
     results = {}
@@ -600,7 +604,6 @@ def report(root, build_root):
     m4 = results["cortex-m4f"]
     flash = lambda s: s[0] + s[1]  # noqa: E731  text (+rodata) + data copy
     d_flash = flash(m4["min"]) - flash(m4["base"])
-    d_ram = (m4["min"][1] + m4["min"][2]) - (m4["base"][1] + m4["base"][2])
     dbl = sorted({ln.split()[-1] for ln in m4["syms"].splitlines()
                   if DOUBLE_SYMS.match(ln.split()[-1])})
     kf2 = m4["structs"]["gf_kf2"]
@@ -609,63 +612,24 @@ def report(root, build_root):
     # (KF2, EKF3, their helpers, and IF2, UKF3, PF3, the generator).
     worst = max((d, n) for n, (_, d, _) in m4["stack"][0].items())
     reach = max((d, n) for n, (_, d, _) in m4["stack_reach"][0].items())
-    met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
-    # Information, not targets: the same with the fast paths forced
-    # (GF_SMALL=0, the default of a build not optimised for size).
-    fast = {}
-    for key, label, pfx in TARGETS:
-        fb = os.path.join(build_root, f"fw-{key}-float-fast")
-        if not os.path.isdir(fb):
-            continue
-        fmin = image_sizes(pfx, os.path.join(fb, "gf_fw_min.elf"))
-        fbase = image_sizes(pfx, os.path.join(fb, "gf_fw_base.elf"))
-        fstack = stack_report(pfx, fb)[0]
-        fast[key] = {
-            "label": label, "min": fmin, "base": fbase, "stack": fstack,
-            "worst": max((d, n) for n, (_, d, _) in fstack.items()),
-        }
-    fast_rows = []
-    if "cortex-m4f" in fast:
-        f4 = fast["cortex-m4f"]
-        fd = flash(f4["min"]) - flash(f4["base"])
-        fast_rows = [
-            f"| *information, not a target:* the same image with the fast "
-            f"paths forced (`-DGAUSSFILT_SMALL=OFF`, GF_SMALL=0) | (4 KiB) | "
-            f"{fmt_delta(fd)} | information |",
-            f"| *information, not a target:* deepest public function, "
-            f"every module, with the fast paths forced (GF_SMALL=0) | (256 B) | "
-            f"{f4['worst'][0]} B (`{f4['worst'][1]}`) | information |",
-        ]
+    met = lambda ok: "**met**" if ok else "**NOT met**"  # noqa: E731
     lines += [
-        "| target (Cortex-M4F, float, `-Os`: GF_SMALL=1 by default) | limit "
-        "| measured | |",
+        "| target (Cortex-M4F, float, `-Os`) | limit | measured | |",
         "|---|---|---|---|",
         f"| KF2 + EKF3 image minus the same image without them (flash, "
-        f"libm included) | 4 KiB | {fmt_delta(d_flash)} | {met(d_flash <= IMAGE_LIMIT)} |",
-        f"| one KF2 belief (`sizeof(gf_kf2)`) | < 64 B | {kf2} B | {met(kf2 < 64)} |",
-        f"| one EKF3 belief (`sizeof(gf_ekf3)`) | < 128 B | {ekf3} B | {met(ekf3 < 128)} |",
-        f"| deepest public function, every module (built-in models) | 256 B | {worst[0]} B "
-        f"(`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
+        f"libm included) | 6 KiB | {fmt_delta(d_flash)} | "
+        f"{met(d_flash <= IMAGE_LIMIT)} |",
+        f"| one KF2 belief (`sizeof(gf_kf2)`) | 24 B | {kf2} B | "
+        f"{met(kf2 <= BELIEF_LIMITS['gf_kf2'])} |",
+        f"| one EKF3 belief (`sizeof(gf_ekf3)`) | 48 B | {ekf3} B | "
+        f"{met(ekf3 <= BELIEF_LIMITS['gf_ekf3'])} |",
+        f"| deepest public function, every module (built-in models) | 256 B "
+        f"| {worst[0]} B (`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
         f"| the same, without newlib's large-argument path of sinf/cosf "
         f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "
         f"(-pi, pi]) | 256 B | {reach[0]} B (`{reach[1]}`) | "
         f"{met(reach[0] <= STACK_LIMIT)} |",
-    ] + fast_rows + [
         "",
-    ]
-    if fast:
-        lines += [
-            "Information, not targets: with the fast paths forced "
-            "(`-DGAUSSFILT_SMALL=OFF`, GF_SMALL=0), the stack depth of each "
-            "public KF2/EKF3 function (bytes, built-in models), per target: "
-            + "; ".join(
-                f"{f['label']}: " + ", ".join(
-                    f"`{n}` {d}" for n, (_, d, _) in sorted(f["stack"].items())
-                    if n.startswith(("gf_kf2_", "gf_ekf3_")))
-                for f in fast.values()) + ".",
-            "",
-        ]
-    lines += [
         f"Double promoted in the float image: "
         + (", ".join(f"`{s}`" for s in dbl) if dbl else "none (no double "
            "libm function, no soft-double helper)") + ".",
@@ -675,8 +639,7 @@ def report(root, build_root):
     # Minimal images.
     lines += ["Minimal images (`firmware/min_image.c`: one KF2 predict/update, "
               "one EKF3 predict/update with the built-in models; the base "
-              "image has the same start-up and I/O, no filter), `-Os` with "
-              "GF_SMALL's default (1), then with the fast paths forced. "
+              "image has the same start-up and I/O, no filter), `-Os`. "
               "Bytes:", "",
               "| target | base flash | KF2+EKF3 flash | delta flash | delta RAM "
               "| delta: core | libm | libc | libgcc |",
@@ -690,14 +653,6 @@ def report(root, build_root):
         lines.append(f"| {r['label']} | {flash(r['base'])} | {flash(r['min'])} "
                      f"| {df} | {dr} | {part('gaussfilt')} | {part('libm')} "
                      f"| {part('libc')} | {part('libgcc')} |")
-    for key, _, _ in TARGETS:
-        if key in fast:
-            f = fast[key]
-            df = flash(f["min"]) - flash(f["base"])
-            dr = (f["min"][1] + f["min"][2]) - (f["base"][1] + f["base"][2])
-            lines.append(f"| {f['label']}, fast paths forced (GF_SMALL=0; "
-                         f"information) | {flash(f['base'])} | "
-                         f"{flash(f['min'])} | {df} | {dr} | | | | |")
     lines.append("")
 
     # Modules.
@@ -707,7 +662,7 @@ def report(root, build_root):
                   f"{results[k]['label']} .text / .rodata / .data / .bss"
                   for k, _, _ in TARGETS) + " |",
               "|---|" + "---|" * len(TARGETS)]
-    for mod in MODULES + ["total"]:
+    for mod in list(m4["mods"]) + ["total"]:
         cells = []
         for key, _, _ in TARGETS:
             mods = results[key]["mods"]
@@ -715,7 +670,8 @@ def report(root, build_root):
                 s = {k: sum(m[k] for m in mods.values())
                      for k in ("text", "rodata", "data", "bss")}
             else:
-                s = mods[mod]
+                s = mods.get(mod, {"text": 0, "rodata": 0, "data": 0,
+                                   "bss": 0})
             cells.append(f"{s['text']} / {s['rodata']} / {s['data']} / {s['bss']}")
         name = f"`{mod}.c`" if mod != "total" else "**total**"
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
@@ -761,12 +717,16 @@ def report(root, build_root):
     lines.append("")
     notes = []
     for key, label, _ in TARGETS:
-        _, mism, unknown = results[key]["stack"]
+        _, mism, unknown, guessed = results[key]["stack"]
         if mism:
             notes.append(f"{label}: prologue and .su disagree: " + "; ".join(mism))
         if unknown:
             notes.append(f"{label}: no frame found for " + ", ".join(sorted(unknown))
                          + " (counted as 0)")
+        if guessed:
+            notes.append(f"{label}: the indirect calls of "
+                         + ", ".join(f"`{g}`" for g in sorted(guessed))
+                         + " counted as the deepest built-in model.")
     if notes:
         lines += ["Stack analysis notes: " + " ".join(notes), ""]
     else:
@@ -780,30 +740,25 @@ BEGIN = "<!-- firmware:footprint:begin -->"
 END = "<!-- firmware:footprint:end -->"
 
 
-def splice(readme, text):
-    s = open(readme).read()
+def splice(doc, text):
+    s = open(doc).read()
+    if BEGIN not in s or END not in s:
+        sys.exit(f"{doc}: no {BEGIN} / {END} lines")
     block = f"{BEGIN}\n{text}\n{END}"
-    if BEGIN in s:
-        s = s[:s.index(BEGIN)] + block + s[s.index(END) + len(END):]
-    else:
-        anchor = "<!-- firmware -->"
-        if anchor not in s:
-            sys.exit(f"{readme}: no {anchor} anchor")
-        i = s.index(anchor) + len(anchor)
-        s = s[:i] + "\n\n" + block + s[i:]
-    open(readme, "w").write(s)
+    s = s[:s.index(BEGIN)] + block + s[s.index(END) + len(END):]
+    open(doc, "w").write(s)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", required=True)
-    ap.add_argument("--readme")
+    ap.add_argument("--docs", metavar="FILE")
     args = ap.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     text = report(root, args.build)
     print(text)
-    if args.readme:
-        splice(args.readme, text)
+    if args.docs:
+        splice(args.docs, text)
 
 
 if __name__ == "__main__":
