@@ -2,7 +2,7 @@
 # Cross-builds of the core, warnings as errors, for every firmware target
 # (Cortex-M4F, Cortex-M0+, RV32IMAFC) in float and double, and the link
 # check: a minimal image running KF2 and EKF3 pulls in no malloc, free,
-# printf or exit. -Os, as a firmware project gets it.
+# printf or exit. At -Os, as firmware projects build.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$GF_ROOT/scripts/firmware.sh"

@@ -40,6 +40,8 @@ SRC
         gf_die "cmocka's source is not version 1.x; firmware/cmocka/config.h is for 1.1"
 fi
 
-gf_log "qemu: the tests on mps2-an386 (float, -Os)"
+# The firmware build: -Os, as firmware projects build (the same code as
+# any other optimisation level).
+gf_log "qemu: the tests on mps2-an386 (Cortex-M4F, float, -Os)"
 dir=$(gf_fw_build cortex-m4f float -DGF_FW_CMOCKA_DIR="$src" | tail -1)
 gf_ctest "$dir"
