@@ -55,20 +55,17 @@ STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
 CALLBACKS = {
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # EKF3's out-of-line paths for models other than the inlined built-ins.
-    "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
-    "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "ekf3_update1_callback": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
     # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # PF3's predict calls g from propagate (not inlined under -Os), or
-    # itself where propagate is inlined (other optimisation levels).
+    # itself where propagate is inlined (other optimisation levels). Static
+    # functions are named with their object (qualify).
     "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
-    "propagate": ["gf_ekf3_motion_forward_turn"],
+    "pf3.c:propagate": ["gf_ekf3_motion_forward_turn"],
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "pf3.c:mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
 # Any other function with an indirect call: counted as the deepest of all
 # the built-in models (and named in the report's notes).
@@ -100,10 +97,33 @@ def section_kind(name):
     return None
 
 
-def modules(build):
-    objs = glob.glob(os.path.join(
-        build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.c.obj"))
-    names = [os.path.basename(o)[:-len(".c.obj")] for o in objs]
+def core_archive(build):
+    return os.path.join(build, "gaussfilt/libgaussfilt.a")
+
+
+def archive_members(prefix, build):
+    """{"kf2.c": the local function symbols of kf2.c.obj, ...} for the
+    objects of the core's archive (objects a build tree still holds from
+    sources since removed are not in it, and are ignored)."""
+    lib = core_archive(build)
+    members = {m[:-len(".obj")]: set() for m in
+               run([prefix + "ar", "t", lib]).split() if m.endswith(".c.obj")}
+    for line in run([prefix + "nm", "-A", lib]).splitlines():
+        m = re.match(r"^.*:([\w.+-]+\.c)\.obj:\s*[0-9a-f]*\s+t\s+(\S+)$", line)
+        if m and m.group(1) in members:
+            members[m.group(1)].add(m.group(2))
+    return members
+
+
+def qualify(members, stem, name):
+    """A static function's name, made unique by its object ("kf2.c:update"):
+    two translation units may each have their own (static inline helpers of
+    a shared header, compiled into both)."""
+    return f"{stem}:{name}" if name in members.get(stem, ()) else name
+
+
+def modules(prefix, build):
+    names = [m[:-len(".c")] for m in archive_members(prefix, build)]
     return sorted(names, key=lambda n: (MODULE_ORDER.index(n)
                                         if n in MODULE_ORDER else 99, n))
 
@@ -111,7 +131,7 @@ def modules(build):
 def module_sizes(prefix, build):
     """{module: {text, rodata, data, bss}} from the objects' sections."""
     sizes = {}
-    for mod in modules(build):
+    for mod in modules(prefix, build):
         obj = os.path.join(build, "gaussfilt/CMakeFiles/gaussfilt.dir/src",
                            mod + ".c.obj")
         acc = {"text": 0, "rodata": 0, "data": 0, "bss": 0}
@@ -137,10 +157,13 @@ def struct_sizes(prefix, build):
 
 # ---- stack ------------------------------------------------------------------
 
-def read_su(build):
+def read_su(build, members):
     frames = {}
     for su in glob.glob(os.path.join(
             build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.su")):
+        stem = os.path.basename(su)[:-len(".su")]
+        if stem not in members:
+            continue
         for line in open(su):
             loc, size, kind = line.rstrip("\n").split("\t")
             name = loc.rsplit(":", 1)[-1]
@@ -149,19 +172,23 @@ def read_su(build):
                 name += ".0"
             if kind != "static":
                 sys.exit(f"{su}: {name} has a {kind} frame")
-            frames[name] = int(size)
+            frames[qualify(members, stem, name)] = int(size)
     return frames
 
 
-def read_ci(build):
-    """Edges of gcc's call graph; static functions lose their file prefix."""
+def read_ci(build, members):
+    """Edges of gcc's call graph; a static function's file prefix becomes
+    its object's (qualify)."""
     edges = {}
     for ci in glob.glob(os.path.join(
             build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.ci")):
+        stem = os.path.basename(ci)[:-len(".ci")]
+        if stem not in members:
+            continue
         for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" '
                              r'targetname: "([^"]+)"', open(ci).read()):
-            src = m.group(1).rsplit(":", 1)[-1]
-            dst = m.group(2).rsplit(":", 1)[-1]
+            src = qualify(members, stem, m.group(1).rsplit(":", 1)[-1])
+            dst = qualify(members, stem, m.group(2).rsplit(":", 1)[-1])
             edges.setdefault(src, set()).add(dst)
     return edges
 
@@ -311,11 +338,15 @@ def tail_call(insns, i, frame, arm, targets):
     return released == frame
 
 
-def disassemble(prefix, archive, arm):
+def disassemble(prefix, archive, arm, members=None):
     """{function: (frame, callees, has_indirect, tail_callees)} for an
     archive: tail_callees are the targets of the tail calls tail_call
-    accepts; any other call or jump is in callees."""
+    accepts; any other call or jump is in callees. members: the core's
+    (archive_members), whose static functions are qualified."""
     out = run([prefix + "objdump", "-dr", "--no-show-raw-insn", archive])
+    members = members or {}
+    stem = None
+    q = lambda n: qualify(members, stem, n)  # noqa: E731
     funcs, aliases = {}, {}
     name, insns, callees, indirect = None, [], set(), False
     addrs, jumps, labels = [], [], set()
@@ -343,6 +374,12 @@ def disassemble(prefix, archive, arm):
 
     section_fn = None
     for line in out.splitlines():
+        m = re.match(r"^([\w.+-]+\.c)\.obj:\s+file format", line)
+        if m:
+            flush()
+            name = None
+            stem = m.group(1)
+            continue
         m = re.match(r"^Disassembly of section \.text\.([\w$]+):$", line)
         if m:
             section_fn = m.group(1)
@@ -353,10 +390,10 @@ def disassemble(prefix, archive, arm):
         m = re.match(r"^[0-9a-f]+ <([\w.$]+)>:$", line)
         if m and not m.group(1).startswith(".L"):
             flush()
-            name, insns, callees, indirect = m.group(1), [], set(), False
+            name, insns, callees, indirect = q(m.group(1)), [], set(), False
             addrs, jumps, labels = [], [], set()
             # picolibc labels cosf's code _cosf; its section says cosf.
-            if section_fn and section_fn != name:
+            if section_fn and q(section_fn) != name:
                 aliases[name] = section_fn
             section_fn = None
             continue
@@ -375,9 +412,9 @@ def disassemble(prefix, archive, arm):
                         (not arm and m.group(1).startswith("RISCV_CALL") and
                          op == "auipc" and rd != "ra") or \
                         (not arm and m.group(1) == "RISCV_JAL" and op == "j"):
-                    jumps.append((len(insns) - 1, m.group(2)))
+                    jumps.append((len(insns) - 1, q(m.group(2))))
                 else:
-                    callees.add(m.group(2))
+                    callees.add(q(m.group(2)))
             continue
         m = re.match(r"^\s+([0-9a-f]+):\s+(.*)$", line)
         if not m or m.group(2).startswith("R_"):
@@ -393,14 +430,14 @@ def disassemble(prefix, archive, arm):
             if op == "blx" and re.match(r"^(r\d+|ip|lr|sl|fp)$", args):
                 indirect = True
             bm = re.match(r"^[0-9a-f]+ <([\w.$]+)>$", args)
-            if op in ("bl", "blx") and bm and bm.group(1) != name:
-                callees.add(bm.group(1))
+            if op in ("bl", "blx") and bm and q(bm.group(1)) != name:
+                callees.add(q(bm.group(1)))
         else:
             if op in ("jalr", "c.jalr") and not args.startswith("ra"):
                 indirect = True
             bm = re.match(r"^(ra,)?[0-9a-f]+ <([\w.$]+)>$", args)
-            if op == "jal" and bm and bm.group(2) != name:
-                callees.add(bm.group(2))
+            if op == "jal" and bm and q(bm.group(2)) != name:
+                callees.add(q(bm.group(2)))
     flush()
     for a, n in aliases.items():
         funcs.setdefault(n, funcs[a])
@@ -424,10 +461,10 @@ UNREACHABLE = {"__kernel_rem_pio2f"}
 
 def stack_report(prefix, build, exclude=frozenset()):
     arm = prefix.startswith("arm")
-    su = read_su(build)
-    ci = read_ci(build)
-    core = disassemble(prefix, os.path.join(build, "gaussfilt/libgaussfilt.a"),
-                       arm)
+    members = archive_members(prefix, build)
+    su = read_su(build, members)
+    ci = read_ci(build, members)
+    core = disassemble(prefix, core_archive(build), arm, members)
     ext = {}
     for lib in libraries(build):
         for k, v in disassemble(prefix, lib, arm).items():
