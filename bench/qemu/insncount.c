@@ -17,12 +17,20 @@
 //   insncount: regions R insns N vdiv D vsqrt S calls C
 //
 // vdiv and vsqrt are the VDIV.F32 and VSQRT.F32 among the N instructions
-// (14 cycles each on a Cortex-M4F, against 1 for most others); calls counts
+// (14 cycles each on a Cortex-M4F, against 1 for most others; one in an IT
+// block is counted whether or not its condition passes: this API cannot
+// read the flags, so the figure is an upper bound); calls counts
 // how often the entries given as call= (up to 64: soft-float helpers such as
 // __aeabi_ddiv, a libm function) were entered inside the regions. At exit
 // the plugin prints the instructions executed by the whole run:
 //
 //   insncount: total T reports P
+//
+// profile=on: each report is preceded by one line per instruction address
+// executed in its regions, with how often it was (a profile, for
+// bench/qemu/profile.py to sum by function):
+//
+//   insncount: pc 0xADDR COUNT
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -109,6 +117,41 @@ static unsigned n_calls;
 static bool active;
 static uint64_t regions, insns, vdivs, vsqrts, calls;
 static uint64_t total, reports;
+static bool profile;
+
+// One record per guest instruction address, found again when a block is
+// translated anew; the callbacks get a pointer to it.
+struct insn_rec {
+    uint64_t pc;
+    uint64_t count; // executions inside regions since the last report
+    unsigned kind;
+    bool used;
+};
+
+#define TABLE_BITS 17
+#define TABLE_SIZE (1u << TABLE_BITS)
+static struct insn_rec *table;
+
+static struct insn_rec *record(uint64_t pc, unsigned kind)
+{
+    size_t i = (size_t)((pc >> 1) * 0x9E3779B97F4A7C15ull >> (64 - TABLE_BITS));
+    for (size_t probes = 0; probes < TABLE_SIZE; probes++) {
+        struct insn_rec *r = &table[i];
+        if (!r->used) {
+            r->used = true;
+            r->pc = pc;
+            r->kind = kind;
+            return r;
+        }
+        if (r->pc == pc) {
+            return r;
+        }
+        i = (i + 1) & (TABLE_SIZE - 1);
+    }
+    fprintf(stderr, "insncount: more than %u instruction addresses\n",
+            TABLE_SIZE);
+    abort();
+}
 
 // The kind of a Thumb instruction from its bytes (little-endian halfwords):
 // VDIV.F32 is EE80 0A00 under the mask FFB0 0F50 (D, Vn, Vd, N, M, Vm
@@ -129,10 +172,25 @@ static enum kind classify(const uint8_t *b, size_t size)
     return K_PLAIN;
 }
 
+static void print_profile(void)
+{
+    char line[80];
+    for (size_t i = 0; i < TABLE_SIZE; i++) {
+        struct insn_rec *r = &table[i];
+        if (r->used && r->count) {
+            snprintf(line, sizeof line, "insncount: pc 0x%llx %llu\n",
+                     (unsigned long long)r->pc, (unsigned long long)r->count);
+            qemu_plugin_outs(line);
+            r->count = 0;
+        }
+    }
+}
+
 static void on_insn(unsigned int vcpu, void *udata)
 {
     (void)vcpu;
-    const uintptr_t k = (uintptr_t)udata;
+    struct insn_rec *rec = udata;
+    const unsigned k = rec->kind;
     total++;
     switch (k) {
     case K_START:
@@ -144,6 +202,9 @@ static void on_insn(unsigned int vcpu, void *udata)
         return;
     case K_REPORT: {
         char line[160];
+        if (profile) {
+            print_profile();
+        }
         snprintf(line, sizeof line,
                  "insncount: regions %llu insns %llu vdiv %llu vsqrt %llu "
                  "calls %llu\n",
@@ -162,6 +223,7 @@ static void on_insn(unsigned int vcpu, void *udata)
         return;
     }
     insns++;
+    rec->count++;
     if (k == K_VDIV) {
         vdivs++;
     } else if (k == K_VSQRT) {
@@ -178,8 +240,8 @@ static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
     for (size_t i = 0; i < n; i++) {
         struct qemu_plugin_insn *insn = qemu_plugin_tb_get_insn(tb, i);
         const uint64_t pc = qemu_plugin_insn_vaddr(insn) & ~(uint64_t)1;
-        uintptr_t k = classify(qemu_plugin_insn_data(insn),
-                               qemu_plugin_insn_size(insn));
+        unsigned k = classify(qemu_plugin_insn_data(insn),
+                              qemu_plugin_insn_size(insn));
         if (pc == mark_start) {
             k = K_START;
         } else if (pc == mark_stop) {
@@ -195,7 +257,7 @@ static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
         }
         qemu_plugin_register_vcpu_insn_exec_cb(insn, on_insn,
                                                QEMU_PLUGIN_CB_NO_REGS,
-                                               (void *)k);
+                                               record(pc, k));
     }
 }
 
@@ -235,6 +297,8 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id,
             bad = parse_addr(a + 5, &mark_stop);
         } else if (strncmp(a, "report=", 7) == 0) {
             bad = parse_addr(a + 7, &mark_report);
+        } else if (strcmp(a, "profile=on") == 0) {
+            profile = true;
         } else if (strncmp(a, "call=", 5) == 0) {
             bad = n_calls == MAX_CALLS ||
                   parse_addr(a + 5, &call_addr[n_calls++]);
@@ -243,12 +307,17 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id,
         }
         if (bad) {
             fprintf(stderr, "insncount: bad argument '%s' (start=, stop=, "
-                            "report=, call= take an address)\n", a);
+                            "report=, call= take an address; profile=on)\n",
+                    a);
             return -1;
         }
     }
     if (!mark_start || !mark_stop || !mark_report) {
         fprintf(stderr, "insncount: start=, stop= and report= are needed\n");
+        return -1;
+    }
+    table = calloc(TABLE_SIZE, sizeof *table);
+    if (!table) {
         return -1;
     }
     qemu_plugin_register_vcpu_tb_trans_cb(id, on_tb_trans);

@@ -28,16 +28,18 @@ gf_m4f_image() {
     echo "$dir/gf_fw_bench.elf"
 }
 
-# gf_m4f_count ELF PLUGIN: runs the image once under the plugin and prints
+# gf_m4f_count ELF PLUGIN [PROFILE]: runs the image once under the plugin and prints
 # one line per report:
 #   WL PART N INSNS_PER_REGION VDIV_PER_REGION VSQRT_PER_REGION CALLS TOTAL
 # per region = the total over the N regions / N, minus the empty region's
 # count (the markers' own instructions), for instructions; vdiv, vsqrt and
 # calls (entries of soft-double helpers and double libm functions) are not
 # corrected (the markers have none). The last line is "total T": every
-# instruction the run executed, set-up included.
+# instruction the run executed, set-up included. With PROFILE, a file name,
+# the run is profiled (profile=on) and bench/qemu/profile.py's breakdown by
+# function of every report is written there.
 gf_m4f_count() {
-    local elf=$1 plugin=$2 nm=arm-none-eabi-nm addr args log out
+    local elf=$1 plugin=$2 prof=${3:-} nm=arm-none-eabi-nm addr args log out
     addr() {
         "$nm" "$elf" | awk -v s="$1" '$3 == s {print "0x" $1; exit}'
     }
@@ -49,6 +51,7 @@ gf_m4f_count() {
     for f in $("$nm" "$elf" | awk '$2 ~ /^[Tt]$/ && $3 ~ /^(__aeabi_d[a-z0-9]+|__(add|sub|mul|div|extendsf|truncdf|fix|float)[a-z]*df[0-9a-z]*|sqrt|sin|cos|atan2|log|exp|floor|ceil|fabs)$/ {print "0x" $1}' | sort -u); do
         args="$args,call=$f"
     done
+    [ -z "$prof" ] || args="$args,profile=on"
     log=$(mktemp) out=$(mktemp)
     timeout 600 qemu-system-arm -M mps2-an386 -nographic -monitor none \
         -serial none -semihosting-config enable=on,target=native \
@@ -63,5 +66,9 @@ gf_m4f_count() {
                printf "%s %s %d %.1f %.4g %.4g %d %d\n", wl, part, n, ins / r - e, dv / r, sq / r, ca, ins }' ||
         gf_die "the plugin's reports do not match the image's"
     awk '/^insncount: total/ {print "total " $3}' "$log"
+    if [ -n "$prof" ]; then
+        python3 "$GF_ROOT/bench/qemu/profile.py" "$elf" "$out" "$log" >"$prof" ||
+            gf_die "bench/qemu/profile.py failed"
+    fi
     rm -f "$log" "$out"
 }
