@@ -70,7 +70,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     ekf->mu = *mu;
     ekf->mu.v[2] = gf_angle_wrap(mu->v[2]);
     ekf->sigma = *sigma;
-    gf_mat3_symmetrize(&ekf->sigma);
+    (void)gf_mat3_symmetrize(&ekf->sigma);
     return GF_OK;
 }
 

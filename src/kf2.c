@@ -54,7 +54,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     }
     kf->mu = *mu;
     kf->sigma = *sigma;
-    gf_mat2_symmetrize(&kf->sigma);
+    (void)gf_mat2_symmetrize(&kf->sigma);
     return GF_OK;
 }
 
@@ -64,11 +64,11 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
                          const gf_vec2 *u)
 {
-    gf_kf2 nb;
-    gf_mat2_mulv(&model->A, &kf->mu, &nb.mu);
+    gf_kf2 nb = *kf;
+    (void)gf_mat2_mulv(&model->A, &kf->mu, &nb.mu);
     if (u) {
         gf_vec2 bu;
-        gf_mat2_mulv(&model->B, u, &bu);
+        (void)gf_mat2_mulv(&model->B, u, &bu);
         nb.mu.v[0] += bu.v[0];
         nb.mu.v[1] += bu.v[1];
     }

@@ -37,7 +37,7 @@ gf_status gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out)
     }
     // t = a s, then out = t a^T; only the upper triangle is computed.
     gf_mat2 t, r;
-    gf_mat2_mul(a, s, &t);
+    (void)gf_mat2_mul(a, s, &t);
     r.m[0][0] = t.m[0][0] * a->m[0][0] + t.m[0][1] * a->m[0][1];
     r.m[0][1] = t.m[0][0] * a->m[1][0] + t.m[0][1] * a->m[1][1];
     r.m[1][1] = t.m[1][0] * a->m[1][0] + t.m[1][1] * a->m[1][1];

@@ -24,18 +24,31 @@
 
 #include "gf_internal.h"
 
+// Before each loop over states or measured quantities (at most 3 trips):
+// unrolled when the compiler optimises for speed, kept as a loop when it
+// optimises for size (-Os, -Oz: flash first).
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
+#define GF_UNROLL _Pragma("GCC unroll 3")
+#elif defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
+#define GF_UNROLL _Pragma("unroll")
+#else
+#define GF_UNROLL
+#endif
+
 // 1 if the n entries of x are all finite: one test of their sum (a NaN or
 // inf cannot vanish in a sum), entry by entry only if the sum is not
 // finite (finite entries whose sum overflows).
 static inline int gf_all_finite(const gf_real *x, unsigned n)
 {
     gf_real sum = 0;
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         sum += x[i];
     }
     if (GF_ISFINITE(sum)) {
         return 1;
     }
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         if (!GF_ISFINITE(x[i])) {
             return 0;
@@ -63,23 +76,31 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigne
     if (n > 3u) {
         return GF_ERR_ARG;
     }
+    d[0] = d[1] = d[2] = 0;
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned j = i; j < n; j++) {
             a[i][j] = s[i * stride + j];
         }
     }
     // s = U D U^T from the last column back: d_j = a_jj, u_ij = a_ij / d_j,
     // then a_ik -= u_ij a_kj for i <= k < j.
-    for (unsigned j = n; j-- > 0u;) {
+    GF_UNROLL
+    for (unsigned t = 0; t < n; t++) {
+        const unsigned j = n - 1u - t;
         const gf_real sjj = s[j * stride + j];
         const gf_real p = a[j][j];
         u[j][j] = 1;
         if (p > rtol * sjj) { // (NaN fails)
             d[j] = p;
+            GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
                 u[i][j] = a[i][j] / p;
             }
+            GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
+                GF_UNROLL
                 for (unsigned k = i; k < j; k++) {
                     a[i][k] -= u[i][j] * a[k][j];
                 }
@@ -94,6 +115,7 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigne
             if (!(p >= -rtol * sjj)) {
                 return GF_ERR_NOT_PSD;
             }
+            GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
                 const gf_real lim =
                     rtol * GF_SQRT(s[i * stride + i]) * GF_SQRT(sjj);
@@ -103,6 +125,7 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigne
             }
         }
         d[j] = 0;
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             u[i][j] = 0;
         }
@@ -118,6 +141,7 @@ static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
                                      unsigned n, gf_real u[3][3],
                                      gf_real d[3])
 {
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         if (!gf_all_finite(&s[i * stride], n)) {
             return GF_ERR_NONFINITE;
@@ -125,16 +149,32 @@ static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
     }
     // Symmetric: |a_ij - a_ji| <= GF_SYM_RTOL (|a_ij| + |a_ji|), exact for
     // equal entries (zeros included) and the same for any scale.
+    gf_real off = 0; // the sum of |off-diagonal entries|
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned j = i + 1u; j < n; j++) {
             const gf_real x = s[i * stride + j], y = s[j * stride + i];
             if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
                 return GF_ERR_NOT_PSD;
             }
+            off += GF_FABS(x) + GF_FABS(y);
         }
         if (s[i * stride + i] < 0) {
             return GF_ERR_NOT_PSD;
         }
+    }
+    if (!(off > 0)) {
+        // Diagonal (the usual noise): its own factors, d = the variances.
+        GF_UNROLL
+        for (unsigned i = 0; i < 3u; i++) {
+            GF_UNROLL
+            for (unsigned j = 0; j < 3u; j++) {
+                u[i][j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
+            }
+            d[i] = (i < n) ? s[i * stride + i] : GF_R(0.0);
+        }
+        return GF_OK;
     }
     return gf_udu_factor(s, stride, n, 1, u, d);
 }
@@ -145,9 +185,12 @@ static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
 static inline void gf_udu_recompose(gf_real u[3][3], const gf_real d[3], unsigned n,
                       gf_real *sigma)
 {
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned j = i; j < n; j++) {
             gf_real acc = 0;
+            GF_UNROLL
             for (unsigned k = j; k < n; k++) {
                 acc += u[i][k] * d[k] * u[j][k];
             }
@@ -166,9 +209,12 @@ static inline void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_rea
     (void)gf_udu_factor(sigma, n, n, 0, u, d);
     // W = G U
     gf_real w[3][3];
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned k = 0; k < n; k++) {
             gf_real acc = 0;
+            GF_UNROLL
             for (unsigned l = 0; l <= k; l++) {
                 acc += g[i * n + l] * u[l][k];
             }
@@ -176,9 +222,12 @@ static inline void gf_cov_predict(const gf_real *sigma, unsigned n, const gf_rea
         }
     }
     // Sigma_bar = W D W^T + R (R's upper triangle, mirrored)
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned j = i; j < n; j++) {
             gf_real acc = r[i * n + j];
+            GF_UNROLL
             for (unsigned k = 0; k < n; k++) {
                 acc += w[i][k] * d[k] * w[j][k];
             }
@@ -202,8 +251,10 @@ static inline gf_real gf_bierman(gf_real u[3][3], gf_real d[3], unsigned n,
                        const gf_real *h, gf_real r, gf_real b[3])
 {
     gf_real f[3], v[3];
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         gf_real acc = h[j];
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             acc += u[i][j] * h[i];
         }
@@ -211,6 +262,7 @@ static inline gf_real gf_bierman(gf_real u[3][3], gf_real d[3], unsigned n,
         v[j] = d[j] * acc;
     }
     gf_real alpha = r;
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         const gf_real prev = alpha;
         alpha = prev + v[j] * f[j];
@@ -218,6 +270,7 @@ static inline gf_real gf_bierman(gf_real u[3][3], gf_real d[3], unsigned n,
             d[j] *= prev / alpha;
         }
         const gf_real p = (prev > 0) ? f[j] / prev : GF_R(0.0);
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             const gf_real uij = u[i][j];
             u[i][j] = uij - b[i] * p;
@@ -244,16 +297,24 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
                                        gf_real v[3][3], const gf_real e[3],
                                        gf_real *nis)
 {
+    if (n > 3u || m > n) {
+        return GF_ERR_ARG;
+    }
     // V^-1 by back substitution, into y and a copy of H
-    gf_real hw[3][3];
-    for (unsigned i = m; i-- > 0u;) {
+    gf_real hw[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    GF_UNROLL
+    for (unsigned t = 0; t < m; t++) {
+        const unsigned i = m - 1u - t;
+        GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             gf_real acc = h[i * n + j];
+            GF_UNROLL
             for (unsigned k = i + 1u; k < m; k++) {
                 acc -= v[i][k] * hw[k][j];
             }
             hw[i][j] = acc;
         }
+        GF_UNROLL
         for (unsigned k = i + 1u; k < m; k++) {
             y[i] -= v[i][k] * y[k];
         }
@@ -263,13 +324,15 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
     (void)gf_udu_factor(sigma, n, n, 0, u, d);
     gf_real dx[3] = {0, 0, 0}; // mu - mu_bar so far
     gf_real total = 0;
+    GF_UNROLL
     for (unsigned i = 0; i < m; i++) {
         // this quantity's innovation, at the mean of the rows before it
         gf_real yi = y[i];
+        GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             yi -= hw[i][j] * dx[j];
         }
-        gf_real b[3];
+        gf_real b[3] = {0, 0, 0};
         const gf_real alpha = gf_bierman(u, d, n, hw[i], e[i], b);
         if (!GF_ISFINITE(alpha)) {
             return GF_ERR_NONFINITE;
@@ -279,6 +342,7 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
         // h_j^2 Sigma_jj (Cauchy-Schwarz), the same for any units.
         if (!(e[i] > 0)) {
             gf_real scale = 0;
+            GF_UNROLL
             for (unsigned j = 0; j < n; j++) {
                 scale += hw[i][j] * hw[i][j] * sigma[j * n + j];
             }
@@ -288,12 +352,14 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
         }
         // mu += K y_i with K = b / alpha; NIS += y_i^2 / alpha
         const gf_real g = yi / alpha;
+        GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             dx[j] += b[j] * g;
         }
         total += yi * g;
     }
     gf_udu_recompose(u, d, n, sigma);
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         mu[j] += dx[j];
     }

@@ -129,7 +129,7 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
     r.mu = *mu;
     r.mu.v[2] = gf_angle_wrap(mu->v[2]);
     r.sigma = *sigma;
-    gf_mat3_symmetrize(&r.sigma);
+    (void)gf_mat3_symmetrize(&r.sigma);
     // gamma = sqrt(n + lambda)
     r.gamma = GF_SQRT(nl);
     // w_m0 = lambda / (n + lambda), w_c0 = w_m0 + (1 - alpha^2 + beta),
@@ -203,7 +203,7 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         // Sigma_bar = sum_j w_c,j (chi_bar*_j - mu_bar)(...)^T + R, the
         // residuals in place of the points
         gf_mat3 sigma = motion->R;
-        gf_mat3_symmetrize(&sigma);
+        (void)gf_mat3_symmetrize(&sigma);
         for (unsigned j = 0; j < N_SIGMA; j++) {
             residual(&y[j], &mu, N_STATE, HEADING_MASK, &y[j]);
             const gf_real w = weight_c(ukf, j);
