@@ -19,12 +19,18 @@ gf_m4f_plugin() {
 }
 
 # gf_m4f_image Os|O2: builds the float benchmark image for Cortex-M4F at
-# that optimisation level (library and bench alike). Prints the ELF's path.
+# that optimisation level (library and bench alike); the build's output goes
+# to $GF_BUILD/insncount/image-Os.log (or -O2), shown if it fails. Prints
+# the ELF's path.
 gf_m4f_image() {
-    local dir
+    local dir log=$GF_BUILD/insncount/image-$1.log
+    mkdir -p "$GF_BUILD/insncount"
     dir=$(GF_FW_OPT=$1 GF_FW_VARIANT=bench-$1 gf_fw_build cortex-m4f float \
-        -DGF_FW_BENCH=ON | tail -1) || exit 1
-    [ -f "$dir/gf_fw_bench.elf" ] || gf_die "$dir/gf_fw_bench.elf is missing"
+        -DGF_FW_BENCH=ON 2>"$log" | tail -1)
+    if [ ! -f "$dir/gf_fw_bench.elf" ] || grep -q '^error:' "$log"; then
+        tail -30 "$log" >&2
+        gf_die "building the Cortex-M4F bench image (-$1) failed"
+    fi
     echo "$dir/gf_fw_bench.elf"
 }
 
