@@ -13,7 +13,7 @@
 // (W2 with the caller's own copies of the two models, which take the
 // core's general path), w2m2 or w2m3 (W2 with an update of m = 2 or 3);
 // PART is step, predict, update or ref (the step done by the no-checks
-// reference of bench/ref.c; W1 and W2 only). The inputs (measurements,
+// reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
 // replays those TAB steps from the same initial belief again and again.
@@ -52,6 +52,14 @@
 // W2 update: p = Sigma's first column (0); s = s00 + Q (1); y = z - x (1);
 //            1/s (1); K = p/s (3); mu += K y (6); Sigma -= K p^T, 6 (12)
 #define FLOOR_W2_UPDATE 24
+// W2 update, m = 2 (H = (I 0), Q general): S = Sigma's 2x2 + Q (3); det
+//            (3); 1/det (1); S^-1 (3); K = P S^-1, 3x2 (18); y (2); mu +=
+//            K y (12); Sigma -= K P^T, 6 entries (24)
+#define FLOOR_W2M2_UPDATE 66
+// W2 update, m = 3 (H = I, Q general): S = Sigma + Q (6); cofactors (18);
+//            det and 1/det (6); S^-1 (6); K = Sigma S^-1 (45); y (3); mu +=
+//            K y (18); Sigma -= K Sigma, 6 entries (36)
+#define FLOOR_W2M3_UPDATE 138
 
 // ---- the measured loops --------------------------------------------------
 //
@@ -224,7 +232,13 @@ NOINLINE static double bench_loop_w2_ref(unsigned long n)
             ekf = wl_w2_init;
         }
         ref_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]);
-        ref_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        if (wl_w2_meas.m == 1) {
+            ref_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        } else if (wl_w2_meas.m == 2) {
+            ref_ekf3_update_xy(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        } else {
+            ref_ekf3_update_xyt(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        }
     }
     return (double)ekf.mu.v[0] + (double)ekf.sigma.m[0][0];
 }
@@ -250,7 +264,7 @@ static int usage(void)
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
             "       WL = w1 | w1p | w2 | w2c | w2m2 | w2m3, PART = step | "
-            "predict | update | ref (w1, w2)\n");
+            "predict | update | ref\n");
     return 2;
 }
 
@@ -279,13 +293,12 @@ int main(int argc, char **argv)
     } else {
         return usage();
     }
-    if (p == 3 && m > 1) {
-        return usage(); // bench/ref.c has the scalar update only
-    }
-
     if (strcmp(mode, "floor") == 0) {
-        if (m > 1 && p != 1) {
-            printf("-\n"); // no hand count for the m = 2, 3 updates
+        if (m > 1) {
+            const int upd = m == 2 ? FLOOR_W2M2_UPDATE : FLOOR_W2M3_UPDATE;
+            const int f[4] = {FLOOR_W2_PREDICT + upd, FLOOR_W2_PREDICT, upd,
+                              FLOOR_W2_PREDICT + upd};
+            printf("%d\n", f[p]);
             return 0;
         }
         static const int floors[2][4] = {

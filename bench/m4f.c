@@ -116,16 +116,19 @@ static void w2(const char *name, unsigned m)
         check(a, "w2 update", i);
     }
     report(name, "update");
-    if (m == 1) {
-        ekf = wl_w2_init;
-        for (unsigned i = 0; i < WL_TAB; i++) {
-            bench_mark_start(&ekf);
-            ref_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[i]);
-            ref_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[i]);
-            bench_mark_stop(&ekf);
-        }
-        report(name, "ref");
+    void (*const ref_update)(gf_ekf3 *, const gf_ekf3_meas *,
+                             const gf_vec3 *) =
+        m == 1 ? ref_ekf3_update
+        : m == 2 ? ref_ekf3_update_xy
+                 : ref_ekf3_update_xyt;
+    ekf = wl_w2_init;
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        bench_mark_start(&ekf);
+        ref_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[i]);
+        ref_update(&ekf, &wl_w2_meas, &wl_w2_z[i]);
+        bench_mark_stop(&ekf);
     }
+    report(name, "ref");
 }
 
 int main(void)
