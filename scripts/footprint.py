@@ -473,6 +473,18 @@ def stack_report(prefix, build, exclude=frozenset()):
                   for n in su if n in core and core[n][0] != su[n]]
 
     unknown, guessed = set(), set()
+    # Link names carry the precision (include/gaussfilt/names.h):
+    # gf_ekf3_update_f32. CALLBACKS and ALL_MODELS use the plain names.
+    sfx = next((m.group(0) for n in su
+                for m in [re.search(r"_f(32|64)$", n)] if m and
+                n.startswith("gf_")), "")
+
+    def plain(n):
+        return n[:-len(sfx)] if sfx and n.startswith("gf_") and \
+            n.endswith(sfx) else n
+
+    def linked(names):
+        return {x + sfx if x.startswith("gf_") else x for x in names}
 
     def save_area(n):
         """Bytes a library function's registers take through libgcc's
@@ -511,9 +523,9 @@ def stack_report(prefix, build, exclude=frozenset()):
         elif n in ext:
             c |= ext[n][1]
         if "__indirect_call" in c or core.get(n, none)[2]:
-            if n not in CALLBACKS:
-                guessed.add(n)
-            c |= set(CALLBACKS.get(n, ALL_MODELS))
+            if plain(n) not in CALLBACKS:
+                guessed.add(plain(n))
+            c |= linked(CALLBACKS.get(plain(n), ALL_MODELS))
         c.discard("__indirect_call")
         c = {x for x in c if not RISCV_SAVE.match(x)}  # in frame(n)
         c -= tails(n)
@@ -545,11 +557,11 @@ def stack_report(prefix, build, exclude=frozenset()):
     rows = {}
     for n in public:
         d, via, tail = depth(n)
-        chain = n
+        chain = plain(n)
         while via:
-            chain += (" ⇢ " if tail else " → ") + via
+            chain += (" ⇢ " if tail else " → ") + plain(via)
             _, via, tail = memo[via]
-        rows[n] = (su[n], d, chain)
+        rows[plain(n)] = (su[n], d, chain)
     return rows, mismatches, unknown, guessed
 
 

@@ -41,6 +41,9 @@ gf_status gf_rng_seed(gf_rng *rng, uint32_t seed)
 
 uint32_t gf_rng_u32(gf_rng *rng)
 {
+    if (!rng) {
+        return 0;
+    }
     uint32_t *s = rng->s;
     const uint32_t out = rotl(s[1] * 5u, 7) * 9u;
     const uint32_t t = s[1] << 9;
@@ -55,6 +58,9 @@ uint32_t gf_rng_u32(gf_rng *rng)
 
 gf_real gf_rng_uniform(gf_rng *rng)
 {
+    if (!rng) {
+        return 0;
+    }
 #ifdef GF_SINGLE_PRECISION
     // top 24 bits times 2^-24
     return (gf_real)(gf_rng_u32(rng) >> 8) * GF_R(5.9604644775390625e-8);
@@ -66,6 +72,9 @@ gf_real gf_rng_uniform(gf_rng *rng)
 
 gf_real gf_rng_normal(gf_rng *rng)
 {
+    if (!rng) {
+        return 0;
+    }
     if (rng->has_spare) {
         rng->has_spare = 0;
         return rng->spare;
@@ -86,6 +95,9 @@ gf_real gf_rng_normal(gf_rng *rng)
 void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l,
                  gf_vec3 *x)
 {
+    if (!rng || !mu || !l || !x) {
+        return;
+    }
     // x = mu + L n, n ~ N(0, I); row i of L n as gf_mat3_mulv sums it,
     // with no second temporary (x may be mu).
     gf_vec3 n;

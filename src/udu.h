@@ -59,19 +59,24 @@ static inline int gf_all_finite(const gf_real *x, unsigned n)
 
 // s = U D U^T for the leading n x n block of a symmetric s (upper triangle
 // read): u unit upper triangular (upper triangle and diagonal written), d
-// >= 0. A pivot below its diagonal entry times GF_PD_RTOL (check != 0) or
-// GF_UDU_RTOL (check == 0: the filter's own covariance) is zero, with a zero
-// column. check != 0 also judges: GF_ERR_NOT_PSD for a pivot below
+// >= 0. A pivot below its diagonal entry times GF_PD_RTOL (check != 0), or
+// not above zero (check == 0: the filter's own covariance), is zero, with a
+// zero column. check != 0 also judges: GF_ERR_NOT_PSD for a pivot below
 // -GF_PD_RTOL times its diagonal entry or an entry coupled to a zero pivot
 // (correlation form); else GF_OK.
 static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
                         int check, gf_real u[3][3], gf_real d[3])
 {
-    // The pivot tolerance: a pivot is a variance left once the later states
-    // are known; relative to the state's own variance (the pivot of the
-    // correlation form D^-1/2 S D^-1/2) it is in [0, 1]. Below rtol it is
-    // zero: that direction is known exactly.
-    const gf_real rtol = check ? GF_PD_RTOL : GF_UDU_RTOL;
+    // A pivot is a variance left once the later states are known; relative
+    // to the state's own variance (the pivot of the correlation form
+    // D^-1/2 S D^-1/2) it is in [0, 1]. A verdict (check) takes one below
+    // GF_PD_RTOL as zero. The filter's own covariance (no check) keeps
+    // every positive pivot, however small: calling a direction exactly
+    // known because its variance is at the rounding level of the others
+    // would make the filter overconfident there, the collapse this
+    // arithmetic exists to prevent; only a pivot <= 0 (rounding of a
+    // semidefinite covariance) is zero.
+    const gf_real rtol = check ? GF_PD_RTOL : GF_R(0.0);
     gf_real a[3][3]; // the Schur complements, upper triangle
     if (n > 3u) {
         return GF_ERR_ARG;

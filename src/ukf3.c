@@ -10,8 +10,8 @@
 // models included; scripts/footprint): no array of sigma points is kept.
 // Each point is made when needed from the packed square root of Sigma
 // (chi_j = mu + off_j); the prediction keeps the 7 images through g, the
-// update none (it calls h twice per point: once for z_hat, once for the
-// moments about it). The locals of successive phases are grouped so that
+// update none (its sums are taken about the centre's image, which comes
+// first, so each point is measured once and added in). The locals of successive phases are grouped so that
 // the compiler can lay them over each other, and the helpers under the
 // deepest frames are leaves or call only gf_angle_wrap.
 
@@ -24,14 +24,9 @@
 #define UKF3_SMALL_CALL static
 #endif
 
-static inline gf_real weight_c(const gf_ukf3 *ukf, unsigned j)
-{
-    return j == 0 ? ukf->wc0 : ukf->wi;
-}
-
 // Entry k of off_j = chi_j - mu: off_0 = 0, off_{1+i} = gamma L_i,
 // off_{4+i} = -gamma L_i (L_i column i of L, packed as GF_TRI). With
-// WEIGHTED added to k, entry k of w_c,j off_j: the weight is read here,
+// WEIGHTED added to k, entry k of w_i off_j: the weight is read here,
 // so that no caller keeps it in an FP register across the call (which
 // its large frame would have to save; an argument more would go on the
 // stack on Arm).
@@ -46,7 +41,7 @@ static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6],
         o = ukf->gamma * l[GF_TRI(e, i)];
     }
     o = (j > N_STATE) ? -o : o;
-    return (k >= WEIGHTED) ? weight_c(ukf, j) * o : o;
+    return (k >= WEIGHTED) ? ukf->wi * o : o;
 }
 
 // chi_j = mu + off_j (the offset first: no float is kept across
@@ -110,8 +105,11 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
         !GF_ISFINITE(p->beta) || !GF_ISFINITE(p->kappa)) {
         return GF_ERR_NONFINITE;
     }
-    // alpha in (0, 1], beta >= 0, kappa >= 0 keep n + lambda > 0.
-    if (!(p->alpha > 0) || p->alpha > 1 || p->beta < 0 || p->kappa < 0) {
+    // alpha in (0, 1], beta >= 0, kappa >= 0 keep n + lambda > 0; alpha
+    // below GF_UKF3_ALPHA_MIN lets the rounding of the points' images,
+    // divided by alpha^2, swamp the moments (ukf3.h).
+    if (!(p->alpha >= GF_UKF3_ALPHA_MIN) || p->alpha > 1 || p->beta < 0 ||
+        p->kappa < 0) {
         return GF_ERR_ARG;
     }
     gf_status st = gf_mat3_check_psd(sigma, N_STATE);
@@ -130,13 +128,13 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
     r.mu.v[2] = gf_angle_wrap(mu->v[2]);
     r.sigma = *sigma;
     (void)gf_mat3_symmetrize(&r.sigma);
-    // gamma = sqrt(n + lambda)
+    // gamma = sqrt(n + lambda), w_i = 1 / (2 (n + lambda)); the centre's
+    // weights w_m,0 = lambda / (n + lambda) and w_c,0 = w_m,0 + 1 -
+    // alpha^2 + beta are never formed (see the sums below): only what is
+    // left of them once folded, beta - alpha^2.
     r.gamma = GF_SQRT(nl);
-    // w_m0 = lambda / (n + lambda), w_c0 = w_m0 + (1 - alpha^2 + beta),
-    // w_i = 1 / (2 (n + lambda))
-    r.wm0 = (nl - n) / nl;
-    r.wc0 = r.wm0 + (GF_R(1.0) - a2 + p->beta);
     r.wi = GF_R(1.0) / (GF_R(2.0) * nl);
+    r.wfold = p->beta - a2;
     *ukf = r;
     return GF_OK;
 }
@@ -181,43 +179,42 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         }
     }
 
-    // mu_bar = sum_j w_m,j chi_bar*_j (heading on the circle), taken as
-    // chi_bar*_0 plus the weighted residuals about it (the weights sum to
-    // one, and w_m,j = w_i for j > 0): exact when the points coincide, and
-    // no large offsets cancel.
+    // The moments about the centre's image, e_j = chi_bar*_j - chi_bar*_0
+    // (heading wrapped), so that no weight larger than w_i is used:
+    //   m = sum_{j>0} w_i e_j,  mu_bar = chi_bar*_0 + m,
+    //   Sigma_bar = sum_{j>0} w_i e_j e_j^T + (beta - alpha^2) m m^T + R,
+    // Table 3.4's sums with the centre's weights folded in (e_0 = 0, the
+    // w_m,j sum to 1 and the w_c,j to 2 - alpha^2 + beta). As written in
+    // the book, w_c,0 ~ -1/alpha^2 multiplies (chi_bar*_0 - mu_bar), an
+    // O(1) quantity carrying the rounding of the points divided by
+    // alpha^2: for a small alpha the terms cancel and leave that rounding.
     {
         gf_vec3 mu = {{0, 0, 0}};
-        for (unsigned j = 1; j < N_SIGMA; j++) {
-            // the residual about chi_bar*_0 entry by entry (no vector
-            // of it on the stack), the heading wrapped
-            const gf_real dth = gf_angle_wrap(y[j].v[2] - y[0].v[2]);
-            mu.v[0] += ukf->wi * (y[j].v[0] - y[0].v[0]);
-            mu.v[1] += ukf->wi * (y[j].v[1] - y[0].v[1]);
-            mu.v[2] += ukf->wi * dth;
-        }
-        for (unsigned k = 0; k < N_STATE; k++) {
-            mu.v[k] = y[0].v[k] + mu.v[k];
-        }
-        wrap_flagged(&mu, N_STATE, HEADING_MASK);
-
-        // Sigma_bar = sum_j w_c,j (chi_bar*_j - mu_bar)(...)^T + R, the
-        // residuals in place of the points
         gf_mat3 sigma = motion->R;
         (void)gf_mat3_symmetrize(&sigma);
-        for (unsigned j = 0; j < N_SIGMA; j++) {
-            residual(&y[j], &mu, N_STATE, HEADING_MASK, &y[j]);
-            const gf_real w = weight_c(ukf, j);
+        for (unsigned j = 1; j < N_SIGMA; j++) {
+            residual(&y[j], &y[0], N_STATE, HEADING_MASK, &y[j]);
             for (unsigned a = 0; a < N_STATE; a++) {
+                const gf_real we = ukf->wi * y[j].v[a];
+                mu.v[a] += we;
                 for (unsigned b = a; b < N_STATE; b++) {
-                    sigma.m[a][b] += w * y[j].v[a] * y[j].v[b];
+                    sigma.m[a][b] += we * y[j].v[b];
                 }
+            }
+        }
+        for (unsigned a = 0; a < N_STATE; a++) {
+            const gf_real fm = ukf->wfold * mu.v[a];
+            for (unsigned b = a; b < N_STATE; b++) {
+                sigma.m[a][b] += fm * mu.v[b];
             }
         }
         for (unsigned a = 0; a < N_STATE; a++) {
             for (unsigned b = 0; b < a; b++) {
                 sigma.m[a][b] = sigma.m[b][a];
             }
+            mu.v[a] = y[0].v[a] + mu.v[a];
         }
+        wrap_flagged(&mu, N_STATE, HEADING_MASK);
         if (!gf_vec3_is_finite_n(&mu, N_STATE) ||
             !gf_mat3_is_finite(&sigma)) {
             return GF_ERR_NONFINITE;
@@ -271,15 +268,16 @@ static void moments_init(const gf_ekf3_meas *meas, gf_real s[6],
     *pxz = zero;
 }
 
-// Point j's terms of S and Sigma^xz, dz_j in p->Z (zero past the m
-// measured entries, so the sums there stay zero).
+// Point j's terms (j > 0) of m_z, S and Sigma^xz, dz_j in p->Z (zero past
+// the m measured entries, so the sums there stay zero).
 static void accumulate(const gf_ukf3 *ukf, unsigned j, const ukf3_point *p,
-                       gf_real s[6], gf_mat3 *pxz)
+                       gf_vec3 *mz, gf_real s[6], gf_mat3 *pxz)
 {
-    const gf_real w = weight_c(ukf, j);
     for (unsigned a = 0; a < N_STATE; a++) {
+        const gf_real wz = ukf->wi * p->Z.v[a];
+        mz->v[a] += wz;
         for (unsigned b = 0; b <= a; b++) {
-            s[GF_TRI(a, b)] += w * p->Z.v[a] * p->Z.v[b];
+            s[GF_TRI(a, b)] += wz * p->Z.v[b];
         }
     }
     for (unsigned a = 0; a < N_STATE; a++) {
@@ -364,44 +362,42 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     const unsigned mask = meas->angle_mask;
 
     // chi_bar = (mu_bar, mu_bar +- gamma sqrt(Sigma_bar)), Z_j = h(chi_bar_j),
-    // twice over the points: pass 0 for z_hat = sum_j w_m,j Z_j (in y; the
-    // residuals about Z_0 are summed in s, not yet in use), pass 1 for the
-    // moments about it, with dz_j = Z_j - z_hat (angles wrapped):
-    //   S = sum_j w_c,j dz_j dz_j^T + Q   (m x m, lower triangle packed),
-    //   Sigma^xz = sum_j w_c,j (chi_bar_j - mu_bar) dz_j^T   (3 x m).
+    // the moments about Z_0 as in gf_ukf3_predict, one pass over the
+    // points, with dz_j = Z_j - Z_0 (angles wrapped) and
+    // off_j = chi_bar_j - mu_bar:
+    //   m_z = sum_{j>0} w_i dz_j,  z_hat = Z_0 + m_z,
+    //   S = sum_{j>0} w_i dz_j dz_j^T + (beta - alpha^2) m_z m_z^T + Q,
+    //   Sigma^xz = sum_{j>0} w_i off_j dz_j^T
+    // (S m x m, lower triangle packed; Sigma^xz 3 x m). Table 3.4's
+    // Sigma^xz has dz_j - m_z in place of dz_j; the off_j sum to zero.
     gf_real s[6];
     gf_mat3 Pxz;
     gf_vec3 y;
     {
         ukf3_point p;
+        gf_vec3 mz = {{0, 0, 0}};
         gf_sqrt_psd_packed(&ukf->sigma, N_STATE, p.l);
-        for (unsigned pass = 0; pass < 2u; pass++) {
-            for (unsigned j = 0; j < N_SIGMA; j++) {
-                st = measure(ukf, meas, j, &p);
-                if (st != GF_OK) {
-                    return st;
-                }
-                if (pass == 0u && j == 0u) {
-                    y = p.Z;
-                    s[0] = s[1] = s[2] = 0;
-                } else if (pass == 0u) {
-                    residual(&p.Z, &y, m, mask, &p.Z);
-                    for (unsigned k = 0; k < N_STATE; k++) {
-                        s[k] += ukf->wi * p.Z.v[k];
-                    }
-                } else {
-                    residual(&p.Z, &y, m, mask, &p.Z);
-                    accumulate(ukf, j, &p, s, &Pxz);
-                }
+        moments_init(meas, s, &Pxz);
+        for (unsigned j = 0; j < N_SIGMA; j++) {
+            st = measure(ukf, meas, j, &p);
+            if (st != GF_OK) {
+                return st;
             }
-            if (pass == 0u) {
-                for (unsigned k = 0; k < N_STATE; k++) {
-                    y.v[k] = y.v[k] + s[k];
-                }
-                wrap_flagged(&y, m, mask);
-                moments_init(meas, s, &Pxz);
+            if (j == 0u) {
+                y = p.Z;
+            } else {
+                residual(&p.Z, &y, m, mask, &p.Z);
+                accumulate(ukf, j, &p, &mz, s, &Pxz);
             }
         }
+        for (unsigned a = 0; a < N_STATE; a++) {
+            const gf_real fm = ukf->wfold * mz.v[a];
+            for (unsigned b = 0; b <= a; b++) {
+                s[GF_TRI(a, b)] += fm * mz.v[b];
+            }
+            y.v[a] = y.v[a] + mz.v[a];
+        }
+        wrap_flagged(&y, m, mask);
         // y = z - z_hat, angle residuals wrapped
         residual(z, &y, m, mask, &y);
     }

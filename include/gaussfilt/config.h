@@ -32,6 +32,10 @@ typedef double gf_real;
 #define GF_FABS fabs
 #endif
 
+// The link names carry the precision (gf_kf2_update_f32 or _f64): a program
+// built for the other gf_real than its library does not link.
+#include "gaussfilt/names.h"
+
 // True when x is neither infinite nor NaN. Overridable, e.g. for compilers
 // whose isfinite() is a library call.
 #ifndef GF_ISFINITE
@@ -56,17 +60,6 @@ typedef double gf_real;
 // leaves a margin of five over both. Float: 7.6e-6; double: 1.4e-14.
 #ifndef GF_PD_RTOL
 #define GF_PD_RTOL (GF_R(64.0) * GF_REAL_EPSILON)
-#endif
-
-// GF_UDU_RTOL: the pivot below which the filter's own covariance (always
-// positive semidefinite, but rounded) is treated as exact in that
-// direction when it is factored for a step. Dividing by a pivot at the
-// rounding level of the stored entries (a few eps) would amplify their
-// rounding; dropping it changes the covariance by at most sqrt(GF_UDU_RTOL)
-// in the correlation form, and only where it is singular to that level.
-// 8 eps. Float: 9.5e-7; double: 1.8e-15.
-#ifndef GF_UDU_RTOL
-#define GF_UDU_RTOL (GF_R(8.0) * GF_REAL_EPSILON)
 #endif
 
 // Relative tolerance of the symmetry test on covariances the caller passes

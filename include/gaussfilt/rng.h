@@ -27,19 +27,21 @@ typedef struct gf_rng {
 // GF_ERR_ARG on NULL.
 gf_status gf_rng_seed(gf_rng *rng, uint32_t seed);
 
-// The next 32 random bits.
+// The next 32 random bits. 0 for a NULL rng.
 uint32_t gf_rng_u32(gf_rng *rng);
 
 // Uniform in [0, 1). 24 random bits in the float build, 32 in the double
 // build; every value is exactly representable, so 1 is never returned.
+// 0 for a NULL rng.
 gf_real gf_rng_uniform(gf_rng *rng);
 
 // Standard normal N(0, 1), by Box-Muller: two uniforms give two normals,
-// the second is kept for the next call.
+// the second is kept for the next call. 0 for a NULL rng.
 gf_real gf_rng_normal(gf_rng *rng);
 
 // x ~ N(mu, l l^T): x = mu + l n with n ~ N(0, I_3), l a square root as
-// from gf_mat3_sqrt_psd (lower triangular; other shapes work too).
+// from gf_mat3_sqrt_psd (lower triangular; other shapes work too). Does
+// nothing (no draw, x untouched) if any pointer is NULL.
 void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l,
                  gf_vec3 *x);
 
