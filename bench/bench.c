@@ -1,15 +1,6 @@
-// gaussfilt benchmark: per-step cost of the two workloads peers are
-// compared on. Not a test: it prints figures and fails only if a filter call
-// fails (so the smoke stage catches a rotted benchmark).
-//
-//   W1, KF2:  the car of exercises 1 and 2: A = ((1,1),(0,1)), no control,
-//             R = ((0.25,0.5),(0.5,1)); one step = predict + update with a
-//             scalar position measurement, C = (1,0), Q = 10.
-//   W2, EKF3: the robot of exercise 4: predict with "move 1 forward, then
-//             turn phi" (gf_ekf3_motion_forward_turn), update with an x
-//             measurement of variance 0.01 (gf_ekf3_meas_x). The turn phi is
-//             drawn in [-0.6, 0.6] each step, so the heading wanders over the
-//             whole circle (theta = 0 would let sin/cos take a fast path).
+// gaussfilt benchmark: per-step cost of the workloads peers are compared on
+// (workloads.h). Not a test: it prints figures and fails only if a filter
+// call fails (so the smoke stage catches a rotted benchmark).
 //
 // Usage:
 //   gf_bench count WL PART N   runs N loop iterations once (under
@@ -18,15 +9,15 @@
 //                              median, min and max ns per iteration
 //   gf_bench floor WL PART     prints the hand-counted flop floor
 // WL is w1, w1p (W1 through the prepared models: gf_kf2_prepare_model and
-// _meas once, then gf_kf2_predict_prepared and _update_prepared), w2, or
-// w2c (W2 with the caller's own copies of the two models, which take the
-// core's general path); PART is step, predict, update or ref (the step done by
-// the no-checks reference of bench/ref.c). The inputs (measurements,
+// _meas once, then gf_kf2_predict_prepared and _update_prepared), w2, w2c
+// (W2 with the caller's own copies of the two models, which take the
+// core's general path), w2m2 or w2m3 (W2 with an update of m = 2 or 3);
+// PART is step, predict, update or ref (the step done by the no-checks
+// reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
 // replays those TAB steps from the same initial belief again and again.
 #define _POSIX_C_SOURCE 199309L
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,8 +25,9 @@
 
 #include "gaussfilt/gaussfilt.h"
 #include "ref.h"
+#include "workloads.h"
 
-#define TAB 1024u // steps of simulated truth; a power of two
+#define TAB WL_TAB
 
 // ---- the arithmetic floor ------------------------------------------------
 //
@@ -60,167 +52,14 @@
 // W2 update: p = Sigma's first column (0); s = s00 + Q (1); y = z - x (1);
 //            1/s (1); K = p/s (3); mu += K y (6); Sigma -= K p^T, 6 (12)
 #define FLOOR_W2_UPDATE 24
-
-// ---- the workloads -------------------------------------------------------
-
-// A deterministic xorshift64* generator and Box-Muller normals, for the
-// simulated truth only.
-static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
-
-static double uniform01(void)
-{
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    unsigned long long r = rng_state * 2685821657736338717ull;
-    return ((double)(r >> 11) + 0.5) / 9007199254740992.0;
-}
-
-static double normal01(void)
-{
-    return sqrt(-2.0 * log(uniform01())) * cos(6.283185307179586 * uniform01());
-}
-
-static const gf_kf2_model W1_MODEL = {
-    {{{1, 1}, {0, 1}}},
-    {{{0, 0}, {0, 0}}},
-    {{{GF_R(0.25), GF_R(0.5)}, {GF_R(0.5), 1}}},
-    {{0, 0}},
-};
-
-static const gf_kf2_meas W1_MEAS = {
-    1, {{{1, 0}, {0, 0}}}, {{{10, 0}, {0, 0}}}, {{0, 0}}, 0,
-};
-
-static gf_kf2_pmodel w1_pmodel; // W1_MODEL and W1_MEAS, prepared
-static gf_kf2_pmeas w1_pmeas;
-static gf_kf2 w1_init;         // belief at the start of each replay
-static gf_vec2 w1_z[TAB];      // measurement of step i
-static gf_kf2 w1_post[TAB];    // belief before step i's predict
-static gf_kf2 w1_prior[TAB];   // belief before step i's update
-
-static gf_ekf3_motion w2_motion;
-static gf_ekf3_meas w2_meas;
-static gf_ekf3 w2_init;
-static gf_real w2_u[TAB][2];   // control of step i: (1, phi_i)
-static gf_vec3 w2_z[TAB];
-static gf_ekf3 w2_post[TAB];
-static gf_ekf3 w2_prior[TAB];
-
-static void die(const char *what, int i, gf_status st)
-{
-    fprintf(stderr, "gf_bench: %s failed at step %d: %s\n", what, i,
-            gf_status_str(st));
-    exit(1);
-}
-
-static void setup_w1(void)
-{
-    // Truth: x += v + 0.5 a, v += a, a ~ N(0, 1) (so R = G G^T), z = x +
-    // N(0, 10).
-    double x = 0, v = 0;
-    gf_vec2 mu = {{0, 0}};
-    gf_mat2 sig = {{{0, 0}, {0, 0}}};
-    gf_kf2 kf;
-    if (gf_kf2_init(&w1_init, &mu, &sig) != GF_OK) {
-        die("w1 init", 0, GF_ERR_ARG);
-    }
-    kf = w1_init;
-    if (gf_kf2_prepare_model(&w1_pmodel, &W1_MODEL) != GF_OK ||
-        gf_kf2_prepare_meas(&w1_pmeas, &W1_MEAS) != GF_OK) {
-        die("w1 prepare", 0, GF_ERR_ARG);
-    }
-    for (unsigned i = 0; i < TAB; i++) {
-        double a = normal01();
-        x += v + 0.5 * a;
-        v += a;
-        w1_z[i].v[0] = (gf_real)(x + sqrt(10.0) * normal01());
-        w1_z[i].v[1] = 0;
-        w1_post[i] = kf;
-        gf_status st = gf_kf2_predict(&kf, &W1_MODEL, NULL);
-        if (st != GF_OK) {
-            die("w1 predict", (int)i, st);
-        }
-        w1_prior[i] = kf;
-        st = gf_kf2_update(&kf, &W1_MEAS, &w1_z[i], NULL);
-        if (st != GF_OK) {
-            die("w1 update", (int)i, st);
-        }
-    }
-}
-
-// W2 with the caller's own callbacks ("w2c"): the same models as the
-// built-ins, written here, so the core cannot recognise them and takes its
-// general path (call through the pointer, G filled and its shape tested).
-static gf_status user_forward_turn(void *ctx, const gf_vec3 *mu,
-                                   const gf_real *u, gf_vec3 *mu_bar,
-                                   gf_mat3 *G)
-{
-    (void)ctx;
-    const gf_real d = u[0], th = mu->v[2];
-    gf_real s, c;
-    gf_sincos(th, &s, &c);
-    mu_bar->v[0] = mu->v[0] + d * c;
-    mu_bar->v[1] = mu->v[1] + d * s;
-    mu_bar->v[2] = th + u[1];
-    G->m[0][2] = -d * s; // the rest of G: identity, preset by the core
-    G->m[1][2] = d * c;
-    return GF_OK;
-}
-
-static gf_status user_meas_x(void *ctx, const gf_vec3 *mu_bar,
-                             gf_vec3 *z_hat, gf_mat3 *H)
-{
-    (void)ctx;
-    z_hat->v[0] = mu_bar->v[0];
-    H->m[0][0] = 1;
-    H->m[0][1] = 0;
-    H->m[0][2] = 0;
-    return GF_OK;
-}
-
-static void setup_w2(int user)
-{
-    memset(&w2_motion, 0, sizeof w2_motion);
-    w2_motion.g = user ? user_forward_turn : gf_ekf3_motion_forward_turn;
-    // Process noise: 5 cm along each axis, 0.02 rad of heading per step.
-    w2_motion.R.m[0][0] = GF_R(0.0025);
-    w2_motion.R.m[1][1] = GF_R(0.0025);
-    w2_motion.R.m[2][2] = GF_R(0.0004);
-    memset(&w2_meas, 0, sizeof w2_meas);
-    w2_meas.m = 1;
-    w2_meas.h = user ? user_meas_x : gf_ekf3_meas_x;
-    w2_meas.Q.m[0][0] = GF_R(0.01);
-
-    gf_vec3 mu = {{0, 0, 0}};
-    gf_mat3 sig = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                    {0, 0, GF_R(0.01)}}};
-    if (gf_ekf3_init(&w2_init, &mu, &sig) != GF_OK) {
-        die("w2 init", 0, GF_ERR_ARG);
-    }
-    gf_ekf3 ekf = w2_init;
-    double x = 0, y = 0, th = 0;
-    for (unsigned i = 0; i < TAB; i++) {
-        double phi = 1.2 * uniform01() - 0.6;
-        x += cos(th) + 0.05 * normal01();
-        y += sin(th) + 0.05 * normal01();
-        th += phi + 0.02 * normal01();
-        w2_u[i][0] = 1;
-        w2_u[i][1] = (gf_real)phi;
-        w2_z[i].v[0] = (gf_real)(x + 0.1 * normal01());
-        w2_z[i].v[1] = w2_z[i].v[2] = 0;
-        w2_post[i] = ekf;
-        gf_status st = gf_ekf3_predict(&ekf, &w2_motion, w2_u[i]);
-        if (st != GF_OK) {
-            die("w2 predict", (int)i, st);
-        }
-        w2_prior[i] = ekf;
-        st = gf_ekf3_update(&ekf, &w2_meas, &w2_z[i], NULL);
-        if (st != GF_OK) {
-            die("w2 update", (int)i, st);
-        }
-    }
-}
+// W2 update, m = 2 (H = (I 0), Q general): S = Sigma's 2x2 + Q (3); det
+//            (3); 1/det (1); S^-1 (3); K = P S^-1, 3x2 (18); y (2); mu +=
+//            K y (12); Sigma -= K P^T, 6 entries (24)
+#define FLOOR_W2M2_UPDATE 66
+// W2 update, m = 3 (H = I, Q general): S = Sigma + Q (6); cofactors (18);
+//            det and 1/det (6); S^-1 (6); K = Sigma S^-1 (45); y (3); mu +=
+//            K y (18); Sigma -= K Sigma, 6 entries (36)
+#define FLOOR_W2M3_UPDATE 138
 
 // ---- the measured loops --------------------------------------------------
 //
@@ -235,14 +74,14 @@ static gf_innovation info_sink;
 
 NOINLINE static double bench_loop_w1_step(unsigned long n)
 {
-    gf_kf2 kf = w1_init;
+    gf_kf2 kf = wl_w1_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            kf = w1_init;
+            kf = wl_w1_init;
         }
-        if (gf_kf2_predict(&kf, &W1_MODEL, NULL) != GF_OK ||
-            gf_kf2_update(&kf, &W1_MEAS, &w1_z[j], &info_sink) != GF_OK) {
+        if (gf_kf2_predict(&kf, &wl_w1_model, NULL) != GF_OK ||
+            gf_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j], &info_sink) != GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -254,8 +93,8 @@ NOINLINE static double bench_loop_w1_predict(unsigned long n)
 {
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
-        gf_kf2 kf = w1_post[i & (TAB - 1)];
-        if (gf_kf2_predict(&kf, &W1_MODEL, NULL) != GF_OK) {
+        gf_kf2 kf = wl_w1_post[i & (TAB - 1)];
+        if (gf_kf2_predict(&kf, &wl_w1_model, NULL) != GF_OK) {
             return -1;
         }
         acc += (double)kf.sigma.m[0][0];
@@ -268,8 +107,8 @@ NOINLINE static double bench_loop_w1_update(unsigned long n)
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
-        gf_kf2 kf = w1_prior[j];
-        if (gf_kf2_update(&kf, &W1_MEAS, &w1_z[j], &info_sink) != GF_OK) {
+        gf_kf2 kf = wl_w1_prior[j];
+        if (gf_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j], &info_sink) != GF_OK) {
             return -1;
         }
         acc += (double)kf.sigma.m[0][0];
@@ -280,14 +119,14 @@ NOINLINE static double bench_loop_w1_update(unsigned long n)
 // W1 through the prepared models.
 NOINLINE static double bench_loop_w1p_step(unsigned long n)
 {
-    gf_kf2 kf = w1_init;
+    gf_kf2 kf = wl_w1_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            kf = w1_init;
+            kf = wl_w1_init;
         }
-        if (gf_kf2_predict_prepared(&kf, &w1_pmodel, NULL) != GF_OK ||
-            gf_kf2_update_prepared(&kf, &w1_pmeas, &w1_z[j], &info_sink) !=
+        if (gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL) != GF_OK ||
+            gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j], &info_sink) !=
                 GF_OK) {
             fail_sink = (double)i;
             return -1;
@@ -300,8 +139,8 @@ NOINLINE static double bench_loop_w1p_predict(unsigned long n)
 {
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
-        gf_kf2 kf = w1_post[i & (TAB - 1)];
-        if (gf_kf2_predict_prepared(&kf, &w1_pmodel, NULL) != GF_OK) {
+        gf_kf2 kf = wl_w1_post[i & (TAB - 1)];
+        if (gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL) != GF_OK) {
             return -1;
         }
         acc += (double)kf.sigma.m[0][0];
@@ -314,8 +153,8 @@ NOINLINE static double bench_loop_w1p_update(unsigned long n)
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
-        gf_kf2 kf = w1_prior[j];
-        if (gf_kf2_update_prepared(&kf, &w1_pmeas, &w1_z[j], &info_sink) !=
+        gf_kf2 kf = wl_w1_prior[j];
+        if (gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j], &info_sink) !=
             GF_OK) {
             return -1;
         }
@@ -326,14 +165,14 @@ NOINLINE static double bench_loop_w1p_update(unsigned long n)
 
 NOINLINE static double bench_loop_w2_step(unsigned long n)
 {
-    gf_ekf3 ekf = w2_init;
+    gf_ekf3 ekf = wl_w2_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            ekf = w2_init;
+            ekf = wl_w2_init;
         }
-        if (gf_ekf3_predict(&ekf, &w2_motion, w2_u[j]) != GF_OK ||
-            gf_ekf3_update(&ekf, &w2_meas, &w2_z[j], &info_sink) != GF_OK) {
+        if (gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]) != GF_OK ||
+            gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) != GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -346,8 +185,8 @@ NOINLINE static double bench_loop_w2_predict(unsigned long n)
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
-        gf_ekf3 ekf = w2_post[j];
-        if (gf_ekf3_predict(&ekf, &w2_motion, w2_u[j]) != GF_OK) {
+        gf_ekf3 ekf = wl_w2_post[j];
+        if (gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]) != GF_OK) {
             return -1;
         }
         acc += (double)ekf.sigma.m[0][0];
@@ -360,8 +199,8 @@ NOINLINE static double bench_loop_w2_update(unsigned long n)
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
-        gf_ekf3 ekf = w2_prior[j];
-        if (gf_ekf3_update(&ekf, &w2_meas, &w2_z[j], &info_sink) != GF_OK) {
+        gf_ekf3 ekf = wl_w2_prior[j];
+        if (gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) != GF_OK) {
             return -1;
         }
         acc += (double)ekf.sigma.m[0][0];
@@ -372,28 +211,34 @@ NOINLINE static double bench_loop_w2_update(unsigned long n)
 // The same step with the no-checks reference (bench/ref.c).
 NOINLINE static double bench_loop_w1_ref(unsigned long n)
 {
-    gf_kf2 kf = w1_init;
+    gf_kf2 kf = wl_w1_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            kf = w1_init;
+            kf = wl_w1_init;
         }
-        ref_kf2_predict(&kf, &W1_MODEL);
-        ref_kf2_update(&kf, &W1_MEAS, &w1_z[j]);
+        ref_kf2_predict(&kf, &wl_w1_model);
+        ref_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j]);
     }
     return (double)kf.mu.v[0] + (double)kf.sigma.m[0][0];
 }
 
 NOINLINE static double bench_loop_w2_ref(unsigned long n)
 {
-    gf_ekf3 ekf = w2_init;
+    gf_ekf3 ekf = wl_w2_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            ekf = w2_init;
+            ekf = wl_w2_init;
         }
-        ref_ekf3_predict(&ekf, &w2_motion, w2_u[j]);
-        ref_ekf3_update(&ekf, &w2_meas, &w2_z[j]);
+        ref_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]);
+        if (wl_w2_meas.m == 1) {
+            ref_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        } else if (wl_w2_meas.m == 2) {
+            ref_ekf3_update_xy(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        } else {
+            ref_ekf3_update_xyt(&ekf, &wl_w2_meas, &wl_w2_z[j]);
+        }
     }
     return (double)ekf.mu.v[0] + (double)ekf.sigma.m[0][0];
 }
@@ -418,8 +263,8 @@ static int usage(void)
     fprintf(stderr,
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
-            "       WL = w1 | w1p | w2 | w2c, PART = step | predict | update | "
-            "ref\n");
+            "       WL = w1 | w1p | w2 | w2c | w2m2 | w2m3, PART = step | "
+            "predict | update | ref\n");
     return 2;
 }
 
@@ -430,7 +275,8 @@ int main(int argc, char **argv)
     }
     const char *mode = argv[1], *wl = argv[2], *part = argv[3];
     int user = strcmp(wl, "w2c") == 0;
-    int w2 = user || strcmp(wl, "w2") == 0;
+    unsigned m = strcmp(wl, "w2m2") == 0 ? 2u : strcmp(wl, "w2m3") == 0 ? 3u : 1u;
+    int w2 = user || m > 1 || strcmp(wl, "w2") == 0;
     int prepared = strcmp(wl, "w1p") == 0;
     if (!w2 && !prepared && strcmp(wl, "w1") != 0) {
         return usage();
@@ -447,8 +293,14 @@ int main(int argc, char **argv)
     } else {
         return usage();
     }
-
     if (strcmp(mode, "floor") == 0) {
+        if (m > 1) {
+            const int upd = m == 2 ? FLOOR_W2M2_UPDATE : FLOOR_W2M3_UPDATE;
+            const int f[4] = {FLOOR_W2_PREDICT + upd, FLOOR_W2_PREDICT, upd,
+                              FLOOR_W2_PREDICT + upd};
+            printf("%d\n", f[p]);
+            return 0;
+        }
         static const int floors[2][4] = {
             {FLOOR_W1_PREDICT + FLOOR_W1_UPDATE, FLOOR_W1_PREDICT,
              FLOOR_W1_UPDATE, FLOOR_W1_PREDICT + FLOOR_W1_UPDATE},
@@ -467,9 +319,9 @@ int main(int argc, char **argv)
          bench_loop_w1_ref}};
     loop_fn loop = loops[prepared ? 2 : w2][p];
     if (w2) {
-        setup_w2(user);
+        wl_setup_w2(m, user);
     } else {
-        setup_w1();
+        wl_setup_w1();
     }
 
     if (strcmp(mode, "count") == 0 && argc == 5) {

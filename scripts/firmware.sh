@@ -22,19 +22,25 @@ gf_fw_packages() {
 
 # gf_fw_build TARGET PREC [cmake -D args...]: configures and builds the
 # firmware project (the library, its .su/.ci stack files and the footprint
-# images) for TARGET in PREC (float or double), warnings as errors, -Os.
-# Prints the build directory's path on the last line. GF_FW_VARIANT=NAME
-# builds in a directory of its own.
+# images) for TARGET in PREC (float or double), warnings as errors, at -Os
+# (GF_FW_OPT=O2: at -O2 instead). Prints the build directory's path on the
+# last line. GF_FW_VARIANT=NAME builds in a directory of its own.
 gf_fw_build() {
     local target=$1 prec=$2 single=OFF
     shift 2
     [ "$prec" = float ] && single=ON
+    local opt=(-DCMAKE_BUILD_TYPE=MinSizeRel)
+    case ${GF_FW_OPT:-Os} in
+    Os) ;;
+    O2) opt=(-DCMAKE_BUILD_TYPE=Release "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG") ;;
+    *) gf_die "GF_FW_OPT is '$GF_FW_OPT': Os or O2" ;;
+    esac
     # shellcheck disable=SC2046
     gf_apt cmake make $(gf_fw_packages "$target") >&2
     local dir="$GF_BUILD/fw-$target-$prec${GF_FW_VARIANT:+-$GF_FW_VARIANT}"
     cmake -S "$GF_ROOT/firmware" -B "$dir" \
         -DCMAKE_TOOLCHAIN_FILE="$GF_ROOT/cmake/toolchain-$target.cmake" \
-        -DCMAKE_BUILD_TYPE=MinSizeRel -DGAUSSFILT_WERROR=ON \
+        "${opt[@]}" -DGAUSSFILT_WERROR=ON \
         -DGAUSSFILT_SINGLE_PRECISION=$single "$@" \
         >/dev/null ||
         gf_die "configuring the firmware build for $target ($prec) failed"

@@ -2,11 +2,9 @@
 """The firmware footprint report, from the build trees scripts/footprint
 made: per module and target .text/.rodata/.data/.bss, sizeof of the public
 structs, worst-case stack depth of every public function, and the minimal
-image's cost. The targets are judged on the build a firmware project gets
-at -Os by default (fw-TARGET-float: GF_SMALL=1, the compact KF2/EKF3
-steps); the fast paths forced (fw-TARGET-float-fast: GF_SMALL=0) are
-reported as information. Prints a Markdown fragment; --readme FILE splices it into FILE
-between the footprint markers under <!-- firmware -->.
+image's cost, in the float build at -Os (fw-TARGET-float), with the
+targets stated met or not. Prints a Markdown fragment; --docs FILE splices
+it into FILE between its footprint markers.
 
 Stack depth: a function's own frame is gcc's -fstack-usage figure (.su) for
 the core and, for what the core calls in libm, libc and libgcc (which Debian
@@ -44,8 +42,9 @@ TARGETS = [
     ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
-MODULES = ["mat", "cov2", "kf2", "ekf3", "small", "status", "rng", "if2",
-           "ukf3", "pf3"]
+# The modules: every src/*.c the build compiled, in this order first.
+MODULE_ORDER = ["mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3",
+                "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
            "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
@@ -56,27 +55,25 @@ STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
 CALLBACKS = {
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # EKF3's out-of-line paths for models other than the inlined built-ins.
-    "ekf3_predict_callback": ["gf_ekf3_motion_forward_turn"],
-    "ekf3_update_general": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "ekf3_update1_callback": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # GF_SMALL (src/small.c): the shared update's computation calls EKF3's
-    # model.
-    "update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
     # UKF3's helpers that call them are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # PF3's predict calls g from propagate (not inlined under -Os), or
-    # itself where propagate is inlined (other optimisation levels).
+    # itself where propagate is inlined (other optimisation levels). Static
+    # functions are named with their object (qualify).
     "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
-    "propagate": ["gf_ekf3_motion_forward_turn"],
+    "pf3.c:propagate": ["gf_ekf3_motion_forward_turn"],
     "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "pf3.c:mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
+# Any other function with an indirect call: counted as the deepest of all
+# the built-in models (and named in the report's notes).
+ALL_MODELS = ["gf_ekf3_motion_forward_turn", "gf_ekf3_meas_x",
+              "gf_ekf3_meas_xy"]
 STACK_LIMIT = 256
-IMAGE_LIMIT = 4096
-RAM_LIMITS = {"gf_kf2": 64, "gf_ekf3": 128}
+IMAGE_LIMIT = 6 * 1024
+BELIEF_LIMITS = {"gf_kf2": 24, "gf_ekf3": 48}
 # A double-precision libm function or soft-double helper in a float image
 # means a float was promoted somewhere.
 DOUBLE_SYMS = re.compile(
@@ -100,10 +97,41 @@ def section_kind(name):
     return None
 
 
+def core_archive(build):
+    return os.path.join(build, "gaussfilt/libgaussfilt.a")
+
+
+def archive_members(prefix, build):
+    """{"kf2.c": the local function symbols of kf2.c.obj, ...} for the
+    objects of the core's archive (objects a build tree still holds from
+    sources since removed are not in it, and are ignored)."""
+    lib = core_archive(build)
+    members = {m[:-len(".obj")]: set() for m in
+               run([prefix + "ar", "t", lib]).split() if m.endswith(".c.obj")}
+    for line in run([prefix + "nm", "-A", lib]).splitlines():
+        m = re.match(r"^.*:([\w.+-]+\.c)\.obj:\s*[0-9a-f]*\s+t\s+(\S+)$", line)
+        if m and m.group(1) in members:
+            members[m.group(1)].add(m.group(2))
+    return members
+
+
+def qualify(members, stem, name):
+    """A static function's name, made unique by its object ("kf2.c:update"):
+    two translation units may each have their own (static inline helpers of
+    a shared header, compiled into both)."""
+    return f"{stem}:{name}" if name in members.get(stem, ()) else name
+
+
+def modules(prefix, build):
+    names = [m[:-len(".c")] for m in archive_members(prefix, build)]
+    return sorted(names, key=lambda n: (MODULE_ORDER.index(n)
+                                        if n in MODULE_ORDER else 99, n))
+
+
 def module_sizes(prefix, build):
     """{module: {text, rodata, data, bss}} from the objects' sections."""
     sizes = {}
-    for mod in MODULES:
+    for mod in modules(prefix, build):
         obj = os.path.join(build, "gaussfilt/CMakeFiles/gaussfilt.dir/src",
                            mod + ".c.obj")
         acc = {"text": 0, "rodata": 0, "data": 0, "bss": 0}
@@ -129,10 +157,13 @@ def struct_sizes(prefix, build):
 
 # ---- stack ------------------------------------------------------------------
 
-def read_su(build):
+def read_su(build, members):
     frames = {}
     for su in glob.glob(os.path.join(
             build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.su")):
+        stem = os.path.basename(su)[:-len(".su")]
+        if stem not in members:
+            continue
         for line in open(su):
             loc, size, kind = line.rstrip("\n").split("\t")
             name = loc.rsplit(":", 1)[-1]
@@ -141,19 +172,23 @@ def read_su(build):
                 name += ".0"
             if kind != "static":
                 sys.exit(f"{su}: {name} has a {kind} frame")
-            frames[name] = int(size)
+            frames[qualify(members, stem, name)] = int(size)
     return frames
 
 
-def read_ci(build):
-    """Edges of gcc's call graph; static functions lose their file prefix."""
+def read_ci(build, members):
+    """Edges of gcc's call graph; a static function's file prefix becomes
+    its object's (qualify)."""
     edges = {}
     for ci in glob.glob(os.path.join(
             build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.ci")):
+        stem = os.path.basename(ci)[:-len(".ci")]
+        if stem not in members:
+            continue
         for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" '
                              r'targetname: "([^"]+)"', open(ci).read()):
-            src = m.group(1).rsplit(":", 1)[-1]
-            dst = m.group(2).rsplit(":", 1)[-1]
+            src = qualify(members, stem, m.group(1).rsplit(":", 1)[-1])
+            dst = qualify(members, stem, m.group(2).rsplit(":", 1)[-1])
             edges.setdefault(src, set()).add(dst)
     return edges
 
@@ -303,11 +338,15 @@ def tail_call(insns, i, frame, arm, targets):
     return released == frame
 
 
-def disassemble(prefix, archive, arm):
+def disassemble(prefix, archive, arm, members=None):
     """{function: (frame, callees, has_indirect, tail_callees)} for an
     archive: tail_callees are the targets of the tail calls tail_call
-    accepts; any other call or jump is in callees."""
+    accepts; any other call or jump is in callees. members: the core's
+    (archive_members), whose static functions are qualified."""
     out = run([prefix + "objdump", "-dr", "--no-show-raw-insn", archive])
+    members = members or {}
+    stem = None
+    q = lambda n: qualify(members, stem, n)  # noqa: E731
     funcs, aliases = {}, {}
     name, insns, callees, indirect = None, [], set(), False
     addrs, jumps, labels = [], [], set()
@@ -335,6 +374,12 @@ def disassemble(prefix, archive, arm):
 
     section_fn = None
     for line in out.splitlines():
+        m = re.match(r"^([\w.+-]+\.c)\.obj:\s+file format", line)
+        if m:
+            flush()
+            name = None
+            stem = m.group(1)
+            continue
         m = re.match(r"^Disassembly of section \.text\.([\w$]+):$", line)
         if m:
             section_fn = m.group(1)
@@ -345,10 +390,10 @@ def disassemble(prefix, archive, arm):
         m = re.match(r"^[0-9a-f]+ <([\w.$]+)>:$", line)
         if m and not m.group(1).startswith(".L"):
             flush()
-            name, insns, callees, indirect = m.group(1), [], set(), False
+            name, insns, callees, indirect = q(m.group(1)), [], set(), False
             addrs, jumps, labels = [], [], set()
             # picolibc labels cosf's code _cosf; its section says cosf.
-            if section_fn and section_fn != name:
+            if section_fn and q(section_fn) != name:
                 aliases[name] = section_fn
             section_fn = None
             continue
@@ -367,9 +412,9 @@ def disassemble(prefix, archive, arm):
                         (not arm and m.group(1).startswith("RISCV_CALL") and
                          op == "auipc" and rd != "ra") or \
                         (not arm and m.group(1) == "RISCV_JAL" and op == "j"):
-                    jumps.append((len(insns) - 1, m.group(2)))
+                    jumps.append((len(insns) - 1, q(m.group(2))))
                 else:
-                    callees.add(m.group(2))
+                    callees.add(q(m.group(2)))
             continue
         m = re.match(r"^\s+([0-9a-f]+):\s+(.*)$", line)
         if not m or m.group(2).startswith("R_"):
@@ -385,14 +430,14 @@ def disassemble(prefix, archive, arm):
             if op == "blx" and re.match(r"^(r\d+|ip|lr|sl|fp)$", args):
                 indirect = True
             bm = re.match(r"^[0-9a-f]+ <([\w.$]+)>$", args)
-            if op in ("bl", "blx") and bm and bm.group(1) != name:
-                callees.add(bm.group(1))
+            if op in ("bl", "blx") and bm and q(bm.group(1)) != name:
+                callees.add(q(bm.group(1)))
         else:
             if op in ("jalr", "c.jalr") and not args.startswith("ra"):
                 indirect = True
             bm = re.match(r"^(ra,)?[0-9a-f]+ <([\w.$]+)>$", args)
-            if op == "jal" and bm and bm.group(2) != name:
-                callees.add(bm.group(2))
+            if op == "jal" and bm and q(bm.group(2)) != name:
+                callees.add(q(bm.group(2)))
     flush()
     for a, n in aliases.items():
         funcs.setdefault(n, funcs[a])
@@ -416,10 +461,10 @@ UNREACHABLE = {"__kernel_rem_pio2f"}
 
 def stack_report(prefix, build, exclude=frozenset()):
     arm = prefix.startswith("arm")
-    su = read_su(build)
-    ci = read_ci(build)
-    core = disassemble(prefix, os.path.join(build, "gaussfilt/libgaussfilt.a"),
-                       arm)
+    members = archive_members(prefix, build)
+    su = read_su(build, members)
+    ci = read_ci(build, members)
+    core = disassemble(prefix, core_archive(build), arm, members)
     ext = {}
     for lib in libraries(build):
         for k, v in disassemble(prefix, lib, arm).items():
@@ -427,7 +472,19 @@ def stack_report(prefix, build, exclude=frozenset()):
     mismatches = [f"{n}: .su {su[n]}, prologue {core[n][0]}"
                   for n in su if n in core and core[n][0] != su[n]]
 
-    unknown = set()
+    unknown, guessed = set(), set()
+    # Link names carry the precision (include/gaussfilt/names.h):
+    # gf_ekf3_update_f32. CALLBACKS and ALL_MODELS use the plain names.
+    sfx = next((m.group(0) for n in su
+                for m in [re.search(r"_f(32|64)$", n)] if m and
+                n.startswith("gf_")), "")
+
+    def plain(n):
+        return n[:-len(sfx)] if sfx and n.startswith("gf_") and \
+            n.endswith(sfx) else n
+
+    def linked(names):
+        return {x + sfx if x.startswith("gf_") else x for x in names}
 
     def save_area(n):
         """Bytes a library function's registers take through libgcc's
@@ -466,9 +523,9 @@ def stack_report(prefix, build, exclude=frozenset()):
         elif n in ext:
             c |= ext[n][1]
         if "__indirect_call" in c or core.get(n, none)[2]:
-            if n not in CALLBACKS:
-                sys.exit(f"{n}: indirect call not accounted for")
-            c |= set(CALLBACKS[n])
+            if plain(n) not in CALLBACKS:
+                guessed.add(plain(n))
+            c |= linked(CALLBACKS.get(plain(n), ALL_MODELS))
         c.discard("__indirect_call")
         c = {x for x in c if not RISCV_SAVE.match(x)}  # in frame(n)
         c -= tails(n)
@@ -500,12 +557,12 @@ def stack_report(prefix, build, exclude=frozenset()):
     rows = {}
     for n in public:
         d, via, tail = depth(n)
-        chain = n
+        chain = plain(n)
         while via:
-            chain += (" ⇢ " if tail else " → ") + via
+            chain += (" ⇢ " if tail else " → ") + plain(via)
             _, via, tail = memo[via]
-        rows[n] = (su[n], d, chain)
-    return rows, mismatches, unknown
+        rows[plain(n)] = (su[n], d, chain)
+    return rows, mismatches, unknown, guessed
 
 
 # ---- images -----------------------------------------------------------------
@@ -570,14 +627,10 @@ def report(root, build_root):
     for pfx in ("arm-none-eabi-", "riscv64-unknown-elf-"):
         v = run([pfx + "gcc", "--version"]).splitlines()[0]
         versions.append(f"`{v}`")
-    lines.append(f"Generated by `scripts/footprint --readme` on {today} with "
+    lines.append(f"Generated by `scripts/footprint --docs` on {today} with "
                  + " and ".join(versions)
                  + "; `-Os`, float build (`gf_real` = float), "
-                 "`-ffunction-sections -fdata-sections`, `--gc-sections`. "
-                 "At `-Os` GF_SMALL is 1 by default (`config.h`: KF2's and "
-                 "EKF3's compact steps, `src/small.c`); every table below is "
-                 "that build unless it says *fast paths forced* "
-                 "(`-DGAUSSFILT_SMALL=OFF`).")
+                 "`-ffunction-sections -fdata-sections`, `--gc-sections`.")
     lines.append("")
 
     results = {}
@@ -600,7 +653,6 @@ def report(root, build_root):
     m4 = results["cortex-m4f"]
     flash = lambda s: s[0] + s[1]  # noqa: E731  text (+rodata) + data copy
     d_flash = flash(m4["min"]) - flash(m4["base"])
-    d_ram = (m4["min"][1] + m4["min"][2]) - (m4["base"][1] + m4["base"][2])
     dbl = sorted({ln.split()[-1] for ln in m4["syms"].splitlines()
                   if DOUBLE_SYMS.match(ln.split()[-1])})
     kf2 = m4["structs"]["gf_kf2"]
@@ -609,63 +661,24 @@ def report(root, build_root):
     # (KF2, EKF3, their helpers, and IF2, UKF3, PF3, the generator).
     worst = max((d, n) for n, (_, d, _) in m4["stack"][0].items())
     reach = max((d, n) for n, (_, d, _) in m4["stack_reach"][0].items())
-    met = lambda ok: "**met**" if ok else "**not met**"  # noqa: E731
-    # Information, not targets: the same with the fast paths forced
-    # (GF_SMALL=0, the default of a build not optimised for size).
-    fast = {}
-    for key, label, pfx in TARGETS:
-        fb = os.path.join(build_root, f"fw-{key}-float-fast")
-        if not os.path.isdir(fb):
-            continue
-        fmin = image_sizes(pfx, os.path.join(fb, "gf_fw_min.elf"))
-        fbase = image_sizes(pfx, os.path.join(fb, "gf_fw_base.elf"))
-        fstack = stack_report(pfx, fb)[0]
-        fast[key] = {
-            "label": label, "min": fmin, "base": fbase, "stack": fstack,
-            "worst": max((d, n) for n, (_, d, _) in fstack.items()),
-        }
-    fast_rows = []
-    if "cortex-m4f" in fast:
-        f4 = fast["cortex-m4f"]
-        fd = flash(f4["min"]) - flash(f4["base"])
-        fast_rows = [
-            f"| *information, not a target:* the same image with the fast "
-            f"paths forced (`-DGAUSSFILT_SMALL=OFF`, GF_SMALL=0) | (4 KiB) | "
-            f"{fmt_delta(fd)} | information |",
-            f"| *information, not a target:* deepest public function, "
-            f"every module, with the fast paths forced (GF_SMALL=0) | (256 B) | "
-            f"{f4['worst'][0]} B (`{f4['worst'][1]}`) | information |",
-        ]
+    met = lambda ok: "**met**" if ok else "**NOT met**"  # noqa: E731
     lines += [
-        "| target (Cortex-M4F, float, `-Os`: GF_SMALL=1 by default) | limit "
-        "| measured | |",
+        "| target (Cortex-M4F, float, `-Os`) | limit | measured | |",
         "|---|---|---|---|",
         f"| KF2 + EKF3 image minus the same image without them (flash, "
-        f"libm included) | 4 KiB | {fmt_delta(d_flash)} | {met(d_flash <= IMAGE_LIMIT)} |",
-        f"| one KF2 belief (`sizeof(gf_kf2)`) | < 64 B | {kf2} B | {met(kf2 < 64)} |",
-        f"| one EKF3 belief (`sizeof(gf_ekf3)`) | < 128 B | {ekf3} B | {met(ekf3 < 128)} |",
-        f"| deepest public function, every module (built-in models) | 256 B | {worst[0]} B "
-        f"(`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
+        f"libm included) | 6 KiB | {fmt_delta(d_flash)} | "
+        f"{met(d_flash <= IMAGE_LIMIT)} |",
+        f"| one KF2 belief (`sizeof(gf_kf2)`) | 24 B | {kf2} B | "
+        f"{met(kf2 <= BELIEF_LIMITS['gf_kf2'])} |",
+        f"| one EKF3 belief (`sizeof(gf_ekf3)`) | 48 B | {ekf3} B | "
+        f"{met(ekf3 <= BELIEF_LIMITS['gf_ekf3'])} |",
+        f"| deepest public function, every module (built-in models) | 256 B "
+        f"| {worst[0]} B (`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
         f"| the same, without newlib's large-argument path of sinf/cosf "
         f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "
         f"(-pi, pi]) | 256 B | {reach[0]} B (`{reach[1]}`) | "
         f"{met(reach[0] <= STACK_LIMIT)} |",
-    ] + fast_rows + [
         "",
-    ]
-    if fast:
-        lines += [
-            "Information, not targets: with the fast paths forced "
-            "(`-DGAUSSFILT_SMALL=OFF`, GF_SMALL=0), the stack depth of each "
-            "public KF2/EKF3 function (bytes, built-in models), per target: "
-            + "; ".join(
-                f"{f['label']}: " + ", ".join(
-                    f"`{n}` {d}" for n, (_, d, _) in sorted(f["stack"].items())
-                    if n.startswith(("gf_kf2_", "gf_ekf3_")))
-                for f in fast.values()) + ".",
-            "",
-        ]
-    lines += [
         f"Double promoted in the float image: "
         + (", ".join(f"`{s}`" for s in dbl) if dbl else "none (no double "
            "libm function, no soft-double helper)") + ".",
@@ -675,8 +688,7 @@ def report(root, build_root):
     # Minimal images.
     lines += ["Minimal images (`firmware/min_image.c`: one KF2 predict/update, "
               "one EKF3 predict/update with the built-in models; the base "
-              "image has the same start-up and I/O, no filter), `-Os` with "
-              "GF_SMALL's default (1), then with the fast paths forced. "
+              "image has the same start-up and I/O, no filter), `-Os`. "
               "Bytes:", "",
               "| target | base flash | KF2+EKF3 flash | delta flash | delta RAM "
               "| delta: core | libm | libc | libgcc |",
@@ -690,14 +702,6 @@ def report(root, build_root):
         lines.append(f"| {r['label']} | {flash(r['base'])} | {flash(r['min'])} "
                      f"| {df} | {dr} | {part('gaussfilt')} | {part('libm')} "
                      f"| {part('libc')} | {part('libgcc')} |")
-    for key, _, _ in TARGETS:
-        if key in fast:
-            f = fast[key]
-            df = flash(f["min"]) - flash(f["base"])
-            dr = (f["min"][1] + f["min"][2]) - (f["base"][1] + f["base"][2])
-            lines.append(f"| {f['label']}, fast paths forced (GF_SMALL=0; "
-                         f"information) | {flash(f['base'])} | "
-                         f"{flash(f['min'])} | {df} | {dr} | | | | |")
     lines.append("")
 
     # Modules.
@@ -707,7 +711,7 @@ def report(root, build_root):
                   f"{results[k]['label']} .text / .rodata / .data / .bss"
                   for k, _, _ in TARGETS) + " |",
               "|---|" + "---|" * len(TARGETS)]
-    for mod in MODULES + ["total"]:
+    for mod in list(m4["mods"]) + ["total"]:
         cells = []
         for key, _, _ in TARGETS:
             mods = results[key]["mods"]
@@ -715,7 +719,8 @@ def report(root, build_root):
                 s = {k: sum(m[k] for m in mods.values())
                      for k in ("text", "rodata", "data", "bss")}
             else:
-                s = mods[mod]
+                s = mods.get(mod, {"text": 0, "rodata": 0, "data": 0,
+                                   "bss": 0})
             cells.append(f"{s['text']} / {s['rodata']} / {s['data']} / {s['bss']}")
         name = f"`{mod}.c`" if mod != "total" else "**total**"
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
@@ -761,12 +766,16 @@ def report(root, build_root):
     lines.append("")
     notes = []
     for key, label, _ in TARGETS:
-        _, mism, unknown = results[key]["stack"]
+        _, mism, unknown, guessed = results[key]["stack"]
         if mism:
             notes.append(f"{label}: prologue and .su disagree: " + "; ".join(mism))
         if unknown:
             notes.append(f"{label}: no frame found for " + ", ".join(sorted(unknown))
                          + " (counted as 0)")
+        if guessed:
+            notes.append(f"{label}: the indirect calls of "
+                         + ", ".join(f"`{g}`" for g in sorted(guessed))
+                         + " counted as the deepest built-in model.")
     if notes:
         lines += ["Stack analysis notes: " + " ".join(notes), ""]
     else:
@@ -780,30 +789,25 @@ BEGIN = "<!-- firmware:footprint:begin -->"
 END = "<!-- firmware:footprint:end -->"
 
 
-def splice(readme, text):
-    s = open(readme).read()
+def splice(doc, text):
+    s = open(doc).read()
+    if BEGIN not in s or END not in s:
+        sys.exit(f"{doc}: no {BEGIN} / {END} lines")
     block = f"{BEGIN}\n{text}\n{END}"
-    if BEGIN in s:
-        s = s[:s.index(BEGIN)] + block + s[s.index(END) + len(END):]
-    else:
-        anchor = "<!-- firmware -->"
-        if anchor not in s:
-            sys.exit(f"{readme}: no {anchor} anchor")
-        i = s.index(anchor) + len(anchor)
-        s = s[:i] + "\n\n" + block + s[i:]
-    open(readme, "w").write(s)
+    s = s[:s.index(BEGIN)] + block + s[s.index(END) + len(END):]
+    open(doc, "w").write(s)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", required=True)
-    ap.add_argument("--readme")
+    ap.add_argument("--docs", metavar="FILE")
     args = ap.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     text = report(root, args.build)
     print(text)
-    if args.readme:
-        splice(args.readme, text)
+    if args.docs:
+        splice(args.docs, text)
 
 
 if __name__ == "__main__":
