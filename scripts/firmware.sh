@@ -23,11 +23,8 @@ gf_fw_packages() {
 # gf_fw_build TARGET PREC [cmake -D args...]: configures and builds the
 # firmware project (the library, its .su/.ci stack files and the footprint
 # images) for TARGET in PREC (float or double), warnings as errors, -Os.
-# GAUSSFILT_SMALL is AUTO unless the args say otherwise, so at -Os the
-# library gets what a firmware build gets by default: GF_SMALL's compact
-# steps. Prints the build directory's path on the last line.
-# GF_FW_VARIANT=NAME builds in a directory of its own (fast: the fast
-# paths forced, with -DGAUSSFILT_SMALL=OFF).
+# Prints the build directory's path on the last line. GF_FW_VARIANT=NAME
+# builds in a directory of its own.
 gf_fw_build() {
     local target=$1 prec=$2 single=OFF
     shift 2
@@ -38,26 +35,12 @@ gf_fw_build() {
     cmake -S "$GF_ROOT/firmware" -B "$dir" \
         -DCMAKE_TOOLCHAIN_FILE="$GF_ROOT/cmake/toolchain-$target.cmake" \
         -DCMAKE_BUILD_TYPE=MinSizeRel -DGAUSSFILT_WERROR=ON \
-        -DGAUSSFILT_SINGLE_PRECISION=$single -DGAUSSFILT_SMALL=AUTO "$@" \
+        -DGAUSSFILT_SINGLE_PRECISION=$single "$@" \
         >/dev/null ||
         gf_die "configuring the firmware build for $target ($prec) failed"
     cmake --build "$dir" --parallel 2 >&2 ||
         gf_die "the firmware build for $target ($prec) failed"
     echo "$dir"
-}
-
-# gf_fw_expect_small TARGET DIR 0|1: the library in DIR was built with
-# GF_SMALL as said: KF2's and EKF3's steps come from small.c (1) or from
-# kf2.c and ekf3.c (0).
-gf_fw_expect_small() {
-    local target=$1 dir=$2 want=$3 obj
-    obj=$("$(gf_fw_prefix "$target")nm" -A "$dir/gaussfilt/libgaussfilt.a" |
-        awk '$NF == "gf_kf2_update" && $(NF-1) == "T" {print $1}')
-    case $want:$obj in
-    1:*small.c.obj*) echo "$target: GF_SMALL=1 (compact steps, small.c)" ;;
-    0:*kf2.c.obj*) echo "$target: GF_SMALL=0 (fast paths, kf2.c/ekf3.c)" ;;
-    *) gf_die "$target ($dir): expected GF_SMALL=$want, gf_kf2_update is in ${obj:-nothing}" ;;
-    esac
 }
 
 # The symbols a filter image must not contain: allocation, stdio, exit.

@@ -15,7 +15,7 @@ gf_status gf_if2_init(gf_if2 *inf, const gf_mat2 *omega, const gf_vec2 *xi)
         return st;
     }
     inf->omega = *omega;
-    gf_mat2_symmetrize(&inf->omega);
+    (void)gf_mat2_symmetrize(&inf->omega);
     inf->xi = *xi;
     return GF_OK;
 }
@@ -40,7 +40,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
         return st;
     }
     // xi = Omega mu
-    gf_mat2_mulv(&r.omega, mu, &r.xi);
+    (void)gf_mat2_mulv(&r.omega, mu, &r.xi);
     if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
         return GF_ERR_NONFINITE;
     }
@@ -58,7 +58,7 @@ static gf_status moments(const gf_if2 *inf, gf_vec2 *mu, gf_mat2 *sigma)
     if (st != GF_OK) {
         return st;
     }
-    gf_mat2_mulv(sigma, &inf->xi, mu);
+    (void)gf_mat2_mulv(sigma, &inf->xi, mu);
     if (!gf_mat2_is_finite(sigma) || !gf_vec2_is_finite(mu)) {
         return GF_ERR_NONFINITE;
     }
@@ -110,10 +110,10 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 
     // A Omega^-1 xi + B u + c
     gf_vec2 mu_bar;
-    gf_mat2_mulv(&model->A, &mu, &mu_bar);
+    (void)gf_mat2_mulv(&model->A, &mu, &mu_bar);
     if (u) {
         gf_vec2 bu;
-        gf_mat2_mulv(&model->B, u, &bu);
+        (void)gf_mat2_mulv(&model->B, u, &bu);
         mu_bar.v[0] += bu.v[0];
         mu_bar.v[1] += bu.v[1];
     }
@@ -122,7 +122,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 
     // A Omega^-1 A^T + R
     gf_mat2 sig_bar;
-    gf_mat2_sandwich(&model->A, &sigma, &sig_bar);
+    (void)gf_mat2_sandwich(&model->A, &sigma, &sig_bar);
     sig_bar.m[0][0] += model->R.m[0][0];
     sig_bar.m[0][1] += GF_R(0.5) * (model->R.m[0][1] + model->R.m[1][0]);
     sig_bar.m[1][1] += model->R.m[1][1];
@@ -135,7 +135,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
         return st;
     }
     // xi_bar = Omega_bar (A Omega^-1 xi + B u + c)
-    gf_mat2_mulv(&r.omega, &mu_bar, &r.xi);
+    (void)gf_mat2_mulv(&r.omega, &mu_bar, &r.xi);
 
     if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
         return GF_ERR_NONFINITE;
@@ -160,7 +160,7 @@ static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
     // S = C Sigma_bar C^T + Q. For m = 1 only S[0][0] is used (row 1 of
     // C, which need not be set, does not enter it), inverted as a scalar;
     // for m = 2, S^-1 replaces Sigma_bar.
-    gf_mat2_sandwich(&meas->C, &sig, &S);
+    (void)gf_mat2_sandwich(&meas->C, &sig, &S);
     S.m[0][0] += meas->Q.m[0][0];
     if (m == 1) {
         if (!GF_ISFINITE(S.m[0][0])) {
@@ -270,7 +270,7 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
                 r.xi.v[i] += CtQi.m[i][j] * (z->v[j] - meas->c.v[j]);
             }
         }
-        gf_mat2_symmetrize(&r.omega);
+        (void)gf_mat2_symmetrize(&r.omega);
 
         if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
             return GF_ERR_NONFINITE;

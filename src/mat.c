@@ -1,85 +1,79 @@
 #include "gaussfilt/mat.h"
 
-#include "gf_internal.h"
+#include "udu.h"
 
 // ---- 2x2 -----------------------------------------------------------------
 
-void gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out)
+gf_status gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out)
 {
+    if (!a || !b || !out) {
+        return GF_ERR_ARG;
+    }
     gf_mat2 r;
     r.m[0][0] = a->m[0][0] * b->m[0][0] + a->m[0][1] * b->m[1][0];
     r.m[0][1] = a->m[0][0] * b->m[0][1] + a->m[0][1] * b->m[1][1];
     r.m[1][0] = a->m[1][0] * b->m[0][0] + a->m[1][1] * b->m[1][0];
     r.m[1][1] = a->m[1][0] * b->m[0][1] + a->m[1][1] * b->m[1][1];
     *out = r;
+    return GF_OK;
 }
 
-void gf_mat2_mulv(const gf_mat2 *a, const gf_vec2 *x, gf_vec2 *out)
+gf_status gf_mat2_mulv(const gf_mat2 *a, const gf_vec2 *x, gf_vec2 *out)
 {
+    if (!a || !x || !out) {
+        return GF_ERR_ARG;
+    }
     gf_vec2 r;
     r.v[0] = a->m[0][0] * x->v[0] + a->m[0][1] * x->v[1];
     r.v[1] = a->m[1][0] * x->v[0] + a->m[1][1] * x->v[1];
     *out = r;
+    return GF_OK;
 }
 
-void gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out)
+gf_status gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out)
 {
+    if (!a || !s || !out) {
+        return GF_ERR_ARG;
+    }
     // t = a s, then out = t a^T; only the upper triangle is computed.
     gf_mat2 t, r;
-    gf_mat2_mul(a, s, &t);
+    (void)gf_mat2_mul(a, s, &t);
     r.m[0][0] = t.m[0][0] * a->m[0][0] + t.m[0][1] * a->m[0][1];
     r.m[0][1] = t.m[0][0] * a->m[1][0] + t.m[0][1] * a->m[1][1];
     r.m[1][1] = t.m[1][0] * a->m[1][0] + t.m[1][1] * a->m[1][1];
     r.m[1][0] = r.m[0][1];
     *out = r;
+    return GF_OK;
 }
 
-void gf_mat2_symmetrize(gf_mat2 *s)
-{
-    gf_real o = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
-    s->m[0][1] = o;
-    s->m[1][0] = o;
-}
-
-int gf_mat2_is_finite(const gf_mat2 *a)
-{
-    return GF_ISFINITE(a->m[0][0]) && GF_ISFINITE(a->m[0][1]) &&
-           GF_ISFINITE(a->m[1][0]) && GF_ISFINITE(a->m[1][1]);
-}
-
-// |a - b| small against |a| + |b|; exact for a == b, zeros included.
-static int near_equal(gf_real a, gf_real b)
-{
-    return GF_FABS(a - b) <= GF_SYM_RTOL * (GF_FABS(a) + GF_FABS(b));
-}
-
-// A principal minor det of a block with diagonal product dprod (>= 0) is
-// non-negative within the relative tolerance.
-static int minor_ok(gf_real det, gf_real dprod)
-{
-    return det >= -GF_PD_RTOL * dprod;
-}
-
-gf_status gf_mat2_check_psd(const gf_mat2 *s)
+gf_status gf_mat2_symmetrize(gf_mat2 *s)
 {
     if (!s) {
         return GF_ERR_ARG;
     }
-    if (!gf_mat2_is_finite(s)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (!near_equal(s->m[0][1], s->m[1][0])) {
-        return GF_ERR_NOT_PSD;
-    }
-    gf_real a = s->m[0][0], c = s->m[1][1], b = s->m[0][1];
-    if (a < 0 || c < 0 || !minor_ok(a * c - b * b, a * c)) {
-        return GF_ERR_NOT_PSD;
-    }
+    gf_real o = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    s->m[0][1] = o;
+    s->m[1][0] = o;
     return GF_OK;
+}
+
+int gf_mat2_is_finite(const gf_mat2 *a)
+{
+    return a && GF_ISFINITE(a->m[0][0]) && GF_ISFINITE(a->m[0][1]) &&
+           GF_ISFINITE(a->m[1][0]) && GF_ISFINITE(a->m[1][1]);
+}
+
+gf_status gf_mat2_check_psd(const gf_mat2 *s)
+{
+    gf_real u[3][3], d[3];
+    return s ? gf_psd_check(s->m[0], 2, 2, u, d) : GF_ERR_ARG;
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
 {
+    if (!s || !inv) {
+        return GF_ERR_ARG;
+    }
     gf_real a = s->m[0][0], b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
     gf_real c = s->m[1][1];
     if (!(GF_ISFINITE(a) && GF_ISFINITE(b) && GF_ISFINITE(c))) {
@@ -155,8 +149,11 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
 
 // ---- 3x3 -----------------------------------------------------------------
 
-void gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out)
+gf_status gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out)
 {
+    if (!a || !b || !out) {
+        return GF_ERR_ARG;
+    }
     gf_mat3 r;
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 3; j++) {
@@ -165,20 +162,28 @@ void gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out)
         }
     }
     *out = r;
+    return GF_OK;
 }
 
-void gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out)
+gf_status gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out)
 {
+    if (!a || !x || !out) {
+        return GF_ERR_ARG;
+    }
     gf_vec3 r;
     for (int i = 0; i < 3; i++) {
         r.v[i] = a->m[i][0] * x->v[0] + a->m[i][1] * x->v[1] +
                  a->m[i][2] * x->v[2];
     }
     *out = r;
+    return GF_OK;
 }
 
-void gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out)
+gf_status gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out)
 {
+    if (!a || !s || !out) {
+        return GF_ERR_ARG;
+    }
     // The upper triangle row by row (no 3x3 temporary for a s, no call),
     // then mirrored.
     gf_mat3 r;
@@ -187,10 +192,14 @@ void gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out)
     r.m[2][0] = r.m[0][2];
     r.m[2][1] = r.m[1][2];
     *out = r;
+    return GF_OK;
 }
 
-void gf_mat3_symmetrize(gf_mat3 *s)
+gf_status gf_mat3_symmetrize(gf_mat3 *s)
 {
+    if (!s) {
+        return GF_ERR_ARG;
+    }
     for (int i = 0; i < 3; i++) {
         for (int j = i + 1; j < 3; j++) {
             gf_real o = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
@@ -198,10 +207,14 @@ void gf_mat3_symmetrize(gf_mat3 *s)
             s->m[j][i] = o;
         }
     }
+    return GF_OK;
 }
 
 int gf_mat3_is_finite(const gf_mat3 *a)
 {
+    if (!a) {
+        return 0;
+    }
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 3; j++) {
             if (!GF_ISFINITE(a->m[i][j])) {
@@ -217,45 +230,13 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    for (unsigned i = 0; i < n; i++) {
-        for (unsigned j = 0; j < n; j++) {
-            if (!GF_ISFINITE(s->m[i][j])) {
-                return GF_ERR_NONFINITE;
-            }
-        }
-    }
-    // Symmetric, then every principal minor (1x1, 2x2, 3x3) non-negative:
-    // Sylvester's criterion for semidefiniteness needs all of them, not
-    // only the leading ones.
-    for (unsigned i = 0; i < n; i++) {
-        if (s->m[i][i] < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-        for (unsigned j = i + 1; j < n; j++) {
-            if (!near_equal(s->m[i][j], s->m[j][i])) {
-                return GF_ERR_NOT_PSD;
-            }
-            gf_real dp = s->m[i][i] * s->m[j][j];
-            if (!minor_ok(dp - s->m[i][j] * s->m[i][j], dp)) {
-                return GF_ERR_NOT_PSD;
-            }
-        }
-    }
-    if (n == 3) {
-        const gf_real(*m)[3] = s->m;
-        gf_real det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[1][2]) -
-                      m[0][1] * (m[0][1] * m[2][2] - m[1][2] * m[0][2]) +
-                      m[0][2] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]);
-        if (!minor_ok(det, m[0][0] * m[1][1] * m[2][2])) {
-            return GF_ERR_NOT_PSD;
-        }
-    }
-    return GF_OK;
+    gf_real u[3][3], d[3];
+    return gf_psd_check(s->m[0], 3, n, u, d);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)
 {
-    if (n < 1 || n > 3) {
+    if (!s || !l || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
     gf_real p[6];
@@ -276,9 +257,12 @@ gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)
     return GF_OK;
 }
 
-void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
+gf_status gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
                         gf_vec3 *x)
 {
+    if (!l || !b || !x || n < 1 || n > 3) {
+        return GF_ERR_ARG;
+    }
     gf_vec3 y = *b;
     for (unsigned i = 0; i < n; i++) { // l y = b
         for (unsigned k = 0; k < i; k++) {
@@ -293,6 +277,7 @@ void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
         y.v[i] /= l->m[i][i];
     }
     *x = y;
+    return GF_OK;
 }
 
 // ---- positive semidefinite square root -----------------------------------

@@ -127,7 +127,7 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
     r.mu = *mu;
     r.mu.v[2] = gf_angle_wrap(mu->v[2]);
     r.sigma = *sigma;
-    gf_mat3_symmetrize(&r.sigma);
+    (void)gf_mat3_symmetrize(&r.sigma);
     // gamma = sqrt(n + lambda), w_i = 1 / (2 (n + lambda)); the centre's
     // weights w_m,0 = lambda / (n + lambda) and w_c,0 = w_m,0 + 1 -
     // alpha^2 + beta are never formed (see the sums below): only what is
@@ -191,7 +191,7 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     {
         gf_vec3 mu = {{0, 0, 0}};
         gf_mat3 sigma = motion->R;
-        gf_mat3_symmetrize(&sigma);
+        (void)gf_mat3_symmetrize(&sigma);
         for (unsigned j = 1; j < N_SIGMA; j++) {
             residual(&y[j], &y[0], N_STATE, HEADING_MASK, &y[j]);
             for (unsigned a = 0; a < N_STATE; a++) {

@@ -1,5 +1,5 @@
-// The fast paths of kf2.c and ekf3.c (issue 5) against a plain textbook
-// implementation written here: full matrix products, the factored Joseph
+// KF2's and EKF3's steps (the factored update of src/udu.c) against a
+// plain textbook implementation written here: full matrix products, the factored Joseph
 // form (I - K H) Sigma (I - K H)^T + K Q K^T, and a general G. Random
 // beliefs, headings all round the circle, and the inputs that take the slow
 // paths (R symmetric only within tolerance, R not diagonally dominant, a

@@ -38,11 +38,22 @@ typedef double gf_real;
 #define GF_ISFINITE(x) isfinite(x)
 #endif
 
-// Relative tolerance of the positive-definiteness tests: a Cholesky pivot
-// smaller than GF_PD_RTOL times its diagonal entry counts as singular, and a
-// principal minor below -GF_PD_RTOL times the product of its diagonal entries
-// counts as indefinite. Scale-free: multiplying a matrix by any positive
-// number never changes the verdict.
+// The tolerances of the verdicts. Every test of definiteness and
+// singularity looks at the correlation form D^-1/2 M D^-1/2 (D = diag(M)),
+// through the pivots of M = U D U^T taken relative to M's own diagonal
+// (src/udu.c), so multiplying M by any power of two that keeps its entries
+// normal never changes a verdict, and units never do.
+//
+// GF_PD_RTOL: a pivot below GF_PD_RTOL times its diagonal entry is zero
+// (semidefinite in that direction; singular for an inverse or a Cholesky
+// factor), one below -GF_PD_RTOL times it is indefinite, and an entry
+// coupled to a zero pivot must be below GF_PD_RTOL in the correlation
+// form. Derived for both precisions from the factorisation's error: a
+// computed pivot of a correlation matrix of order n <= 3 is off by at most
+// about gamma_(n+1) * n <= 12 u = 6 eps (Higham, Accuracy and Stability of
+// Numerical Algorithms, 2nd ed., theorem 10.5, u = eps / 2), and a
+// covariance the filter computed carries a few eps of its own; 64 eps
+// leaves a margin of five over both. Float: 7.6e-6; double: 1.4e-14.
 #ifndef GF_PD_RTOL
 #define GF_PD_RTOL (GF_R(64.0) * GF_REAL_EPSILON)
 #endif
@@ -51,26 +62,6 @@ typedef double gf_real;
 // in: |a_ij - a_ji| <= GF_SYM_RTOL * (|a_ij| + |a_ji|).
 #ifndef GF_SYM_RTOL
 #define GF_SYM_RTOL (GF_R(1024.0) * GF_REAL_EPSILON)
-#endif
-
-// GF_SMALL selects how KF2's and EKF3's steps are built. 1: for size
-// (src/small.c: one shared generic prediction and correction, no fast
-// paths, models always called through their pointers; less flash and
-// stack on an MCU, more time per step). 0: the fast paths of kf2.c and
-// ekf3.c. Same API, statuses and results within rounding either way.
-// Default: 1 when the compiler optimises for size (gcc and clang define
-// __OPTIMIZE_SIZE__ at -Os and -Oz, the usual firmware setting), else 0.
-// Force either with -DGF_SMALL=1 or -DGF_SMALL=0 (CMake: GAUSSFILT_SMALL
-// AUTO, the default, ON or OFF; ON and OFF are PUBLIC definitions of the
-// gaussfilt target). Code tests it with #if GF_SMALL. A program that
-// includes gaussfilt's headers need not be built like the library: the
-// choice is made where the library is compiled.
-#ifndef GF_SMALL
-#if defined(__OPTIMIZE_SIZE__)
-#define GF_SMALL 1
-#else
-#define GF_SMALL 0
-#endif
 #endif
 
 #define GF_PI GF_R(3.14159265358979323846)

@@ -3,6 +3,8 @@
 // Matrices are row-major structs (m[row][col]) so they copy by assignment.
 // Sources are const and come first, the destination comes last; every
 // function works through locals, so the destination may alias a source.
+// Every function returns GF_ERR_ARG for a NULL pointer (and writes
+// nothing), GF_OK on success; the _is_finite tests return 0 for NULL.
 #ifndef GAUSSFILT_MAT_H
 #define GAUSSFILT_MAT_H
 
@@ -21,23 +23,24 @@ typedef struct gf_mat3 { gf_real m[3][3]; } gf_mat3;
 // ---- 2x2 -----------------------------------------------------------------
 
 // out = a b
-void gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out);
+gf_status gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out);
 
 // out = a x
-void gf_mat2_mulv(const gf_mat2 *a, const gf_vec2 *x, gf_vec2 *out);
+gf_status gf_mat2_mulv(const gf_mat2 *a, const gf_vec2 *x, gf_vec2 *out);
 
 // out = a s a^T for a symmetric s; out is exactly symmetric.
-void gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out);
+gf_status gf_mat2_sandwich(const gf_mat2 *a, const gf_mat2 *s, gf_mat2 *out);
 
 // s = (s + s^T) / 2
-void gf_mat2_symmetrize(gf_mat2 *s);
+gf_status gf_mat2_symmetrize(gf_mat2 *s);
 
 // 1 if every entry is finite, else 0.
 int gf_mat2_is_finite(const gf_mat2 *a);
 
 // Checks that s is a covariance: finite (else GF_ERR_NONFINITE), symmetric
-// within GF_SYM_RTOL and positive semidefinite within GF_PD_RTOL (else
-// GF_ERR_NOT_PSD).
+// within GF_SYM_RTOL and positive semidefinite within GF_PD_RTOL in the
+// correlation form (else GF_ERR_NOT_PSD; config.h). The verdict is the
+// same for s and any power of two times s that keeps the entries normal.
 gf_status gf_mat2_check_psd(const gf_mat2 *s);
 
 // inv = s^-1 for a symmetric positive-definite s, in closed form.
@@ -55,16 +58,16 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle);
 // ---- 3x3 -----------------------------------------------------------------
 
 // out = a b
-void gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out);
+gf_status gf_mat3_mul(const gf_mat3 *a, const gf_mat3 *b, gf_mat3 *out);
 
 // out = a x
-void gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out);
+gf_status gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out);
 
 // out = a s a^T for a symmetric s; out is exactly symmetric.
-void gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out);
+gf_status gf_mat3_sandwich(const gf_mat3 *a, const gf_mat3 *s, gf_mat3 *out);
 
 // s = (s + s^T) / 2
-void gf_mat3_symmetrize(gf_mat3 *s);
+gf_status gf_mat3_symmetrize(gf_mat3 *s);
 
 // 1 if every entry is finite, else 0.
 int gf_mat3_is_finite(const gf_mat3 *a);
@@ -81,7 +84,7 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n);
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l);
 
 // Solves l l^T x = b on the leading n entries, l from gf_mat3_chol.
-void gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
+gf_status gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
                         gf_vec3 *x);
 
 // Lower-triangular square root l (s = l l^T) of the leading n x n block of

@@ -2,28 +2,17 @@
 # Cross-builds of the core, warnings as errors, for every firmware target
 # (Cortex-M4F, Cortex-M0+, RV32IMAFC) in float and double, and the link
 # check: a minimal image running KF2 and EKF3 pulls in no malloc, free,
-# printf or exit. Each build twice: as a firmware project gets it at -Os by
-# default (GAUSSFILT_SMALL=AUTO: GF_SMALL's compact steps), and with the
-# fast paths forced (GAUSSFILT_SMALL=OFF).
+# printf or exit. At -Os, as firmware projects build.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$GF_ROOT/scripts/firmware.sh"
 
 for target in $GF_FW_TARGETS; do
     for prec in float double; do
-        for variant in default fast; do
-            gf_log "cross: $target ($prec, $variant)"
-            if [ $variant = fast ]; then
-                dir=$(GF_FW_VARIANT=fast gf_fw_build "$target" "$prec" \
-                    -DGAUSSFILT_SMALL=OFF | tail -1)
-                gf_fw_expect_small "$target" "$dir" 0
-            else
-                dir=$(gf_fw_build "$target" "$prec" | tail -1)
-                gf_fw_expect_small "$target" "$dir" 1
-            fi
-            "$(gf_fw_prefix "$target")size" "$dir/gaussfilt/libgaussfilt.a" |
-                awk 'NR == 1 || /obj/'
-            gf_fw_link_check "$target" "$dir"
-        done
+        gf_log "cross: $target ($prec)"
+        dir=$(gf_fw_build "$target" "$prec" | tail -1)
+        "$(gf_fw_prefix "$target")size" "$dir/gaussfilt/libgaussfilt.a" |
+            awk 'NR == 1 || /obj/'
+        gf_fw_link_check "$target" "$dir"
     done
 done

@@ -40,16 +40,8 @@ SRC
         gf_die "cmocka's source is not version 1.x; firmware/cmocka/config.h is for 1.1"
 fi
 
-# The firmware build is -Os, where GF_SMALL defaults to 1: the tests run
-# once with the fast paths forced (GAUSSFILT_SMALL=OFF) and once as a
-# firmware project gets the library by default (compact steps, src/small.c).
-gf_log "qemu: the tests with the fast paths (GF_SMALL=0) on mps2-an386"
-dir=$(GF_FW_VARIANT=fast gf_fw_build cortex-m4f float -DGAUSSFILT_SMALL=OFF \
-    -DGF_FW_CMOCKA_DIR="$src" | tail -1)
-gf_fw_expect_small cortex-m4f "$dir" 0
-gf_ctest "$dir"
-
-gf_log "qemu: the same tests as built by default at -Os (GF_SMALL=1) on mps2-an386"
+# The firmware build: -Os, as firmware projects build (the same code as
+# any other optimisation level).
+gf_log "qemu: the tests on mps2-an386 (Cortex-M4F, float, -Os)"
 dir=$(gf_fw_build cortex-m4f float -DGF_FW_CMOCKA_DIR="$src" | tail -1)
-gf_fw_expect_small cortex-m4f "$dir" 1
 gf_ctest "$dir"

@@ -5,9 +5,7 @@
 #   and explained in docs/misra.md;
 #   clang-tidy with scripts/analysis/clang-tidy.yaml, warnings as errors;
 #   gcc -fanalyzer with the project's warnings, -Werror.
-# Each in the double and the float configuration, with GF_SMALL=0 (the
-# fast paths) and GF_SMALL=1 (the compact predict/update of src/small.c,
-# the default at -Os), both forced: the analysers do not optimise for size.
+# Each in the double and the float configuration.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
@@ -19,17 +17,9 @@ fail=0
 gf_log "analysis: cppcheck $(cppcheck --version | awk '{print $2}') + MISRA C:2012 addon"
 out="$GF_BUILD/analysis-cppcheck.txt"
 mkdir -p "$GF_BUILD/analysis-cppcheck"
-for def in "-DGF_SMALL=0 -UGF_SINGLE_PRECISION" "-DGF_SMALL=0 -DGF_SINGLE_PRECISION" \
-    "-DGF_SMALL=1 -UGF_SINGLE_PRECISION" "-DGF_SMALL=1 -DGF_SINGLE_PRECISION"; do
-    # With GF_SMALL, kf2.c's and ekf3.c's fast paths are compiled out, and
-    # with them every use of their KF2_*/EKF3_* inlining macros: cppcheck
-    # still sees the #defines (rule 2.5, unused macro). Only there, only then.
-    small=()
-    case $def in *GF_SMALL=1*)
-        small=(--suppress=misra-c2012-2.5:src/kf2.c --suppress=misra-c2012-2.5:src/ekf3.c) ;;
-    esac
+for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
     # shellcheck disable=SC2086
-    cppcheck "${small[@]}" --std=c99 --language=c --enable=warning,style,performance,portability \
+    cppcheck --std=c99 --language=c --enable=warning,style,performance,portability \
         --addon=misra --inline-suppr --suppressions-list="$an/misra-suppressions.txt" \
         --cppcheck-build-dir="$GF_BUILD/analysis-cppcheck" \
         --error-exitcode=1 -q -Iinclude $def \
@@ -45,8 +35,7 @@ for def in "-DGF_SMALL=0 -UGF_SINGLE_PRECISION" "-DGF_SMALL=0 -DGF_SINGLE_PRECIS
 done
 
 gf_log "analysis: $(clang-tidy --version | grep -o 'LLVM version [0-9.]*' | head -1 | sed 's/LLVM/clang-tidy/')"
-for def in -DGF_SMALL=0 "-DGF_SMALL=0 -DGF_SINGLE_PRECISION" -DGF_SMALL=1 \
-    "-DGF_SMALL=1 -DGF_SINGLE_PRECISION"; do
+for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
     # shellcheck disable=SC2086
     if clang-tidy --quiet --config-file="$an/clang-tidy.yaml" src/*.c -- \
         -std=c99 -Iinclude $def 2>/dev/null; then
@@ -61,8 +50,7 @@ gf_log "analysis: gcc $(gcc -dumpversion) -fanalyzer"
 warn="-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion"
 warn="$warn -Wdouble-promotion -Wstrict-prototypes -Wmissing-prototypes"
 warn="$warn -Wcast-qual -Wvla -Wundef -Wfloat-equal -Werror"
-for def in -DGF_SMALL=0 "-DGF_SMALL=0 -DGF_SINGLE_PRECISION" -DGF_SMALL=1 \
-    "-DGF_SMALL=1 -DGF_SINGLE_PRECISION"; do
+for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
     ok=1
     for f in src/*.c; do
         # shellcheck disable=SC2086
