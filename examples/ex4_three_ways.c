@@ -5,6 +5,7 @@
 //   particle STAGE x y w             PF3 particles (STAGE: pred, post)
 #include <stdio.h>
 
+#include "book.h"
 #include "gaussfilt/gaussfilt.h"
 
 #define N_PARTICLES 2000
@@ -35,15 +36,17 @@ static void dump(const char *stage)
 int main(void)
 {
     const gf_vec3 mu0 = {{0, 0, 0}};
-    const gf_mat3 s0 = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                         {0, 0, 10000}}};
+    // exercise 4's numbers (book.h)
+    const gf_real xy = (gf_real)GF_BOOK_EX4_XY_VAR;
+    const gf_mat3 s0 = {{{xy, 0, 0}, {0, xy, 0},
+                         {0, 0, (gf_real)GF_BOOK_EX4_HEADING_VAR}}};
     const gf_ekf3_motion move = {gf_ekf3_motion_forward_turn, NULL,
                                  {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
-    const gf_ekf3_meas obs = {1, gf_ekf3_meas_x, NULL,
-                              {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
-                              0, 0};
-    const gf_real u[2] = {1, 0};
-    const gf_vec3 z = {{GF_R(-0.7), 0, 0}};
+    const gf_ekf3_meas obs = {
+        1, gf_ekf3_meas_x, NULL,
+        {{{(gf_real)GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+    const gf_real u[2] = {(gf_real)GF_BOOK_EX4_D, (gf_real)GF_BOOK_EX4_PHI};
+    const gf_vec3 z = {{(gf_real)GF_BOOK_EX4_Z, 0, 0}};
     const gf_ukf3_params p = {1, 2, 0};
     gf_ekf3 ekf;
     gf_ukf3 ukf;

@@ -27,6 +27,7 @@
 #include "gaussfilt_lcm_belief_t.h"
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "gaussfilt_lcm_model_t.h"
 #include "node_core.h"
 
 #define REQUIRE(cond)                                                      \
@@ -104,10 +105,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             channel[n] = '\0';
             i += n;
         } else {
-            static const char *const prefix[3] = {
-                GF_CHANNEL_MEAS, GF_CHANNEL_CTRL, GF_CHANNEL_BELIEF};
-            snprintf(channel, sizeof channel, "%s%d", prefix[kind & 3],
-                     (int)track);
+            // kind & 3: MEAS, CTRL, BELIEF (or MODEL with kind & 4)
+            static const char *const prefix[4] = {
+                GF_CHANNEL_MEAS, GF_CHANNEL_CTRL, GF_CHANNEL_BELIEF,
+                GF_CHANNEL_MODEL};
+            unsigned k = (kind & 3) == 2 && (kind & 4) ? 3u : kind & 3u;
+            snprintf(channel, sizeof channel, "%s%d", prefix[k], (int)track);
         }
         size_t len = 0;
         if (i < size) {
@@ -212,6 +215,27 @@ static size_t meas(uint8_t *out, int8_t track, int64_t seq, int8_t model,
     return put(out, kind, track, buf, len);
 }
 
+static size_t model(uint8_t *out, int8_t track, int8_t kind_of, int8_t measure,
+                    double dt, double var, int8_t reset)
+{
+    gaussfilt_lcm_model_t m;
+    memset(&m, 0, sizeof m);
+    m.track = track;
+    m.model = kind_of;
+    m.measure = measure;
+    m.dt = dt;
+    m.accel_var = var;
+    m.odometry[0] = m.odometry[3] = var;
+    m.landmark[0] = 5.0;
+    m.landmark[1] = 3.0;
+    m.reset = reset;
+    m.prior_cov[0][0] = m.prior_cov[1][1] = m.prior_cov[2][2] = 0.01;
+    uint8_t buf[512];
+    int len = gaussfilt_lcm_model_t_encode(buf, 0, sizeof buf, &m);
+    REQUIRE(len > 0);
+    return put(out, 6, track, buf, len); // kind 6: GF_MODEL_<track>
+}
+
 static void save(const char *dir, const char *name, const uint8_t *d,
                  size_t n)
 {
@@ -253,6 +277,15 @@ int main(int argc, char **argv)
     n -= 9;
     n += meas(d + n, 3, 6, car, 1, NAN, 10.0, 0);
     save(argv[1], "rejections", d, n);
+    // Run-time models: a car at 100 Hz measuring position and velocity, a
+    // robot seeing a landmark's range and bearing, then their inputs.
+    n = model(d, 4, car, 3, 0.01, 4.0, 1);
+    n += ctrl(d + n, 4, 1, car, 0, 0, 0);
+    n += meas(d + n, 4, 2, car, 2, 0.1, 0.01, 0);
+    n += model(d + n, 5, robot, 5, 0.0, 0.001, 0);
+    n += ctrl(d + n, 5, 1, robot, 2, 1.0, 0.1);
+    n += meas(d + n, 5, 2, robot, 2, 4.0, 0.01, 0);
+    save(argv[1], "models", d, n);
     return 0;
 }
 

@@ -27,7 +27,8 @@ print(os.path.normpath(os.path.join(os.path.dirname(lcm.__file__),
     [ -x "$GF_LCM_BIN/lcm-logger" ] || gf_die "no lcm-logger in $GF_LCM_BIN"
 }
 
-# gf_lcm_build DIR: configures and builds the core + sim/ (double) in DIR.
+# gf_lcm_build DIR: configures and builds the core + sim/ (double) in DIR,
+# then installs the Python types into the venv (gf_lcm_py_install).
 gf_lcm_build() {
     local dir=$1
     cmake -S "$GF_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -36,4 +37,23 @@ gf_lcm_build() {
     cmake --build "$dir" --parallel 2 >/dev/null ||
         cmake --build "$dir" --parallel 1 ||
         gf_die "build of sim/ failed"
+    gf_lcm_py_install "$dir"
+}
+
+# gf_lcm_py_install DIR: pip-installs the types lcm-gen made in DIR (the
+# package gaussfilt_lcm, sim/CMakeLists.txt writes its pyproject.toml) into
+# the venv, when they changed: `import gaussfilt_lcm` then works in
+# $GF_VENV/bin/python with no PYTHONPATH (examples/beliefs.py).
+gf_lcm_py_install() {
+    local src=$1/sim/lcmtypes stamp
+    [ -f "$src/pyproject.toml" ] || gf_die "no $src/pyproject.toml (build sim/ first)"
+    stamp=$(cat "$src/pyproject.toml" "$src"/gaussfilt_lcm/*.py | sha1sum | cut -c1-40)
+    [ "$(cat "$GF_VENV/.gaussfilt_lcm" 2>/dev/null)" = "$stamp" ] &&
+        "$GF_VENV/bin/python" -c 'import gaussfilt_lcm' 2>/dev/null && return 0
+    gf_venv 'wheel>=0.38' # setuptools builds the package into a wheel
+    "$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
+        --no-deps --no-build-isolation --no-index "$src" >/dev/null 2>&1 ||
+        gf_die "pip could not install the Python types from $src"
+    rm -rf "$src/build" "$src"/*.egg-info
+    echo "$stamp" >"$GF_VENV/.gaussfilt_lcm"
 }

@@ -22,8 +22,12 @@
 #include <math.h>
 #include <stdio.h>
 
-#define GF_EX4_MODE_X (-0.7)
-#define GF_EX4_MODE_Y 0.71414284285428498 // sqrt(1 - 0.49)
+#include "book.h"
+
+// Where the robot can be: x = z on the circle of radius d around the start.
+#define GF_EX4_MODE_X GF_BOOK_EX4_Z
+#define GF_EX4_MODE_Y                                                        \
+    sqrt(GF_BOOK_EX4_D * GF_BOOK_EX4_D - GF_BOOK_EX4_Z * GF_BOOK_EX4_Z)
 
 // One half plane of a cloud: its weight, its mode (the densest particle)
 // and its weighted mean.

@@ -1,8 +1,10 @@
 // gaussfilt sim: every LCM channel name, in one place. (sim/tools/*.py
 // repeat the prefixes; keep them in step.)
 //
-// One channel per track and kind: the track id (a decimal int32) follows
-// the prefix, e.g. GF_MEAS_2, GF_BELIEF_2. Per-track channels let several
+// One channel per track and kind: the track id follows the prefix in its
+// one decimal spelling (no sign for 0 and positive ids, no leading zero),
+// e.g. GF_MEAS_2, GF_BELIEF_-3; the node takes GF_MEAS_0002 or GF_MEAS_-0
+// for no track (unknown_channel). Per-track channels let several
 // nodes share the tracks by channel pattern (gf_node --channels REGEX).
 #ifndef GF_CHANNELS_H
 #define GF_CHANNELS_H
@@ -11,6 +13,8 @@
 #define GF_CHANNEL_MEAS "GF_MEAS_"
 // gaussfilt_lcm_control_t, simulator -> node: one prediction step each
 #define GF_CHANNEL_CTRL "GF_CTRL_"
+// gaussfilt_lcm_model_t, anyone -> node: sets one track's model at run time
+#define GF_CHANNEL_MODEL "GF_MODEL_"
 // gaussfilt_lcm_belief_t, node -> anyone: after every applied input
 #define GF_CHANNEL_BELIEF "GF_BELIEF_"
 // gaussfilt_lcm_particles_t, node -> anyone: after every belief of a
@@ -23,8 +27,8 @@
 #define GF_CHANNEL_SELFTEST "GF_SELFTEST"
 
 // What a node subscribes to unless told otherwise (LCM anchors the regex at
-// both ends): the controls and measurements of every track.
-#define GF_CHANNEL_NODE_DEFAULT "GF_(MEAS|CTRL)_-?[0-9]+"
+// both ends): the controls, measurements and models of every track.
+#define GF_CHANNEL_NODE_DEFAULT "GF_(MEAS|CTRL|MODEL)_-?[0-9]+"
 
 // Longest channel name we build: prefix + "-2147483648" + NUL.
 #define GF_CHANNEL_MAX 32

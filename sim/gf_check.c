@@ -25,7 +25,9 @@
 
 #include "gaussfilt/gaussfilt.h"
 #include "gaussfilt_lcm_belief_t.h"
+#include "book.h"
 #include "gf_channels.h"
+#include "gf_help.h"
 
 #define MAX_BELIEFS 64
 // The node's filter runs in gf_real: exact to 1e-12 in double, a few float
@@ -103,6 +105,11 @@ static int compare(const gaussfilt_lcm_belief_t *b, const want *w)
     return ok;
 }
 
+// The options that make the table being checked differ from the book's
+// (examples/book.h), "" if none: then each row is checked against what
+// those numbers give, and the book's printed row is not shown.
+static char g_differs[256];
+
 static int run_rows(const check *c, const want *w, const int *seq, int rows)
 {
     int r, fails = 0;
@@ -112,8 +119,25 @@ static int run_rows(const check *c, const want *w, const int *seq, int rows)
         fails += !ok;
         printf("  %-9s wire: ", w[r].label);
         print_belief(b);
-        printf("\n  %-9s seed: %s  %s\n", "", w[r].seed,
-               ok ? "[match]" : "[MISMATCH]");
+        if (g_differs[0] == '\0') {
+            printf("\n  %-9s seed: %s  %s\n", "", w[r].seed,
+                   ok ? "[match]" : "[MISMATCH]");
+        } else {
+            printf("\n  %-9s want: ", "");
+            {
+                gaussfilt_lcm_belief_t x;
+                int i, j;
+                memset(&x, 0, sizeof x);
+                x.n = (int8_t)w[r].n;
+                for (i = 0; i < w[r].n; i++) {
+                    x.mean[i] = w[r].mean[i];
+                    for (j = 0; j < w[r].n; j++)
+                        x.cov[i][j] = w[r].cov[i][j];
+                }
+                print_belief(&x);
+            }
+            printf("  %s\n", ok ? "[match]" : "[MISMATCH]");
+        }
     }
     return fails;
 }
@@ -188,57 +212,77 @@ static int table_1_1(const check *c)
     return fails;
 }
 
-// Table 2.1: before and after z = 5 at t = 5.
-static int table_2_1(const check *c)
+// Table 2.1: before and after z = 5 at t = 5 (the book), or z after N
+// predictions with variance Q (--z, --steps, --meas-var): Sigma_t =
+// A Sigma A^T + R from 0, then S = Sigma_xx + Q, K = Sigma e_x / S.
+static int table_2_1(const check *c, const gf_book *bk)
 {
     want w[2];
-    int seq[2] = {5, 6};
-    const double s = 41.25 + 10.0; // S = C Sigma_bar C^T + Q
+    int seq[2], t, n = bk->ex2_steps;
+    double sx = 0.0, sxv = 0.0, sv = 0.0, s, q = bk->ex2_q, z = bk->ex2_z;
+    for (t = 0; t < n; t++) { // A = ((1, 1), (0, 1)), R = ((.25 .5)(.5 1))
+        double nx = sx + 2.0 * sxv + sv + 0.25 * GF_BOOK_CAR_ACCEL_VAR;
+        double nxv = sxv + sv + 0.5 * GF_BOOK_CAR_ACCEL_VAR;
+        double nv = sv + GF_BOOK_CAR_ACCEL_VAR;
+        sx = nx;
+        sxv = nxv;
+        sv = nv;
+    }
+    s = sx + q; // S = C Sigma_bar C^T + Q
+    seq[0] = n;
+    seq[1] = n + 1;
     memset(w, 0, sizeof(w));
     w[0].label = "Before";
     w[0].stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
     w[0].n = 2;
-    w[0].cov[0][0] = 41.25;
-    w[0].cov[0][1] = w[0].cov[1][0] = 12.5;
-    w[0].cov[1][1] = 5.0;
+    w[0].cov[0][0] = sx;
+    w[0].cov[0][1] = w[0].cov[1][0] = sxv;
+    w[0].cov[1][1] = sv;
     w[0].seed = "mu = (0 0)  cov = (41.25 12.5; 12.5 5)";
     w[1].label = "After";
     w[1].stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
     w[1].n = 2;
-    w[1].mean[0] = 41.25 * 5.0 / s;
-    w[1].mean[1] = 12.5 * 5.0 / s;
-    w[1].cov[0][0] = 41.25 * 10.0 / s;
-    w[1].cov[0][1] = w[1].cov[1][0] = 12.5 * 10.0 / s;
-    w[1].cov[1][1] = 5.0 - 12.5 * 12.5 / s;
+    w[1].mean[0] = sx * z / s;
+    w[1].mean[1] = sxv * z / s;
+    w[1].cov[0][0] = sx * q / s;
+    w[1].cov[0][1] = w[1].cov[1][0] = sxv * q / s;
+    w[1].cov[1][1] = sv - sxv * sxv / s;
     w[1].seed = "mu = (4.02 1.22)  cov = (8.05 2.44; 2.44 1.95)";
-    printf("Table 2.1: the car at t = 5 before and after z = 5 "
-           "(from the wire)\n");
-    return run_rows(c, w, seq, 2) + (c->count < 7);
+    printf("Table 2.1: the car at t = %d before and after z = %g "
+           "(variance %g, from the wire)\n", n, z, q);
+    return run_rows(c, w, seq, 2) + (c->count < n + 2);
 }
 
-// Table 4.2: init, predicted (move 1 forward), corrected (x = -0.7).
-static int table_4_2(const check *c)
+// Table 4.2: init, predicted (move 1 forward), corrected (x = -0.7); the
+// heading variance H of the prior (--heading-var) moves to y on the move:
+// Sigma_bar = G Sigma G^T, G = ((1 0 0) (0 1 d) (0 0 1)) at theta = 0.
+static int table_4_2(const check *c, const gf_book *bk)
 {
     want w[3];
     int seq[3] = {0, 1, 2}, r;
+    const double h = bk->ex4_heading_var, d = GF_BOOK_EX4_D;
+    const double xy = GF_BOOK_EX4_XY_VAR, q = GF_BOOK_EX4_Q;
     memset(w, 0, sizeof(w));
     for (r = 0; r < 3; r++) {
         w[r].n = 3;
         w[r].stage = r;
-        w[r].cov[0][0] = 0.01;
-        w[r].cov[1][1] = r == 0 ? 0.01 : 0.01 + 10000.0;
-        w[r].cov[2][2] = 10000.0;
-        w[r].cov[1][2] = w[r].cov[2][1] = r == 0 ? 0.0 : 10000.0;
+        w[r].cov[0][0] = xy;
+        w[r].cov[1][1] = r == 0 ? xy : xy + d * d * h;
+        w[r].cov[2][2] = h;
+        w[r].cov[1][2] = w[r].cov[2][1] = r == 0 ? 0.0 : d * h;
     }
     w[0].label = "Init";
     w[0].seed = "mu = (0 0 0)  cov = (0.01 0 0; 0 0.01 0; 0 0 10000)";
     w[1].label = "Predicted";
-    w[1].mean[0] = 1.0;
     w[1].seed = "mu = (1 0 0)  cov = (0.01 0 0; 0 10000.01 10000; "
                 "0 10000 10000)";
     w[2].label = "Corrected";
-    w[2].mean[0] = 1.0 + 0.5 * (-0.7 - 1.0); // K = 0.01 / (0.01 + 0.01)
-    w[2].cov[0][0] = 0.5 * 0.5 * 0.01 + 0.5 * 0.5 * 0.01; // Joseph form
+    w[1].mean[0] = d;
+    {
+        double k = xy / (xy + q); // K for x: Sigma_bar_xx / S
+        w[2].mean[0] = d + k * (GF_BOOK_EX4_Z - d);
+        w[2].cov[0][0] = (1 - k) * (1 - k) * xy + k * k * q; // Joseph form
+    }
     w[2].seed = "mu = (0.15 0 0)  cov = (0.005 0 0; 0 10000.01 10000; "
                 "0 10000 10000)";
     printf("Table 4.2: the robot, EKF (from the wire)\n");
@@ -253,16 +297,34 @@ static long elapsed_ms(const struct timespec *t0)
            (t1.tv_nsec - t0->tv_nsec) / 1000000L;
 }
 
+static const char help_text[] =
+    "gf_check: listens to one track's beliefs and checks them against a table\n"
+    "of Probabilistic Robotics ch. 3's worked exercises; exit 0 if they agree.\n\n"
+    "usage: gf_check --table 1.1|2.1|4.2 --track N [--url URL] [--timeout-ms MS]\n"
+    "                [--meas-var V] [--z Z] [--steps N] [--heading-var V]\n"
+    "       gf_check --count N --track N [--url URL] [--timeout-ms MS]\n\n"
+    "  --table T       1.1 (gf_sim --exercise 1), 2.1 (2) or 4.2 (4)\n"
+    "  --count N       only wait for N beliefs and print them\n"
+    "  --track N       the track; --url URL (default LCM's); --timeout-ms\n"
+    "  --meas-var V, --z Z, --steps N   exercise 2's numbers (book: 10, 5, 5)\n"
+    "  --heading-var V exercise 4's initial heading variance (book: 10000);\n"
+    "                  a table they change is checked against what they give\n"
+    "                  and named as differing from the book (examples/book.h)\n\n"
+    "example:\n"
+    "  gf_check --table 2.1 --track 2 & gf_node & gf_sim --exercise 2 --track 2\n";
+
 int main(int argc, char **argv)
 {
     const char *url = NULL, *table = NULL;
     long track = 1, timeout_ms = 10000;
+    gf_book book = GF_BOOK_DEFAULTS;
     int need = 0, i, fails;
     char channel[GF_CHANNEL_MAX];
     static check c; // ~11 kB
     struct timespec t0;
     lcm_t *lcm;
 
+    gf_help(argc, argv, help_text);
     for (i = 1; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--url") == 0)
             url = argv[i + 1];
@@ -274,8 +336,13 @@ int main(int argc, char **argv)
             need = atoi(argv[i + 1]);
         else if (strcmp(argv[i], "--timeout-ms") == 0)
             timeout_ms = atol(argv[i + 1]);
-        else
-            break;
+        else {
+            int k = i, r = gf_book_option(&book, argc, argv, &k);
+            if (r < 0)
+                return 2;
+            if (r == 0)
+                break;
+        }
     }
     if (i != argc || (table == NULL) == (need <= 0)) {
         fprintf(stderr, "usage: gf_check --table 1.1|2.1|4.2 | --count N  "
@@ -286,7 +353,7 @@ int main(int argc, char **argv)
         if (strcmp(table, "1.1") == 0)
             need = 11;
         else if (strcmp(table, "2.1") == 0)
-            need = 7;
+            need = book.ex2_steps + 2;
         else if (strcmp(table, "4.2") == 0)
             need = 3;
         else {
@@ -331,13 +398,19 @@ int main(int argc, char **argv)
         printf("gf_check: %d beliefs on %s\n", c.count, channel);
         return 0;
     }
+    gf_book_differs(&book, table, g_differs, sizeof g_differs);
+    if (g_differs[0] != '\0')
+        printf("Table %s differs from the book because of %s: checked "
+               "against what these numbers give\n", table, g_differs);
     if (strcmp(table, "1.1") == 0)
         fails = table_1_1(&c);
     else if (strcmp(table, "2.1") == 0)
-        fails = table_2_1(&c);
+        fails = table_2_1(&c, &book);
     else
-        fails = table_4_2(&c);
-    printf("gf_check: Table %s %s (%d mismatches)\n", table,
-           fails ? "FAILED" : "reproduced from the wire", fails);
+        fails = table_4_2(&c, &book);
+    printf("gf_check: Table %s %s (%d mismatches)%s%s\n", table,
+           fails ? "FAILED" : "reproduced from the wire", fails,
+           g_differs[0] ? "; differs from the book because of " : "",
+           g_differs);
     return fails ? 1 : 0;
 }

@@ -20,6 +20,7 @@
 #include "gaussfilt_lcm_belief_t.h"
 #include "gaussfilt_lcm_particles_t.h"
 #include "gf_channels.h"
+#include "gf_help.h"
 
 #define CLOUD_MAX 4096
 #ifdef GF_SINGLE_PRECISION
@@ -130,6 +131,15 @@ static int check(const state *s)
     return fails;
 }
 
+static const char help_text[] =
+    "gf_ex4check: exercise 4 three ways from the wire: the beliefs of an EKF,\n"
+    "a UKF and a PF node (gf_node --filter) each fed gf_sim --exercise 4; exit\n"
+    "0 if the EKF is at (0.15, 0), the UKF's prediction inside the unit circle\n"
+    "and the PF's cloud shows the two modes.\n\n"
+    "usage: gf_ex4check --ekf N --ukf N --pf N [--url URL] [--timeout-ms MS]\n\n"
+    "example:\n"
+    "  gf_ex4check --ekf 41 --ukf 42 --pf 43 --url 'udpm://239.255.76.67:7667?ttl=0'\n";
+
 int main(int argc, char **argv)
 {
     static state s;
@@ -140,6 +150,7 @@ int main(int argc, char **argv)
     lcm_t *lcm;
     for (f = 0; f < NFILTERS; f++)
         s.track[f] = -1;
+    gf_help(argc, argv, help_text);
     for (i = 1; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--ekf") == 0)
             s.track[EKF] = (int32_t)atol(argv[i + 1]);

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include <lcm/eventlog.h>
+#include "gf_help.h"
 
 // Next event whose channel starts with prefix, or NULL at the end.
 static lcm_eventlog_event_t *next(lcm_eventlog_t *log, const char *prefix)
@@ -25,6 +26,16 @@ static lcm_eventlog_event_t *next(lcm_eventlog_t *log, const char *prefix)
     return NULL;
 }
 
+static const char help_text[] =
+    "gf_logcmp: counts the events of an LCM log whose channel starts with a\n"
+    "prefix, or compares two logs event by event (channel and payload bytes).\n\n"
+    "usage: gf_logcmp [--prefix P] [--expect N] LOG [LOG2]\n\n"
+    "  --prefix P      only channels starting with P (default: all)\n"
+    "  --expect N      the count must be exactly N\n"
+    "  LOG2            the events must be identical to LOG's, in order\n\n"
+    "example:\n"
+    "  gf_logcmp --prefix GF_BELIEF_ replay-a.lcmlog replay-b.lcmlog\n";
+
 int main(int argc, char **argv)
 {
     const char *prefix = "", *path[2] = {NULL, NULL};
@@ -32,6 +43,7 @@ int main(int argc, char **argv)
     int i, npath = 0, diff = 0;
     lcm_eventlog_t *log[2] = {NULL, NULL};
 
+    gf_help(argc, argv, help_text);
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--prefix") == 0 && i + 1 < argc)
             prefix = argv[++i];

@@ -1,24 +1,34 @@
-// gf_node: the filter node. Subscribes to the controls and measurements of
-// its tracks over LCM, hands each message to gf_node_handle() (node_core.c)
-// and publishes the beliefs it returns. SIGINT/SIGTERM (or the end of a
-// file:// log) end it with a one-line summary on stdout.
+// gf_node: the filter node. Subscribes to the controls, measurements and
+// models of its tracks over LCM; LCM's dispatch copies each message into
+// the node's input queue (gf_inq.h), and a handling thread hands it to
+// gf_node_handle() (node_core.c), which publishes the beliefs.
+// SIGINT/SIGTERM (or the end of a file:// log) end it, once the queue is
+// drained, with a one-line summary on stdout.
 //
-//   gf_node [--url URL] [--out-url URL] [--channels REGEX] [--queue N]
-//           [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]
-//           [--rt PRIO] [--timing]
+//   gf_node [--config FILE] [--url URL] [--out-url URL] [--channels REGEX]
+//           [--queue N] [--filter ekf|ukf|pf] [--seed S] [--cpu N]
+//           [--rx-cpu M] [--rt PRIO] [--timing] [--help]
 //
+//   --config    the tracks' models (sim/node_model.h, docs/node.md):
+//               channel patterns to car and robot models; tracks no model
+//               names run the book's presets (book-car, book-robot)
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
 //   --out-url   publish beliefs on another LCM instead (needed with a
 //               file:// input, which cannot publish), e.g.
 //               file:///out.lcmlog?mode=w
 //   --channels  regex of the channels to take (default
-//               GF_(MEAS|CTRL)_-?[0-9]+); e.g. 'GF_(MEAS|CTRL)_[0-4]' so
-//               that several nodes split the tracks
-//   --queue     messages LCM may hold for the node between two dispatches
-//               (default 4096; LCM's own default of 30 drops bursts).
-//               The kernel's socket buffer is set in the URL:
-//               udpm://...?recv_buf_size=BYTES
+//               GF_(MEAS|CTRL|MODEL)_-?[0-9]+); e.g.
+//               'GF_(MEAS|CTRL|MODEL)_[0-4]' so that several nodes split
+//               the tracks
+//   --queue     messages the node's input queue holds (default 65536, in
+//               GF_INQ_BYTES_PER_MSG bytes each: sim/gf_inq.h). LCM's
+//               dispatch only copies each message into it; the handling
+//               thread filters and publishes. A message that finds it
+//               full is dropped and counted (dropped= in the summary,
+//               apart from gaps); a file:// replay waits instead. The
+//               kernel's socket buffer is set in the URL:
+//               udpm://...?recv_buf_size=BYTES (the ready line says both)
 //   --filter    the robot tracks' filter (the car is always KF2): ekf
 //               (EKF3, default), ukf (UKF3) or pf (PF3, GF_NODE_PF_PARTICLES
 //               particles per track, at most GF_NODE_PF_TRACKS tracks; each
@@ -27,7 +37,8 @@
 //   --seed      PF tracks' generator seed, plus the track id (default 1)
 //   --cpu N     pin the node's handling thread (the one that filters and
 //               publishes) to CPU N; with --rx-cpu M, LCM's receive thread
-//               (which reads the socket) goes to CPU M, else also to N.
+//               (which reads the socket) and the thread that copies each
+//               message into the node's queue go to CPU M, else also to N.
 //               Latency is lowest with the receive thread on the CPU where
 //               the packets arrive (the sender's over loopback, the NIC
 //               interrupt's otherwise): its wake-up then needs no IPI
@@ -46,8 +57,11 @@
 #include <string.h>
 #include <time.h>
 
+#include <pthread.h>
+
 #include <lcm/lcm.h>
 
+#include "gf_inq.h"
 #include "gf_rt.h"
 #include "node_core.h"
 
@@ -76,30 +90,55 @@ static int publish_lcm(void *ctx, const char *channel, const void *data,
 #define TIMING_BUCKETS 10000
 typedef struct node_ctx {
     gf_node *node;
+    gf_inq q;
+    gf_rt *rt;
+    pthread_mutex_t mu; // with started: the handling thread is placed
+    pthread_cond_t cv;
+    int started;
     int timing;
     unsigned long count;
     int64_t max_us;
     uint32_t hist[TIMING_BUCKETS + 1]; // last: TIMING_BUCKETS us or more
 } node_ctx;
 
+// LCM's dispatch: the message into the node's input queue, nothing else.
 static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
                        void *user)
 {
     node_ctx *c = user;
-    gf_node_handle(c->node, channel, rbuf->data, rbuf->data_size,
-                   rbuf->recv_utime);
-    if (c->timing) {
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        int64_t us = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000 -
-                     rbuf->recv_utime;
-        if (us < 0)
-            us = 0;
-        c->hist[us < TIMING_BUCKETS ? us : TIMING_BUCKETS]++;
-        if (us > c->max_us)
-            c->max_us = us;
-        c->count++;
+    (void)gf_inq_push(&c->q, channel, rbuf->data, rbuf->data_size,
+                      rbuf->recv_utime);
+}
+
+// The handling thread: every queued message through gf_node_handle (which
+// publishes), in order, until the queue is closed and empty.
+static void *handling(void *arg)
+{
+    node_ctx *c = arg;
+    const gf_inq_entry *e;
+    gf_rt_pin_main(c->rt, "gf_node");
+    pthread_mutex_lock(&c->mu);
+    c->started = 1;
+    pthread_cond_signal(&c->cv);
+    pthread_mutex_unlock(&c->mu);
+    while ((e = gf_inq_peek(&c->q)) != NULL) {
+        gf_node_handle(c->node, gf_inq_channel(e), gf_inq_data(e), e->len,
+                       e->recv_utime);
+        if (c->timing) {
+            struct timespec ts;
+            clock_gettime(CLOCK_REALTIME, &ts);
+            int64_t us = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000 -
+                         e->recv_utime;
+            if (us < 0)
+                us = 0;
+            c->hist[us < TIMING_BUCKETS ? us : TIMING_BUCKETS]++;
+            if (us > c->max_us)
+                c->max_us = us;
+            c->count++;
+        }
+        gf_inq_release(&c->q, e);
     }
+    return NULL;
 }
 
 // The microsecond below which a fraction q of the timed messages fall.
@@ -115,17 +154,58 @@ static long timing_quantile(const node_ctx *c, double q)
     return TIMING_BUCKETS;
 }
 
+static const char usage_text[] =
+    "usage: gf_node [--config FILE] [--url URL] [--out-url URL]\n"
+    "               [--channels REGEX] [--queue N] [--filter ekf|ukf|pf]\n"
+    "               [--seed S] [--cpu N] [--rx-cpu M] [--rt PRIO] [--timing]\n";
+
 static void usage(void)
 {
-    fprintf(stderr, "usage: gf_node [--url URL] [--out-url URL] "
-                    "[--channels REGEX] [--queue N] [--filter ekf|ukf|pf] "
-                    "[--seed S] [--cpu N] [--rx-cpu M] [--rt PRIO] "
-                    "[--timing]\n");
+    fputs(usage_text, stderr);
+    fputs("gf_node --help says more\n", stderr);
+}
+
+static void help(void)
+{
+    fputs("gf_node: the gaussfilt filter node. Takes each track's controls\n"
+          "(GF_CTRL_<id>) and measurements (GF_MEAS_<id>) over LCM, runs the\n"
+          "track's filter (KF2 for a car, EKF3/UKF3/PF3 for a robot) and\n"
+          "publishes its belief on GF_BELIEF_<id> after every input.\n"
+          "GF_MODEL_<id> (model_t) sets a track's model at run time. At exit\n"
+          "(SIGINT, SIGTERM, end of a log) one summary line of counters.\n\n",
+          stdout);
+    fputs(usage_text, stdout);
+    fputs("\n"
+          "  --config FILE   models for channel patterns (docs/node.md); other\n"
+          "                  tracks run the book's presets book-car, book-robot\n"
+          "  --url URL       where to listen (default $LCM_DEFAULT_URL or LCM's\n"
+          "                  udpm default); file:///x.lcmlog?speed=0 replays a log\n"
+          "  --out-url URL   publish beliefs there instead (needed with file://)\n"
+          "  --channels RE   channels to take (default "
+          GF_CHANNEL_NODE_DEFAULT ")\n"
+          "  --queue N       messages LCM may hold for the node (default 65536)\n"
+          "  --filter F      robot filter: ekf (default), ukf or pf\n"
+          "  --seed S        PF tracks' generator seed, plus the track id (1)\n"
+          "  --cpu N, --rx-cpu M, --rt PRIO   thread placement, SCHED_FIFO\n"
+          "  --timing        per-message time in the node, p50/p99/max at exit\n"
+          "  --help          this text\n\n"
+          "example:\n"
+          "  gf_node --config car100.conf --url 'udpm://239.255.76.67:7667?ttl=0'\n",
+          stdout);
+}
+
+// The node's model lookup: the configuration's (node_model.h).
+static const gf_node_model *lookup_model(const void *ctx, int32_t id,
+                                         int8_t kind)
+{
+    return gf_node_config_lookup((const gf_node_config *)ctx, id, kind);
 }
 
 int main(int argc, char **argv)
 {
-    const char *url = NULL, *out_url = NULL;
+    const char *url = NULL, *out_url = NULL, *config_path = NULL;
+    static gf_node_config config;
+    char err[256];
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
     static gf_node node; // ~15 kB: keep it off the stack
     static gf_node_pf_pool pool; // ~516 kB, used with --filter pf only
@@ -138,11 +218,18 @@ int main(int argc, char **argv)
     char summary[512];
     lcm_t *in, *out;
     struct sigaction sa;
-    int i, rc = 0, queue = 4096;
+    int i, rc = 0, queue = 65536, have_handler = 0, replay;
+    pthread_t handler;
+    char rcvbuf[32];
     lcm_subscription_t *sub;
 
     for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return 0;
+        } else if (strcmp(argv[i], "--config") == 0 && i + 1 < argc)
+            config_path = argv[++i];
+        else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
             url = argv[++i];
         else if (strcmp(argv[i], "--out-url") == 0 && i + 1 < argc)
             out_url = argv[++i];
@@ -167,6 +254,19 @@ int main(int argc, char **argv)
             usage();
             return 2;
         }
+    }
+
+    if (config_path != NULL &&
+        gf_node_config_load(&config, config_path, err, sizeof err) != 0) {
+        fprintf(stderr, "gf_node: %s\n", err);
+        return 2;
+    }
+
+    // the kernel's socket buffer as the URL asks (LCM's default otherwise)
+    {
+        const char *r = url ? strstr(url, "recv_buf_size=") : NULL;
+        snprintf(rcvbuf, sizeof rcvbuf, "%s", r ? r + 14 : "default");
+        rcvbuf[strcspn(rcvbuf, "&,")] = '\0';
     }
 
     // LCM's receive thread, started by lcm_subscribe, inherits CPU and policy.
@@ -195,21 +295,41 @@ int main(int argc, char **argv)
 
     gf_node_init(&node, publish_lcm, out);
     gf_node_set_filter(&node, filter, &pool, (uint32_t)seed);
+    gf_node_set_models(&node, lookup_model, &config);
     ctx.node = &node;
+    ctx.rt = &rt;
+    pthread_mutex_init(&ctx.mu, NULL);
+    pthread_cond_init(&ctx.cv, NULL);
+    {
+        const char *u = url != NULL ? url : getenv("LCM_DEFAULT_URL");
+        replay = u != NULL && strncmp(u, "file://", 7) == 0;
+    }
+    if (queue < 1 || gf_inq_init(&ctx.q, (unsigned)queue, replay) != 0) {
+        fprintf(stderr, "gf_node: no input queue of %d messages\n", queue);
+        return 1;
+    }
     sub = lcm_subscribe(in, channels, on_message, &ctx);
-    gf_rt_pin_main(&rt, "gf_node");
-    gf_rt_describe(&rt, placement, sizeof placement);
-    if (sub == NULL || queue < 1 ||
-        lcm_subscription_set_queue_capacity(sub, queue) != 0) {
-        fprintf(stderr, "gf_node: cannot subscribe to %s (queue %d)\n",
-                channels, queue);
+    // LCM's own limit off: every message goes to on_message (the queue
+    // above is the node's bound, and it counts what it drops)
+    if (sub == NULL || lcm_subscription_set_queue_capacity(sub, 0) != 0 ||
+        pthread_create(&handler, NULL, handling, &ctx) != 0) {
+        fprintf(stderr, "gf_node: cannot subscribe to %s\n", channels);
         rc = 1;
         g_stop = 1;
     } else {
-        printf("gf_node: ready channels=%s queue=%d max_tracks=%d "
-               "track_bytes=%zu node_bytes=%zu filter=%s %s",
-               channels, queue, GF_NODE_MAX_TRACKS, sizeof(gf_node_track),
-               sizeof(gf_node), filter_name, placement);
+        have_handler = 1;
+        pthread_mutex_lock(&ctx.mu);
+        while (!ctx.started)
+            pthread_cond_wait(&ctx.cv, &ctx.mu);
+        pthread_mutex_unlock(&ctx.mu);
+        gf_rt_describe(&rt, placement, sizeof placement);
+        printf("gf_node: ready channels=%s queue=%d queue_bytes=%zu "
+               "rcvbuf=%s max_tracks=%d track_bytes=%zu node_bytes=%zu "
+               "filter=%s models=%u%s%s %s",
+               channels, queue, ctx.q.cap, rcvbuf, GF_NODE_MAX_TRACKS,
+               sizeof(gf_node_track), sizeof(gf_node), filter_name,
+               config.count, config_path ? " config=" : "",
+               config_path ? config_path : "", placement);
         if (filter == GF_NODE_FILTER_PF)
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
@@ -223,8 +343,12 @@ int main(int argc, char **argv)
             break;
     }
 
+    gf_inq_close(&ctx.q);
+    if (have_handler)
+        pthread_join(handler, NULL);
+    gf_node_add_dropped(&node, ctx.q.dropped);
     gf_node_summary(&node, summary, sizeof(summary));
-    printf("gf_node: summary %s\n", summary);
+    printf("gf_node: summary %s queue_peak=%u\n", summary, ctx.q.peak);
     if (ctx.timing && ctx.count > 0)
         printf("gf_node: timing messages=%lu in_node_p50_us=%ld "
                "in_node_p99_us=%ld in_node_max_us=%lld\n",
@@ -234,5 +358,7 @@ int main(int argc, char **argv)
     if (out != in)
         lcm_destroy(out);
     lcm_destroy(in);
+    gf_node_config_free(&config);
+    gf_inq_free(&ctx.q);
     return rc;
 }

@@ -4,6 +4,8 @@
 //          [--meas-every K] [--meas-var V] [--turn PHI] [--session S]
 //          [--url URL]
 //   gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]
+//   gf_sim --config FILE --model NAME [--runs M] [--track N] [--steps N]
+//          [--seed S] [--rate HZ] [--turn PHI] [--session S] [--url URL]
 //
 // car (exercises 1-2): each step a random acceleration a ~ N(0, 1) moves the
 //   true state (x += v + a/2, v += a); every K-th step the position is
@@ -11,9 +13,20 @@
 // robot (exercise 4): from (0, 0) with a heading drawn uniformly, each step
 //   "move 1 forward, then turn PHI" (default 0.1 rad) by odometry, then x is
 //   observed with variance V (default 0.01).
+// --config: the model NAME of a node configuration (sim/node_model.h; the
+//   presets book-car and book-robot too): the truth starts from a draw of
+//   the model's prior and moves as the model says (the car with a white
+//   acceleration of variance accel_var over dt; the robot "move 1, turn
+//   PHI" with the odometry's noise on d and phi), and each step is
+//   measured as the model's measure says, with noise drawn from meas_cov
+//   and sent as q. --runs M: M independent runs at once on tracks N ..
+//   N + M - 1, run k seeded S + k (the Monte-Carlo runs of a consistency
+//   test). utime is t * dt for the car, t seconds for the robot.
 // --exercise replays the book exactly:
 //   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
 //   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
+//      --steps N, --z Z and --meas-var V change exercise 2's numbers
+//      (examples/book.h, where every exercise number is);
 //   4: the robot moves once (u = (1, 0)), then observes x = -0.7 (Q = 0.01)
 //      (Table 4.2).
 //
@@ -43,7 +56,10 @@
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "book.h"
 #include "gf_channels.h"
+#include "gf_help.h"
+#include "node_model.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
 #define MODEL_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
@@ -157,6 +173,29 @@ static void send_meas(sim *s, long t, double z, double q)
     s->sent_meas++;
 }
 
+static void send_meas_m(sim *s, long t, int m, const double *z,
+                        const double q[3][3])
+{
+    gaussfilt_lcm_measurement_t msg;
+    int i, j;
+    memset(&msg, 0, sizeof(msg));
+    msg.utime = t * s->step_us;
+    msg.seq = ++s->seq;
+    msg.session = s->session;
+    msg.track = s->track;
+    msg.model = s->model;
+    msg.m = (int8_t)m;
+    for (i = 0; i < m; i++) {
+        msg.z[i] = z[i];
+        for (j = 0; j < m; j++)
+            msg.q[i][j] = q[i][j];
+    }
+    send(s, s->ch_meas,
+         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
+                                            &msg));
+    s->sent_meas++;
+}
+
 static void send_truth(sim *s, long t, int n, const double *x)
 {
     gaussfilt_lcm_groundtruth_t g;
@@ -190,6 +229,74 @@ static void pace(struct timespec *next, long period_ns)
         ;
 }
 
+// x = mean + L w, L L^T = cov (n x n PSD; a zero pivot adds nothing).
+static void draw(rng *r, unsigned n, const double *mean,
+                 const double cov[3][3], double *x)
+{
+    double l[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, w[3];
+    unsigned i, j, k;
+    for (j = 0; j < n; j++) {
+        double d = cov[j][j];
+        for (k = 0; k < j; k++)
+            d -= l[j][k] * l[j][k];
+        l[j][j] = d > 0.0 ? sqrt(d) : 0.0;
+        for (i = j + 1; i < n; i++) {
+            double v = cov[i][j];
+            for (k = 0; k < j; k++)
+                v -= l[i][k] * l[j][k];
+            l[i][j] = l[j][j] > 0.0 ? v / l[j][j] : 0.0;
+        }
+    }
+    for (i = 0; i < n; i++)
+        w[i] = rng_normal(r);
+    for (i = 0; i < n; i++) {
+        x[i] = mean[i];
+        for (k = 0; k <= i; k++)
+            x[i] += l[i][k] * w[k];
+    }
+}
+
+#define MAX_RUNS 64
+
+// One run of a configured model (see the top): the state, its generator.
+typedef struct run {
+    sim s;
+    rng r;
+    double x[3];
+} run;
+
+// The measurement of truth x under model mdl, noise included.
+static int measure(const gf_node_model *mdl, rng *r, const double *x,
+                   double *z)
+{
+    static const double zero[3] = {0, 0, 0};
+    double noise[3] = {0, 0, 0};
+    int measure = mdl->measure;
+    unsigned m;
+    if (measure == GF_NODE_MEASURE_AUTO)
+        measure = GF_NODE_MEASURE_X;
+    m = gf_node_measure_m(mdl->kind, (int8_t)measure);
+    draw(r, m, zero, mdl->meas_cov, noise);
+    z[1] = 0.0;
+    switch (measure) {
+    case GF_NODE_MEASURE_X: z[0] = x[0]; break;
+    case GF_NODE_MEASURE_V: z[0] = x[1]; break;
+    case GF_NODE_MEASURE_XV:
+    case GF_NODE_MEASURE_XY: z[0] = x[0]; z[1] = x[1]; break;
+    default: {
+        double dx = mdl->landmark[0] - x[0], dy = mdl->landmark[1] - x[1];
+        z[0] = sqrt(dx * dx + dy * dy);
+        z[1] = atan2(dy, dx) - x[2];
+    }
+    }
+    z[0] += noise[0];
+    if (m == 2)
+        z[1] += noise[1];
+    if (measure == GF_NODE_MEASURE_RANGE_BEARING)
+        z[1] = remainder(z[1], 2.0 * 3.14159265358979323846);
+    return (int)m;
+}
+
 static volatile sig_atomic_t g_stop; // set by the signal handler only
 
 static void on_signal(int sig)
@@ -206,12 +313,43 @@ static void usage(void)
             "              [--meas-every K] [--meas-var V] [--turn PHI] "
             "[--session S] [--url URL]\n"
             "       gf_sim --exercise 1|2|4 [--track N] [--session S] "
-            "[--url URL]\n");
+            "[--url URL]\n"
+            "       gf_sim --config FILE --model NAME [--runs M] ... "
+            "(gf_sim --help)\n");
 }
+
+static const char help_text[] =
+    "gf_sim: streams a simulated car or robot over LCM: each step a control\n"
+    "(GF_CTRL_<track>), the true state (GF_TRUTH_<track>) and a measurement\n"
+    "(GF_MEAS_<track>), for a gf_node to filter.\n\n"
+    "usage: gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]\n"
+    "       gf_sim --model car|robot [--track N] [--steps N] [--seed S]\n"
+    "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
+    "       gf_sim --config FILE --model NAME [--runs M] [--track N]\n"
+    "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n\n"
+    "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 exactly;\n"
+    "                  exercise 2 with --steps N, --z Z, --meas-var V changed\n"
+    "  --model car|robot  the exercises' car or robot with random motion\n"
+    "  --config FILE --model NAME  a model of a gf_node configuration (or\n"
+    "                  book-car, book-robot): truth from its prior, its noise\n"
+    "  --runs M        M independent runs on tracks N..N+M-1 (seed S+k)\n"
+    "  --track N       track id (default 1); --steps N; --seed S (default 1)\n"
+    "  --rate HZ       steps per second of wall-clock time (default: flat out)\n"
+    "  --meas-every K, --meas-var V, --turn PHI  (car/robot without --config)\n"
+    "  --session S     the run's session (default: the start time in us)\n"
+    "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w writes\n\n"
+    "example:\n"
+    "  gf_sim --config examples/node.conf --model car100 --track 100 --rate 100\n";
 
 int main(int argc, char **argv)
 {
-    const char *url = NULL;
+    const char *url = NULL, *config_path = NULL, *model_name = NULL;
+    gf_book book = GF_BOOK_DEFAULTS;
+    static gf_node_config config;
+    static run runs[MAX_RUNS];
+    const gf_node_model *mdl = NULL;
+    long nruns = 1;
+    char err[256];
     int exercise = 0, i;
     long steps = -1, meas_every = 1, t;
     double rate = 0.0, meas_var = -1.0, turn = 0.1;
@@ -226,6 +364,7 @@ int main(int argc, char **argv)
     memset(&s, 0, sizeof(s));
     s.track = 1;
     s.model = 0;
+    gf_help(argc, argv, help_text);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (v == NULL) {
@@ -235,10 +374,23 @@ int main(int argc, char **argv)
         i++;
         if (strcmp(a, "--url") == 0)
             url = v;
+        else if (strcmp(a, "--z") == 0 || strcmp(a, "--heading-var") == 0) {
+            // exercise 2's z; exercise 4's heading variance is the node's
+            // prior, not the stream's: taken so one command line fits all
+            int k = i - 1;
+            if (gf_book_option(&book, argc, argv, &k) != 1)
+                return 2;
+        }
         else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0)
             s.model = MODEL_CAR;
         else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0)
             s.model = MODEL_ROBOT;
+        else if (strcmp(a, "--model") == 0)
+            model_name = v;
+        else if (strcmp(a, "--config") == 0)
+            config_path = v;
+        else if (strcmp(a, "--runs") == 0)
+            nruns = atol(v);
         else if (strcmp(a, "--exercise") == 0)
             exercise = atoi(v);
         else if (strcmp(a, "--track") == 0)
@@ -264,6 +416,24 @@ int main(int argc, char **argv)
             return 2;
         }
     }
+    if (model_name != NULL) {
+        if (config_path != NULL &&
+            gf_node_config_load(&config, config_path, err, sizeof err) != 0) {
+            fprintf(stderr, "gf_sim: %s\n", err);
+            return 2;
+        }
+        mdl = gf_node_config_find(&config, model_name);
+        if (mdl == NULL) {
+            fprintf(stderr, "gf_sim: no model %s%s%s\n", model_name,
+                    config_path ? " in " : "", config_path ? config_path : "");
+            return 2;
+        }
+        if (nruns < 1 || nruns > MAX_RUNS) {
+            fprintf(stderr, "gf_sim: --runs 1..%d\n", MAX_RUNS);
+            return 2;
+        }
+        s.model = mdl->kind;
+    }
     if (exercise == 1 || exercise == 2)
         s.model = MODEL_CAR;
     else if (exercise == 4)
@@ -273,11 +443,23 @@ int main(int argc, char **argv)
         return 2;
     }
     if (steps < 0)
-        steps = exercise == 1 ? 10 : exercise == 2 ? 5 : exercise == 4 ? 1 : 100;
+        steps = exercise == 1   ? GF_BOOK_EX1_STEPS
+                : exercise == 2 ? book.ex2_steps
+                : exercise == 4 ? 1
+                                : 100;
+    if (exercise == 2) { // --steps and --meas-var are exercise 2's
+        book.ex2_steps = (int)steps;
+        if (meas_var > 0.0)
+            book.ex2_q = meas_var;
+    }
     if (meas_var < 0.0)
         meas_var = s.model == MODEL_CAR ? 10.0 : 0.01;
     s.step_us = 1000000;
-    if (rate > 0.0) {
+    if (mdl != NULL && mdl->kind == MODEL_CAR)
+        s.step_us = (int64_t)(mdl->dt * 1e6 + 0.5);
+    if (rate > 0.0 && mdl != NULL)
+        period_ns = (long)(1e9 / rate);
+    else if (rate > 0.0) {
         period_ns = (long)(1e9 / rate);
         s.step_us = (int64_t)(1e6 / rate);
     }
@@ -308,16 +490,71 @@ int main(int argc, char **argv)
     rng_seed(&r, seed);
     clock_gettime(CLOCK_MONOTONIC, &next);
 
-    if (exercise == 1 || exercise == 2) {
+    if (mdl != NULL) {
+        long k;
+        unsigned n = mdl->kind == MODEL_CAR ? 2u : 3u;
+        for (k = 0; k < nruns; k++) {
+            run *q = &runs[k];
+            q->s = s;
+            q->s.track = s.track + (int32_t)k;
+            snprintf(q->s.ch_ctrl, sizeof(q->s.ch_ctrl), "%s%ld",
+                     GF_CHANNEL_CTRL, (long)q->s.track);
+            snprintf(q->s.ch_meas, sizeof(q->s.ch_meas), "%s%ld",
+                     GF_CHANNEL_MEAS, (long)q->s.track);
+            snprintf(q->s.ch_truth, sizeof(q->s.ch_truth), "%s%ld",
+                     GF_CHANNEL_TRUTH, (long)q->s.track);
+            rng_seed(&q->r, seed + (uint64_t)k);
+            draw(&q->r, n, mdl->prior_mean, mdl->prior_cov, q->x);
+        }
+        for (t = 1; t <= steps && !g_stop; t++) {
+            for (k = 0; k < nruns; k++) {
+                run *q = &runs[k];
+                double z[3];
+                int m;
+                if (mdl->kind == MODEL_CAR) {
+                    double a = sqrt(mdl->accel_var) * rng_normal(&q->r);
+                    double dt = mdl->dt;
+                    q->x[0] += q->x[1] * dt + 0.5 * a * dt * dt;
+                    q->x[1] += a * dt;
+                    send_ctrl(&q->s, t, 0, 0.0, 0.0);
+                } else {
+                    const double *al = mdl->odometry;
+                    double d = 1.0, phi = turn;
+                    double dd = d + sqrt(al[0] * d * d + al[1] * phi * phi) *
+                                        rng_normal(&q->r);
+                    double dp = phi + sqrt(al[2] * d * d + al[3] * phi * phi) *
+                                          rng_normal(&q->r);
+                    q->x[0] += dd * cos(q->x[2]);
+                    q->x[1] += dd * sin(q->x[2]);
+                    q->x[2] = remainder(q->x[2] + dp,
+                                        2.0 * 3.14159265358979323846);
+                    send_ctrl(&q->s, t, 2, d, phi);
+                }
+                send_truth(&q->s, t, (int)n, q->x);
+                if (t % meas_every == 0) {
+                    m = measure(mdl, &q->r, q->x, z);
+                    send_meas_m(&q->s, t, m, z, mdl->meas_cov);
+                }
+            }
+            pace(&next, period_ns);
+        }
+        s.sent_ctrl = s.sent_meas = s.sent_truth = 0;
+        for (k = 0; k < nruns; k++) {
+            s.sent_ctrl += runs[k].s.sent_ctrl;
+            s.sent_meas += runs[k].s.sent_meas;
+            s.sent_truth += runs[k].s.sent_truth;
+            s.failed |= runs[k].s.failed;
+        }
+    } else if (exercise == 1 || exercise == 2) {
         for (t = 1; t <= steps && !g_stop; t++) {
             send_ctrl(&s, t, 0, 0.0, 0.0);
-            if (exercise == 2 && t == 5)
-                send_meas(&s, t, 5.0, 10.0);
+            if (exercise == 2 && t == book.ex2_steps)
+                send_meas(&s, t, book.ex2_z, book.ex2_q);
             pace(&next, period_ns);
         }
     } else if (exercise == 4) {
-        send_ctrl(&s, 1, 2, 1.0, 0.0);
-        send_meas(&s, 1, -0.7, 0.01);
+        send_ctrl(&s, 1, 2, GF_BOOK_EX4_D, GF_BOOK_EX4_PHI);
+        send_meas(&s, 1, GF_BOOK_EX4_Z, GF_BOOK_EX4_Q);
     } else if (s.model == MODEL_CAR) {
         double x[2] = {0.0, 0.0};
         for (t = 1; t <= steps && !g_stop; t++) {
@@ -349,11 +586,12 @@ int main(int argc, char **argv)
         }
     }
 
-    printf("gf_sim: track=%ld session=%lld sent controls=%lu measurements=%lu "
-           "truths=%lu%s%s\n",
-           (long)s.track, (long long)s.session, s.sent_ctrl, s.sent_meas,
+    printf("gf_sim: track=%ld runs=%ld session=%lld sent controls=%lu "
+           "measurements=%lu truths=%lu%s%s\n",
+           (long)s.track, nruns, (long long)s.session, s.sent_ctrl, s.sent_meas,
            s.sent_truth, g_stop ? " (stopped by a signal)" : "",
            s.failed ? " (some publishes FAILED)" : "");
     lcm_destroy(s.lcm);
+    gf_node_config_free(&config);
     return s.failed ? 1 : 0;
 }

@@ -3,6 +3,8 @@
 // call into the core (gf_kf2_*, gf_ekf3_*, gf_ukf3_*, gf_pf3_*).
 #include "node_core.h"
 
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -10,6 +12,7 @@
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "gaussfilt_lcm_model_t.h"
 #include "gaussfilt_lcm_particles_t.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
@@ -36,6 +39,7 @@ const char *gf_node_result_str(gf_node_result r)
     case GF_NODE_NONFINITE: return "nonfinite";
     case GF_NODE_FILTER_ERROR: return "filter_error";
     case GF_NODE_STALE_SESSION: return "stale_session";
+    case GF_NODE_NO_SUMMARY: return "no_summary";
     case GF_NODE_RESULT_COUNT: break;
     }
     return "unknown";
@@ -68,6 +72,21 @@ int gf_node_set_filter(gf_node *node, gf_node_filter filter,
     return 0;
 }
 
+int gf_node_set_models(gf_node *node, gf_node_model_fn fn, const void *ctx)
+{
+    if (node == NULL)
+        return -1;
+    node->models = fn;
+    node->models_ctx = ctx;
+    return 0;
+}
+
+void gf_node_add_dropped(gf_node *node, uint64_t n)
+{
+    if (node != NULL)
+        node->counts.dropped += n;
+}
+
 int gf_node_filter_parse(const char *name, gf_node_filter *out)
 {
     if (name == NULL || out == NULL)
@@ -96,9 +115,10 @@ const gf_node_track *gf_node_find(const gf_node *node, int32_t id)
 
 // ---- channel and fingerprint ----------------------------------------------
 
-enum { KIND_NONE, KIND_MEAS, KIND_CTRL };
+enum { KIND_NONE, KIND_MEAS, KIND_CTRL, KIND_MODEL };
 
-// Parses "<prefix><decimal int32>" exactly; returns 1 and the track id.
+// Parses "<prefix><decimal int32>" exactly, in the id's one spelling (no
+// leading zero, no "-0"); returns 1 and the track id.
 static int parse_track(const char *channel, const char *prefix, int32_t *id)
 {
     size_t n = strlen(prefix);
@@ -112,7 +132,7 @@ static int parse_track(const char *channel, const char *prefix, int32_t *id)
         neg = 1;
         p++;
     }
-    if (*p == '\0')
+    if (*p == '\0' || (p[0] == '0' && (p[1] != '\0' || neg)))
         return 0;
     for (; *p != '\0'; p++) {
         if (*p < '0' || *p > '9')
@@ -136,6 +156,8 @@ static int channel_kind(const char *channel, int32_t *id)
         return KIND_MEAS;
     if (parse_track(channel, GF_CHANNEL_CTRL, id))
         return KIND_CTRL;
+    if (parse_track(channel, GF_CHANNEL_MODEL, id))
+        return KIND_MODEL;
     return KIND_NONE;
 }
 
@@ -164,6 +186,7 @@ static gf_node_result check_fingerprint(const void *data, size_t len,
         got == __gaussfilt_lcm_control_t_get_hash() ||
         got == __gaussfilt_lcm_belief_t_get_hash() ||
         got == __gaussfilt_lcm_groundtruth_t_get_hash() ||
+        got == __gaussfilt_lcm_model_t_get_hash() ||
         got == __gaussfilt_lcm_particles_t_get_hash())
         return GF_NODE_TYPE_MISMATCH;
     return GF_NODE_MALFORMED;
@@ -198,45 +221,80 @@ static gf_pf3 *track_pf(gf_node *node, gf_node_track *t)
     return &t->f.pf3.pf;
 }
 
-// The PF track's summary after a successful step: its weighted moments and
-// effective sample size. GF_ERR_UNDEFINED (headings with no mean direction)
-// keeps the previous summary.
-static gf_status pf_summary(gf_node_track *t)
+static int finite3(const gf_vec3 *mu, const gf_mat3 *sigma)
+{
+    unsigned i, j;
+    for (i = 0; i < 3; i++) {
+        if (!isfinite((double)mu->v[i]))
+            return 0;
+        for (j = 0; j < 3; j++)
+            if (!isfinite((double)sigma->m[i][j]))
+                return 0;
+    }
+    return 1;
+}
+
+// The PF track's summary after a step that moved its particles: its
+// weighted moments and effective sample size. When they cannot be
+// computed (overflow, no mean direction, no weight) the track holds NaN
+// and no_summary, and says GF_NODE_NO_SUMMARY; else GF_NODE_APPLIED.
+static gf_node_result pf_summary(gf_node_track *t)
 {
     gf_vec3 mu;
     gf_mat3 sigma;
+    gf_real neff = GF_R(0.0);
     gf_status s = gf_pf3_estimate(&t->f.pf3.pf, &mu, &sigma);
-    if (s != GF_OK)
-        return s;
-    t->f.pf3.mu = mu;
-    t->f.pf3.sigma = sigma;
-    return gf_pf3_neff(&t->f.pf3.pf, &t->f.pf3.neff);
+    if (s == GF_OK && finite3(&mu, &sigma) &&
+        gf_pf3_neff(&t->f.pf3.pf, &neff) == GF_OK &&
+        isfinite((double)neff)) {
+        t->f.pf3.mu = mu;
+        t->f.pf3.sigma = sigma;
+        t->f.pf3.neff = neff;
+        t->f.pf3.no_summary = 0;
+        return GF_NODE_APPLIED;
+    }
+    {
+        unsigned i, j;
+        gf_real nan = (gf_real)NAN;
+        for (i = 0; i < 3; i++) {
+            t->f.pf3.mu.v[i] = nan;
+            for (j = 0; j < 3; j++)
+                t->f.pf3.sigma.m[i][j] = nan;
+        }
+    }
+    t->f.pf3.neff = GF_R(0.0);
+    t->f.pf3.no_summary = 1;
+    return GF_NODE_NO_SUMMARY;
 }
 
-// The exercise priors every new track starts from, and a resynced track
-// again. A new track (filter 0) takes the node's robot filter; a resynced
-// one keeps its own filter, and a PF track its pool slot.
+// The model's prior, which every new track starts from, and a resynced
+// track again. A new track (filter 0) takes the node's robot filter; a
+// resynced one keeps its own filter, and a PF track its pool slot.
 static void track_prior(gf_node *node, gf_node_track *t)
 {
     gf_vec3 mu0;
     gf_mat3 sigma0;
+    unsigned i, j;
     int8_t filter = t->filter;
     if (filter == 0)
         filter = node->robot_filter == GF_NODE_FILTER_UKF  ? FILTER_UKF3
                  : node->robot_filter == GF_NODE_FILTER_PF ? FILTER_PF3
                                                            : FILTER_EKF3;
     if (t->model == MODEL_CAR) {
-        // Exercise 1: the car starts at rest at 0, known exactly.
         memset(&t->f.kf2, 0, sizeof(t->f.kf2));
+        for (i = 0; i < 2; i++) {
+            t->f.kf2.mu.v[i] = (gf_real)t->mdl.prior_mean[i];
+            for (j = 0; j < 2; j++)
+                t->f.kf2.sigma.m[i][j] = (gf_real)t->mdl.prior_cov[i][j];
+        }
         t->filter = FILTER_KF2;
         return;
     }
-    // Exercise 4: at the origin, heading unknown.
-    memset(&mu0, 0, sizeof(mu0));
-    memset(&sigma0, 0, sizeof(sigma0));
-    sigma0.m[0][0] = GF_R(0.01);
-    sigma0.m[1][1] = GF_R(0.01);
-    sigma0.m[2][2] = GF_R(10000.0);
+    for (i = 0; i < 3; i++) {
+        mu0.v[i] = (gf_real)t->mdl.prior_mean[i];
+        for (j = 0; j < 3; j++)
+            sigma0.m[i][j] = (gf_real)t->mdl.prior_cov[i][j];
+    }
     if (filter == FILTER_UKF3) {
         t->filter = FILTER_UKF3;
         (void)gf_ukf3_init(&t->f.ukf3, &mu0, &sigma0, &ukf_params);
@@ -247,13 +305,12 @@ static void track_prior(gf_node *node, gf_node_track *t)
         (void)gf_pf3_init(&t->f.pf3.pf, node->pf_pool->p[t->f.pf3.slot],
                           GF_NODE_PF_PARTICLES,
                           node->pf_seed + (uint32_t)t->id, &mu0, &sigma0);
-        t->f.pf3.mu = mu0; // until the particles' own summary
-        t->f.pf3.sigma = sigma0;
         (void)pf_summary(t);
     } else {
         t->filter = FILTER_EKF3;
         t->f.ekf3.mu = mu0;
         t->f.ekf3.sigma = sigma0;
+        t->f.ekf3.mu.v[2] = gf_angle_wrap(mu0.v[2]);
     }
 }
 
@@ -269,6 +326,8 @@ static void belief_fill(const gf_node_track *t, gaussfilt_lcm_belief_t *b)
     b->model = t->model;
     b->filter = t->filter;
     b->n = (int8_t)n;
+    if (t->filter == FILTER_PF3 && t->f.pf3.no_summary)
+        b->status = GF_NODE_STATUS_NO_SUMMARY;
     for (i = 0; i < n; i++) {
         b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : mu3->v[i]);
         for (j = 0; j < n; j++)
@@ -297,6 +356,17 @@ static void publish_belief(gf_node *node, gf_node_track *t,
         node->counts.publish_failed++;
 }
 
+// A particle's number as particles_t carries it: beyond float's range it
+// is +-FLT_MAX, never inf.
+static float to_float(gf_real v)
+{
+    if ((double)v > (double)FLT_MAX)
+        return FLT_MAX;
+    if ((double)v < -(double)FLT_MAX)
+        return -FLT_MAX;
+    return (float)v;
+}
+
 // A PF track's cloud, after its belief b: every stride-th particle.
 static void publish_particles(gf_node *node, gf_node_track *t,
                               const gaussfilt_lcm_belief_t *b)
@@ -309,10 +379,10 @@ static void publish_particles(gf_node *node, gf_node_track *t,
     unsigned stride = (pf->n + GF_NODE_PF_CLOUD - 1u) / GF_NODE_PF_CLOUD;
     int len;
     for (k = 0; k < pf->n && i < GF_NODE_PF_CLOUD; k += stride, i++) {
-        pool->x[i] = (float)pf->p[k].x.v[0];
-        pool->y[i] = (float)pf->p[k].x.v[1];
-        pool->theta[i] = (float)pf->p[k].x.v[2];
-        pool->w[i] = (float)pf->p[k].w;
+        pool->x[i] = to_float(pf->p[k].x.v[0]);
+        pool->y[i] = to_float(pf->p[k].x.v[1]);
+        pool->theta[i] = to_float(pf->p[k].x.v[2]);
+        pool->w[i] = to_float(pf->p[k].w);
     }
     memset(&m, 0, sizeof(m));
     m.utime = b->utime;
@@ -352,8 +422,34 @@ static void publish_step(gf_node *node, gf_node_track *t,
         publish_particles(node, t, b);
 }
 
-static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
-                                int64_t utime, gf_node_result *why)
+// The model a new track of this id and kind gets.
+static const gf_node_model *model_for(const gf_node *node, int32_t id,
+                                      int8_t kind)
+{
+    const gf_node_model *m = NULL;
+    if (node->models != NULL)
+        m = node->models(node->models_ctx, id, kind);
+    if (m == NULL || m->kind != kind)
+        m = kind == MODEL_CAR ? gf_node_model_book_car()
+                              : gf_node_model_book_robot();
+    return m;
+}
+
+// The track's model, or the one it would be created with.
+static const gf_node_model *track_model(const gf_node *node, int32_t id,
+                                        int8_t kind)
+{
+    const gf_node_track *t = gf_node_find(node, id);
+    if (t != NULL)
+        return &t->mdl;
+    return model_for(node, id, kind);
+}
+
+// The track with this id (of this kind), created from mdl (NULL: the
+// lookup's) if it is new.
+static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
+                                     int64_t utime, const gf_node_model *mdl,
+                                     gf_node_result *why)
 {
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
@@ -378,6 +474,7 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
     memset(t, 0, sizeof(*t));
     t->id = id;
     t->model = model;
+    t->mdl = mdl != NULL ? *mdl : *model_for(node, id, model);
     track_prior(node, t);
     node->counts.tracks_created++;
     belief_fill(t, &b);
@@ -388,17 +485,33 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
     return t;
 }
 
+static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
+                                int64_t utime, gf_node_result *why)
+{
+    return track_get_with(node, id, model, utime, NULL, why);
+}
+
 // Sequence rules: seq strictly increasing per track (equal = duplicate,
-// lower = out of order), utime never decreasing.
-static gf_node_result check_order(const gf_node_track *t, int64_t seq,
-                                  int64_t utime)
+// lower = out of order), utime never decreasing; after
+// GF_NODE_RESYNC_AFTER out_of_order in a row the next input is the new
+// reference (node_core.h).
+static gf_node_result check_order(gf_node *node, gf_node_track *t,
+                                  int64_t seq, int64_t utime)
 {
     if (!t->has_input)
         return GF_NODE_APPLIED;
     if (seq == t->last_seq)
         return GF_NODE_DUPLICATE;
-    if (seq < t->last_seq || utime < t->last_utime)
+    if (seq < t->last_seq || utime < t->last_utime) {
+        if (t->rejected >= GF_NODE_RESYNC_AFTER) {
+            node->counts.seq_resyncs++;
+            t->has_input = 0; // no gap counted for the jump
+            t->rejected = 0;
+            return GF_NODE_APPLIED;
+        }
+        t->rejected++;
         return GF_NODE_OUT_OF_ORDER;
+    }
     return GF_NODE_APPLIED;
 }
 
@@ -421,7 +534,7 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
         b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
         publish_step(node, t, &b);
     }
-    return check_order(t, seq, utime);
+    return check_order(node, t, seq, utime);
 }
 
 static void consume(gf_node *node, gf_node_track *t, int64_t session,
@@ -431,45 +544,30 @@ static void consume(gf_node *node, gf_node_track *t, int64_t session,
     if (t->has_input)
         node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
     t->has_input = 1;
+    t->rejected = 0;
     t->session = session;
     t->last_seq = seq;
     t->last_utime = utime;
     t->last_rx = now;
 }
 
-static gf_node_result from_status(gf_status s)
+static gf_node_result from_status(int s)
 {
     if (s == GF_OK)
         return GF_NODE_APPLIED;
+    if (s == GF_NODE_STATUS_NO_SUMMARY)
+        return GF_NODE_NO_SUMMARY;
     return s == GF_ERR_NONFINITE ? GF_NODE_NONFINITE : GF_NODE_FILTER_ERROR;
 }
 
 // ---- the two inputs ---------------------------------------------------------
 
-// Model constants of the exercises (configuration, not math).
-static void car_model(gf_kf2_model *mdl)
-{
-    memset(mdl, 0, sizeof(*mdl));
-    // A = ((1, 1), (0, 1)): position += velocity over one step.
-    mdl->A.m[0][0] = GF_R(1.0);
-    mdl->A.m[0][1] = GF_R(1.0);
-    mdl->A.m[1][1] = GF_R(1.0);
-    // B = I: a control, if sent, adds u to the state (the car gets none).
-    mdl->B.m[0][0] = GF_R(1.0);
-    mdl->B.m[1][1] = GF_R(1.0);
-    // R = G G^T, G = (0.5, 1)^T: acceleration of variance 1 (Table 1.1).
-    mdl->R.m[0][0] = GF_R(0.25);
-    mdl->R.m[0][1] = GF_R(0.5);
-    mdl->R.m[1][0] = GF_R(0.5);
-    mdl->R.m[1][1] = GF_R(1.0);
-}
-
 // A PF track's correction: importance weights, then low-variance
 // resampling once fewer than GF_NODE_PF_RESAMPLE_FRACTION of the particles
 // are effective. The summary is taken after resampling; the neff the
 // cloud reports is the one that decided it.
-static gf_status pf_correct(gf_node *node, gf_node_track *t,
-                            const gf_ekf3_meas *mm, const gf_vec3 *z)
+static int pf_correct(gf_node *node, gf_node_track *t,
+                      const gf_ekf3_meas *mm, const gf_vec3 *z)
 {
     gf_pf3 *pf = track_pf(node, t);
     gf_real neff = GF_R(0.0);
@@ -484,9 +582,10 @@ static gf_status pf_correct(gf_node *node, gf_node_track *t,
             return s;
         t->f.pf3.resampled = 1;
     }
-    s = pf_summary(t);
+    if (pf_summary(t) != GF_NODE_APPLIED)
+        return GF_NODE_STATUS_NO_SUMMARY;
     t->f.pf3.neff = neff;
-    return s;
+    return GF_OK;
 }
 
 static gf_node_result handle_ctrl(gf_node *node, int32_t id,
@@ -496,7 +595,7 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
-    gf_status s;
+    int s;
     if (c->track != id || (c->model != MODEL_CAR && c->model != MODEL_ROBOT))
         return GF_NODE_BAD_FIELD;
     if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2)
@@ -511,24 +610,29 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     if (t->model == MODEL_CAR) {
         gf_kf2_model mdl;
         gf_vec2 u;
-        car_model(&mdl);
+        gf_node_model_car(&t->mdl, &mdl);
         u.v[0] = (gf_real)c->u[0];
         u.v[1] = (gf_real)c->u[1];
         s = gf_kf2_predict(&t->f.kf2, &mdl, c->n == 2 ? &u : NULL);
     } else {
         gf_ekf3_motion mot;
         gf_real u[2];
-        memset(&mot, 0, sizeof(mot)); // R = 0, as in exercise 4
-        mot.g = gf_ekf3_motion_forward_turn;
+        const gf_vec3 *mu;
+        const gf_mat3 *sigma;
+        robot_moments(t, &mu, &sigma);
         u[0] = (gf_real)c->u[0];
         u[1] = (gf_real)c->u[1];
+        // R at the mean's heading (a PF with no summary: heading 0)
+        gf_node_model_robot(&t->mdl,
+                            isfinite((double)mu->v[2]) ? mu->v[2] : GF_R(0.0),
+                            u, &mot);
         if (t->filter == FILTER_UKF3) {
             s = gf_ukf3_predict(&t->f.ukf3, &mot, u);
         } else if (t->filter == FILTER_PF3) {
             s = gf_pf3_predict(track_pf(node, t), &mot, u);
             t->f.pf3.resampled = 0;
-            if (s == GF_OK)
-                s = pf_summary(t);
+            if (s == GF_OK && pf_summary(t) != GF_NODE_APPLIED)
+                s = GF_NODE_STATUS_NO_SUMMARY;
         } else {
             s = gf_ekf3_predict(&t->f.ekf3, &mot, u);
         }
@@ -551,13 +655,18 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
     gf_innovation info;
-    gf_status s;
-    unsigned i, j, m;
+    int s, measure;
+    unsigned i, m;
     if (z->track != id || (z->model != MODEL_CAR && z->model != MODEL_ROBOT))
         return GF_NODE_BAD_FIELD;
-    if (z->m < 1 || z->m > 2) // car: x or (x, v); robot: x or (x, y)
+    if (z->m < 1 || z->m > 2) // see gf_node_measure_m
         return GF_NODE_BAD_FIELD;
     m = (unsigned)z->m;
+    // what the track's model expects (a track of another kind: bad_field
+    // from track_get)
+    measure = gf_node_model_measure(track_model(node, id, z->model), m);
+    if (measure < 0)
+        return GF_NODE_BAD_FIELD;
     t = track_get(node, id, z->model, z->utime, &r);
     if (t == NULL)
         return r;
@@ -569,30 +678,19 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     if (t->model == MODEL_CAR) {
         gf_kf2_meas mm;
         gf_vec2 zz;
-        memset(&mm, 0, sizeof(mm));
-        mm.m = m;
-        mm.C.m[0][0] = GF_R(1.0); // C = (1, 0) or I
-        mm.C.m[1][1] = m == 2 ? GF_R(1.0) : GF_R(0.0);
-        for (i = 0; i < m; i++) {
+        gf_node_model_car_meas(&t->mdl, measure, z->q, &mm);
+        for (i = 0; i < m; i++)
             zz.v[i] = (gf_real)z->z[i];
-            for (j = 0; j < m; j++)
-                mm.Q.m[i][j] = (gf_real)z->q[i][j];
-        }
         if (m == 1)
             zz.v[1] = GF_R(0.0);
         s = gf_kf2_update(&t->f.kf2, &mm, &zz, &info);
     } else {
         gf_ekf3_meas mm;
         gf_vec3 zz;
-        memset(&mm, 0, sizeof(mm));
         memset(&zz, 0, sizeof(zz));
-        mm.m = m;
-        mm.h = m == 1 ? gf_ekf3_meas_x : gf_ekf3_meas_xy;
-        for (i = 0; i < m; i++) {
+        gf_node_model_robot_meas(&t->mdl, measure, z->q, &mm);
+        for (i = 0; i < m; i++)
             zz.v[i] = (gf_real)z->z[i];
-            for (j = 0; j < m; j++)
-                mm.Q.m[i][j] = (gf_real)z->q[i][j];
-        }
         if (t->filter == FILTER_UKF3)
             s = gf_ukf3_update(&t->f.ukf3, &mm, &zz, &info);
         else if (t->filter == FILTER_PF3)
@@ -614,6 +712,65 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     }
     publish_step(node, t, &b);
     return from_status(s);
+}
+
+// A model_t: checks it, then sets the track's model (creating the track
+// from it if new); reset or a new track restarts the belief from its prior.
+static gf_node_result handle_model(gf_node *node, int32_t id,
+                                   const gaussfilt_lcm_model_t *mm)
+{
+    gf_node_model mdl;
+    gf_node_track *t;
+    gf_node_result r = GF_NODE_APPLIED;
+    gaussfilt_lcm_belief_t b;
+    const gf_node_track *old;
+    unsigned i, j;
+    if (mm->track != id || (mm->model != MODEL_CAR && mm->model != MODEL_ROBOT))
+        return GF_NODE_BAD_FIELD;
+    old = gf_node_find(node, id);
+    if (old != NULL && old->model != mm->model)
+        return GF_NODE_BAD_FIELD;
+    memset(&mdl, 0, sizeof(mdl));
+    snprintf(mdl.name, sizeof mdl.name, "%s%ld", GF_CHANNEL_MODEL, (long)id);
+    mdl.kind = mm->model;
+    mdl.measure = mm->measure;
+    mdl.dt = mm->dt;
+    mdl.accel_var = mm->accel_var;
+    for (i = 0; i < 4; i++)
+        mdl.odometry[i] = mm->odometry[i];
+    mdl.landmark[0] = mm->landmark[0];
+    mdl.landmark[1] = mm->landmark[1];
+    mdl.gate = mm->gate;
+    for (i = 0; i < 3; i++) {
+        mdl.prior_mean[i] = mm->prior_mean[i];
+        for (j = 0; j < 3; j++)
+            mdl.prior_cov[i][j] = mm->prior_cov[i][j];
+    }
+    if (mdl.kind == MODEL_CAR) { // only the leading 2 x 2 block counts
+        mdl.prior_mean[2] = 0.0;
+        for (i = 0; i < 3; i++)
+            mdl.prior_cov[2][i] = mdl.prior_cov[i][2] = 0.0;
+    }
+    // the sensor's noise is the measurements' own: leave meas_cov zero
+    if (gf_node_model_check(&mdl, NULL) != 0)
+        return GF_NODE_BAD_FIELD;
+    node->counts.models++;
+    if (old == NULL) {
+        t = track_get_with(node, id, mm->model, mm->utime, &mdl, &r);
+        return t == NULL ? r : GF_NODE_APPLIED;
+    }
+    t = &node->tracks[old - node->tracks];
+    t->mdl = mdl;
+    if (mm->reset) {
+        track_prior(node, t);
+        t->belief_seq++;
+        belief_fill(t, &b);
+        b.utime = mm->utime;
+        b.input_seq = -1;
+        b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
+        publish_step(node, t, &b);
+    }
+    return GF_NODE_APPLIED;
 }
 
 static gf_node_result dispatch(gf_node *node, const char *channel,
@@ -642,6 +799,15 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
             return GF_NODE_MALFORMED;
         return handle_meas(node, id, &z, now);
     }
+    if (kind == KIND_MODEL) {
+        gaussfilt_lcm_model_t mm;
+        r = check_fingerprint(data, len, __gaussfilt_lcm_model_t_get_hash());
+        if (r != GF_NODE_APPLIED)
+            return r;
+        if (gaussfilt_lcm_model_t_decode(data, 0, (int)len, &mm) != (int)len)
+            return GF_NODE_MALFORMED;
+        return handle_model(node, id, &mm);
+    }
     return GF_NODE_UNKNOWN_CHANNEL;
 }
 
@@ -666,13 +832,17 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         return -1;
     n = snprintf(out, size,
                  "received=%llu applied=%llu published=%llu "
-                 "publish_failed=%llu gaps=%llu tracks=%u resyncs=%llu",
+                 "publish_failed=%llu gaps=%llu dropped=%llu tracks=%u "
+                 "resyncs=%llu seq_resyncs=%llu models=%llu",
                  (unsigned long long)c->received,
                  (unsigned long long)c->by_result[GF_NODE_APPLIED],
                  (unsigned long long)c->published,
                  (unsigned long long)c->publish_failed,
-                 (unsigned long long)c->gaps, node->ntracks,
-                 (unsigned long long)c->resyncs);
+                 (unsigned long long)c->gaps,
+                 (unsigned long long)c->dropped, node->ntracks,
+                 (unsigned long long)c->resyncs,
+                 (unsigned long long)c->seq_resyncs,
+                 (unsigned long long)c->models);
     for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),

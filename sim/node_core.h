@@ -16,10 +16,25 @@
 // an input of a smaller session is rejected as GF_NODE_STALE_SESSION.
 //
 // Tracks are created by their first valid message, up to
-// GF_NODE_MAX_TRACKS per node; each starts from its model's exercise prior
-// (car: mu = 0, Sigma = 0; robot: mu = 0, Sigma = diag(0.01, 0.01, 10000))
-// and publishes that initial belief first. Nothing is allocated: a gf_node
-// is one plain struct the caller owns.
+// GF_NODE_MAX_TRACKS per node; each takes its model (node_model.h) from
+// the node's model lookup (gf_node_set_models: gf_node --config), else the
+// book's preset of its kind (car: exercises 1-2, mu = 0, Sigma = 0; robot:
+// exercise 4, mu = 0, Sigma = diag(0.01, 0.01, 10000)), starts from the
+// model's prior and publishes that initial belief first. A model_t on
+// GF_MODEL_<id> sets a track's model at run time.
+//
+// Edges, with their rules:
+// - Sequence resync: GF_NODE_RESYNC_AFTER inputs in a row rejected as
+//   out_of_order on a track (e.g. after one packet with seq or utime at
+//   INT64_MAX) make the next input the track's new reference: it is taken
+//   whatever its seq and utime, the belief kept, counted in seq_resyncs
+//   (no gaps counted for the jump).
+// - PF summary: a PF step whose particles moved but whose weighted mean or
+//   covariance overflows (or has no heading direction) is the result
+//   no_summary; the belief carries status STATUS_NO_SUMMARY with mean and
+//   cov NaN, exactly what the track holds until a step's summary can be
+//   computed again; particles beyond float's range are sent as +-FLT_MAX.
+// Nothing is allocated: a gf_node is one plain struct the caller owns.
 #ifndef GF_NODE_CORE_H
 #define GF_NODE_CORE_H
 
@@ -28,12 +43,14 @@
 
 #include "gaussfilt/gaussfilt.h"
 #include "gf_channels.h"
+#include "node_model.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-// The most tracks one node holds (232 bytes each, all inside gf_node). A
+// The most tracks one node holds (gf_node prints track_bytes, all inside
+// gf_node). A
 // message for a new track beyond this is rejected with GF_NODE_TRACK_LIMIT.
 // Split more tracks over several nodes by channel pattern, or build with
 // another limit: CMake's GAUSSFILT_NODE_MAX_TRACKS (a PUBLIC definition of
@@ -92,13 +109,16 @@ typedef enum gf_node_result {
     GF_NODE_MALFORMED,     // truncated, trailing bytes, unknown fingerprint
     GF_NODE_TYPE_MISMATCH, // another gaussfilt_lcm type on this channel
     GF_NODE_BAD_FIELD,     // decodes, but track/model/size makes no sense
-    GF_NODE_UNKNOWN_CHANNEL, // not GF_MEAS_<n> or GF_CTRL_<n>
+    GF_NODE_UNKNOWN_CHANNEL, // not GF_MEAS_<n>, GF_CTRL_<n>, GF_MODEL_<n>
+                             // with n in its one decimal spelling
     GF_NODE_TRACK_LIMIT,   // a new track with GF_NODE_MAX_TRACKS in use
     GF_NODE_NONFINITE,     // the core said GF_ERR_NONFINITE: published with
                            // that status, belief unchanged
     GF_NODE_FILTER_ERROR,  // any other core failure (gated, not PSD,
                            // singular): published with its status
     GF_NODE_STALE_SESSION, // from a simulator run older than the track's
+    GF_NODE_NO_SUMMARY,    // PF step done, its summary overflowed: published
+                           // as STATUS_NO_SUMMARY (see the top)
     GF_NODE_RESULT_COUNT
 } gf_node_result;
 
@@ -117,7 +137,28 @@ typedef struct gf_node_counts {
     uint64_t gaps;
     uint64_t tracks_created;
     uint64_t resyncs; // tracks re-initialised by a newer simulator session
+    uint64_t seq_resyncs; // sequence references reset (see the top)
+    uint64_t models;  // model_t messages applied
+    // messages that reached the process and were dropped before
+    // gf_node_handle saw them (set by the caller: gf_node_add_dropped)
+    uint64_t dropped;
 } gf_node_counts;
+
+// Inputs rejected as out_of_order in a row before a track's sequence
+// reference is reset (see the top): far more than the reordering a network
+// does to one track (tests/net's fault relay holds a message up to 40 ms
+// and pauses the wire around a node restart, which makes runs of 16 and
+// more), about 1.3 s of a 100 Hz track's controls and measurements.
+#define GF_NODE_RESYNC_AFTER 256
+
+// The PF summary's status in belief_t.status (belief_t.STATUS_NO_SUMMARY,
+// not a gf_status).
+#define GF_NODE_STATUS_NO_SUMMARY (-64)
+
+// A new track's model: the lookup's answer for its id and kind
+// (GF_NODE_KIND_*), never NULL. gf_node_config_lookup fits.
+typedef const gf_node_model *(*gf_node_model_fn)(const void *ctx, int32_t id,
+                                                 int8_t kind);
 
 // One track: its filter and where its input sequence stands.
 typedef struct gf_node_track {
@@ -129,6 +170,8 @@ typedef struct gf_node_track {
     int64_t last_utime;
     int64_t belief_seq; // of the last belief published
     int64_t last_rx;    // `now` of the last input consumed
+    unsigned rejected;  // out_of_order inputs in a row
+    gf_node_model mdl;  // its model, a copy
     union {
         gf_kf2 kf2;
         gf_ekf3 ekf3;
@@ -140,6 +183,7 @@ typedef struct gf_node_track {
             unsigned slot; // in gf_node_pf_pool.p
             gf_real neff;
             int resampled; // the last step resampled
+            int no_summary; // mu, sigma are NaN: no summary (see the top)
         } pf3;
     } f;
     int8_t filter; // gaussfilt_lcm belief_t FILTER_KF2/EKF3/UKF3/PF3
@@ -160,6 +204,8 @@ typedef struct gf_node {
     gf_node_filter robot_filter; // for new robot tracks (default EKF)
     gf_node_pf_pool *pf_pool;    // the particles of PF tracks, or NULL
     uint32_t pf_seed;            // a PF track's generator: pf_seed + id
+    gf_node_model_fn models;     // NULL: the presets
+    const void *models_ctx;
 } gf_node;
 
 // Sets up an empty node; publish may be NULL (beliefs are then only
@@ -174,6 +220,15 @@ int gf_node_init(gf_node *node, gf_node_publish_fn publish, void *ctx);
 // unknown filter, or PF without a pool.
 int gf_node_set_filter(gf_node *node, gf_node_filter filter,
                        gf_node_pf_pool *pool, uint32_t seed);
+
+// Sets the model lookup for tracks created from now on (NULL: presets
+// only). ctx is handed to fn, e.g. a gf_node_config. Returns 0, or -1 on a
+// NULL node.
+int gf_node_set_models(gf_node *node, gf_node_model_fn fn, const void *ctx);
+
+// Adds n to counts.dropped: messages lost inside the process before
+// gf_node_handle (the caller's queue was full).
+void gf_node_add_dropped(gf_node *node, uint64_t n);
 
 // "ekf", "ukf" or "pf" -> the filter; returns 0, or -1 if unknown.
 int gf_node_filter_parse(const char *name, gf_node_filter *out);

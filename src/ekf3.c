@@ -96,14 +96,14 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(G.m[0], 9)) {
-        return GF_ERR_NONFINITE;
-    }
+    // A NaN or inf in mu_bar or G reaches the result (G_ij is W_ij's
+    // term with u_jj = 1, and W_ii^2 d_i + ... Sigma_bar_ii's), so does an
+    // overflow: one test of the result stands for all.
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_cov_predict(ekf->sigma.m[0], 3, G.m[0], motion->R.m[0],
                    nb.sigma.m[0]);
-    if (!gf_all_finite(nb.sigma.m[0], 9)) {
-        return GF_ERR_NONFINITE; // overflow: keep the last good belief
+    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.sigma.m[0], 9)) {
+        return GF_ERR_NONFINITE; // keep the last good belief
     }
     *ekf = nb;
     return GF_OK;

@@ -32,6 +32,10 @@ typedef double gf_real;
 #define GF_FABS fabs
 #endif
 
+// The link names carry the precision (gf_kf2_update_f32 or _f64): a program
+// built for the other gf_real than its library does not link.
+#include "gaussfilt/names.h"
+
 // True when x is neither infinite nor NaN. Overridable, e.g. for compilers
 // whose isfinite() is a library call.
 #ifndef GF_ISFINITE

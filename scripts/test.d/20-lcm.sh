@@ -2,17 +2,27 @@
 # Stage lcm: the LCM message types, filter node and simulators (sim/),
 # built against PyPI lcm 1.5 in .venv, and their tests: encode/decode of
 # every type, the node's handling (duplicates, order, malformed, non-finite,
-# track limit), its UKF3 and PF3 robot filters in process, memq:// in
-# process, and real processes over udpm (Tables 1.1, 2.1, 4.2 from the wire,
-# malformed packets, exercise 4 through EKF, UKF and PF nodes, log replay),
-# in a private network namespace when root.
+# track limit), its models and edges (configuration, model_t, range-bearing,
+# channel spelling, sequence resync, PF no_summary), its UKF3 and PF3 robot
+# filters in process, memq:// in process, and real processes over udpm
+# (Tables 1.1, 2.1, 4.2 from the wire, malformed packets, exercise 4
+# through EKF, UKF and PF nodes, log replay, a configured node's NEES/NIS
+# consistency, a run-time model, the Python example on a replayed log, the
+# Java types decoding a demo-like log), in a private network namespace when
+# root.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$(dirname "$0")/../lcm.sh"
 cd "$GF_ROOT"
 
-gf_lcm_setup
+if [ "$(id -u)" -eq 0 ]; then
+    gf_apt default-jdk-headless # javac, jar: the Java types jar
+elif ! command -v javac >/dev/null; then
+    echo "lcm: no JDK here: the Java types jar and its test are skipped" \
+        "(sudo apt-get install default-jdk-headless)"
+fi
+gf_lcm_setup 'matplotlib>=3.5' numpy # examples/beliefs.py --plot
 gf_log "lcm: configure and build sim/ (LCM from $GF_LCM_CMAKE_DIR)"
 gf_lcm_build "$GF_BUILD/sim"
-gf_log "lcm: ctest (message types, node, memq, udpm)"
+gf_log "lcm: ctest (message types, node, models, memq, udpm)"
 gf_ctest "$GF_BUILD/sim" -R '^lcm_'

@@ -2,7 +2,16 @@
 # Cross-builds of the core, warnings as errors, for every firmware target
 # (Cortex-M4F, Cortex-M0+, RV32IMAFC) in float and double, and the link
 # check: a minimal image running KF2 and EKF3 pulls in no malloc, free,
-# printf or exit. At -Os, as firmware projects build.
+# printf or exit, and every link name carries the precision. The firmware
+# project takes gaussfilt by add_subdirectory() and links no libm of its own:
+# the gaussfilt target brings it.
+#
+# Then README.md's vendoring routes for a Cortex-M4F, with the README's own
+# text: gaussfilt configured with only the toolchain file (no cmocka, no
+# option); the CMake snippet cross-built (Release and MinSizeRel); and the
+# arm-none-eabi-gcc line on copied sources. Each links a bare-metal image
+# (tests/consumer/bare_metal.c, firmware/startup.c, firmware/mps2-an386.ld)
+# that needs sqrtf, atan2f and logf.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$GF_ROOT/scripts/firmware.sh"
@@ -14,5 +23,70 @@ for target in $GF_FW_TARGETS; do
         "$(gf_fw_prefix "$target")size" "$dir/gaussfilt/libgaussfilt.a" |
             awk 'NR == 1 || /obj/'
         gf_fw_link_check "$target" "$dir"
+        gf_check_names "$dir/gaussfilt/libgaussfilt.a" "$prec" \
+            "$(gf_fw_prefix "$target")nm"
     done
 done
+
+# bare_metal_check WHAT ELF: ELF links, with libm's sqrtf, atan2f and logf
+# in it and none of the symbols a filter image must not contain.
+bare_metal_check() {
+    local what=$1 elf=$2 syms bad f
+    [ -f "$elf" ] || gf_die "$what: no $elf"
+    syms=$(arm-none-eabi-nm "$elf" | awk '$2 ~ /^[Tt]$/ {print $3}')
+    for f in sqrtf atan2f logf; do
+        grep -qx "$f" <<<"$syms" || gf_die "$what: $f is not in the image"
+    done
+    bad=$(grep -Ex "$GF_FW_FORBIDDEN" <<<"$syms" | tr '\n' ' ' || true)
+    [ -z "$bad" ] || gf_die "$what: the image links $bad"
+    echo "$what: links; libm's sqrtf, atan2f, logf in the image; $(arm-none-eabi-size "$elf" | awk 'NR == 2 {print $1 + $2 " B of flash"}')"
+}
+
+b=$GF_BUILD/cross-vendor
+rm -rf "$b"
+mkdir -p "$b"
+startup=$GF_ROOT/firmware/startup.c
+ld=$GF_ROOT/firmware/mps2-an386.ld
+m4f=$GF_ROOT/cmake/toolchain-cortex-m4f.cmake
+
+gf_log "cross: gaussfilt configured with only a toolchain file (Cortex-M4F)"
+cmake -S "$GF_ROOT" -B "$b/top" -DCMAKE_TOOLCHAIN_FILE="$m4f" >"$b/top.log" 2>&1 ||
+    gf_die "cmake with only -DCMAKE_TOOLCHAIN_FILE failed (see $b/top.log)"
+cmake --build "$b/top" --parallel 2 >>"$b/top.log" 2>&1 ||
+    gf_die "the cross build with defaults failed (see $b/top.log)"
+grep -q 'GAUSSFILT_BUILD_TESTS:BOOL=OFF' "$b/top/CMakeCache.txt" ||
+    gf_die "cross-compiling: GAUSSFILT_BUILD_TESTS is not OFF by default"
+echo "configured and built with defaults: tests and examples off, libgaussfilt.a built"
+
+gf_log "cross: README's CMake snippet, add_subdirectory() of a copy (Cortex-M4F)"
+v=$b/snippet
+mkdir -p "$v/src/gaussfilt/include"
+cp "$GF_ROOT/CMakeLists.txt" "$v/src/gaussfilt/"
+cp -r "$GF_ROOT/include/gaussfilt" "$v/src/gaussfilt/include/"
+cp -r "$GF_ROOT/src" "$v/src/gaussfilt/"
+gf_readme_block vendor-cmake >"$v/src/CMakeLists.txt"
+printf '#include "%s"\n#include "%s"\n' "$GF_ROOT/tests/consumer/bare_metal.c" \
+    "$startup" >"$v/src/main.c"
+for type in Release MinSizeRel; do
+    cmake -S "$v/src" -B "$v/$type" -DCMAKE_TOOLCHAIN_FILE="$m4f" \
+        -DCMAKE_BUILD_TYPE=$type -DGAUSSFILT_SINGLE_PRECISION=ON \
+        -DCMAKE_EXE_LINKER_FLAGS="-nostartfiles -T $ld --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections" \
+        >"$v/$type.log" 2>&1 ||
+        gf_die "the README's snippet does not configure for Cortex-M4F (see $v/$type.log)"
+    cmake --build "$v/$type" >>"$v/$type.log" 2>&1 ||
+        gf_die "the README's snippet does not build for Cortex-M4F at $type (see $v/$type.log)"
+    bare_metal_check "README snippet, Cortex-M4F, $type" "$v/$type/app"
+done
+
+gf_log "cross: README's arm-none-eabi-gcc line on copied sources"
+c=$b/copied
+mkdir -p "$c/gaussfilt/include"
+cp -r "$GF_ROOT/include/gaussfilt" "$c/gaussfilt/include/"
+cp -r "$GF_ROOT/src" "$c/gaussfilt/"
+cp "$GF_ROOT/tests/consumer/bare_metal.c" "$c/main.c"
+line=$(gf_readme_block vendor-cc | sed -n '/^arm-none-eabi-gcc/,/^$/p' | sed '/^$/d')
+[ -n "$line" ] || gf_die "README.md's vendor-cc block has no arm-none-eabi-gcc line"
+echo "$line"
+(cd "$c" && STARTUP=$startup LDSCRIPT=$ld bash -euc "$line") ||
+    gf_die "the README's arm-none-eabi-gcc line failed"
+bare_metal_check "copied sources, README's compiler line, Cortex-M4F" "$c/app.elf"

@@ -17,6 +17,24 @@
 #              the node twice with the file:// provider (speed=0): the two
 #              belief logs are identical, and Table 2.1 is in them; and
 #              gf_sim gives the same bytes for the same seed (and session)
+#   config     node_test.conf: a car at 100 Hz (position and velocity), a
+#              robot with odometry noise seeing (x, y), and one seeing the
+#              range and bearing of a landmark; three nodes (one per model,
+#              all with --config), M = 50 runs of each model streamed by
+#              gf_sim over udpm, every input applied, and the NEES and NIS
+#              of the beliefs consistent (gf_consist, 95% bounds per step)
+#   model      a node without a configuration; gf_setmodel gives track 150
+#              the car100 model at run time; after it, every belief of the
+#              track equals that of a node configured with car100 from the
+#              start (gf_logcmp)
+#   java       a demo-like log (exercises 1, 2, 4 and a random robot through
+#              an EKF and a PF node, a run-time model_t) by lcm-logger; the
+#              Java types jar decodes every GF_ event of it the way lcm-spy
+#              does, all six types (GfDecodeLog; GF_JAVA, GF_JAVA_CP)
+#   python     examples/beliefs.py (the venv's Python, the installed
+#              gaussfilt_lcm types) listens while lcm-logplayer replays a
+#              node's beliefs of exercise 2 and of a car at 100 Hz: it
+#              prints Table 2.1's beliefs and draws the car's track
 #   ex4three   exercise 4 through three nodes (--filter ekf, ukf, pf):
 #              gf_ex4check sees the EKF at (0.15, 0), the UKF's predicted
 #              mean inside the unit circle, the PF's two modes
@@ -172,6 +190,139 @@ ex4three)
     # 3 beliefs from each node, and 3 clouds from the PF node
     grep -q 'published=6 ' "$work/node_pf.out" ||
         { echo "lcm_udpm: the PF node did not publish 3 beliefs + 3 clouds" >&2; exit 1; }
+    ;;
+config)
+    conf=$(dirname "$0")/node_test.conf
+    runs=50 steps=100
+    # every node's socket sees every model's stream: room for the bursts
+    # of 100 messages each step brings
+    for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        start "node$k" "$bin/gf_node" --config "$conf" \
+            --url "$URL&recv_buf_size=4194304" \
+            --channels "GF_(MEAS|CTRL|MODEL)_${k}[0-9][0-9]" \
+            --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
+        ready "node$k"
+    done
+    grep -q 'models=3 config=' "$work/node1.out" ||
+        { echo "lcm_udpm: the ready line does not name the models" >&2; exit 1; }
+    for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        # the same stream twice: over udpm to the node, and into a file
+        # for its truths
+        for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
+            "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
+                --track "${k}00" --runs $runs --steps $steps --seed $k \
+                --session 1 --rate 100
+        done
+    done
+    for k in 1 2 3; do
+        node_pid=$(eval echo "\$node${k}_pid")
+        kill -TERM "$node_pid"
+        wait "$node_pid" || { echo "lcm_udpm: node $k exit status $?" >&2; exit 1; }
+        summary=$(grep 'gf_node: summary' "$work/node$k.out")
+        echo "node $k: $summary"
+        expect received $((2 * runs * steps))
+        expect applied $((2 * runs * steps))
+        expect gaps 0
+        expect dropped 0
+        expect tracks $runs
+    done
+    for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        "$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
+            --url "file://$work/beliefs-$m.lcmlog?speed=0" --first "${k}00" \
+            --runs $runs --steps $steps --label "$m" ||
+            { echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
+    done
+    ;;
+model)
+    conf=$(dirname "$0")/node_test.conf
+    start node "$bin/gf_node" --url "$URL" \
+        --out-url "file://$work/beliefs-set.lcmlog?mode=w"
+    ready node
+    "$bin/gf_setmodel" --url "$URL" --config "$conf" --model car100 \
+        --track 150 --reset --utime 10000
+    sleep 0.2
+    "$bin/gf_sim" --url "$URL" --config "$conf" --model car100 --track 150 \
+        --steps 50 --seed 5 --session 1 --rate 500
+    sleep 0.2
+    stop_node
+    expect models 1
+    expect received 101
+    expect applied 101
+    # the same inputs through a node configured with car100 from the start
+    "$bin/gf_sim" --url "file://$work/in.lcmlog?mode=w" --config "$conf" \
+        --model car100 --track 150 --steps 50 --seed 5 --session 1
+    "$bin/gf_node" --config "$conf" --url "file://$work/in.lcmlog?speed=0" \
+        --out-url "file://$work/beliefs-conf.lcmlog?mode=w" >"$work/node-conf.out"
+    cat "$work/node-conf.out"
+    # 1 initial belief (the model message's) + 100
+    "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect 101 \
+        "$work/beliefs-set.lcmlog" "$work/beliefs-conf.lcmlog"
+    ;;
+java)
+    start logger "$lcmbin/lcm-logger" --lcm-url="$URL" -f "$work/demo.lcmlog"
+    start node "$bin/gf_node" --url "$URL" --channels 'GF_(MEAS|CTRL|MODEL)_[0-9]'
+    start pfnode "$bin/gf_node" --url "$URL" --filter pf \
+        --channels 'GF_(MEAS|CTRL|MODEL)_43'
+    ready node
+    ready pfnode
+    sleep 0.3
+    "$bin/gf_sim" --url "$URL" --exercise 1 --track 1
+    "$bin/gf_sim" --url "$URL" --exercise 2 --track 2
+    "$bin/gf_sim" --url "$URL" --exercise 4 --track 4
+    "$bin/gf_sim" --url "$URL" --exercise 4 --track 43
+    "$bin/gf_setmodel" --url "$URL" --model book-robot --track 5 --reset
+    "$bin/gf_sim" --url "$URL" --model robot --track 5 --steps 20 --seed 3 --rate 500
+    sleep 0.3
+    stop_node
+    kill -TERM "$pfnode_pid"
+    wait "$pfnode_pid" || true
+    # inputs 10 + 6 + 2 + 2 + 40 and 1 model_t; truths 20; beliefs (the
+    # initial one and one per input) 11 + 7 + 3 + 3 + 41; clouds 3 (PF node)
+    want=$((10 + 6 + 2 + 2 + 40 + 1 + 20 + 11 + 7 + 3 + 3 + 41 + 3))
+    for i in $(seq 100); do
+        "$bin/gf_logcmp" --prefix GF_ --expect $want "$work/demo.lcmlog" \
+            >/dev/null 2>&1 && break
+        sleep 0.1
+    done
+    kill -INT "$logger_pid"
+    wait "$logger_pid" || true
+    "$bin/gf_logcmp" --prefix GF_ "$work/demo.lcmlog"
+    "$GF_JAVA" -cp "$GF_JAVA_CP" GfDecodeLog "$work/demo.lcmlog" $want \
+        2>"$work/java.err" | tee "$work/java.out"
+    n=$(grep -c '^GfDecodeLog: gaussfilt_lcm\.' "$work/java.out")
+    [ "$n" -eq 6 ] ||
+        { echo "lcm_udpm: $n of the 6 types decoded" >&2; exit 1; }
+    ;;
+python)
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    example=$(cd "$(dirname "$0")/../../examples" && pwd)/beliefs.py
+    conf=$(cd "$(dirname "$0")/../../examples" && pwd)/node.conf
+    "$bin/gf_sim" --url "file://$work/in-2.lcmlog?mode=w" --exercise 2 --track 2 --session 1
+    "$bin/gf_sim" --url "file://$work/in-150.lcmlog?mode=w" --config "$conf" \
+        --model car100 --track 150 --steps 100 --seed 4 --session 1
+    for k in 2 150; do
+        "$bin/gf_node" --config "$conf" --url "file://$work/in-$k.lcmlog?speed=0" \
+            --out-url "file://$work/out-$k.lcmlog?mode=w" >/dev/null
+    done
+    # offline: the log read to its end
+    "$py" "$example" --url "file://$work/out-2.lcmlog?speed=0" | tee "$work/table.out"
+    grep -Eq '^ +2 +6 update +0 \| +4\.0244 +1\.2195 \|' "$work/table.out" ||
+        { echo "lcm_udpm: beliefs.py did not print Table 2.1's corrected belief" >&2; exit 1; }
+    grep -q '^7 beliefs' "$work/table.out" ||
+        { echo "lcm_udpm: beliefs.py did not print the 7 beliefs of Table 2.1" >&2; exit 1; }
+    # live: lcm-logplayer replays the car's beliefs on udpm
+    start example "$py" "$example" --url "$URL" --track 150 --count 201 \
+        --seconds 10 --plot "$work/car100.png"
+    sleep 1.5
+    "$lcmbin/lcm-logplayer" --lcm-url="$URL" -s 4 "$work/out-150.lcmlog"
+    wait "$example_pid" || { cat "$work/example.out"; echo "lcm_udpm: beliefs.py failed" >&2; exit 1; }
+    tail -3 "$work/example.out"
+    grep -q '^201 beliefs' "$work/example.out" ||
+        { echo "lcm_udpm: beliefs.py missed beliefs of the replay" >&2; exit 1; }
+    [ -s "$work/car100.png" ] || { echo "lcm_udpm: no plot" >&2; exit 1; }
     ;;
 *)
     echo "lcm_udpm: no scenario $scenario" >&2

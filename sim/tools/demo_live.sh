@@ -4,9 +4,31 @@
 # a private network namespace when root (GF_IN_NETNS=1: lo up, multicast
 # routed to lo), else on the host's loopback.
 #
-#   demo_live.sh BIN_DIR VENV_DIR LCM_BIN_DIR OUT_DIR URL
+#   demo_live.sh BIN_DIR VENV_DIR LCM_BIN_DIR OUT_DIR URL [EXERCISE OPTIONS]
+#
+# EXERCISE OPTIONS (scripts/demo --help) go to gf_sim --exercise 2 and the
+# checkers; --heading-var V becomes the prior of track 4 in a node
+# configuration (OUT_DIR/book.conf).
 set -euo pipefail
 bin=$1 venv=$2 lcmbin=$3 out=$4 url=$5
+shift 5
+book=("$@") ex2=() node_conf=()
+while [ $# -gt 0 ]; do
+    case $1 in
+    --meas-var | --z | --steps) ex2+=("$1" "$2") ;;
+    --heading-var)
+        cat >"$out/book.conf" <<CONF
+# exercise 4 with another initial heading variance (scripts/demo --heading-var)
+[model exercise4]
+base = book-robot
+channels = GF_(MEAS|CTRL|MODEL)_4
+prior_cov = 0.01 0.01 $2
+CONF
+        node_conf=(--config "$out/book.conf")
+        ;;
+    esac
+    shift 2
+done
 tools=$(cd "$(dirname "$0")" && pwd)
 log=$out/gaussfilt-demo.lcmlog
 
@@ -32,13 +54,14 @@ echo "LCM multicast self-test passed on $url"
 rm -f "$log"
 start logger "$lcmbin/lcm-logger" --lcm-url="$url" -f "$log"
 start check11 "$bin/gf_check" --url "$url" --table 1.1 --track 1
-start check21 "$bin/gf_check" --url "$url" --table 2.1 --track 2
-start check42 "$bin/gf_check" --url "$url" --table 4.2 --track 4
+start check21 "$bin/gf_check" --url "$url" --table 2.1 --track 2 "${book[@]}"
+start check42 "$bin/gf_check" --url "$url" --table 4.2 --track 4 "${book[@]}"
 start check4x "$bin/gf_ex4check" --url "$url" --ekf 41 --ukf 42 --pf 43
 for c in check11 check21 check42 check4x; do ready $c; done
 # The main node takes tracks 0..39; exercise 4 three ways runs on 41, 42
 # and 43, one node per filter.
-start node "$bin/gf_node" --url "$url" --channels 'GF_(MEAS|CTRL)_([0-9]|[1-3][0-9])'
+start node "$bin/gf_node" --url "$url" --channels 'GF_(MEAS|CTRL|MODEL)_([0-9]|[1-3][0-9])' \
+    "${node_conf[@]}"
 ready node
 for f in ekf:41 ukf:42 pf:43; do
     start "node_${f%:*}" "$bin/gf_node" --url "$url" --filter "${f%:*}" \
@@ -53,7 +76,7 @@ echo "and three more for exercise 4 three ways: $(sed -n 's/.*ready.* filter=\([
 echo "simulators: the exercises (as fast as possible), then a random car and"
 echo "a random robot streaming in real time at 50 Hz for 2 s"
 "$bin/gf_sim" --url "$url" --exercise 1 --track 1
-"$bin/gf_sim" --url "$url" --exercise 2 --track 2
+"$bin/gf_sim" --url "$url" --exercise 2 --track 2 "${ex2[@]}"
 "$bin/gf_sim" --url "$url" --exercise 4 --track 4
 for t in 41 42 43; do "$bin/gf_sim" --url "$url" --exercise 4 --track $t; done
 start car "$bin/gf_sim" --url "$url" --model car --track 10 --steps 100 --seed 1 --rate 50

@@ -1,11 +1,13 @@
-"""Draws the seed's figures from an LCM log recorded by scripts/demo.
+"""Draws the seed's figures from an LCM log recorded by scripts/demo, or
+from the beliefs examples/exercises --beliefs wrote (scripts/demo --core).
 
-    python gf_plots.py LOG OUT_DIR
+    python gf_plots.py LOG OUT_DIR        (scripts/plot LOG [DIR])
 
 Reads the beliefs (GF_BELIEF_<track>), the particle clouds
-(GF_PARTICLES_<track>) and the ground truth (GF_TRUTH_<track>)
-with lcm.EventLog and the generated gaussfilt_lcm types (PYTHONPATH must hold
-the build tree's lcmtypes/), and writes PNGs:
+(GF_PARTICLES_<track>), the measurements (GF_MEAS_<track>) and the ground
+truth (GF_TRUTH_<track>) with lcm.EventLog and the gaussfilt_lcm types (the
+package scripts/lcm.sh installs into the venv), or the text file, and
+writes PNGs (the figures of a changed exercise say its own numbers):
 
   fig1_1_ellipses.png     Figure 1.1: 68% ellipses of the car, t = 0..5 (track 1)
   fig1_2_correlation.png  Figure 1.2: rho_t, t = 1..10 (track 1)
@@ -31,13 +33,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import lcm  # noqa: E402
 from matplotlib.patches import Ellipse  # noqa: E402
 
-from gaussfilt_lcm import belief_t, groundtruth_t, particles_t  # noqa: E402
+# belief_t's stages (lcm_types/belief_t.lcm)
+STAGE_INIT, STAGE_PREDICT, STAGE_UPDATE = 0, 1, 2
+TEXT_MAGIC = "# gaussfilt beliefs"
 
 # Channel prefixes: sim/gf_channels.h.
-BELIEF, TRUTH = "GF_BELIEF_", "GF_TRUTH_"
+BELIEF, TRUTH, MEAS = "GF_BELIEF_", "GF_TRUTH_", "GF_MEAS_"
 PARTICLES = "GF_PARTICLES_"
 # scripts/demo's exercise-4 tracks, one node per filter (sim/tools/demo_live.sh)
 EX4_TRACKS = {"EKF": 41, "UKF": 42, "PF": 43}
@@ -45,11 +48,49 @@ P = 0.68
 K = math.sqrt(-2.0 * math.log(1.0 - P))
 
 
-def read(path, clouds=None):
+class Belief:
+    """A belief read from text, with belief_t's fields the figures use."""
+
+    def __init__(self, f):
+        self.track, self.seq, self.stage, self.n = (int(x) for x in f[:4])
+        v = [float(x) for x in f[4:16]]
+        self.mean = v[0:3]
+        self.cov = [v[3:6], v[6:9], v[9:12]]
+        self.utime, self.filter, self.status = 0, 0, 0
+
+
+def read_text(path, meas):
+    """The text of examples/exercises --beliefs: one belief a line."""
+    beliefs = defaultdict(dict)
+    for line in open(path):
+        f = line.split()
+        if line.startswith("# meas"):
+            meas[int(f[2])] = (float(f[3]), float(f[4]))
+        elif f and not line.startswith("#"):
+            b = Belief(f)
+            beliefs[b.track][b.seq] = b
+    return ({t: [d[s] for s in sorted(d)] for t, d in beliefs.items()},
+            defaultdict(list))
+
+
+def read(path, clouds=None, meas=None):
     """beliefs[track] = [belief_t by seq], truths[track] = [groundtruth_t];
-    clouds[track][seq] = particles_t if a dict is given."""
+    clouds[track][seq] = particles_t if a dict is given; meas[track] = (z,
+    q) of the track's last scalar measurement if a dict is given."""
+    meas = {} if meas is None else meas
+    with open(path, "rb") as f:
+        if f.read(len(TEXT_MAGIC)) == TEXT_MAGIC.encode():
+            return read_text(path, meas)
+    import lcm
+    from gaussfilt_lcm import (belief_t, groundtruth_t, measurement_t,
+                               particles_t)
     beliefs, truths = defaultdict(dict), defaultdict(list)
     for ev in lcm.EventLog(path, "r"):
+        if ev.channel.startswith(MEAS):
+            z = measurement_t.decode(ev.data)
+            if z.m == 1:
+                meas[z.track] = (z.z[0], z.q[0][0])
+            continue
         if ev.channel.startswith(PARTICLES) and clouds is not None:
             c = particles_t.decode(ev.data)
             clouds.setdefault(c.track, {})[c.seq] = c
@@ -140,18 +181,24 @@ def fig_1_2(beliefs, out):
     plt.close(fig)
 
 
-def fig_2_1(beliefs, out):
+def fig_2_1(beliefs, out, meas):
     bs = beliefs[2]
-    pred = [b for b in bs if b.stage != belief_t.STAGE_UPDATE]
-    upd = [b for b in bs if b.stage == belief_t.STAGE_UPDATE]
+    pred = [b for b in bs if b.stage != STAGE_UPDATE]
+    upd = [b for b in bs if b.stage == STAGE_UPDATE]
+    t = len(pred) - 1
+    z, q = meas.get(2, (5.0, 10.0))
     fig, ax = plt.subplots(figsize=(7, 5))
     car_ellipses(ax, pred, plt.cm.Blues, 0.35, 0.95)
     for b in upd:
-        ellipse(ax, b, edgecolor="green", label="t = 5 after z = 5")
-    ax.axvline(5.0, color="green", ls="--", label="z = 5")
-    ax.set_xlim(-13, 13)
-    ax.set_ylim(-4.5, 4.5)
-    ax.set_title("Figure 2.1: the measurement z = 5 at t = 5 (68% ellipses)")
+        ellipse(ax, b, edgecolor="green", label=f"t = {t} after z = {z:g}")
+    ax.axvline(z, color="green", ls="--", label=f"z = {z:g} (variance {q:g})")
+    wx = max([13.0, abs(z) + 2.0] +
+             [1.1 * K * math.sqrt(max(b.cov[0][0], 0.0)) for b in bs])
+    wv = max([4.5] + [1.1 * K * math.sqrt(max(b.cov[1][1], 0.0)) for b in bs])
+    ax.set_xlim(-wx, wx)
+    ax.set_ylim(-wv, wv)
+    ax.set_title(f"Figure 2.1: the measurement z = {z:g} at t = {t} "
+                 "(68% ellipses)")
     ax.legend(loc="upper left", fontsize=8)
     fig.tight_layout()
     fig.savefig(out)
@@ -200,7 +247,7 @@ def fig_4(beliefs, out, corrected):
 
 
 def stream_car(beliefs, truths, out):
-    bs = [b for b in beliefs.get(10, []) if b.stage == belief_t.STAGE_UPDATE]
+    bs = [b for b in beliefs.get(10, []) if b.stage == STAGE_UPDATE]
     ts = truths.get(10, [])
     if not bs or not ts:
         return False
@@ -225,8 +272,8 @@ def stream_car(beliefs, truths, out):
     return True
 
 
-FILTER_NAMES = {belief_t.FILTER_KF2: "KF2", belief_t.FILTER_EKF3: "EKF3",
-                belief_t.FILTER_UKF3: "UKF3", belief_t.FILTER_PF3: "PF3"}
+FILTER_NAMES = {1: "KF2", 2: "EKF3",  # belief_t.FILTER_*
+                3: "UKF3", 4: "PF3"}
 
 
 def ex4_three_ways(beliefs, clouds, out):
@@ -292,9 +339,9 @@ def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     log, out = sys.argv[1], sys.argv[2]
-    clouds = {}
-    beliefs, truths = read(log, clouds)
-    for track, need in ((1, 11), (2, 7), (4, 3)):
+    clouds, meas = {}, {}
+    beliefs, truths = read(log, clouds, meas)
+    for track, need in ((1, 11), (2, 3), (4, 3)):
         if len(beliefs.get(track, [])) < need:
             sys.exit(f"gf_plots: the log has {len(beliefs.get(track, []))} "
                      f"beliefs of track {track}, need {need}")
@@ -303,7 +350,7 @@ def main():
     for name, draw in (
             ("fig1_1_ellipses.png", lambda p: fig_1_1(beliefs, p)),
             ("fig1_2_correlation.png", lambda p: fig_1_2(beliefs, p)),
-            ("fig2_1_measurement.png", lambda p: fig_2_1(beliefs, p)),
+            ("fig2_1_measurement.png", lambda p: fig_2_1(beliefs, p, meas)),
             ("fig4_1_prediction.png", lambda p: fig_4(beliefs, p, False)),
             ("fig4_2_correction.png", lambda p: fig_4(beliefs, p, True))):
         draw(os.path.join(out, name))

@@ -1,8 +1,9 @@
 // gf_load: load for the node. Many car tracks from one process: every
 // step of every track is a control and a position measurement (variance
-// 10) on GF_CTRL_<n> / GF_MEAS_<n>, tracks 0..N-1, paced in 1 ms ticks.
+// 10) on GF_CTRL_<n> / GF_MEAS_<n>, tracks F..F+N-1 (--first F, default
+// 0), paced in 1 ms ticks.
 //
-//   gf_load --url URL [--tracks N] [--rate STEPS_PER_S_PER_TRACK]
+//   gf_load --url URL [--tracks N] [--first F] [--rate STEPS_PER_S_PER_TRACK]
 //           [--seconds S] [--seed S]
 //
 // Ends with "gf_load: sent=M steps=K" (M messages published).
@@ -46,7 +47,7 @@ static double now_s(void)
 int main(int argc, char **argv)
 {
     const char *url = NULL;
-    long tracks = 32, k = 0;
+    long tracks = 32, k = 0, first = 0;
     double rate = 200.0, seconds = 3.0, t0, x[MAX_TRACKS][2];
     int64_t step = 0;
     unsigned long long sent = 0, failed = 0;
@@ -60,6 +61,8 @@ int main(int argc, char **argv)
             url = argv[i + 1];
         else if (strcmp(argv[i], "--tracks") == 0)
             tracks = atol(argv[i + 1]);
+        else if (strcmp(argv[i], "--first") == 0)
+            first = atol(argv[i + 1]);
         else if (strcmp(argv[i], "--rate") == 0)
             rate = atof(argv[i + 1]);
         else if (strcmp(argv[i], "--seconds") == 0)
@@ -71,7 +74,8 @@ int main(int argc, char **argv)
     }
     if (i < argc || tracks < 1 || tracks > MAX_TRACKS || rate <= 0.0) {
         fprintf(stderr, "usage: gf_load --url URL [--tracks N<=%d] "
-                        "[--rate HZ] [--seconds S] [--seed S]\n", MAX_TRACKS);
+                        "[--first F] [--rate HZ] [--seconds S] [--seed S]\n",
+                MAX_TRACKS);
         return 2;
     }
     lcm = lcm_create(url);
@@ -99,9 +103,9 @@ int main(int argc, char **argv)
                 c.utime = (step + 1) * 1000;
                 c.seq = 2 * step + 1;
                 c.session = 1;
-                c.track = (int32_t)k;
+                c.track = (int32_t)(first + k);
                 c.model = GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR;
-                snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_CTRL, k);
+                snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_CTRL, first + k);
                 len = gaussfilt_lcm_control_t_encode(buf, 0, sizeof(buf), &c);
                 failed += lcm_publish(lcm, ch, buf, (unsigned)len) != 0;
                 memset(&z, 0, sizeof(z));
@@ -113,7 +117,7 @@ int main(int argc, char **argv)
                 z.m = 1;
                 z.z[0] = x[k][0] + sqrt(10.0) * noise();
                 z.q[0][0] = 10.0;
-                snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_MEAS, k);
+                snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_MEAS, first + k);
                 len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof(buf),
                                                          &z);
                 failed += lcm_publish(lcm, ch, buf, (unsigned)len) != 0;

@@ -17,6 +17,11 @@
 #           3; scripts/soak: 60+): the node's RSS does not grow, and it
 #           handles every message its socket received (drops counted from
 #           /proc/net/udp and LCM's own counters)
+#   burst   three gf_load publishers (9 tracks at 1 kHz each: 54 000
+#           messages/s) for 0.7 s into one node:
+#           with the default queue nothing is dropped in the node; with
+#           --queue 4 some are, counted as dropped; both times what was sent
+#           = received + dropped in the node + dropped by the socket buffer
 set -euo pipefail
 scenario=$1 port=$2 bin=$3 py=$4 pypath=$5 work=$6 seconds=${7:-3}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -177,6 +182,53 @@ load)
     # page by page, which shows as a few steps of RSS: allow 512 kB.
     echo "load: RSS growth $((rssmax - rss0)) kB = $(echo "($rssmax - $rss0) * 1024 / $sent" | bc -l | cut -c1-6) bytes per message"
     [ "$rssmax" -le $((rss0 + 512)) ] || die "RSS grew from $rss0 to $rssmax kB"
+    ;;
+burst)
+    hexport=$(printf '%04X' "$port")
+    sockdrops() {
+        awk -v p=":$hexport" 'NR > 1 && substr($2, length($2) - 4) == p {
+            d += $NF } END { print d + 0 }' /proc/net/udp
+    }
+    key() { sed -nE "s/.* $1=([0-9]+).*/\1/p" "$2" | head -1; }
+    for queue in default 4; do
+        opt=()
+        [ "$queue" = default ] || opt=(--queue "$queue")
+        start node "$bin/gf_node" --url "$URL_A" --out-url "$URL_B" "${opt[@]}"
+        ready node
+        grep -o 'queue=[0-9]* queue_bytes=[0-9]* rcvbuf=[0-9a-z]*' "$work/node.out"
+        before=$(sockdrops)
+        for p in 0 1 2; do
+            start "load$p" "$bin/gf_load" --url "$URL_A" --first $((100 * p)) \
+                --tracks 9 --rate 1000 --seconds 0.7 --seed $p
+        done
+        for p in 0 1 2; do
+            v=load${p}_pid
+            wait "${!v}" || die "gf_load $p failed"
+        done
+        sleep 0.5
+        lost_socket=$(($(sockdrops) - before))
+        stop node
+        cp "$work/node.out" "$work/node-$queue.out"
+        sent=0
+        for p in 0 1 2; do
+            sent=$((sent + $(sed -nE 's/.*sent=([0-9]+).*/\1/p' "$work/load$p.out")))
+        done
+        f=$work/node.out
+        received=$(key received "$f") dropped=$(key dropped "$f")
+        gaps=$(key gaps "$f") peak=$(key queue_peak "$f")
+        printf 'burst figures (queue %s): sent %s, received %s, dropped in the node %s, dropped by the socket buffer %s, gaps %s, queue peak %s\n' \
+            "$queue" "$sent" "$received" "$dropped" "$lost_socket" "$gaps" \
+            "$peak" | tee -a "$work/figures"
+        [ "$sent" -eq $((received + dropped + lost_socket)) ] ||
+            die "sent $sent != received $received + dropped $dropped + socket $lost_socket"
+        [ "$gaps" -le $((dropped + lost_socket)) ] ||
+            die "more gaps ($gaps) than messages lost ($((dropped + lost_socket)))"
+        if [ "$queue" = default ]; then
+            [ "$dropped" -eq 0 ] || die "the default queue dropped $dropped"
+        else
+            [ "$dropped" -gt 0 ] || die "a queue of $queue dropped nothing"
+        fi
+    done
     ;;
 *)
     die "no scenario $scenario"

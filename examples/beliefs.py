@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""Prints gf_node's beliefs as they arrive, and plots one track.
+
+    python examples/beliefs.py [--url URL] [--track N] [--plot FILE.png]
+                               [--count N] [--seconds S]
+
+Subscribes to GF_BELIEF_<track> (every track by default) and prints one
+line per belief: track, seq, stage, status, the mean and the standard
+deviations (square roots of the covariance's diagonal), and the NIS of an
+update. With --plot, the mean of --track with its 2-sigma band over the
+beliefs is drawn to FILE.png (matplotlib) at the end.
+
+Needs the lcm package and the types (the package gaussfilt_lcm, which
+scripts/lcm.sh installs into the project's .venv). URL: LCM's, e.g.
+udpm://239.255.76.67:7667?ttl=0, or file:///x.lcmlog?speed=0 to read a
+log to its end. Ends after --count beliefs, --seconds without one, or
+Ctrl-C.
+"""
+import argparse
+import math
+import select
+import sys
+
+import lcm
+from gaussfilt_lcm import belief_t
+
+STAGES = {0: "init", 1: "predict", 2: "update"}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--url", default=None, help="LCM URL (default: LCM's)")
+    ap.add_argument("--track", type=int, default=None,
+                    help="only this track (and the one --plot draws)")
+    ap.add_argument("--plot", default=None, help="draw --track to this PNG")
+    ap.add_argument("--count", type=int, default=0, help="stop after N beliefs")
+    ap.add_argument("--seconds", type=float, default=0.0,
+                    help="stop after S seconds without a belief")
+    a = ap.parse_args()
+    if a.plot and a.track is None:
+        ap.error("--plot needs --track")
+
+    lc = lcm.LCM(a.url) if a.url else lcm.LCM()
+    seen = []
+    chan = "GF_BELIEF_%d" % a.track if a.track is not None else "GF_BELIEF_-?[0-9]+"
+
+    def on_belief(channel, data):
+        b = belief_t.decode(data)
+        n = b.n
+        mean = " ".join("%10.4f" % b.mean[i] for i in range(n))
+        sd = " ".join("%9.4f" % math.sqrt(max(b.cov[i][i], 0.0))
+                      if b.cov[i][i] == b.cov[i][i] else "      nan"
+                      for i in range(n))
+        nis = "%8.3f" % b.nis if b.m else "       -"
+        print("%6d %6d %-7s %4d | %s | %s | %s" % (
+            b.track, b.seq, STAGES.get(b.stage, b.stage), b.status, mean, sd,
+            nis), flush=True)
+        seen.append(b)
+
+    # LCM keeps 30 messages per subscription by default: too few for a
+    # node's bursts (a replayed log comes as fast as it was written)
+    lc.subscribe(chan, on_belief).set_queue_capacity(100000)
+    print("%6s %6s %-7s %4s | %s | %s | %s" % (
+        "track", "seq", "stage", "st", "mean", "sd", "NIS"), flush=True)
+    replay = bool(a.url) and a.url.startswith("file://")
+    try:
+        while not a.count or len(seen) < a.count:
+            if replay:
+                lc.handle()  # IOError at the end of the log
+                continue
+            r, _, _ = select.select([lc.fileno()], [], [],
+                                    a.seconds if a.seconds > 0 else None)
+            if not r:
+                break
+            lc.handle()
+    except (KeyboardInterrupt, IOError):
+        pass
+    print("%d beliefs" % len(seen), flush=True)
+
+    if a.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        bs = [b for b in seen if b.track == a.track]
+        if not bs:
+            sys.exit("no beliefs of track %d to plot" % a.track)
+        n = bs[0].n
+        names = (["position", "velocity"] if n == 2 else ["x", "y", "theta"])
+        fig, axes = plt.subplots(n, 1, sharex=True, figsize=(7, 2.2 * n))
+        k = list(range(len(bs)))
+        for i, ax in enumerate(axes):
+            mu = [b.mean[i] for b in bs]
+            sd = [math.sqrt(max(b.cov[i][i], 0.0)) for b in bs]
+            ax.fill_between(k, [m - 2 * s for m, s in zip(mu, sd)],
+                            [m + 2 * s for m, s in zip(mu, sd)], alpha=0.3,
+                            label="2 sigma")
+            ax.plot(k, mu, lw=1, label="mean")
+            ax.set_ylabel(names[i])
+        axes[0].set_title("gf_node beliefs of track %d" % a.track)
+        axes[0].legend(loc="best", fontsize=8)
+        axes[-1].set_xlabel("belief")
+        fig.tight_layout()
+        fig.savefig(a.plot, dpi=100)
+        print("drew %s" % a.plot)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,548 @@
+// The node's models as data (node_model.h) and its edges (node_core.h), in
+// process: the configuration file and its errors, a run-time model_t
+// between two steps against the core run directly with the new model, the
+// range-bearing measurement against the core with a callback written
+// here, one channel spelling per track, sequence resync at the range's
+// edges, and a PF summary that cannot be computed.
+#include <float.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gaussfilt_lcm_model_t.h"
+#include "gf_msgs.h"
+#include "node_core.h"
+
+#define TOL GF_SIM_TOL
+
+static void check_close(double got, double want)
+{
+    double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
+    if (!(fabs(got - want) <= TOL * scale))
+        fail_msg("got %.17g, want %.17g", got, want);
+}
+
+// Beliefs and particle clouds as published.
+typedef struct catch_ {
+    gf_sink sink;
+    int clouds, inf_in_cloud;
+} catch_;
+
+static int on_publish(void *ctx, const char *channel, const void *data,
+                      size_t len)
+{
+    catch_ *c = ctx;
+    if (strncmp(channel, GF_CHANNEL_PARTICLES,
+                strlen(GF_CHANNEL_PARTICLES)) == 0) {
+        gaussfilt_lcm_particles_t p;
+        int i;
+        if (gaussfilt_lcm_particles_t_decode(data, 0, (int)len, &p) ==
+            (int)len) {
+            c->clouds++;
+            for (i = 0; i < p.count; i++)
+                if (isinf(p.x[i]) || isinf(p.y[i]) || isinf(p.theta[i]) ||
+                    isinf(p.w[i]))
+                    c->inf_in_cloud++;
+            gaussfilt_lcm_particles_t_decode_cleanup(&p);
+        }
+        return 0;
+    }
+    gf_sink_add(&c->sink, channel, data, len);
+    return 0;
+}
+
+typedef struct fixture {
+    gf_node node;
+    catch_ c;
+    gf_node_config cfg;
+    gf_node_pf_pool pool;
+} fixture;
+
+static fixture fx;
+
+static const char test_conf[] =
+    "# comment\n"
+    "[model car100]\n"
+    "type = car\n"
+    "channels = GF_(MEAS|CTRL|MODEL)_1[0-9][0-9]\n"
+    "dt = 0.01\n"
+    "accel_var = 4   # (m/s^2)^2\n"
+    "prior_cov = 0.01 0.01\n"
+    "measure = position velocity\n"
+    "meas_cov = 0.0025 0.01\n"
+    "\n"
+    "[model lm]\n"
+    "type = robot\n"
+    "channels = GF_(MEAS|CTRL)_3[0-9]\n"
+    "odometry = 0.0025 0 0 0.0001\n"
+    "prior_mean = 1 2 0.5\n"
+    "prior_cov = 0.01 0.02 0.03\n"
+    "measure = range bearing\n"
+    "landmark = 5 3\n"
+    "[model lm2]\n"
+    "base = lm\n"
+    "gate = 9.2\n";
+
+static int setup(void **state)
+{
+    char err[128];
+    memset(&fx, 0, sizeof(fx));
+    gf_node_init(&fx.node, on_publish, &fx.c);
+    assert_int_equal(gf_node_config_parse(&fx.cfg, test_conf, err, sizeof err),
+                     0);
+    gf_node_set_models(&fx.node,
+                       (gf_node_model_fn)(void (*)(void))gf_node_config_lookup,
+                       &fx.cfg);
+    *state = &fx;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    gf_node_config_free(&fx.cfg);
+    return 0;
+}
+
+static gf_node_result feed(gf_msg m)
+{
+    assert_true(m.len > 0);
+    return gf_node_handle(&fx.node, m.channel, m.data, (size_t)m.len, 0);
+}
+
+static gf_node_result feed_on(const char *channel, gf_msg m)
+{
+    return gf_node_handle(&fx.node, channel, m.data, (size_t)m.len, 0);
+}
+
+static gf_msg msg_meas2(int32_t track, int8_t model, int64_t seq,
+                        int64_t utime, double z0, double z1, double q0,
+                        double q1)
+{
+    gf_msg m;
+    gaussfilt_lcm_measurement_t x;
+    memset(&m, 0, sizeof(m));
+    memset(&x, 0, sizeof(x));
+    x.utime = utime;
+    x.seq = seq;
+    x.track = track;
+    x.model = model;
+    x.m = 2;
+    x.z[0] = z0;
+    x.z[1] = z1;
+    x.q[0][0] = q0;
+    x.q[1][1] = q1;
+    snprintf(m.channel, sizeof(m.channel), "%s%ld", GF_CHANNEL_MEAS,
+             (long)track);
+    m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0, (int)sizeof(m.data),
+                                               &x);
+    return m;
+}
+
+static gf_msg msg_model(const gaussfilt_lcm_model_t *mm)
+{
+    gf_msg m;
+    memset(&m, 0, sizeof(m));
+    snprintf(m.channel, sizeof(m.channel), "%s%ld", GF_CHANNEL_MODEL,
+             (long)mm->track);
+    m.len = gaussfilt_lcm_model_t_encode(m.data, 0, (int)sizeof(m.data), mm);
+    return m;
+}
+
+// ---- the configuration file -------------------------------------------------
+
+static void config_and_lookup(void **state)
+{
+    const gf_node_model *m;
+    (void)state;
+    assert_int_equal(fx.cfg.count, 3);
+    m = gf_node_config_lookup(&fx.cfg, 150, GF_NODE_KIND_CAR);
+    assert_string_equal(m->name, "car100");
+    check_close(m->dt, 0.01);
+    check_close(m->prior_cov[1][1], 0.01);
+    assert_int_equal(m->measure, GF_NODE_MEASURE_XV);
+    // another kind on the same pattern, or no pattern: the presets
+    assert_string_equal(gf_node_config_lookup(&fx.cfg, 150,
+                                              GF_NODE_KIND_ROBOT)->name,
+                        "book-robot");
+    assert_string_equal(gf_node_config_lookup(&fx.cfg, 7, GF_NODE_KIND_CAR)
+                            ->name,
+                        "book-car");
+    assert_string_equal(gf_node_config_lookup(&fx.cfg, 1500,
+                                              GF_NODE_KIND_CAR)->name,
+                        "book-car"); // anchored
+    assert_string_equal(gf_node_config_lookup(NULL, 1, GF_NODE_KIND_CAR)->name,
+                        "book-car");
+    m = gf_node_config_find(&fx.cfg, "lm2"); // base = lm, then its own gate
+    assert_non_null(m);
+    check_close(m->landmark[0], 5.0);
+    check_close(m->gate, 9.2);
+    check_close(m->prior_mean[2], 0.5);
+}
+
+static void config_errors(void **state)
+{
+    static const struct {
+        const char *text, *err;
+    } bad[] = {
+        {"dt = 1\n", "line 1: a key before the first [model NAME]"},
+        {"[model a]\ntype = boat\n", "line 2: type is car or robot"},
+        {"[model a]\ndt = 1\n", "line 2: type or base first"},
+        {"[model a]\ntype = car\nspeed = 3\n", "line 3: unknown key speed"},
+        {"[model a]\ntype = car\ndt = 0\n",
+         "line 1: model a: dt must be a finite number > 0"},
+        {"[model a]\ntype = car\nprior_cov = 1 2 3 1\n",
+         "line 1: model a: prior_cov must be symmetric positive semidefinite"},
+        {"[model a]\ntype = robot\nprior_cov = 1 1\n",
+         "line 3: prior_cov takes 3 or 9 numbers"},
+        {"[model a]\ntype = robot\nodometry = 1 2 3\n",
+         "line 3: odometry takes 4 numbers"},
+        {"[model a]\ntype = car\nmeasure = x y\n",
+         "line 3: a car measures position, velocity or position velocity"},
+        {"[model a]\ntype = car\nlandmark = 1 2\n", "line 3: a car has no landmark"},
+        {"[model a]\ntype = car\nchannels = GF_(\n",
+         "line 1: model a: bad channels regex GF_("},
+        {"[model a]\ntype = car\n[model a]\n", "line 3: model a defined twice"},
+        {"[model a]\nbase = nothing\n", "line 2: no model nothing before this"},
+        {"[model a]\ntype = car\ndt = 1x\n", "line 3: dt takes 1 number"},
+    };
+    gf_node_config cfg;
+    char err[160];
+    unsigned i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        if (gf_node_config_parse(&cfg, bad[i].text, err, sizeof err) == 0)
+            fail_msg("accepted: %s", bad[i].text);
+        if (strcmp(err, bad[i].err) != 0)
+            fail_msg("for %s\n said: %s\n want: %s", bad[i].text, err,
+                     bad[i].err);
+        gf_node_config_free(&cfg);
+    }
+}
+
+// ---- a model set between two steps ---------------------------------------
+
+static void model_between_steps(void **state)
+{
+    gaussfilt_lcm_model_t mm;
+    gf_kf2 kf;
+    gf_kf2_model mot;
+    gf_kf2_meas meas;
+    gf_vec2 z;
+    const gaussfilt_lcm_belief_t *b;
+    const double dt = 0.1, q = 2.0;
+    int n;
+    (void)state;
+    // track 5: the book's car for one step and one position
+    assert_int_equal(feed(gf_msg_ctrl(5, GF_CAR, 1, 1, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(gf_msg_meas(5, GF_CAR, 2, 1, 0.5, 10)),
+                     GF_NODE_APPLIED);
+    // now dt = 0.1, accel_var = 2, position and velocity measured
+    memset(&mm, 0, sizeof mm);
+    mm.track = 5;
+    mm.model = GF_CAR;
+    mm.measure = GAUSSFILT_LCM_MODEL_T_MEASURE_XV;
+    mm.dt = dt;
+    mm.accel_var = q;
+    n = fx.c.sink.n;
+    assert_int_equal(feed(msg_model(&mm)), GF_NODE_APPLIED);
+    assert_int_equal(fx.c.sink.n, n); // kept the belief: nothing published
+    assert_int_equal(fx.node.counts.models, 1);
+    // a position alone no longer fits the model
+    assert_int_equal(feed(gf_msg_meas(5, GF_CAR, 3, 2, 0.5, 10)),
+                     GF_NODE_BAD_FIELD);
+    assert_int_equal(feed(gf_msg_ctrl(5, GF_CAR, 3, 2, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(msg_meas2(5, GF_CAR, 4, 2, 0.7, 0.2, 0.5, 0.25)),
+                     GF_NODE_APPLIED);
+
+    // The core directly: the book's step, then the new model, written
+    // out here.
+    memset(&kf, 0, sizeof kf);
+    memset(&mot, 0, sizeof mot);
+    mot.A.m[0][0] = mot.A.m[0][1] = mot.A.m[1][1] = GF_R(1.0);
+    mot.B.m[0][0] = mot.B.m[1][1] = GF_R(1.0);
+    mot.R.m[0][0] = GF_R(0.25);
+    mot.R.m[0][1] = mot.R.m[1][0] = GF_R(0.5);
+    mot.R.m[1][1] = GF_R(1.0);
+    assert_int_equal(gf_kf2_predict(&kf, &mot, NULL), GF_OK);
+    memset(&meas, 0, sizeof meas);
+    meas.m = 1;
+    meas.C.m[0][0] = GF_R(1.0);
+    meas.Q.m[0][0] = GF_R(10.0);
+    z.v[0] = GF_R(0.5);
+    z.v[1] = GF_R(0.0);
+    assert_int_equal(gf_kf2_update(&kf, &meas, &z, NULL), GF_OK);
+    mot.A.m[0][1] = (gf_real)dt;
+    mot.R.m[0][0] = (gf_real)(q * dt * dt * dt * dt / 4);
+    mot.R.m[0][1] = mot.R.m[1][0] = (gf_real)(q * dt * dt * dt / 2);
+    mot.R.m[1][1] = (gf_real)(q * dt * dt);
+    assert_int_equal(gf_kf2_predict(&kf, &mot, NULL), GF_OK);
+    meas.m = 2;
+    meas.C.m[1][1] = GF_R(1.0);
+    meas.Q.m[0][0] = GF_R(0.5);
+    meas.Q.m[1][1] = GF_R(0.25);
+    z.v[0] = GF_R(0.7);
+    z.v[1] = GF_R(0.2);
+    assert_int_equal(gf_kf2_update(&kf, &meas, &z, NULL), GF_OK);
+
+    b = &fx.c.sink.b[fx.c.sink.n - 1];
+    assert_int_equal(b->m, 2);
+    check_close(b->mean[0], (double)kf.mu.v[0]);
+    check_close(b->mean[1], (double)kf.mu.v[1]);
+    check_close(b->cov[0][0], (double)kf.sigma.m[0][0]);
+    check_close(b->cov[0][1], (double)kf.sigma.m[0][1]);
+    check_close(b->cov[1][1], (double)kf.sigma.m[1][1]);
+
+    // reset: the belief restarts from the message's prior
+    mm.reset = 1;
+    mm.prior_mean[0] = 3.0;
+    mm.prior_cov[0][0] = 2.0;
+    mm.prior_cov[1][1] = 1.0;
+    mm.utime = 7;
+    assert_int_equal(feed(msg_model(&mm)), GF_NODE_APPLIED);
+    b = &fx.c.sink.b[fx.c.sink.n - 1];
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_INIT);
+    check_close(b->mean[0], 3.0);
+    check_close(b->cov[0][0], 2.0);
+    assert_int_equal(b->utime, 7);
+
+    // refused, nothing changed: another kind, a negative variance, a
+    // measure the kind cannot take, a prior that is not PSD
+    mm.model = GF_ROBOT;
+    assert_int_equal(feed(msg_model(&mm)), GF_NODE_BAD_FIELD);
+    mm.model = GF_CAR;
+    mm.accel_var = -1.0;
+    assert_int_equal(feed(msg_model(&mm)), GF_NODE_BAD_FIELD);
+    mm.accel_var = q;
+    mm.measure = GAUSSFILT_LCM_MODEL_T_MEASURE_RANGE_BEARING;
+    assert_int_equal(feed(msg_model(&mm)), GF_NODE_BAD_FIELD);
+    mm.measure = GAUSSFILT_LCM_MODEL_T_MEASURE_X;
+    mm.prior_cov[0][1] = mm.prior_cov[1][0] = 5.0;
+    assert_int_equal(feed(msg_model(&mm)), GF_NODE_BAD_FIELD);
+    assert_int_equal(fx.node.counts.models, 2);
+    check_close(gf_node_find(&fx.node, 5)->mdl.accel_var, q);
+}
+
+// ---- range and bearing ----------------------------------------------------
+
+// h for a landmark at (5, 3), written here apart from node_model.c.
+static gf_status rb_here(void *ctx, const gf_vec3 *x, gf_vec3 *z_hat,
+                         gf_mat3 *H)
+{
+    double dx = 5.0 - (double)x->v[0], dy = 3.0 - (double)x->v[1];
+    double q = dx * dx + dy * dy, r = sqrt(q);
+    (void)ctx;
+    z_hat->v[0] = (gf_real)r;
+    z_hat->v[1] = (gf_real)(atan2(dy, dx) - (double)x->v[2]);
+    H->m[0][0] = (gf_real)(-dx / r);
+    H->m[0][1] = (gf_real)(-dy / r);
+    H->m[0][2] = GF_R(0.0);
+    H->m[1][0] = (gf_real)(dy / q);
+    H->m[1][1] = (gf_real)(-dx / q);
+    H->m[1][2] = GF_R(-1.0);
+    return GF_OK;
+}
+
+static void range_bearing(void **state)
+{
+    gf_ekf3 ekf;
+    gf_ekf3_motion mot;
+    gf_ekf3_meas meas;
+    gf_vec3 z;
+    gf_real u[2] = {GF_R(1.0), GF_R(0.2)};
+    const gaussfilt_lcm_belief_t *b;
+    double vd = 0.0025, vp = 0.0001 * 0.2 * 0.2, c = cos(0.5), s = sin(0.5);
+    int i, j;
+    (void)state;
+    // track 31 runs "lm": prior (1, 2, 0.5), landmark (5, 3). A bearing
+    // of 3.1 rad against a predicted one near -3.1 must wrap.
+    assert_int_equal(feed(gf_msg_ctrl(31, GF_ROBOT, 1, 1, 2, 1.0, 0.2)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(msg_meas2(31, GF_ROBOT, 2, 1, 3.2, 0.3, 0.0025,
+                                    0.0001)),
+                     GF_NODE_APPLIED);
+    memset(&ekf, 0, sizeof ekf);
+    ekf.mu.v[0] = GF_R(1.0);
+    ekf.mu.v[1] = GF_R(2.0);
+    ekf.mu.v[2] = GF_R(0.5);
+    ekf.sigma.m[0][0] = GF_R(0.01);
+    ekf.sigma.m[1][1] = GF_R(0.02);
+    ekf.sigma.m[2][2] = GF_R(0.03);
+    memset(&mot, 0, sizeof mot);
+    mot.g = gf_ekf3_motion_forward_turn;
+    mot.R.m[0][0] = (gf_real)(c * c * vd);
+    mot.R.m[0][1] = mot.R.m[1][0] = (gf_real)(c * s * vd);
+    mot.R.m[1][1] = (gf_real)(s * s * vd);
+    mot.R.m[2][2] = (gf_real)vp;
+    assert_int_equal(gf_ekf3_predict(&ekf, &mot, u), GF_OK);
+    memset(&meas, 0, sizeof meas);
+    meas.m = 2;
+    meas.h = rb_here;
+    meas.angle_mask = 2u;
+    meas.Q.m[0][0] = GF_R(0.0025);
+    meas.Q.m[1][1] = GF_R(0.0001);
+    z.v[0] = GF_R(3.2);
+    z.v[1] = GF_R(0.3);
+    z.v[2] = GF_R(0.0);
+    assert_int_equal(gf_ekf3_update(&ekf, &meas, &z, NULL), GF_OK);
+    b = &fx.c.sink.b[fx.c.sink.n - 1];
+    assert_int_equal(b->status, 0);
+    for (i = 0; i < 3; i++) {
+        check_close(b->mean[i], (double)ekf.mu.v[i]);
+        for (j = 0; j < 3; j++)
+            check_close(b->cov[i][j], (double)ekf.sigma.m[i][j]);
+    }
+    // the wrap: a bearing one turn off gives the same innovation
+    assert_int_equal(feed(gf_msg_ctrl(32, GF_ROBOT, 1, 1, 2, 1.0, 0.2)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(msg_meas2(32, GF_ROBOT, 2, 1, 3.2,
+                                    0.3 - 2.0 * 3.14159265358979323846,
+                                    0.0025, 0.0001)),
+                     GF_NODE_APPLIED);
+    check_close(fx.c.sink.b[fx.c.sink.n - 1].innovation[1], b->innovation[1]);
+    check_close(fx.c.sink.b[fx.c.sink.n - 1].mean[0], b->mean[0]);
+    // m = 1 does not fit a range-bearing model
+    assert_int_equal(feed(gf_msg_meas(31, GF_ROBOT, 3, 2, 1.0, 0.1)),
+                     GF_NODE_BAD_FIELD);
+}
+
+// ---- one channel name per track and kind ---------------------------------
+
+static void one_channel_spelling(void **state)
+{
+    static const char *bad[] = {"GF_MEAS_0007", "GF_MEAS_07", "GF_MEAS_-0",
+                                "GF_MEAS_+7",   "GF_MEAS_7 ", "GF_CTRL_00",
+                                "GF_MODEL_-07", "GF_MEAS_"};
+    unsigned i;
+    gf_msg m = gf_msg_meas(7, GF_CAR, 1, 0, 1.0, 10.0);
+    gf_msg z = gf_msg_meas(0, GF_CAR, 1, 0, 1.0, 10.0);
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        if (feed_on(bad[i], strncmp(bad[i], "GF_MEAS_0", 9) == 0 ||
+                                    strcmp(bad[i], "GF_MEAS_-0") == 0 ||
+                                    strcmp(bad[i], "GF_CTRL_00") == 0
+                                ? z
+                                : m) != GF_NODE_UNKNOWN_CHANNEL)
+            fail_msg("%s was taken", bad[i]);
+    assert_int_equal(fx.node.ntracks, 0);
+    assert_int_equal(feed_on("GF_MEAS_7", m), GF_NODE_APPLIED);
+    assert_int_equal(feed_on("GF_MEAS_0", z), GF_NODE_APPLIED);
+    assert_int_equal(fx.node.ntracks, 2);
+}
+
+// ---- seq and utime at the edges of their range ------------------------------
+
+static void sequence_resync(void **state)
+{
+    int64_t seq;
+    int i;
+    (void)state;
+    assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, 1, 10, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, INT64_MAX, 20, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    // the real stream goes on: rejected GF_NODE_RESYNC_AFTER times, then
+    // taken as the new reference
+    for (i = 0, seq = 2; i < GF_NODE_RESYNC_AFTER; i++, seq++)
+        assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 20 + seq, 0, 0, 0)),
+                         GF_NODE_OUT_OF_ORDER);
+    assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 20 + seq, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(fx.node.counts.seq_resyncs, 1);
+    seq++;
+    assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 20 + seq, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    // gaps: none for INT64_MAX - 1 (the old bound) nor for the jump
+    assert_int_equal(fx.node.counts.gaps, INT64_MAX - 2);
+    // utime at INT64_MAX: the same rule
+    seq++;
+    assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, INT64_MAX, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    for (i = 0; i < GF_NODE_RESYNC_AFTER; i++)
+        assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, ++seq, 100, 0, 0, 0)),
+                         GF_NODE_OUT_OF_ORDER);
+    assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, ++seq, 100, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(fx.node.counts.seq_resyncs, 2);
+    // duplicates do not count towards a resync
+    for (i = 0; i < 3 * GF_NODE_RESYNC_AFTER; i++)
+        assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 100, 0, 0, 0)),
+                         GF_NODE_DUPLICATE);
+    assert_int_equal(fx.node.counts.seq_resyncs, 2);
+}
+
+// ---- a PF summary that cannot be computed ---------------------------------
+
+static void pf_no_summary(void **state)
+{
+    const gaussfilt_lcm_belief_t *b;
+    const gf_node_track *t;
+    char line[1024];
+    (void)state;
+    assert_int_equal(gf_node_set_filter(&fx.node, GF_NODE_FILTER_PF, &fx.pool,
+                                        1),
+                     0);
+    assert_int_equal(feed(gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
+                     GF_NODE_APPLIED);
+    // 1e155 forward (1e20 in float): the particles move, their covariance
+    // overflows
+    assert_int_equal(feed(gf_msg_ctrl(4, GF_ROBOT, 2, 2, 2,
+                                      sizeof(gf_real) == sizeof(float) ? 1e20
+                                                                      : 1e155,
+                                      0.0)),
+                     GF_NODE_NO_SUMMARY);
+    b = &fx.c.sink.b[fx.c.sink.n - 1];
+    assert_int_equal(b->status, GF_NODE_STATUS_NO_SUMMARY);
+    assert_int_equal(b->status, GAUSSFILT_LCM_BELIEF_T_STATUS_NO_SUMMARY);
+    assert_int_equal(b->input_seq, 2);
+    assert_true(isnan(b->mean[0]) && isnan(b->cov[0][0]));
+    // what the track holds is what was published
+    t = gf_node_find(&fx.node, 4);
+    assert_true(t->f.pf3.no_summary);
+    assert_true(isnan((double)t->f.pf3.mu.v[0]));
+    assert_int_equal(fx.c.inf_in_cloud, 0);
+    assert_true(fx.c.clouds >= 3);
+    // later steps are taken (not non-finite): each says no_summary while
+    // the cloud stays beyond reach
+    assert_int_equal(feed(gf_msg_ctrl(4, GF_ROBOT, 3, 3, 2, 1.0, 0.0)),
+                     GF_NODE_NO_SUMMARY);
+    assert_int_equal(fx.node.counts.by_result[GF_NODE_NONFINITE], 0);
+    assert_int_equal(fx.c.inf_in_cloud, 0);
+    // a new simulator session starts the track afresh, with a summary
+    {
+        gf_msg m = gf_msg_ctrl(4, GF_ROBOT, 1, 4, 2, 1.0, 0.0);
+        gaussfilt_lcm_control_t c;
+        gaussfilt_lcm_control_t_decode(m.data, 0, m.len, &c);
+        c.session = 2;
+        m.len = gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof m.data,
+                                               &c);
+        assert_int_equal(feed(m), GF_NODE_APPLIED);
+    }
+    b = &fx.c.sink.b[fx.c.sink.n - 1];
+    assert_int_equal(b->status, 0);
+    assert_true(isfinite(b->mean[0]));
+    assert_true(gf_node_summary(&fx.node, line, sizeof line) > 0);
+    assert_non_null(strstr(line, " no_summary=2"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(config_and_lookup, setup, teardown),
+        cmocka_unit_test_setup_teardown(config_errors, setup, teardown),
+        cmocka_unit_test_setup_teardown(model_between_steps, setup, teardown),
+        cmocka_unit_test_setup_teardown(range_bearing, setup, teardown),
+        cmocka_unit_test_setup_teardown(one_channel_spelling, setup, teardown),
+        cmocka_unit_test_setup_teardown(sequence_resync, setup, teardown),
+        cmocka_unit_test_setup_teardown(pf_no_summary, setup, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
