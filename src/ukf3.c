@@ -95,6 +95,30 @@ GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref,
     wrap_flagged(d, n, angle_mask);
 }
 
+// The sums take differences of images of nearby points and weigh them by
+// w_i ~ 1 / alpha^2 (ukf3.h): the rounding of the images, up to eps |.|
+// an entry, reaches mean entry k as up to
+//   b_k = eps w_i sum_{j>0, e_j,k != 0} (|Z_0,k| + |Z_j,k|),
+// |Z_j,k| <= |Z_0,k| + |e_j,k|. The moments are taken as resolved while
+// b_k is at most a quarter of the entry's predicted sigma: b_k^2 <= v / 16.
+#define UNRESOLVED(b2, v) ((b2) * GF_R(16.0) > (v))
+
+// Entry k of the prediction: y[0] the centre's image, y[j > 0] the
+// residuals e_j about it, v = Sigma_bar_kk.
+static int predict_resolved(const gf_ukf3 *ukf, const gf_vec3 y[N_SIGMA],
+                            unsigned k, gf_real v)
+{
+    const gf_real c = GF_R(2.0) * GF_FABS(y[0].v[k]);
+    gf_real b = 0;
+    for (unsigned j = 1; j < N_SIGMA; j++) {
+        if (GF_FABS(y[j].v[k]) > 0) {
+            b += c + GF_FABS(y[j].v[k]);
+        }
+    }
+    b *= GF_REAL_EPSILON * ukf->wi;
+    return !UNRESOLVED(b * b, v);
+}
+
 gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
                        const gf_ukf3_params *p)
 {
@@ -219,6 +243,11 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
             !gf_mat3_is_finite(&sigma)) {
             return GF_ERR_NONFINITE;
         }
+        for (unsigned k = 0; k < N_STATE; k++) {
+            if (!predict_resolved(ukf, y, k, sigma.m[k][k])) {
+                return GF_ERR_UNDEFINED;
+            }
+        }
         st = gf_mat3_check_psd(&sigma, N_STATE);
         if (st != GF_OK) {
             return st;
@@ -286,6 +315,32 @@ static void accumulate(const gf_ukf3 *ukf, unsigned j, const ukf3_point *p,
             pxz->m[a][b] += wo * p->Z.v[b];
         }
     }
+}
+
+// predict_resolved's test for the update's m measured entries, z0 the
+// centre's image and s = Q + sum_{j>0} w_i dz_j dz_j^T (packed), with no
+// sums of |dz_j,k| kept: a zero spread (s_kk = Q_kk) has nothing to
+// round, and otherwise, by Cauchy-Schwarz over the six points,
+// sum_j |dz_j,k| <= sqrt(6 raw / w_i), raw = s_kk - Q_kk, so
+//   b_k^2 <= (eps w_i)^2 (2 (12 |z0_k|)^2 + 12 raw / w_i).
+// GF_ERR_UNDEFINED when an entry is not resolved, else GF_OK.
+static gf_status update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+                                 const gf_vec3 *z0, const gf_real s[6])
+{
+    const gf_real ew = GF_REAL_EPSILON * ukf->wi;
+    for (unsigned k = 0; k < meas->m; k++) {
+        const gf_real v = s[GF_TRI(k, k)];
+        const gf_real raw = v - meas->Q.m[k][k];
+        if (raw > 0) { // s_kk >= Q_kk: only nonnegative terms were added
+            const gf_real b2 = ew * ew *
+                (GF_R(288.0) * z0->v[k] * z0->v[k] +
+                 GF_R(12.0) * raw / ukf->wi);
+            if (UNRESOLVED(b2, v)) {
+                return GF_ERR_UNDEFINED;
+            }
+        }
+    }
+    return GF_OK;
 }
 
 // What the update needs once the points are done with: the innovation,
@@ -389,6 +444,10 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                 residual(&p.Z, &y, m, mask, &p.Z);
                 accumulate(ukf, j, &p, &mz, s, &Pxz);
             }
+        }
+        st = update_resolved(ukf, meas, &y, s);
+        if (st != GF_OK) {
+            return st;
         }
         for (unsigned a = 0; a < N_STATE; a++) {
             const gf_real fm = ukf->wfold * mz.v[a];

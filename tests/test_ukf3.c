@@ -346,6 +346,51 @@ static void test_small_alpha_refused(void **state)
     assert_int_equal(gf_ukf3_init(&ukf, &sa_mu, &sa_sig, &at), GF_OK);
 }
 
+// Far from the origin the images' rounding grows with |g| / sigma: at
+// mu = (1e4, 2e4) with sigma 0.1 the floor put Sigma_bar 12 times off in
+// float and the mean 3 sigma off, GF_OK. Predict and update now refuse
+// that with GF_ERR_UNDEFINED, the belief untouched; a larger alpha is
+// accepted there and agrees with the exact transform (translated: the
+// motion does not depend on the position).
+static void test_small_alpha_far(void **state)
+{
+    (void)state;
+#ifdef GF_SINGLE_PRECISION
+    const gf_real far = GF_R(1e4), ok_alpha = 1;
+    const double tol_mu = 2e-3, tol_sig = 2e-4;
+#else
+    const gf_real far = GF_R(1e5), ok_alpha = GF_R(1e-4);
+    const double tol_mu = 2e-3, tol_sig = 2e-4;
+#endif
+    const gf_vec3 mu = {{far, 2 * far, GF_R(0.5)}};
+    const gf_ukf3_params at_floor = {GF_UKF3_ALPHA_MIN, 2, 0};
+    const gf_ukf3_params wide = {ok_alpha, 2, 0};
+    const gf_ekf3_meas xy = {
+        2, gf_ekf3_meas_xy, NULL,
+        {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 0}}}, 0, 0};
+    const gf_vec3 z = {{far, 2 * far, 0}};
+    gf_ukf3 ukf;
+    assert_int_equal(gf_ukf3_init(&ukf, &mu, &sa_sig, &at_floor), GF_OK);
+    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &ukf,
+                          gf_ukf3_predict(&ukf, &sa_move, sa_u));
+    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &ukf,
+                          gf_ukf3_update(&ukf, &xy, &z, NULL));
+
+    assert_int_equal(gf_ukf3_init(&ukf, &mu, &sa_sig, &wide), GF_OK);
+    assert_int_equal(gf_ukf3_predict(&ukf, &sa_move, sa_u), GF_OK);
+    const exact_ut ex = exact_turn((long double)wide.alpha, 2);
+    const double shift[3] = {(double)far - 1, 2 * (double)far - 2, 0};
+    for (int a = 0; a < 3; a++) {
+        check_abs((double)ukf.mu.v[a], (double)ex.mu[a] + shift[a], tol_mu,
+                  "far mu_bar vs exact UT");
+        for (int b = 0; b < 3; b++) {
+            check_abs((double)ukf.sigma.m[a][b], (double)ex.sig[a][b],
+                      tol_sig, "far Sigma_bar vs exact UT");
+        }
+    }
+    assert_int_equal(gf_ukf3_update(&ukf, &xy, &z, NULL), GF_OK);
+}
+
 // Heading near pi: the sigma points straddle +-pi. The heading's mean and
 // variance must be those of theta' = theta + phi (linear in theta), as in
 // the EKF, not an average of +3 and -3.
@@ -566,6 +611,7 @@ int main(void)
         cmocka_unit_test(test_small_alpha_predict),
         cmocka_unit_test(test_small_alpha_update),
         cmocka_unit_test(test_small_alpha_refused),
+        cmocka_unit_test(test_small_alpha_far),
         cmocka_unit_test(test_heading_across_pi),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_update_calls),

@@ -32,13 +32,16 @@ extern "C" {
 // rounding of g's and h's outputs, u |g| (u the unit roundoff), reaches the
 // mean as about u |g| / alpha^2, however the sums are arranged. Below
 // GF_UKF3_ALPHA_MIN (alpha^2 = 2^-10 in float, 2^-40 in double: about
-// 1e-4 |g| in the mean) gf_ukf3_init refuses alpha with GF_ERR_ARG. At the
-// floor the error still grows with |g| / sigma: measured, 3% of sigma in
-// the mean at |g| = 1800 sigma (2% in double). Where the spread is small enough for a
-// small alpha to matter little, the floor costs little: on exercise 4's
-// motion with Sigma = 0.01 I, the exact transform's Sigma_bar moves by
-// less than 1e-5 relative from alpha = 0.03 to 0 (docs/ukf3.md has the
-// figures).
+// 1e-4 |g| in the mean) gf_ukf3_init refuses alpha with GF_ERR_ARG. Above
+// it the error still grows with |g| / sigma, so predict and update bound
+// it at every step, and refuse with GF_ERR_UNDEFINED the moments it could
+// move by a quarter of a sigma. With the points placed as in the tests,
+// that is from about |g| = 1500 sigma in float and 800 sigma in double at
+// the floor, and from 1.6e6 sigma in float at alpha = 1. Where the spread
+// is small enough for a small alpha to matter little, the floor costs
+// little: on exercise 4's motion with Sigma = 0.01 I, the exact
+// transform's Sigma_bar moves by less than 1e-5 relative from alpha =
+// 0.03 to 0 (docs/ukf3.md has the figures).
 #ifdef GF_SINGLE_PRECISION
 #define GF_UKF3_ALPHA_MIN GF_R(0.03125)
 #else
@@ -82,8 +85,11 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
 // -1/alpha^2 multiplies the rounding of the points.
 // The callback is called 7 times; its G output is discarded.
 // GF_ERR_ARG (NULL), GF_ERR_NOT_PSD (R, or a Sigma_bar that a negative
-// beta - alpha^2 made indefinite), GF_ERR_NONFINITE, or
-// the callback's own error; the belief is untouched on failure.
+// beta - alpha^2 made indefinite), GF_ERR_NONFINITE, GF_ERR_UNDEFINED
+// (the points too close for the precision: the images' rounding, summed
+// with weight w_i, could move an entry of mu_bar by more than a quarter of
+// its predicted sigma; a larger alpha resolves them), or the callback's
+// own error; the belief is untouched on failure.
 gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
                           const gf_real *u);
 
@@ -105,7 +111,8 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
 // its H output is discarded. Status, gate and info rules as gf_ekf3_update
 // (angle_mask wraps the flagged entries of z_hat's mean and of every
 // residual); GF_ERR_NOT_PSD also when the posterior Sigma comes out
-// indefinite.
+// indefinite, GF_ERR_UNDEFINED as in gf_ukf3_predict for z_hat against
+// sqrt(S_kk).
 gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info);
 
