@@ -90,7 +90,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
 {
     const unsigned m = meas->m;
     gf_innovation in;
-    gf_real y[2], h[2][2], e[3] = {0, 0, 0};
+    gf_real y[2] = {0, 0}, h[2][2] = {{0, 0}, {0, 0}}, e[3] = {0, 0, 0};
     in.m = m;
     in.y[1] = in.y[2] = 0;
     for (unsigned i = 0; i < m; i++) {

@@ -17,10 +17,11 @@
 // Matrices are row-major with rows of `stride` entries (n for the belief
 // and the models: KF2's 2x2 and EKF3's 3x3 read in place).
 //
-// Everything here is static inline, included by kf2.c, ekf3.c and mat.c:
-// each filter's copy is compiled for its own n, so that an optimising
-// build unrolls the loops (sizes 2 and 3 known), while a build for size
-// keeps them as loops. One implementation either way.
+// Included by kf2.c, ekf3.c and mat.c. The factorisation and the verdict
+// are functions of mat.c (one copy, the largest part); the steps are
+// static inline, each filter's copy compiled for its own n, so that an
+// optimising build unrolls their loops (sizes 2 and 3 known), while a
+// build for size keeps them as loops. One implementation either way.
 #ifndef GAUSSFILT_SRC_UDU_H
 #define GAUSSFILT_SRC_UDU_H
 
@@ -64,17 +65,6 @@ static inline int gf_all_finite(const gf_real *x, unsigned n)
     return 1;
 }
 
-// 1 if |x|^2 <= y z for y, z >= 0, written without a product that could
-// overflow or a square root: (x / y) x <= z, and for y = 0 only x = 0.
-// The same answer for any power of two times x, y and z.
-static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
-{
-    if (!(y > 0)) {
-        return !(GF_FABS(x) > 0);
-    }
-    return (x / y) * x <= z;
-}
-
 // s = F diag(d) F^T for the leading n x n block of a symmetric s (upper
 // triangle read). The pivot of each step is the state whose variance left
 // (once the earlier pivots' states are known) is the largest relative to
@@ -96,144 +86,16 @@ static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
 // because its variance is at the rounding level of the others would make
 // the filter overconfident there, the collapse this arithmetic exists to
 // prevent.
-static inline gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n,
-                               int check, unsigned first,
-                               gf_real (*F)[GF_FCOLS], gf_real *d,
-                               unsigned *order)
-{
-    const gf_real rtol = check ? GF_PD_RTOL : GF_R(0.0);
-    gf_real a[3][3]; // the Schur complements (both triangles)
-    unsigned left = 0; // bit i: state i not a pivot yet
-    if (n > 3u) {
-        return GF_ERR_ARG;
-    }
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        GF_UNROLL
-        for (unsigned k = i; k < n; k++) {
-            a[i][k] = s[i * stride + k];
-            a[k][i] = a[i][k];
-        }
-        left |= 1u << i;
-    }
-    for (unsigned t = 0; t < n; t++) {
-        // the pivot: the largest a_jj / s_jj left (all 1 at the first step)
-        unsigned j = 0;
-        gf_real best = -1;
-        for (unsigned k = 0; k < n; k++) {
-            const gf_real skk = s[k * stride + k];
-            if (left & (1u << k)) {
-                const gf_real ratio = !(skk > 0) ? GF_R(0.0)
-                                      : (t > 0u) ? a[k][k] / skk
-                                      : (k == first) ? GF_R(2.0) : GF_R(1.0);
-                if (ratio > best) {
-                    j = k;
-                    best = ratio;
-                }
-            }
-        }
-        if (order) {
-            order[t] = j;
-        }
-        const gf_real p = a[j][j];
-        if (!(p > rtol * s[j * stride + j])) { // (NaN fails)
-            break; // this one and every state left are zero: below
-        }
-        left &= ~(1u << j);
-        if (d) {
-            d[j] = p;
-        }
-        GF_UNROLL
-        for (unsigned i = 0; i < n; i++) {
-            const gf_real l = (left & (1u << i)) ? a[i][j] / p : GF_R(0.0);
-            if (F) {
-                F[i][j] = (i == j) ? GF_R(1.0) : l;
-            }
-            GF_UNROLL
-            for (unsigned k = 0; k < n; k++) {
-                if ((left & (1u << i)) && (left & (1u << k))) {
-                    a[i][k] -= l * a[j][k];
-                }
-            }
-        }
-    }
-    // The states left (if any) have zero variance in the factorisation.
-    unsigned t = n;
-    for (unsigned k = 0; k < n; k++) {
-        if (left & (1u << k)) {
-            t--;
-        }
-    }
-    for (unsigned k = 0; k < n; k++) {
-        if (!(left & (1u << k))) {
-            continue;
-        }
-        if (check) {
-            const gf_real skk = s[k * stride + k];
-            if (!(a[k][k] >= -rtol * skk)) {
-                return GF_ERR_NOT_PSD;
-            }
-            for (unsigned i = 0; i < k; i++) {
-                if (!(left & (1u << i))) {
-                    continue;
-                }
-                const gf_real yi = (a[i][i] > 0 ? a[i][i] : GF_R(0.0)) +
-                                   rtol * s[i * stride + i];
-                const gf_real zk = (a[k][k] > 0 ? a[k][k] : GF_R(0.0)) +
-                                   rtol * skk;
-                if (!gf_coupled_ok(a[i][k], yi, zk)) {
-                    return GF_ERR_NOT_PSD;
-                }
-            }
-        }
-        if (order) {
-            order[t] = k;
-        }
-        t++;
-        if (d) {
-            d[k] = 0;
-        }
-        if (F) {
-            for (unsigned i = 0; i < n; i++) {
-                F[i][k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
-            }
-        }
-    }
-    return GF_OK;
-}
+// Defined in mat.c (one copy for every filter and the verdicts).
+gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, int check,
+                 unsigned first, gf_real (*F)[GF_FCOLS], gf_real *d,
+                 unsigned *order);
 
 // The verdict on a covariance passed in (n x n block, rows of stride):
 // GF_ERR_NONFINITE, GF_ERR_NOT_PSD (not symmetric within GF_SYM_RTOL, a
 // negative variance, or gf_ldl's verdict), else GF_OK.
-static inline gf_status gf_psd_check(const gf_real *s, unsigned stride,
-                                     unsigned n)
-{
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        if (!gf_all_finite(&s[i * stride], n)) {
-            return GF_ERR_NONFINITE;
-        }
-    }
-    // Symmetric: |a_ij - a_ji| <= GF_SYM_RTOL (|a_ij| + |a_ji|), exact for
-    // equal entries (zeros included) and the same for any scale.
-    gf_real off = 0; // the sum of |off-diagonal entries|
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        GF_UNROLL
-        for (unsigned j = i + 1u; j < n; j++) {
-            const gf_real x = s[i * stride + j], y = s[j * stride + i];
-            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
-                return GF_ERR_NOT_PSD;
-            }
-            off += GF_FABS(x) + GF_FABS(y);
-        }
-        if (s[i * stride + i] < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-    }
-    // A diagonal matrix (the usual noise) with no negative variance is one.
-    return (off > 0) ? gf_ldl(s, stride, n, 1, n, NULL, NULL, NULL) : GF_OK;
-}
+// Defined in mat.c.
+gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n);
 
 // A covariance with a zero variance (in F W F^T a sum of non-negative
 // terms, so zero only when every term is) has zero covariances in its row

@@ -18,6 +18,10 @@
 #define GF_NAME(name) name##_f64
 #endif
 
+// src/udu.h: internal, defined in mat.c
+#define gf_ldl GF_NAME(gf_ldl)
+#define gf_psd_check GF_NAME(gf_psd_check)
+
 // mat.h
 #define gf_angle_wrap GF_NAME(gf_angle_wrap)
 #define gf_mat2_check_psd GF_NAME(gf_mat2_check_psd)
