@@ -91,6 +91,133 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, int check,
                  unsigned first, gf_real (*F)[GF_FCOLS], gf_real *d,
                  unsigned *order);
 
+// gf_ldl's arithmetic, inlined into the filters' steps (where n is known);
+// gf_ldl itself is one copy, in mat.c, for the verdicts.
+// 1 if |x|^2 <= y z for y, z >= 0, written without a product that could
+// overflow or a square root: (x / y) x <= z, and for y = 0 only x = 0.
+// The same answer for any power of two times x, y and z.
+static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
+{
+    if (!(y > 0)) {
+        return !(GF_FABS(x) > 0);
+    }
+    return (x / y) * x <= z;
+}
+
+static inline gf_status gf_ldl_inline(const gf_real *s, unsigned stride,
+                                      unsigned n, int check, unsigned first,
+                                      gf_real (*F)[GF_FCOLS], gf_real *d,
+                                      unsigned *order)
+{
+    const gf_real rtol = check ? GF_PD_RTOL : GF_R(0.0);
+    gf_real a[3][3]; // the Schur complements (upper triangle, by state)
+    unsigned p[3] = {0, 1, 2}; // p[t..n-1]: the states not pivots yet
+    if (n > 3u) {
+        return GF_ERR_ARG;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned k = i; k < n; k++) {
+            a[i][k] = s[i * stride + k];
+        }
+    }
+    // The first pivot: all ratios are 1 there (0 for a zero variance):
+    // the caller's `first` if its variance is positive, else the first
+    // state whose variance is.
+    unsigned f0 = (first < n && s[first * stride + first] > 0) ? first : n;
+    for (unsigned k = 0; k < n && f0 == n; k++) {
+        if (s[k * stride + k] > 0) {
+            f0 = k;
+        }
+    }
+    if (f0 < n) {
+        p[f0] = 0;
+        p[0] = f0;
+    }
+    unsigned t = 0;
+    for (; t < n; t++) {
+        // the pivot: the largest a_jj / s_jj left (a tie keeps p's order)
+        if (t > 0u && t + 1u < n) {
+            gf_real best = -1;
+            unsigned at = t;
+            for (unsigned u = t; u < n; u++) {
+                const unsigned k = p[u];
+                const gf_real skk = s[k * stride + k];
+                const gf_real ratio = (skk > 0) ? a[k][k] / skk : GF_R(0.0);
+                if (ratio > best) {
+                    best = ratio;
+                    at = u;
+                }
+            }
+            const unsigned sw = p[at];
+            p[at] = p[t];
+            p[t] = sw;
+        }
+        const unsigned j = p[t];
+        const gf_real pj = a[j][j];
+        if (!(pj > rtol * s[j * stride + j])) { // (NaN fails)
+            break; // this one and every state left are zero: below
+        }
+        if (d) {
+            d[j] = pj;
+        }
+        if (F) {
+            for (unsigned u = 0; u < t; u++) {
+                F[p[u]][j] = 0;
+            }
+            F[j][j] = 1;
+        }
+        // a_ik -= (a_ij / a_jj) a_jk over the states left, upper triangle
+        for (unsigned u = t + 1u; u < n; u++) {
+            const unsigned i = p[u];
+            const gf_real aij = (i < j) ? a[i][j] : a[j][i];
+            const gf_real l = aij / pj;
+            if (F) {
+                F[i][j] = l;
+            }
+            for (unsigned v = t + 1u; v < n; v++) {
+                const unsigned k = p[v];
+                if (k >= i) {
+                    a[i][k] -= l * ((k < j) ? a[k][j] : a[j][k]);
+                }
+            }
+        }
+    }
+    if (order) {
+        for (unsigned u = 0; u < n; u++) {
+            order[u] = p[u];
+        }
+    }
+    // The states left (p[t..n-1], if any) have zero variance.
+    for (unsigned u = t; u < n; u++) {
+        const unsigned k = p[u];
+        const gf_real skk = s[k * stride + k];
+        if (check) {
+            if (!(a[k][k] >= -rtol * skk)) {
+                return GF_ERR_NOT_PSD;
+            }
+            for (unsigned w = t; w < u; w++) {
+                const unsigned i = p[w];
+                const gf_real aii = a[i][i] > 0 ? a[i][i] : GF_R(0.0);
+                const gf_real akk = a[k][k] > 0 ? a[k][k] : GF_R(0.0);
+                const gf_real aik = (i < k) ? a[i][k] : a[k][i];
+                if (!gf_coupled_ok(aik, aii + rtol * s[i * stride + i],
+                                   akk + rtol * skk)) {
+                    return GF_ERR_NOT_PSD;
+                }
+            }
+        }
+        if (d) {
+            d[k] = 0;
+        }
+        if (F) {
+            for (unsigned i = 0; i < n; i++) {
+                F[i][k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
+            }
+        }
+    }
+    return GF_OK;
+}
+
 // The verdict on a covariance passed in (n x n block, rows of stride):
 // GF_ERR_NONFINITE, GF_ERR_NOT_PSD (not symmetric within GF_SYM_RTOL, a
 // negative variance, or gf_ldl's verdict), else GF_OK.
@@ -124,7 +251,7 @@ static inline void gf_cov_predict(const gf_real *sigma, unsigned n,
                                   gf_real *out)
 {
     gf_real f[3][GF_FCOLS] = {{0}}, d[3] = {0, 0, 0};
-    (void)gf_ldl(sigma, n, n, 0, n, f, d, NULL);
+    (void)gf_ldl_inline(sigma, n, n, 0, n, f, d, NULL);
     // W = G F, into out's place (rows of n)
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
@@ -242,7 +369,7 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
             }
         }
     }
-    (void)gf_ldl(sigma, n, n, 0, first, f, w, NULL);
+    (void)gf_ldl_inline(sigma, n, n, 0, first, f, w, NULL);
     gf_real dx[3] = {0, 0, 0}; // mu - mu_bar so far
     gf_real total = 0;
     unsigned cols = n;
