@@ -15,7 +15,7 @@ gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
 {
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
-        if (!gf_all_finite(&s[i * stride], n)) {
+        if (!gf_all_finite(&s[(size_t)i * stride], n)) {
             return GF_ERR_NONFINITE;
         }
     }

@@ -250,7 +250,7 @@ static inline void gf_cov_predict(const gf_real *sigma, unsigned n,
                                   const gf_real *g, const gf_real *r,
                                   gf_real *out)
 {
-    gf_real f[3][GF_FCOLS] = {{0}}, d[3] = {0, 0, 0};
+    gf_real f[3][GF_FCOLS], d[3];
     (void)gf_ldl_inline(sigma, n, n, 0, n, f, d, NULL);
     // W = G F, into out's place (rows of n)
     GF_UNROLL
@@ -297,7 +297,7 @@ static inline void gf_cov_predict(const gf_real *sigma, unsigned n,
 static inline void gf_decorrelate(const gf_real *q, unsigned n, unsigned m,
                                   gf_real *h, gf_real *y, gf_real e[3])
 {
-    gf_real v[3][GF_FCOLS] = {{0}};
+    gf_real v[3][GF_FCOLS];
     unsigned order[3] = {0, 0, 0};
     (void)gf_ldl(q, n, m, 1, m, v, e, order);
     for (unsigned t = 0; t < m; t++) {
@@ -329,7 +329,7 @@ static inline gf_status gf_cov_correct(unsigned n, gf_real *mu,
                                        const gf_real *h, const gf_real *y,
                                        const gf_real e[3], gf_real *nis)
 {
-    gf_real f[3][GF_FCOLS] = {{0}}, w[GF_FCOLS] = {0};
+    gf_real f[3][GF_FCOLS], w[GF_FCOLS];
     if (n > 3u || m > n) {
         return GF_ERR_ARG;
     }
