@@ -167,9 +167,10 @@ def read_su(build, members):
         for line in open(su):
             loc, size, kind = line.rstrip("\n").split("\t")
             name = loc.rsplit(":", 1)[-1]
-            # gcc's .su says "f.isra" where the symbol is "f.isra.0".
-            if re.search(r"\.(isra|part|constprop|cold)$", name):
-                name += ".0"
+            # gcc's .su says "f.constprop.isra" where the symbol is
+            # "f.constprop.0.isra.0".
+            name = re.sub(r"\.(isra|part|constprop|cold)(?=\.|$)", r".\1.0",
+                          name)
             if kind != "static":
                 sys.exit(f"{su}: {name} has a {kind} frame")
             frames[qualify(members, stem, name)] = int(size)
