@@ -9,7 +9,7 @@ gf_status gf_cov2_correlation(const gf_mat2 *s, gf_real *rho)
         return GF_ERR_NONFINITE;
     }
     gf_real a = s->m[0][0], c = s->m[1][1];
-    gf_real b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    gf_real b = GF_R(0.5) * s->m[0][1] + GF_R(0.5) * s->m[1][0];
     // Undefined, not a division by zero, when a variance is zero (t = 0 of
     // Table 1.1: the state is known exactly).
     if (!(a > 0) || !(c > 0)) {

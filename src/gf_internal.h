@@ -145,7 +145,7 @@ GF_ALWAYS_INLINE void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
         const gf_real ljj = GF_SQRT(d);
         l[GF_TRI(j, j)] = ljj;
         for (unsigned i = j + 1; i < n; i++) {
-            gf_real v = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
+            gf_real v = GF_R(0.5) * s->m[i][j] + GF_R(0.5) * s->m[j][i];
             for (unsigned k = 0; k < j; k++) {
                 v -= l[GF_TRI(i, k)] * l[GF_TRI(j, k)];
             }

@@ -124,7 +124,8 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
     gf_mat2 sig_bar;
     (void)gf_mat2_sandwich(&model->A, &sigma, &sig_bar);
     sig_bar.m[0][0] += model->R.m[0][0];
-    sig_bar.m[0][1] += GF_R(0.5) * (model->R.m[0][1] + model->R.m[1][0]);
+    sig_bar.m[0][1] +=
+        GF_R(0.5) * model->R.m[0][1] + GF_R(0.5) * model->R.m[1][0];
     sig_bar.m[1][1] += model->R.m[1][1];
     sig_bar.m[1][0] = sig_bar.m[0][1];
 

@@ -89,7 +89,7 @@ gf_status gf_mat2_symmetrize(gf_mat2 *s)
     if (!s) {
         return GF_ERR_ARG;
     }
-    gf_real o = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    gf_real o = GF_R(0.5) * s->m[0][1] + GF_R(0.5) * s->m[1][0];
     s->m[0][1] = o;
     s->m[1][0] = o;
     return GF_OK;
@@ -111,7 +111,8 @@ gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
     if (!s || !inv) {
         return GF_ERR_ARG;
     }
-    gf_real a = s->m[0][0], b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    gf_real a = s->m[0][0];
+    gf_real b = GF_R(0.5) * s->m[0][1] + GF_R(0.5) * s->m[1][0];
     gf_real c = s->m[1][1];
     if (!(GF_ISFINITE(a) && GF_ISFINITE(b) && GF_ISFINITE(c))) {
         return GF_ERR_NONFINITE;
@@ -153,7 +154,7 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
         return GF_ERR_NONFINITE;
     }
     gf_real a = s->m[0][0], c = s->m[1][1];
-    gf_real b = GF_R(0.5) * (s->m[0][1] + s->m[1][0]);
+    gf_real b = GF_R(0.5) * s->m[0][1] + GF_R(0.5) * s->m[1][0];
     // Halves before sums and a scaled hypotenuse, so that entries near the
     // largest finite value do not overflow (the fuzzer found 1.9e185
     // giving an infinite eigenvalue).
@@ -239,7 +240,7 @@ gf_status gf_mat3_symmetrize(gf_mat3 *s)
     }
     for (int i = 0; i < 3; i++) {
         for (int j = i + 1; j < 3; j++) {
-            gf_real o = GF_R(0.5) * (s->m[i][j] + s->m[j][i]);
+            gf_real o = GF_R(0.5) * s->m[i][j] + GF_R(0.5) * s->m[j][i];
             s->m[i][j] = o;
             s->m[j][i] = o;
         }

@@ -289,9 +289,9 @@ static void moments_init(const gf_ekf3_meas *meas, gf_real s[6],
     static const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     for (unsigned a = 0; a < N_STATE; a++) {
         for (unsigned b = 0; b <= a; b++) {
-            s[GF_TRI(a, b)] =
-                (a < meas->m) ? GF_R(0.5) * (meas->Q.m[a][b] + meas->Q.m[b][a])
-                              : GF_R(0.0);
+            s[GF_TRI(a, b)] = (a < meas->m) ? GF_R(0.5) * meas->Q.m[a][b] +
+                                                  GF_R(0.5) * meas->Q.m[b][a]
+                                            : GF_R(0.0);
         }
     }
     *pxz = zero;

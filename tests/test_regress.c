@@ -638,6 +638,25 @@ static void one_answer_per_call(void **state)
     assert_true(info.nis == 0);
 }
 
+// The largest covariance a verdict accepts is stored finite: the fuzzer
+// found init's symmetrisation, (a + b) / 2, overflowing for a covariance of
+// the largest finite entries (accepted since verdicts take no products).
+static void largest_covariance_stays_finite(void **state)
+{
+    (void)state;
+    const gf_real big = GF_REAL_MAX;
+    const gf_vec2 mu2 = {{0, 0}};
+    const gf_mat2 s2 = {{{big, big}, {big, big}}};
+    gf_kf2 kf;
+    assert_int_equal(gf_kf2_init(&kf, &mu2, &s2), GF_OK);
+    assert_true(kf.sigma.m[0][1] == big && kf.sigma.m[1][0] == big);
+    const gf_vec3 mu3 = {{0, 0, 0}};
+    const gf_mat3 s3 = {{{big, big, 0}, {big, big, 0}, {0, 0, big}}};
+    gf_ekf3 ekf;
+    assert_int_equal(gf_ekf3_init(&ekf, &mu3, &s3), GF_OK);
+    assert_true(ekf.sigma.m[0][1] == big && ekf.sigma.m[1][0] == big);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -649,6 +668,7 @@ int main(void)
         cmocka_unit_test(ekf3_diffuse_heading_accepted),
         cmocka_unit_test(null_pointers),
         cmocka_unit_test(one_answer_per_call),
+        cmocka_unit_test(largest_covariance_stays_finite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
