@@ -78,7 +78,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 // Correction (Table 3.3, lines 4-6, Joseph form):
 //   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,
 //   mu = mu_bar + K (z - h(mu_bar)),
-//   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T, then symmetrized.
+//   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T,
+// computed as gf_kf2_update computes it, H evaluated once at mu_bar.
 // Status, gate and info rules as gf_kf2_update, with m = 1..3 and h's own
 // error passed on as in gf_ekf3_predict.
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,

@@ -68,7 +68,10 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 // Correction (Table 3.1, lines 4-6, Joseph form):
 //   S = C Sigma_bar C^T + Q,  K = Sigma_bar C^T S^-1,
 //   mu = mu_bar + K (z - c - C mu_bar),
-//   Sigma = (I - K C) Sigma_bar (I - K C)^T + K Q K^T, then symmetrized.
+//   Sigma = (I - K C) Sigma_bar (I - K C)^T + K Q K^T,
+// computed on factors of Sigma_bar, one decorrelated measured quantity at
+// a time (src/udu.h, docs/numerics.md): the posterior is positive
+// semidefinite and exactly symmetric; S >= Q > 0 is never singular.
 // z holds meas->m values. info (may be NULL) receives the innovation and
 // its NIS on GF_OK and on GF_ERR_GATED (NIS above meas->gate, belief
 // untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2, gate < 0),
@@ -102,6 +105,7 @@ typedef struct gf_kf2_pmodel {
 typedef struct gf_kf2_pmeas {
     gf_kf2_meas meas; // the model as given, checked
     gf_real nis_max;  // the gate's bound on the NIS: gate, or +inf for none
+                      // (for the caller; the step applies meas.gate)
 } gf_kf2_pmeas;
 
 // Checks model as gf_kf2_predict does (A, B, c finite; R symmetric PSD)
