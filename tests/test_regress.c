@@ -644,7 +644,11 @@ static void one_answer_per_call(void **state)
 static void largest_covariance_stays_finite(void **state)
 {
     (void)state;
-    const gf_real big = GF_REAL_MAX;
+#ifdef GF_SINGLE_PRECISION
+    const gf_real big = FLT_MAX;
+#else
+    const gf_real big = DBL_MAX;
+#endif
     const gf_vec2 mu2 = {{0, 0}};
     const gf_mat2 s2 = {{{big, big}, {big, big}}};
     gf_kf2 kf;

@@ -19,7 +19,6 @@ typedef float gf_real;
 #define GF_R(x) x##f
 #define GF_REAL_EPSILON FLT_EPSILON
 #define GF_REAL_MIN FLT_MIN
-#define GF_REAL_MAX FLT_MAX
 #define GF_SQRT sqrtf
 #define GF_ATAN2 atan2f
 #define GF_LOG logf
@@ -29,7 +28,6 @@ typedef double gf_real;
 #define GF_R(x) x
 #define GF_REAL_EPSILON DBL_EPSILON
 #define GF_REAL_MIN DBL_MIN
-#define GF_REAL_MAX DBL_MAX
 #define GF_SQRT sqrt
 #define GF_ATAN2 atan2
 #define GF_LOG log
