@@ -1,4 +1,4 @@
-// gaussfilt LCM pipeline benchmark (issue 5): publishes measurements for
+// gaussfilt LCM pipeline benchmark: publishes measurements for
 // T car tracks at a given rate to a running gf_node and times the beliefs
 // that come back, all over real udpm sockets.
 //

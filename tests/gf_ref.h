@@ -301,7 +301,7 @@ static inline void gr_scen_make(gr_scen *sc, int kind, uint64_t seed,
         }
         sc->u[0] = (gf_real)(gr_unif(r) < 0.5 ? -d : d);
         sc->u[1] = (gf_real)(0.3 * gr_normal(r));
-        if (gr_below(r, 6) == 0) { // diffuse heading: issue 12 item 3's kind
+        if (gr_below(r, 6) == 0) { // diffuse heading: a prior that refused float updates
             sd[0] = sd[1] = unit[0] * gr_logu(r, 1e-2, 1.0);
             sd[2] = gr_logu(r, 1.0, 316.0);
             sc->u[0] = (gf_real)(unit[0] * gr_logu(r, 0.1, 10.0));

@@ -16,7 +16,7 @@
                     __LINE__)
 
 // Exercise 1: x = (position, velocity), A = ((1 1) (0 1)), no control,
-// R = G G^T with G = (0.5, 1)^T (the tables' R, see issue 2).
+// R = G G^T with G = (0.5, 1)^T (the tables' R).
 static const gf_kf2_model ex1 = {
     {{{1, 1}, {0, 1}}},
     {{{0, 0}, {0, 0}}},

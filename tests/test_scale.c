@@ -3,7 +3,7 @@
 // them stays a normal number, products of three do not), s M gets the
 // verdict of M from gf_mat2_check_psd, gf_mat3_check_psd, gf_mat2_spd_inv,
 // gf_mat3_chol, gf_kf2_init and gf_ekf3_init, on definite, semidefinite
-// and indefinite 2x2 and 3x3 matrices (issue 12's item 2 among them); and
+// and indefinite 2x2 and 3x3 matrices (among them the ones whose verdicts once moved with units); and
 // the update's verdicts: Sigma = s M, Q = s q gives the posterior s times
 // M's (GF_OK at every s), and a semidefinite Sigma measured along its null
 // direction with Q = 0 is GF_ERR_SINGULAR at every s.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Network tests of the LCM node (issue 6): faults, scale-out, load.
+# Network tests of the LCM node: faults, scale-out, load.
 #
 #   net.sh SCENARIO PORT BIN_DIR PYTHON LCM_PYTHONPATH WORK_DIR [SECONDS]
 #
