@@ -14,21 +14,49 @@
 #define GF_ALWAYS_INLINE static inline
 #endif
 
+// Before each loop over states or measured quantities (at most 3 trips):
+// unrolled when the compiler optimises for speed, kept as a loop when it
+// optimises for size (-Os, -Oz: flash first).
+// (clang unrolls such loops by itself, and warns where a pragma asked it
+// to and the trip count is not known.)
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
+#define GF_UNROLL _Pragma("GCC unroll 3")
+#else
+#define GF_UNROLL
+#endif
+
+// 1 if the n entries of x are all finite: one test of their sum (a NaN or
+// inf cannot vanish in a sum), entry by entry only if the sum is not
+// finite (finite entries whose sum overflows).
+static inline int gf_all_finite(const gf_real *x, unsigned n)
+{
+    gf_real sum = 0;
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        sum += x[i];
+    }
+    if (GF_ISFINITE(sum)) {
+        return 1;
+    }
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        if (!GF_ISFINITE(x[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 // 1 if both entries of x are finite.
 static inline int gf_vec2_is_finite(const gf_vec2 *x)
 {
-    return GF_ISFINITE(x->v[0]) && GF_ISFINITE(x->v[1]);
+    return gf_all_finite(x->v, 2);
 }
 
 // 1 if the first n entries of x are finite.
 static inline int gf_vec3_is_finite_n(const gf_vec3 *x, unsigned n)
 {
-    for (unsigned i = 0; i < n; i++) {
-        if (!GF_ISFINITE(x->v[i])) {
-            return 0;
-        }
-    }
-    return 1;
+    return gf_all_finite(x->v, n);
 }
 
 // A model callback's status, with anything that is not a known failure

@@ -167,8 +167,6 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
         return st;
     }
     pq->meas = *meas;
-    // A gate of zero lets every NIS in.
-    pq->nis_max = meas->gate > 0 ? meas->gate : (gf_real)INFINITY;
     return GF_OK;
 }
 

@@ -97,8 +97,7 @@ gf_status gf_mat2_symmetrize(gf_mat2 *s)
 
 int gf_mat2_is_finite(const gf_mat2 *a)
 {
-    return a && GF_ISFINITE(a->m[0][0]) && GF_ISFINITE(a->m[0][1]) &&
-           GF_ISFINITE(a->m[1][0]) && GF_ISFINITE(a->m[1][1]);
+    return a && gf_all_finite(a->m[0], 4);
 }
 
 gf_status gf_mat2_check_psd(const gf_mat2 *s)
@@ -250,17 +249,7 @@ gf_status gf_mat3_symmetrize(gf_mat3 *s)
 
 int gf_mat3_is_finite(const gf_mat3 *a)
 {
-    if (!a) {
-        return 0;
-    }
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) {
-            if (!GF_ISFINITE(a->m[i][j])) {
-                return 0;
-            }
-        }
-    }
-    return 1;
+    return a && gf_all_finite(a->m[0], 9);
 }
 
 gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)

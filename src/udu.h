@@ -29,41 +29,8 @@
 
 #include "gf_internal.h"
 
-// Before each loop over states or measured quantities (at most 3 trips):
-// unrolled when the compiler optimises for speed, kept as a loop when it
-// optimises for size (-Os, -Oz: flash first).
-// (clang unrolls such loops by itself, and warns where a pragma asked it
-// to and the trip count is not known.)
-#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
-#define GF_UNROLL _Pragma("GCC unroll 3")
-#else
-#define GF_UNROLL
-#endif
-
 // Columns of a factor: the n states, then one per measured quantity.
 #define GF_FCOLS 6u
-
-// 1 if the n entries of x are all finite: one test of their sum (a NaN or
-// inf cannot vanish in a sum), entry by entry only if the sum is not
-// finite (finite entries whose sum overflows).
-static inline int gf_all_finite(const gf_real *x, unsigned n)
-{
-    gf_real sum = 0;
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        sum += x[i];
-    }
-    if (GF_ISFINITE(sum)) {
-        return 1;
-    }
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        if (!GF_ISFINITE(x[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
 
 // s = F diag(d) F^T for the leading n x n block of a symmetric s (upper
 // triangle read). The pivot of each step is the state whose variance left

@@ -104,8 +104,6 @@ typedef struct gf_kf2_pmodel {
 // A checked measurement model. Fill with gf_kf2_prepare_meas only.
 typedef struct gf_kf2_pmeas {
     gf_kf2_meas meas; // the model as given, checked
-    gf_real nis_max;  // the gate's bound on the NIS: gate, or +inf for none
-                      // (for the caller; the step applies meas.gate)
 } gf_kf2_pmeas;
 
 // Checks model as gf_kf2_predict does (A, B, c finite; R symmetric PSD)
