@@ -155,24 +155,6 @@ static void send_ctrl(sim *s, long t, int n, double u0, double u1)
     s->sent_ctrl++;
 }
 
-static void send_meas(sim *s, long t, double z, double q)
-{
-    gaussfilt_lcm_measurement_t m;
-    memset(&m, 0, sizeof(m));
-    m.utime = t * s->step_us;
-    m.seq = ++s->seq;
-    m.session = s->session;
-    m.track = s->track;
-    m.model = s->model;
-    m.m = 1;
-    m.z[0] = z;
-    m.q[0][0] = q;
-    send(s, s->ch_meas,
-         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
-                                            &m));
-    s->sent_meas++;
-}
-
 static void send_meas_m(sim *s, long t, int m, const double *z,
                         const double q[3][3])
 {
@@ -194,6 +176,12 @@ static void send_meas_m(sim *s, long t, int m, const double *z,
          gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
                                             &msg));
     s->sent_meas++;
+}
+
+static void send_meas(sim *s, long t, double z, double q)
+{
+    const double qm[3][3] = {{q, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    send_meas_m(s, t, 1, &z, qm);
 }
 
 static void send_truth(sim *s, long t, int n, const double *x)

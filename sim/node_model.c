@@ -324,30 +324,30 @@ static int words_are(const char *s, const char *want)
 
 static int measure_parse(const char *v, int8_t kind, int8_t *out)
 {
-    if (words_are(v, "auto")) {
-        *out = GF_NODE_MEASURE_AUTO;
-        return 0;
+    // what each kind of model can measure, by the words that name it
+    static const struct {
+        int8_t kind; // -1: any kind; ROBOT: any kind but CAR
+        const char *words;
+        int8_t measure;
+    } names[] = {
+        {-1, "auto", GF_NODE_MEASURE_AUTO},
+        {GF_NODE_KIND_CAR, "position", GF_NODE_MEASURE_X},
+        {GF_NODE_KIND_CAR, "velocity", GF_NODE_MEASURE_V},
+        {GF_NODE_KIND_CAR, "position velocity", GF_NODE_MEASURE_XV},
+        {GF_NODE_KIND_ROBOT, "x", GF_NODE_MEASURE_X},
+        {GF_NODE_KIND_ROBOT, "x y", GF_NODE_MEASURE_XY},
+        {GF_NODE_KIND_ROBOT, "range bearing", GF_NODE_MEASURE_RANGE_BEARING},
+    };
+    for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++) {
+        const int car = kind == GF_NODE_KIND_CAR;
+        if ((names[i].kind < 0 ||
+             (names[i].kind == GF_NODE_KIND_CAR) == car) &&
+            words_are(v, names[i].words)) {
+            *out = names[i].measure;
+            return 0;
+        }
     }
-    if (kind == GF_NODE_KIND_CAR) {
-        if (words_are(v, "position"))
-            *out = GF_NODE_MEASURE_X;
-        else if (words_are(v, "velocity"))
-            *out = GF_NODE_MEASURE_V;
-        else if (words_are(v, "position velocity"))
-            *out = GF_NODE_MEASURE_XV;
-        else
-            return -1;
-        return 0;
-    }
-    if (words_are(v, "x"))
-        *out = GF_NODE_MEASURE_X;
-    else if (words_are(v, "x y"))
-        *out = GF_NODE_MEASURE_XY;
-    else if (words_are(v, "range bearing"))
-        *out = GF_NODE_MEASURE_RANGE_BEARING;
-    else
-        return -1;
-    return 0;
+    return -1;
 }
 
 static int fail(char *err, size_t size, unsigned line, const char *fmt, ...)

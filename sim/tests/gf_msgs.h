@@ -51,26 +51,37 @@ static inline gf_msg gf_msg_ctrl(int32_t track, int8_t model, int64_t seq,
     return m;
 }
 
-// A scalar measurement z with variance q of `track`.
-static inline gf_msg gf_msg_meas(int32_t track, int8_t model, int64_t seq,
-                                 int64_t utime, double z, double q)
+// A measurement of m = 1..3 quantities z with independent variances q of
+// `track`.
+static inline gf_msg gf_msg_meas_m(int32_t track, int8_t model, int64_t seq,
+                                   int64_t utime, int m, const double *z,
+                                   const double *q)
 {
-    gf_msg m;
+    gf_msg msg;
     gaussfilt_lcm_measurement_t x;
-    memset(&m, 0, sizeof(m));
+    memset(&msg, 0, sizeof(msg));
     memset(&x, 0, sizeof(x));
     x.utime = utime;
     x.seq = seq;
     x.track = track;
     x.model = model;
-    x.m = 1;
-    x.z[0] = z;
-    x.q[0][0] = q;
-    snprintf(m.channel, sizeof(m.channel), "%s%ld", GF_CHANNEL_MEAS,
+    x.m = (int8_t)m;
+    for (int i = 0; i < m; i++) {
+        x.z[i] = z[i];
+        x.q[i][i] = q[i];
+    }
+    snprintf(msg.channel, sizeof(msg.channel), "%s%ld", GF_CHANNEL_MEAS,
              (long)track);
-    m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0, (int)sizeof(m.data),
-                                               &x);
-    return m;
+    msg.len = gaussfilt_lcm_measurement_t_encode(msg.data, 0,
+                                                 (int)sizeof(msg.data), &x);
+    return msg;
+}
+
+// A scalar measurement z with variance q of `track`.
+static inline gf_msg gf_msg_meas(int32_t track, int8_t model, int64_t seq,
+                                 int64_t utime, double z, double q)
+{
+    return gf_msg_meas_m(track, model, seq, utime, 1, &z, &q);
 }
 
 // The beliefs a node published, in order.

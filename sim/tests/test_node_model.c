@@ -125,24 +125,8 @@ static gf_msg msg_meas2(int32_t track, int8_t model, int64_t seq,
                         int64_t utime, double z0, double z1, double q0,
                         double q1)
 {
-    gf_msg m;
-    gaussfilt_lcm_measurement_t x;
-    memset(&m, 0, sizeof(m));
-    memset(&x, 0, sizeof(x));
-    x.utime = utime;
-    x.seq = seq;
-    x.track = track;
-    x.model = model;
-    x.m = 2;
-    x.z[0] = z0;
-    x.z[1] = z1;
-    x.q[0][0] = q0;
-    x.q[1][1] = q1;
-    snprintf(m.channel, sizeof(m.channel), "%s%ld", GF_CHANNEL_MEAS,
-             (long)track);
-    m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0, (int)sizeof(m.data),
-                                               &x);
-    return m;
+    const double z[2] = {z0, z1}, q[2] = {q0, q1};
+    return gf_msg_meas_m(track, model, seq, utime, 2, z, q);
 }
 
 static gf_msg msg_model(const gaussfilt_lcm_model_t *mm)
