@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: MIT
+#include <stddef.h>
+
 #include "gaussfilt/ekf3.h"
 
 #include "udu.h"
@@ -55,103 +58,142 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
     return GF_OK;
 }
 
+// The checks of a measurement model before its callback, in the order of
+// the status rules: GF_ERR_ARG (h NULL; m not 1..3), GF_ERR_NONFINITE
+// (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's verdict
+// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, qf holds Q's factors.
+static gf_status meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
+                            gf_real qf[6])
+{
+    const unsigned m = meas->m;
+    if (!meas->h || m < 1 || m > 3) {
+        return GF_ERR_ARG;
+    }
+    if ((z && !gf_all_finite(z->v, m)) || !GF_ISFINITE(meas->gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    for (unsigned i = 0; i < m; i++) {
+        if (!gf_all_finite(meas->Q.m[i], m)) {
+            return GF_ERR_NONFINITE;
+        }
+    }
+    return gf_udu_factor(meas->Q.m[0], 3, m, qf);
+}
+
+// The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
+// R's verdict; on GF_OK, rf holds R's factors.
+static gf_status motion_check(const gf_ekf3_motion *motion, gf_real rf[6])
+{
+    if (!motion->g) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_all_finite(motion->R.m[0], 9)) {
+        return GF_ERR_NONFINITE;
+    }
+    return gf_udu_factor(motion->R.m[0], 3, 3, rf);
+}
+
 gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
 {
     if (!ekf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec3_is_finite_n(mu, 3)) {
+    if (!gf_all_finite(mu->v, 3) || !gf_all_finite(sigma->m[0], 9)) {
         return GF_ERR_NONFINITE;
     }
-    gf_status st = gf_mat3_check_psd(sigma, 3);
+    gf_real ud[6];
+    const gf_status st = gf_udu_factor(sigma->m[0], 3, 3, ud);
     if (st != GF_OK) {
         return st;
     }
     ekf->mu = *mu;
     ekf->mu.v[2] = gf_angle_wrap(mu->v[2]);
-    ekf->sigma = *sigma;
-    (void)gf_mat3_symmetrize(&ekf->sigma);
+    for (unsigned k = 0; k < 6u; k++) {
+        ekf->ud[k] = ud[k];
+    }
     return GF_OK;
 }
 
-// The prediction (Table 3.3, lines 2-3):
-//   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,
-// the covariance through its factors (gf_cov_predict). R is checked first,
-// then the callback runs; the belief is written only if all is finite.
-gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
-                          const gf_real *u)
+gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma)
 {
-    if (!ekf || !motion || !motion->g) {
+    if (!ekf || !sigma) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_psd_check(motion->R.m[0], 3, 3);
-    if (st != GF_OK) {
-        return st;
-    }
+    gf_udu_to_cov(ekf->ud, 3, sigma->m[0], 3);
+    return GF_OK;
+}
+
+// The prediction (Table 3.3, lines 2-3) once R is factored (rf):
+//   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,
+// the covariance on its factors (gf_udu_predict); the belief is written
+// only if all is finite.
+static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+                         const gf_real rf[6], const gf_real *u)
+{
     gf_ekf3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
+    const gf_status st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    // A NaN or inf in mu_bar or G reaches the result (G_ij is W_ij's
-    // term with u_jj = 1, and W_ii^2 d_i + ... Sigma_bar_ii's), so does an
-    // overflow: one test of the result stands for all.
+    // A NaN or inf in mu_bar or G reaches the result (G_ij is a term of
+    // (G U)_ij with U_jj = 1, and of some d_j or U_ij of the result), so
+    // does an overflow: one test of the result stands for all.
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    gf_cov_predict(ekf->sigma.m[0], 3, G.m[0], motion->R.m[0],
-                   nb.sigma.m[0]);
-    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.sigma.m[0], 9)) {
+    gf_real w[3 * 6], wd[6];
+    gf_udu_predict(3, nb.ud, G.m[0], rf, w, wd);
+    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.ud, 6)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
     *ekf = nb;
     return GF_OK;
 }
 
-// The correction (Table 3.3, lines 4-6): z_hat = h(mu_bar) and H from the
-// callback, y = z - z_hat (angle residuals wrapped), then gf_cov_correct
-// (the quantities decorrelated by Q's factors, one Bierman scalar update
-// each), the gate on the total NIS, and the belief written only if every
-// quantity passed and all is finite.
-gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                         const gf_vec3 *z, gf_innovation *info)
+// The correction (Table 3.3, lines 4-6) once Q is factored (qf): z_hat =
+// h(mu_bar) and H from the callback, y = z - z_hat (angle residuals
+// wrapped), both whitened by Q's factors (y_w = V^-1 y, H_w = V^-1 H),
+// then one scalar update per quantity (gf_udu_correct), the gate on the
+// total NIS, and the belief written only if every quantity passed and all
+// is finite.
+static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                        const gf_real qf[6], const gf_vec3 *z,
+                        gf_innovation *info)
 {
-    if (!ekf) {
-        return GF_ERR_ARG;
-    }
-    gf_status st = gf_meas3_check(meas, z);
-    if (st != GF_OK) {
-        return st;
-    }
     const unsigned m = meas->m;
     gf_vec3 zh = {{0, 0, 0}};
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
+    if (!gf_all_finite(zh.v, m) || !gf_all_finite(H.m[0], 3 * m)) {
+        return GF_ERR_NONFINITE;
+    }
     gf_innovation in;
-    gf_real y[3];
+    gf_real yw[3];
     in.m = m;
     for (unsigned i = 0; i < 3u; i++) {
         in.y[i] = 0;
-        if (i >= m) {
-            continue;
+        if (i < m) {
+            in.y[i] = z->v[i] - zh.v[i];
+            if (meas->angle_mask & (1u << i)) {
+                in.y[i] = gf_angle_wrap(in.y[i]);
+            }
+            yw[i] = in.y[i];
         }
-        if (!GF_ISFINITE(zh.v[i]) || !GF_ISFINITE(H.m[i][0]) ||
-            !GF_ISFINITE(H.m[i][1]) || !GF_ISFINITE(H.m[i][2])) {
-            return GF_ERR_NONFINITE;
-        }
-        in.y[i] = z->v[i] - zh.v[i];
-        if (meas->angle_mask & (1u << i)) {
-            in.y[i] = gf_angle_wrap(in.y[i]);
-        }
-        y[i] = in.y[i];
     }
-    gf_real e[3] = {0, 0, 0};
-    gf_decorrelate(meas->Q.m[0], 3, m, H.m[0], y, e);
+    if (m > 1u) {
+        gf_udu_whiten(qf, m, yw, 1);
+        for (unsigned j = 0; j < 3u; j++) {
+            gf_udu_whiten(qf, m, &H.m[0][j], 3);
+        }
+    }
     gf_ekf3 nb = *ekf;
-    st = gf_cov_correct(3, nb.mu.v, nb.sigma.m[0], m, H.m[0], y, e,
-                        &in.nis);
+    gf_real dx[3];
+    st = gf_udu_correct(3, nb.ud, m, H.m[0], qf, yw, dx, &in.nis);
     if (st != GF_OK) {
         return st;
     }
@@ -161,8 +203,11 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
+    for (unsigned j = 0; j < 3u; j++) {
+        nb.mu.v[j] += dx[j];
+    }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.sigma.m[0], 9)) {
+    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.ud, 6)) {
         return GF_ERR_NONFINITE;
     }
     *ekf = nb;
@@ -170,4 +215,83 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         gf_info_store(info, &in);
     }
     return GF_OK;
+}
+
+gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+                          const gf_real *u)
+{
+    if (!ekf || !motion) {
+        return GF_ERR_ARG;
+    }
+    gf_real rf[6];
+    const gf_status st = motion_check(motion, rf);
+    return st != GF_OK ? st : predict(ekf, motion, rf, u);
+}
+
+gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                         const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !meas || !z) {
+        return GF_ERR_ARG;
+    }
+    gf_real qf[6];
+    const gf_status st = meas_check(meas, z, qf);
+    return st != GF_OK ? st : update(ekf, meas, qf, z, info);
+}
+
+gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
+                                 const gf_ekf3_motion *motion)
+{
+    if (!pm || !motion) {
+        return GF_ERR_ARG;
+    }
+    gf_real rf[6];
+    const gf_status st = motion_check(motion, rf);
+    if (st != GF_OK) {
+        return st;
+    }
+    pm->motion = *motion;
+    for (unsigned k = 0; k < 6u; k++) {
+        pm->rf[k] = rf[k];
+    }
+    return GF_OK;
+}
+
+gf_status gf_ekf3_prepare_meas(gf_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
+{
+    if (!pq || !meas) {
+        return GF_ERR_ARG;
+    }
+    gf_real qf[6];
+    const gf_status st = meas_check(meas, NULL, qf);
+    if (st != GF_OK) {
+        return st;
+    }
+    pq->meas = *meas;
+    for (unsigned k = 0; k < 6u; k++) {
+        pq->qf[k] = qf[k];
+    }
+    return GF_OK;
+}
+
+gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
+                                   const gf_real *u)
+{
+    if (!ekf || !pm || !pm->motion.g) {
+        return GF_ERR_ARG;
+    }
+    return predict(ekf, &pm->motion, pm->rf, u);
+}
+
+gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
+                                  const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !pq || !z || !pq->meas.h || pq->meas.m < 1 ||
+        pq->meas.m > 3) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_all_finite(z->v, pq->meas.m)) {
+        return GF_ERR_NONFINITE;
+    }
+    return update(ekf, &pq->meas, pq->qf, z, info);
 }

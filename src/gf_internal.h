@@ -59,6 +59,11 @@ static inline int gf_vec3_is_finite_n(const gf_vec3 *x, unsigned n)
     return gf_all_finite(x->v, n);
 }
 
+// The verdict on a covariance passed in (n x n block, rows of stride):
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (src/udu.h's gf_udu_factor), else
+// GF_OK. Defined in mat.c; gf_mat2_check_psd and gf_mat3_check_psd call it.
+gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n);
+
 // A model callback's status, with anything that is not a known failure
 // mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
 // gate may report (the caller then expects the innovation to be written).

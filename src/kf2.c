@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <stddef.h>
 
 #include "gaussfilt/kf2.h"
@@ -5,37 +6,49 @@
 #include "udu.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
-// gf_kf2_predict's statuses.
-static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u)
+// gf_kf2_predict's statuses; on GF_OK, rf holds R's factors.
+static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u,
+                             gf_real rf[3])
 {
     if (!gf_all_finite(model->A.m[0], 4) || !gf_all_finite(model->B.m[0], 4) ||
-        !gf_all_finite(model->c.v, 2) || (u && !gf_all_finite(u->v, 2))) {
+        !gf_all_finite(model->R.m[0], 4) || !gf_all_finite(model->c.v, 2) ||
+        (u && !gf_all_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
-    return gf_psd_check(model->R.m[0], 2, 2);
+    return gf_udu_factor(model->R.m[0], 2, 2, rf);
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
-// of gf_kf2_update's statuses.
-static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z)
+// of gf_kf2_update's statuses; on GF_OK, qf holds Q's factors and cw the
+// whitened rows V^-1 C.
+static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
+                            gf_real qf[3], gf_mat2 *cw)
 {
     const unsigned m = meas->m;
     if (m < 1 || m > 2) {
         return GF_ERR_ARG;
     }
-    for (unsigned i = 0; i < m; i++) {
-        if (!GF_ISFINITE(meas->C.m[i][0]) || !GF_ISFINITE(meas->C.m[i][1]) ||
-            !GF_ISFINITE(meas->c.v[i]) || (z && !GF_ISFINITE(z->v[i]))) {
-            return GF_ERR_NONFINITE;
-        }
-    }
-    if (!GF_ISFINITE(meas->gate)) {
+    if (!gf_all_finite(meas->C.m[0], 2 * m) || !gf_all_finite(meas->c.v, m) ||
+        (z && !gf_all_finite(z->v, m)) || !GF_ISFINITE(meas->gate)) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    return gf_psd_check(meas->Q.m[0], 2, m);
+    if (!gf_all_finite(meas->Q.m[0], m * m)) { // the m x m block
+        return GF_ERR_NONFINITE;
+    }
+    const gf_status st = gf_udu_factor(meas->Q.m[0], 2, m, qf);
+    if (st != GF_OK) {
+        return st;
+    }
+    // C_w = V^-1 C, column by column
+    *cw = meas->C;
+    if (m > 1u) {
+        gf_udu_whiten(qf, m, &cw->m[0][0], 2);
+        gf_udu_whiten(qf, m, &cw->m[0][1], 2);
+    }
+    return GF_OK;
 }
 
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -43,68 +56,79 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec2_is_finite(mu)) {
+    if (!gf_all_finite(mu->v, 2) || !gf_all_finite(sigma->m[0], 4)) {
         return GF_ERR_NONFINITE;
     }
-    gf_status st = gf_mat2_check_psd(sigma);
+    gf_real ud[3];
+    const gf_status st = gf_udu_factor(sigma->m[0], 2, 2, ud);
     if (st != GF_OK) {
         return st;
     }
     kf->mu = *mu;
-    kf->sigma = *sigma;
-    (void)gf_mat2_symmetrize(&kf->sigma);
+    kf->ud[0] = ud[0];
+    kf->ud[1] = ud[1];
+    kf->ud[2] = ud[2];
     return GF_OK;
 }
 
-// The prediction once model and u are checked:
+gf_status gf_kf2_cov(const gf_kf2 *kf, gf_mat2 *sigma)
+{
+    if (!kf || !sigma) {
+        return GF_ERR_ARG;
+    }
+    gf_udu_to_cov(kf->ud, 2, sigma->m[0], 2);
+    return GF_OK;
+}
+
+// The prediction once model and u are checked, R factored (rf):
 //   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R.
 // The belief is written only if all of it is finite.
 static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
-                         const gf_vec2 *u)
+                         const gf_real rf[3], const gf_vec2 *u)
 {
     gf_kf2 nb = *kf;
-    (void)gf_mat2_mulv(&model->A, &kf->mu, &nb.mu);
-    if (u) {
-        gf_vec2 bu;
-        (void)gf_mat2_mulv(&model->B, u, &bu);
-        nb.mu.v[0] += bu.v[0];
-        nb.mu.v[1] += bu.v[1];
+    const gf_real *mu = kf->mu.v;
+    for (unsigned i = 0; i < 2u; i++) {
+        gf_real acc = model->A.m[i][0] * mu[0] + model->A.m[i][1] * mu[1] +
+                      model->c.v[i];
+        if (u) {
+            acc += model->B.m[i][0] * u->v[0] + model->B.m[i][1] * u->v[1];
+        }
+        nb.mu.v[i] = acc;
     }
-    nb.mu.v[0] += model->c.v[0];
-    nb.mu.v[1] += model->c.v[1];
-    gf_cov_predict(kf->sigma.m[0], 2, model->A.m[0], model->R.m[0],
-                   nb.sigma.m[0]);
-    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.sigma.m[0], 4)) {
+    gf_real w[2 * 4], wd[4];
+    gf_udu_predict(2, nb.ud, model->A.m[0], rf, w, wd);
+    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.ud, 3)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     *kf = nb;
     return GF_OK;
 }
 
-// The correction once meas and z are checked:
-//   y = z - c - C mu_bar, then gf_cov_correct (S = C Sigma_bar C^T + Q,
-//   K = Sigma_bar C^T S^-1, mu = mu_bar + K y, Sigma = (I - K C)
-//   Sigma_bar, by Bierman's factored update), the gate on the NIS.
+// The correction once meas and z are checked, Q factored (qf) and C
+// whitened (cw):
+//   y = z - c - C mu_bar,  y_w = V^-1 y,
+// then one scalar update per row of C_w (gf_udu_correct), the gate on the
+// NIS, and the belief written only if every quantity passed.
 static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
+                        const gf_real qf[3], const gf_mat2 *cw,
                         const gf_vec2 *z, gf_innovation *info)
 {
     const unsigned m = meas->m;
     gf_innovation in;
-    gf_real y[2] = {0, 0}, h[2][2] = {{0, 0}, {0, 0}}, e[3] = {0, 0, 0};
+    gf_real yw[2];
     in.m = m;
     in.y[1] = in.y[2] = 0;
     for (unsigned i = 0; i < m; i++) {
         in.y[i] = z->v[i] - meas->c.v[i] -
                   (meas->C.m[i][0] * kf->mu.v[0] +
                    meas->C.m[i][1] * kf->mu.v[1]);
-        y[i] = in.y[i];
-        h[i][0] = meas->C.m[i][0];
-        h[i][1] = meas->C.m[i][1];
+        yw[i] = in.y[i];
     }
-    gf_decorrelate(meas->Q.m[0], 2, m, h[0], y, e);
+    gf_udu_whiten(qf, m, yw, 1);
     gf_kf2 nb = *kf;
-    gf_status st = gf_cov_correct(2, nb.mu.v, nb.sigma.m[0], m, h[0], y, e,
-                                  &in.nis);
+    gf_real dx[2];
+    gf_status st = gf_udu_correct(2, nb.ud, m, cw->m[0], qf, yw, dx, &in.nis);
     if (st != GF_OK) {
         return st;
     }
@@ -114,7 +138,9 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (gf_gated(&in, meas->gate, info)) {
         return GF_ERR_GATED;
     }
-    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.sigma.m[0], 4)) {
+    nb.mu.v[0] += dx[0];
+    nb.mu.v[1] += dx[1];
+    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.ud, 3)) {
         return GF_ERR_NONFINITE;
     }
     *kf = nb;
@@ -130,8 +156,9 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     if (!kf || !model) {
         return GF_ERR_ARG;
     }
-    gf_status st = model_check(model, u);
-    return st != GF_OK ? st : predict(kf, model, u);
+    gf_real rf[3];
+    const gf_status st = model_check(model, u, rf);
+    return st != GF_OK ? st : predict(kf, model, rf, u);
 }
 
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
@@ -140,8 +167,10 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_status st = meas_check(meas, z);
-    return st != GF_OK ? st : update(kf, meas, z, info);
+    gf_real qf[3];
+    gf_mat2 cw;
+    const gf_status st = meas_check(meas, z, qf, &cw);
+    return st != GF_OK ? st : update(kf, meas, qf, &cw, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -149,11 +178,15 @@ gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
     if (!pm || !model) {
         return GF_ERR_ARG;
     }
-    gf_status st = model_check(model, NULL);
+    gf_real rf[3];
+    const gf_status st = model_check(model, NULL, rf);
     if (st != GF_OK) {
         return st;
     }
     pm->model = *model;
+    for (unsigned k = 0; k < 3u; k++) {
+        pm->rf[k] = rf[k];
+    }
     return GF_OK;
 }
 
@@ -162,26 +195,32 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
     if (!pq || !meas) {
         return GF_ERR_ARG;
     }
-    gf_status st = meas_check(meas, NULL);
+    gf_real qf[3];
+    gf_mat2 cw;
+    const gf_status st = meas_check(meas, NULL, qf, &cw);
     if (st != GF_OK) {
         return st;
     }
     pq->meas = *meas;
+    for (unsigned k = 0; k < 3u; k++) {
+        pq->qf[k] = qf[k];
+    }
+    pq->Cw = cw;
     return GF_OK;
 }
 
-// The prepared steps: the model was checked by prepare, so only u or z
-// are; the step itself is the same.
+// The prepared steps: the model was checked and factored by prepare, so
+// only u or z are checked; the step itself is the same.
 gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
                                   const gf_vec2 *u)
 {
     if (!kf || !pm) {
         return GF_ERR_ARG;
     }
-    if (u && !gf_vec2_is_finite(u)) {
+    if (u && !gf_all_finite(u->v, 2)) {
         return GF_ERR_NONFINITE;
     }
-    return predict(kf, &pm->model, u);
+    return predict(kf, &pm->model, pm->rf, u);
 }
 
 gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
@@ -190,10 +229,8 @@ gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
     if (!kf || !pq || !z || pq->meas.m < 1 || pq->meas.m > 2) {
         return GF_ERR_ARG;
     }
-    for (unsigned i = 0; i < pq->meas.m; i++) {
-        if (!GF_ISFINITE(z->v[i])) {
-            return GF_ERR_NONFINITE;
-        }
+    if (!gf_all_finite(z->v, pq->meas.m)) {
+        return GF_ERR_NONFINITE;
     }
-    return update(kf, &pq->meas, z, info);
+    return update(kf, &pq->meas, pq->qf, &pq->Cw, z, info);
 }

@@ -1,43 +1,21 @@
+// SPDX-License-Identifier: MIT
+#include <stddef.h>
+
 #include "gaussfilt/mat.h"
 
 #include "udu.h"
 
-// ---- the factorisation and verdict of src/udu.h -----------------------
-
-gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, int check,
-                 unsigned first, gf_real (*F)[GF_FCOLS], gf_real *d,
-                 unsigned *order)
-{
-    return gf_ldl_inline(s, stride, n, check, first, F, d, order);
-}
+// ---- the verdict on a covariance passed in ---------------------------
 
 gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
 {
-    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         if (!gf_all_finite(&s[(size_t)i * stride], n)) {
             return GF_ERR_NONFINITE;
         }
     }
-    // Symmetric: |a_ij - a_ji| <= GF_SYM_RTOL (|a_ij| + |a_ji|), exact for
-    // equal entries (zeros included) and the same for any scale.
-    gf_real off = 0; // the sum of |off-diagonal entries|
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        GF_UNROLL
-        for (unsigned j = i + 1u; j < n; j++) {
-            const gf_real x = s[i * stride + j], y = s[j * stride + i];
-            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
-                return GF_ERR_NOT_PSD;
-            }
-            off += GF_FABS(x) + GF_FABS(y);
-        }
-        if (s[i * stride + i] < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-    }
-    // A diagonal matrix (the usual noise) with no negative variance is one.
-    return (off > 0) ? gf_ldl(s, stride, n, 1, n, NULL, NULL, NULL) : GF_OK;
+    gf_real ud[GF_UD_SIZE(GF_UDU_NMAX)];
+    return gf_udu_factor(s, stride, n, ud);
 }
 
 // ---- 2x2 -----------------------------------------------------------------

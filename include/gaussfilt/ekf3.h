@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: EKF3, the extended Kalman filter of exercise 4 of Probabilistic
 // Robotics chapter 3, on the state x = (x, y, theta). Motion g and
 // measurement h are caller-supplied callbacks that also give their
@@ -13,10 +14,12 @@
 extern "C" {
 #endif
 
-// The belief N(mu, sigma), mu = (x, y, theta).
+// The belief N(mu, Sigma), mu = (x, y, theta), Sigma carried as its
+// factors U D U^T as in gf_kf2; read it with gf_ekf3_cov. Write a belief
+// with gf_ekf3_init only.
 typedef struct gf_ekf3 {
     gf_vec3 mu;
-    gf_mat3 sigma;
+    gf_real ud[6]; // U_01, d_0, U_02, U_12, d_1, d_2 (src/udu.h's order)
 } gf_ekf3;
 
 // Motion callback: mu_bar = g(u, mu) and G = dg/dx at mu. u is whatever the
@@ -67,8 +70,12 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 // gf_kf2_init.
 gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma);
 
+// *sigma = the belief's covariance, as gf_kf2_cov.
+gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma);
+
 // Prediction (Table 3.3, lines 2-3):
-//   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R.
+//   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,
+// on the factors, as gf_kf2_predict.
 // u is passed to the callback as is (may be NULL if it accepts that).
 // GF_ERR_ARG (NULL), GF_ERR_NOT_PSD (R), GF_ERR_NONFINITE (R, or what g
 // returned), or the callback's own error; the belief is untouched then.
@@ -79,11 +86,53 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 //   S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,
 //   mu = mu_bar + K (z - h(mu_bar)),
 //   Sigma = (I - K H) Sigma_bar (I - K H)^T + K Q K^T,
-// computed as gf_kf2_update computes it, H evaluated once at mu_bar.
+// computed as gf_kf2_update computes it (Bierman's scalar update on each
+// quantity whitened by Q's factors), H evaluated once at mu_bar.
 // Status, gate and info rules as gf_kf2_update, with m = 1..3 and h's own
 // error passed on as in gf_ekf3_predict.
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info);
+
+// ---- Prepared models, as gf_kf2's -----------------------------------
+//
+// gf_ekf3_prepare_motion checks R once and keeps its factors;
+// gf_ekf3_prepare_meas checks m, the gate and Q once and keeps Q's
+// factors. The prepared steps then check what changes from step to step
+// (the callbacks' results, z, the innovation variances, the result) and
+// equal gf_ekf3_predict/update bit for bit, statuses included.
+
+// A checked motion model. Fill with gf_ekf3_prepare_motion only.
+typedef struct gf_ekf3_pmotion {
+    gf_ekf3_motion motion; // the model as given, checked
+    gf_real rf[6];         // R's factors (packed as gf_ekf3.ud)
+} gf_ekf3_pmotion;
+
+// A checked measurement model. Fill with gf_ekf3_prepare_meas only.
+typedef struct gf_ekf3_pmeas {
+    gf_ekf3_meas meas; // the model as given, checked
+    gf_real qf[6];     // Q's factors V E V^T (packed as gf_ekf3.ud)
+} gf_ekf3_pmeas;
+
+// Checks motion as gf_ekf3_predict does before its callback (g not NULL;
+// R finite, symmetric PSD) and stores it with R's factors. GF_ERR_ARG,
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *pm is untouched on failure.
+gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
+                                 const gf_ekf3_motion *motion);
+
+// Checks meas as gf_ekf3_update does before its callback (h not NULL, m
+// 1..3, gate finite and >= 0, Q symmetric PSD) and stores it with Q's
+// factors. GF_ERR_ARG, GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *pq is untouched
+// on failure.
+gf_status gf_ekf3_prepare_meas(gf_ekf3_pmeas *pq, const gf_ekf3_meas *meas);
+
+// gf_ekf3_predict with a prepared motion model.
+gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
+                                   const gf_real *u);
+
+// gf_ekf3_update with a prepared measurement model: checks z, the
+// callback's results, S, the NIS, the gate and the result.
+gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
+                                  const gf_vec3 *z, gf_innovation *info);
 
 #ifdef __cplusplus
 }

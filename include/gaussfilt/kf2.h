@@ -1,14 +1,15 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: KF2, the linear Kalman filter of exercises 1, 2 and 5 of
 // Probabilistic Robotics chapter 3, on the state x = (position, velocity).
 //
 // Names follow the book (Table 3.1), not most software:
 //
-//   book      here             FilterPy / PX4 name
-//   mu, Sigma gf_kf2.mu/.sigma x, P
-//   A, B      model.A, .B      F, B
-//   R         model.R          Q   (process noise)
-//   C         meas.C           H
-//   Q         meas.Q           R   (measurement noise)
+//   book      here                   FilterPy / PX4 name
+//   mu, Sigma gf_kf2.mu, gf_kf2_cov() x, P
+//   A, B      model.A, .B            F, B
+//   R         model.R                Q   (process noise)
+//   C         meas.C                 H
+//   Q         meas.Q                 R   (measurement noise)
 //
 // The caller owns every struct; nothing is allocated and nothing is global.
 #ifndef GAUSSFILT_KF2_H
@@ -20,10 +21,13 @@
 extern "C" {
 #endif
 
-// The belief N(mu, sigma).
+// The belief N(mu, Sigma). Sigma is carried as its factors U D U^T (U
+// unit upper triangular, D >= 0 diagonal), which every step updates in
+// place, so that no rounding can make it indefinite; read it with
+// gf_kf2_cov. Write a belief with gf_kf2_init only.
 typedef struct gf_kf2 {
     gf_vec2 mu;
-    gf_mat2 sigma;
+    gf_real ud[3]; // U_01, d_0, d_1 (src/udu.h's packed order)
 } gf_kf2;
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
@@ -53,13 +57,19 @@ typedef struct gf_innovation {
     gf_real nis;
 } gf_innovation;
 
-// Sets the belief to N(mu, sigma). sigma must be symmetric PSD (zero is
-// fine: a state known exactly). GF_ERR_ARG on NULL, GF_ERR_NONFINITE,
-// GF_ERR_NOT_PSD; kf is untouched on failure.
+// Sets the belief to N(mu, sigma), factoring sigma once. sigma must be
+// symmetric PSD (zero is fine: a state known exactly). GF_ERR_ARG on NULL,
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_mat2_check_psd's verdict); kf is
+// untouched on failure.
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma);
 
+// *sigma = the belief's covariance U D U^T, exactly symmetric, each
+// variance a sum of non-negative terms. GF_ERR_ARG on NULL.
+gf_status gf_kf2_cov(const gf_kf2 *kf, gf_mat2 *sigma);
+
 // Prediction (Table 3.1, lines 2-3, with exercise 5's constant):
-//   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R.
+//   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R,
+// on the factors (Thornton's time update, src/udu.h, docs/numerics.md).
 // u may be NULL for no control. Checks the model (finite, R PSD) and u;
 // on any failure the belief is untouched.
 gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
@@ -69,9 +79,11 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 //   S = C Sigma_bar C^T + Q,  K = Sigma_bar C^T S^-1,
 //   mu = mu_bar + K (z - c - C mu_bar),
 //   Sigma = (I - K C) Sigma_bar (I - K C)^T + K Q K^T,
-// computed on factors of Sigma_bar, one decorrelated measured quantity at
-// a time (src/udu.h, docs/numerics.md): the posterior is positive
-// semidefinite and exactly symmetric; S >= Q > 0 is never singular.
+// computed on the factors of Sigma_bar, one whitened measured quantity at
+// a time (Bierman's scalar update, src/udu.h, docs/numerics.md): the
+// posterior is positive semidefinite; NIS = the sum of the scalar NIS.
+// A quantity with zero noise is taken exactly; it is GF_ERR_SINGULAR only
+// if its predicted variance is zero too.
 // z holds meas->m values. info (may be NULL) receives the innovation and
 // its NIS on GF_OK and on GF_ERR_GATED (NIS above meas->gate, belief
 // untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2, gate < 0),
@@ -99,22 +111,25 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
 // A checked motion model. Fill with gf_kf2_prepare_model only.
 typedef struct gf_kf2_pmodel {
     gf_kf2_model model; // the model as given, checked
+    gf_real rf[3];      // R's factors G Q_d G^T (packed as gf_kf2.ud)
 } gf_kf2_pmodel;
 
 // A checked measurement model. Fill with gf_kf2_prepare_meas only.
 typedef struct gf_kf2_pmeas {
     gf_kf2_meas meas; // the model as given, checked
+    gf_real qf[3];    // Q's factors V E V^T (packed as gf_kf2.ud)
+    gf_mat2 Cw;       // V^-1 C: the rows of independent noises E
 } gf_kf2_pmeas;
 
 // Checks model as gf_kf2_predict does (A, B, c finite; R symmetric PSD)
-// and stores it in *pm. GF_ERR_ARG on NULL, GF_ERR_NONFINITE,
-// GF_ERR_NOT_PSD; *pm is untouched on failure.
+// and stores it with R's factors in *pm. GF_ERR_ARG on NULL,
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *pm is untouched on failure.
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model);
 
 // Checks meas as gf_kf2_update does (m 1 or 2; C, c, gate finite; gate >=
-// 0; Q symmetric PSD) and stores it in *pq. GF_ERR_ARG on NULL, on m not 1
-// or 2 and on gate < 0, GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *pq is untouched
-// on failure.
+// 0; Q symmetric PSD) and stores it, Q factored and C whitened, in *pq.
+// GF_ERR_ARG on NULL, on m not 1 or 2 and on gate < 0, GF_ERR_NONFINITE,
+// GF_ERR_NOT_PSD; *pq is untouched on failure.
 gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas);
 
 // gf_kf2_predict with a prepared model: checks u (may be NULL) and the

@@ -18,8 +18,7 @@
 #define GF_NAME(name) name##_f64
 #endif
 
-// src/udu.h: internal, defined in mat.c
-#define gf_ldl GF_NAME(gf_ldl)
+// src/gf_internal.h: internal, defined in mat.c
 #define gf_psd_check GF_NAME(gf_psd_check)
 
 // mat.h
@@ -49,21 +48,27 @@
 #define gf_cov2_marginal GF_NAME(gf_cov2_marginal)
 
 // kf2.h
+#define gf_kf2_cov GF_NAME(gf_kf2_cov)
+#define gf_kf2_init GF_NAME(gf_kf2_init)
 #define gf_kf2_predict GF_NAME(gf_kf2_predict)
 #define gf_kf2_predict_prepared GF_NAME(gf_kf2_predict_prepared)
 #define gf_kf2_prepare_meas GF_NAME(gf_kf2_prepare_meas)
 #define gf_kf2_prepare_model GF_NAME(gf_kf2_prepare_model)
+#define gf_kf2_update GF_NAME(gf_kf2_update)
 #define gf_kf2_update_prepared GF_NAME(gf_kf2_update_prepared)
 
 // ekf3.h
+#define gf_ekf3_cov GF_NAME(gf_ekf3_cov)
 #define gf_ekf3_init GF_NAME(gf_ekf3_init)
 #define gf_ekf3_meas_x GF_NAME(gf_ekf3_meas_x)
 #define gf_ekf3_meas_xy GF_NAME(gf_ekf3_meas_xy)
 #define gf_ekf3_motion_forward_turn GF_NAME(gf_ekf3_motion_forward_turn)
 #define gf_ekf3_predict GF_NAME(gf_ekf3_predict)
+#define gf_ekf3_predict_prepared GF_NAME(gf_ekf3_predict_prepared)
+#define gf_ekf3_prepare_meas GF_NAME(gf_ekf3_prepare_meas)
+#define gf_ekf3_prepare_motion GF_NAME(gf_ekf3_prepare_motion)
 #define gf_ekf3_update GF_NAME(gf_ekf3_update)
-#define gf_kf2_init GF_NAME(gf_kf2_init)
-#define gf_kf2_update GF_NAME(gf_kf2_update)
+#define gf_ekf3_update_prepared GF_NAME(gf_ekf3_update_prepared)
 
 // rng.h
 #define gf_rng_mvn3 GF_NAME(gf_rng_mvn3)
