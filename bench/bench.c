@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt benchmark: per-step cost of the workloads peers are compared on
 // (workloads.h). Not a test: it prints figures and fails only if a filter
 // call fails (so the smoke stage catches a rotted benchmark).
@@ -11,7 +12,8 @@
 // WL is w1, w1p (W1 through the prepared models: gf_kf2_prepare_model and
 // _meas once, then gf_kf2_predict_prepared and _update_prepared), w2, w2c
 // (W2 with the caller's own copies of the two models, which take the
-// core's general path), w2m2 or w2m3 (W2 with an update of m = 2 or 3);
+// core's general path), w2p (W2 through the prepared models), w2m2 or
+// w2m3 (W2 with an update of m = 2 or 3);
 // PART is step, predict, update or ref (the step done by the no-checks
 // reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
@@ -86,7 +88,7 @@ NOINLINE static double bench_loop_w1_step(unsigned long n)
             return -1;
         }
     }
-    return (double)kf.mu.v[0] + (double)kf.sigma.m[0][0];
+    return (double)kf.mu.v[0] + (double)kf.ud[1];
 }
 
 NOINLINE static double bench_loop_w1_predict(unsigned long n)
@@ -97,7 +99,7 @@ NOINLINE static double bench_loop_w1_predict(unsigned long n)
         if (gf_kf2_predict(&kf, &wl_w1_model, NULL) != GF_OK) {
             return -1;
         }
-        acc += (double)kf.sigma.m[0][0];
+        acc += (double)kf.ud[1];
     }
     return acc;
 }
@@ -111,7 +113,7 @@ NOINLINE static double bench_loop_w1_update(unsigned long n)
         if (gf_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j], &info_sink) != GF_OK) {
             return -1;
         }
-        acc += (double)kf.sigma.m[0][0];
+        acc += (double)kf.ud[1];
     }
     return acc;
 }
@@ -132,7 +134,7 @@ NOINLINE static double bench_loop_w1p_step(unsigned long n)
             return -1;
         }
     }
-    return (double)kf.mu.v[0] + (double)kf.sigma.m[0][0];
+    return (double)kf.mu.v[0] + (double)kf.ud[1];
 }
 
 NOINLINE static double bench_loop_w1p_predict(unsigned long n)
@@ -143,7 +145,7 @@ NOINLINE static double bench_loop_w1p_predict(unsigned long n)
         if (gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL) != GF_OK) {
             return -1;
         }
-        acc += (double)kf.sigma.m[0][0];
+        acc += (double)kf.ud[1];
     }
     return acc;
 }
@@ -158,7 +160,7 @@ NOINLINE static double bench_loop_w1p_update(unsigned long n)
             GF_OK) {
             return -1;
         }
-        acc += (double)kf.sigma.m[0][0];
+        acc += (double)kf.ud[1];
     }
     return acc;
 }
@@ -177,7 +179,7 @@ NOINLINE static double bench_loop_w2_step(unsigned long n)
             return -1;
         }
     }
-    return (double)ekf.mu.v[0] + (double)ekf.sigma.m[0][0];
+    return (double)ekf.mu.v[0] + (double)ekf.ud[1];
 }
 
 NOINLINE static double bench_loop_w2_predict(unsigned long n)
@@ -189,7 +191,7 @@ NOINLINE static double bench_loop_w2_predict(unsigned long n)
         if (gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]) != GF_OK) {
             return -1;
         }
-        acc += (double)ekf.sigma.m[0][0];
+        acc += (double)ekf.ud[1];
     }
     return acc;
 }
@@ -203,7 +205,55 @@ NOINLINE static double bench_loop_w2_update(unsigned long n)
         if (gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) != GF_OK) {
             return -1;
         }
-        acc += (double)ekf.sigma.m[0][0];
+        acc += (double)ekf.ud[1];
+    }
+    return acc;
+}
+
+// W2 through the prepared models.
+NOINLINE static double bench_loop_w2p_step(unsigned long n)
+{
+    gf_ekf3 ekf = wl_w2_init;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        if (j == 0) {
+            ekf = wl_w2_init;
+        }
+        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) != GF_OK ||
+            gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j], &info_sink) !=
+                GF_OK) {
+            fail_sink = (double)i;
+            return -1;
+        }
+    }
+    return (double)ekf.mu.v[0] + (double)ekf.ud[1];
+}
+
+NOINLINE static double bench_loop_w2p_predict(unsigned long n)
+{
+    double acc = 0;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        gf_ekf3 ekf = wl_w2_post[j];
+        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) != GF_OK) {
+            return -1;
+        }
+        acc += (double)ekf.ud[1];
+    }
+    return acc;
+}
+
+NOINLINE static double bench_loop_w2p_update(unsigned long n)
+{
+    double acc = 0;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        gf_ekf3 ekf = wl_w2_prior[j];
+        if (gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j], &info_sink) !=
+            GF_OK) {
+            return -1;
+        }
+        acc += (double)ekf.ud[1];
     }
     return acc;
 }
@@ -211,11 +261,12 @@ NOINLINE static double bench_loop_w2_update(unsigned long n)
 // The same step with the no-checks reference (bench/ref.c).
 NOINLINE static double bench_loop_w1_ref(unsigned long n)
 {
-    gf_kf2 kf = wl_w1_init;
+    const ref_kf2 init = ref_kf2_from(&wl_w1_init);
+    ref_kf2 kf = init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            kf = wl_w1_init;
+            kf = init;
         }
         ref_kf2_predict(&kf, &wl_w1_model);
         ref_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j]);
@@ -225,11 +276,12 @@ NOINLINE static double bench_loop_w1_ref(unsigned long n)
 
 NOINLINE static double bench_loop_w2_ref(unsigned long n)
 {
-    gf_ekf3 ekf = wl_w2_init;
+    const ref_ekf3 init = ref_ekf3_from(&wl_w2_init);
+    ref_ekf3 ekf = init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
-            ekf = wl_w2_init;
+            ekf = init;
         }
         ref_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]);
         if (wl_w2_meas.m == 1) {
@@ -263,7 +315,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
-            "       WL = w1 | w1p | w2 | w2c | w2m2 | w2m3, PART = step | "
+            "       WL = w1 | w1p | w2 | w2p | w2c | w2m2 | w2m3, PART = step | "
             "predict | update | ref\n");
     return 2;
 }
@@ -278,6 +330,8 @@ int main(int argc, char **argv)
     unsigned m = strcmp(wl, "w2m2") == 0 ? 2u : strcmp(wl, "w2m3") == 0 ? 3u : 1u;
     int w2 = user || m > 1 || strcmp(wl, "w2") == 0;
     int prepared = strcmp(wl, "w1p") == 0;
+    int w2p = strcmp(wl, "w2p") == 0;
+    w2 = w2 || w2p;
     if (!w2 && !prepared && strcmp(wl, "w1") != 0) {
         return usage();
     }
@@ -310,14 +364,16 @@ int main(int argc, char **argv)
         return 0;
     }
 
-    static const loop_fn loops[3][4] = {
+    static const loop_fn loops[4][4] = {
         {bench_loop_w1_step, bench_loop_w1_predict, bench_loop_w1_update,
          bench_loop_w1_ref},
         {bench_loop_w2_step, bench_loop_w2_predict, bench_loop_w2_update,
          bench_loop_w2_ref},
         {bench_loop_w1p_step, bench_loop_w1p_predict, bench_loop_w1p_update,
-         bench_loop_w1_ref}};
-    loop_fn loop = loops[prepared ? 2 : w2][p];
+         bench_loop_w1_ref},
+        {bench_loop_w2p_step, bench_loop_w2p_predict, bench_loop_w2p_update,
+         bench_loop_w2_ref}};
+    loop_fn loop = loops[prepared ? 2 : w2p ? 3 : w2][p];
     if (w2) {
         wl_setup_w2(m, user);
     } else {

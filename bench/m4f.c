@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Cortex-M4F benchmark image: the workloads of workloads.h, run once
 // each on QEMU's mps2-an386 under the insncount plugin (bench/qemu/), which
 // counts the instructions executed between bench_mark_start and
@@ -89,9 +90,19 @@ static void w1(void)
     kf = wl_w1_init;
     for (unsigned i = 0; i < WL_TAB; i++) {
         bench_mark_start(&kf);
-        ref_kf2_predict(&kf, &wl_w1_model);
-        ref_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[i]);
+        gf_status a = gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL);
+        gf_status b =
+            gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[i], &info);
         bench_mark_stop(&kf);
+        check(a != GF_OK ? a : b, "w1p step", i);
+    }
+    report("w1p", "step");
+    ref_kf2 rk = ref_kf2_from(&wl_w1_init);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        bench_mark_start(&rk);
+        ref_kf2_predict(&rk, &wl_w1_model);
+        ref_kf2_update(&rk, &wl_w1_meas, &wl_w1_z[i]);
+        bench_mark_stop(&rk);
     }
     report("w1", "ref");
 }
@@ -116,17 +127,30 @@ static void w2(const char *name, unsigned m)
         check(a, "w2 update", i);
     }
     report(name, "update");
-    void (*const ref_update)(gf_ekf3 *, const gf_ekf3_meas *,
+    if (m == 1) {
+        ekf = wl_w2_init;
+        for (unsigned i = 0; i < WL_TAB; i++) {
+            bench_mark_start(&ekf);
+            gf_status a =
+                gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[i]);
+            gf_status b =
+                gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[i], &info);
+            bench_mark_stop(&ekf);
+            check(a != GF_OK ? a : b, "w2p step", i);
+        }
+        report("w2p", "step");
+    }
+    void (*const ref_update)(ref_ekf3 *, const gf_ekf3_meas *,
                              const gf_vec3 *) =
         m == 1 ? ref_ekf3_update
         : m == 2 ? ref_ekf3_update_xy
                  : ref_ekf3_update_xyt;
-    ekf = wl_w2_init;
+    ref_ekf3 re = ref_ekf3_from(&wl_w2_init);
     for (unsigned i = 0; i < WL_TAB; i++) {
-        bench_mark_start(&ekf);
-        ref_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[i]);
-        ref_update(&ekf, &wl_w2_meas, &wl_w2_z[i]);
-        bench_mark_stop(&ekf);
+        bench_mark_start(&re);
+        ref_ekf3_predict(&re, &wl_w2_motion, wl_w2_u[i]);
+        ref_update(&re, &wl_w2_meas, &wl_w2_z[i]);
+        bench_mark_stop(&re);
     }
     report(name, "ref");
 }

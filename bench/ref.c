@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The reference the floor is measured by: a hand-unrolled scalar
 // implementation of one step of W1 and W2 (W2's update with m = 1, 2 or
 // 3), on the same structs as the library (W2's models written in, as a
@@ -8,7 +9,23 @@
 // returns nothing.
 #include "ref.h"
 
-void ref_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model)
+ref_kf2 ref_kf2_from(const gf_kf2 *kf)
+{
+    ref_kf2 r;
+    r.mu = kf->mu;
+    (void)gf_kf2_cov(kf, &r.sigma);
+    return r;
+}
+
+ref_ekf3 ref_ekf3_from(const gf_ekf3 *ekf)
+{
+    ref_ekf3 r;
+    r.mu = ekf->mu;
+    (void)gf_ekf3_cov(ekf, &r.sigma);
+    return r;
+}
+
+void ref_kf2_predict(ref_kf2 *kf, const gf_kf2_model *model)
 {
     const gf_mat2 *A = &model->A;
     const gf_real a00 = A->m[0][0], a01 = A->m[0][1];
@@ -28,7 +45,7 @@ void ref_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model)
     kf->sigma.m[1][1] = t10 * a10 + t11 * a11 + model->R.m[1][1];
 }
 
-void ref_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z)
+void ref_kf2_update(ref_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z)
 {
     const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
     const gf_real s00 = kf->sigma.m[0][0], s01 = kf->sigma.m[0][1];
@@ -52,7 +69,7 @@ static gf_real wrap(gf_real a)
     return (a > -GF_PI && a <= GF_PI) ? a : gf_angle_wrap(a);
 }
 
-void ref_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+void ref_ekf3_predict(ref_ekf3 *ekf, const gf_ekf3_motion *motion,
                       const gf_real *u)
 {
     // W2's motion written in (a hand implementation of W2 knows its model):
@@ -77,7 +94,7 @@ void ref_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     o[2][2] = s22 + R->m[2][2];
 }
 
-void ref_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+void ref_ekf3_update(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
                      const gf_vec3 *z)
 {
     // W2's measurement written in: z_hat = x, H = (1 0 0), so p = Sigma's
@@ -100,7 +117,7 @@ void ref_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     o[2][2] = s22 - k2 * s02;
 }
 
-void ref_ekf3_update_xy(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+void ref_ekf3_update_xy(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
                         const gf_vec3 *z)
 {
     // W2's m = 2 measurement written in: z_hat = (x, y), H = (I 0), so
@@ -131,7 +148,7 @@ void ref_ekf3_update_xy(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     o[2][2] = s22 - (k20 * s02 + k21 * s12);
 }
 
-void ref_ekf3_update_xyt(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z)
 {
     // W2's m = 3 measurement written in: z_hat = mu, H = I, so S = Sigma + Q

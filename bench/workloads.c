@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The benchmarks' workloads (workloads.h): models, simulated truth, and the
 // tables the measured loops replay.
 #include "workloads.h"
@@ -45,6 +46,8 @@ gf_kf2 wl_w1_prior[WL_TAB];
 
 gf_ekf3_motion wl_w2_motion;
 gf_ekf3_meas wl_w2_meas;
+gf_ekf3_pmotion wl_w2_pmotion;
+gf_ekf3_pmeas wl_w2_pmeas;
 gf_ekf3 wl_w2_init;
 gf_real wl_w2_u[WL_TAB][2];
 gf_vec3 wl_w2_z[WL_TAB];
@@ -153,6 +156,11 @@ void wl_setup_w2(unsigned m, int user)
     wl_w2_meas.Q.m[1][1] = m >= 2 ? GF_R(0.01) : 0;
     wl_w2_meas.Q.m[2][2] = m >= 3 ? GF_R(0.0025) : 0;
     wl_w2_meas.angle_mask = m >= 3 ? 4u : 0u;
+
+    if (gf_ekf3_prepare_motion(&wl_w2_pmotion, &wl_w2_motion) != GF_OK ||
+        gf_ekf3_prepare_meas(&wl_w2_pmeas, &wl_w2_meas) != GF_OK) {
+        wl_die("w2 prepare", 0, GF_ERR_ARG);
+    }
 
     gf_vec3 mu = {{0, 0, 0}};
     gf_mat3 sig = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The benchmarks' workloads, shared by the host program (bench.c) and the
 // Cortex-M4F image (m4f.c): the models, and the inputs and beliefs of a
 // simulated truth of WL_TAB steps, computed before anything is measured.
@@ -33,6 +34,8 @@ extern gf_kf2 wl_w1_prior[WL_TAB]; // belief before step i's update
 
 extern gf_ekf3_motion wl_w2_motion;
 extern gf_ekf3_meas wl_w2_meas;
+extern gf_ekf3_pmotion wl_w2_pmotion; // wl_w2_motion and wl_w2_meas, prepared
+extern gf_ekf3_pmeas wl_w2_pmeas;
 extern gf_ekf3 wl_w2_init;
 extern gf_real wl_w2_u[WL_TAB][2]; // control of step i: (1, phi_i)
 extern gf_vec3 wl_w2_z[WL_TAB];    // x, y, heading of step i

@@ -57,8 +57,10 @@ int main(void)
     st |= (int)gf_kf2_predict(&kf, &kf2_model, &u);
     const gf_vec2 z = {{gf_fw_in[2], GF_R(0.0)}};
     st |= (int)gf_kf2_update(&kf, &kf2_meas, &z, 0);
+    gf_mat2 s1;
+    st |= (int)gf_kf2_cov(&kf, &s1);
     gf_fw_out[0] = kf.mu.v[0];
-    gf_fw_out[1] = kf.sigma.m[0][0];
+    gf_fw_out[1] = s1.m[0][0];
 
     // EKF3: Tables 4.1 and 4.2, move forward then observe x.
     gf_ekf3 ekf;
@@ -73,8 +75,10 @@ int main(void)
     st |= (int)gf_ekf3_update(&ekf, &ekf3_meas, &zx, 0);
     gf_fw_out[2] = ekf.mu.v[0];
     gf_fw_out[3] = ekf.mu.v[1];
-    gf_fw_out[4] = ekf.sigma.m[0][0];
-    gf_fw_out[5] = ekf.sigma.m[1][1];
+    gf_mat3 p1;
+    st |= (int)gf_ekf3_cov(&ekf, &p1);
+    gf_fw_out[4] = p1.m[0][0];
+    gf_fw_out[5] = p1.m[1][1];
     gf_fw_status = st;
 #else
     for (int i = 0; i < 4; i++) {

@@ -69,16 +69,19 @@ static gf_status meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
     if (!meas->h || m < 1 || m > 3) {
         return GF_ERR_ARG;
     }
-    if ((z && !gf_all_finite(z->v, m)) || !GF_ISFINITE(meas->gate)) {
+    if (!gf_sum_finite(z ? gf_nan_sum(meas->gate * GF_R(0.0), z->v, m)
+                         : meas->gate * GF_R(0.0))) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
+    gf_real f = GF_R(0.0);
     for (unsigned i = 0; i < m; i++) {
-        if (!gf_all_finite(meas->Q.m[i], m)) {
-            return GF_ERR_NONFINITE;
-        }
+        f = gf_nan_sum(f, meas->Q.m[i], m);
+    }
+    if (!gf_sum_finite(f)) {
+        return GF_ERR_NONFINITE;
     }
     return gf_udu_factor(meas->Q.m[0], 3, m, qf);
 }
@@ -145,7 +148,8 @@ static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_real w[3 * 6], wd[6];
     gf_udu_predict(3, nb.ud, G.m[0], rf, w, wd);
-    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.ud, 6)) {
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), nb.ud,
+                                  6))) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
     *ekf = nb;
@@ -163,13 +167,19 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                         gf_innovation *info)
 {
     const unsigned m = meas->m;
-    gf_vec3 zh = {{0, 0, 0}};
-    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    // z_hat and the m rows of H the callback fills arrive as zeros
+    gf_vec3 zh;
+    gf_mat3 H;
+    for (unsigned i = 0; i < m; i++) {
+        zh.v[i] = 0;
+        H.m[i][0] = H.m[i][1] = H.m[i][2] = 0;
+    }
     gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    if (!gf_all_finite(zh.v, m) || !gf_all_finite(H.m[0], 3 * m)) {
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), zh.v, m), H.m[0],
+                                  3 * m))) {
         return GF_ERR_NONFINITE;
     }
     gf_innovation in;
@@ -207,7 +217,8 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         nb.mu.v[j] += dx[j];
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    if (!gf_all_finite(nb.mu.v, 3) || !gf_all_finite(nb.ud, 6)) {
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), nb.ud,
+                                  6))) {
         return GF_ERR_NONFINITE;
     }
     *ekf = nb;

@@ -19,32 +19,36 @@
 // optimises for size (-Os, -Oz: flash first).
 // (clang unrolls such loops by itself, and warns where a pragma asked it
 // to and the trip count is not known.)
-#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE_SIZE__)
-#define GF_UNROLL _Pragma("GCC unroll 3")
+#if defined(__GNUC__) && !defined(__clang__)
+#define GF_UNROLL _Pragma("GCC unroll 6")
 #else
 #define GF_UNROLL
 #endif
 
-// 1 if the n entries of x are all finite: one test of their sum (a NaN or
-// inf cannot vanish in a sum), entry by entry only if the sum is not
-// finite (finite entries whose sum overflows).
-static inline int gf_all_finite(const gf_real *x, unsigned n)
+// Finiteness in one pass with no branch: x_i * 0 is 0 for a finite x_i
+// and NaN for an infinite or NaN one, and a NaN cannot vanish from a sum
+// (nor can the sum overflow: every term is 0). gf_nan_sum adds the n
+// entries of x to a running z (start at 0); gf_sum_finite tells whether
+// every number added so far was finite (z is +-0 or NaN, and only NaN
+// fails z < 1). Needs IEEE arithmetic (no -ffinite-math-only).
+GF_ALWAYS_INLINE gf_real gf_nan_sum(gf_real z, const gf_real *x, unsigned n)
 {
-    gf_real sum = 0;
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
-        sum += x[i];
+        z += x[i] * GF_R(0.0);
     }
-    if (GF_ISFINITE(sum)) {
-        return 1;
-    }
-    GF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        if (!GF_ISFINITE(x[i])) {
-            return 0;
-        }
-    }
-    return 1;
+    return z;
+}
+
+GF_ALWAYS_INLINE int gf_sum_finite(gf_real z)
+{
+    return z < GF_R(1.0);
+}
+
+// 1 if the n entries of x are all finite.
+GF_ALWAYS_INLINE int gf_all_finite(const gf_real *x, unsigned n)
+{
+    return gf_sum_finite(gf_nan_sum(GF_R(0.0), x, n));
 }
 
 // 1 if both entries of x are finite.

@@ -10,9 +10,14 @@
 static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u,
                              gf_real rf[3])
 {
-    if (!gf_all_finite(model->A.m[0], 4) || !gf_all_finite(model->B.m[0], 4) ||
-        !gf_all_finite(model->R.m[0], 4) || !gf_all_finite(model->c.v, 2) ||
-        (u && !gf_all_finite(u->v, 2))) {
+    gf_real z = gf_nan_sum(GF_R(0.0), model->A.m[0], 4);
+    z = gf_nan_sum(z, model->B.m[0], 4);
+    z = gf_nan_sum(z, model->R.m[0], 4);
+    z = gf_nan_sum(z, model->c.v, 2);
+    if (u) {
+        z = gf_nan_sum(z, u->v, 2);
+    }
+    if (!gf_sum_finite(z)) {
         return GF_ERR_NONFINITE;
     }
     return gf_udu_factor(model->R.m[0], 2, 2, rf);
@@ -28,8 +33,12 @@ static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     if (m < 1 || m > 2) {
         return GF_ERR_ARG;
     }
-    if (!gf_all_finite(meas->C.m[0], 2 * m) || !gf_all_finite(meas->c.v, m) ||
-        (z && !gf_all_finite(z->v, m)) || !GF_ISFINITE(meas->gate)) {
+    gf_real f = gf_nan_sum(meas->gate * GF_R(0.0), meas->C.m[0], 2 * m);
+    f = gf_nan_sum(f, meas->c.v, m);
+    if (z) {
+        f = gf_nan_sum(f, z->v, m);
+    }
+    if (!gf_sum_finite(f)) {
         return GF_ERR_NONFINITE;
     }
     if (meas->gate < 0) {
@@ -98,7 +107,8 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
     }
     gf_real w[2 * 4], wd[4];
     gf_udu_predict(2, nb.ud, model->A.m[0], rf, w, wd);
-    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.ud, 3)) {
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), nb.ud,
+                                  3))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     *kf = nb;
@@ -125,7 +135,9 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
                    meas->C.m[i][1] * kf->mu.v[1]);
         yw[i] = in.y[i];
     }
-    gf_udu_whiten(qf, m, yw, 1);
+    if (m > 1u) {
+        gf_udu_whiten(qf, m, yw, 1);
+    }
     gf_kf2 nb = *kf;
     gf_real dx[2];
     gf_status st = gf_udu_correct(2, nb.ud, m, cw->m[0], qf, yw, dx, &in.nis);
@@ -140,7 +152,8 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     nb.mu.v[0] += dx[0];
     nb.mu.v[1] += dx[1];
-    if (!gf_all_finite(nb.mu.v, 2) || !gf_all_finite(nb.ud, 3)) {
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), nb.ud,
+                                  3))) {
         return GF_ERR_NONFINITE;
     }
     *kf = nb;

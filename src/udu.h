@@ -55,13 +55,39 @@ static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
 // GF_PD_RTOL times their variance (r: what is left of s once the later
 // columns are taken out), else GF_ERR_NOT_PSD. Every test is relative to
 // s's own diagonal: the correlation form, the same in any units.
-static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride,
-                                      unsigned n, gf_real *ud)
+GF_ALWAYS_INLINE gf_status gf_udu_factor(const gf_real *s, unsigned stride,
+                                         unsigned n, gf_real *ud)
 {
     const gf_real rtol = GF_PD_RTOL;
+    // A diagonal matrix (the usual noise) is its own factorisation.
+    gf_real off = 0;
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
+        for (unsigned j = i + 1u; j < n; j++) {
+            off += GF_FABS(s[i * stride + j]) + GF_FABS(s[j * stride + i]);
+        }
+    }
+    if (!(off > 0)) {
+        GF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real sjj = s[j * stride + j];
+            if (sjj < 0) {
+                return GF_ERR_NOT_PSD;
+            }
+            ud[GF_UD(j, j)] = sjj;
+            GF_UNROLL
+            for (unsigned i = 0; i < j; i++) {
+                ud[GF_UD(i, j)] = 0;
+            }
+        }
+        return GF_OK;
+    }
+    GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
         const gf_real sjj = s[j * stride + j];
         gf_real dj = sjj;
+        GF_UNROLL
         for (unsigned k = j + 1u; k < n; k++) {
             dj -= ud[GF_UD(j, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
         }
@@ -70,6 +96,7 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride,
             return GF_ERR_NOT_PSD;
         }
         const gf_real inv = pos ? GF_R(1.0) / dj : GF_R(0.0);
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             const gf_real sij = s[i * stride + j], sji = s[j * stride + i];
             if (!(GF_FABS(sij - sji) <=
@@ -77,12 +104,14 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride,
                 return GF_ERR_NOT_PSD;
             }
             gf_real r = sij;
+            GF_UNROLL
             for (unsigned k = j + 1u; k < n; k++) {
                 r -= ud[GF_UD(i, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
             }
             if (!pos) {
                 const gf_real sii = s[i * stride + i];
                 gf_real rii = sii;
+                GF_UNROLL
                 for (unsigned k = j + 1u; k < n; k++) {
                     rii -= ud[GF_UD(i, k)] * ud[GF_UD(k, k)] *
                            ud[GF_UD(i, k)];
@@ -105,9 +134,12 @@ static inline gf_status gf_udu_factor(const gf_real *s, unsigned stride,
 static inline void gf_udu_to_cov(const gf_real *ud, unsigned n, gf_real *s,
                                  unsigned stride)
 {
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned j = i; j < n; j++) {
             gf_real acc = 0;
+            GF_UNROLL
             for (unsigned k = j; k < n; k++) {
                 const gf_real uik = (k == i) ? GF_R(1.0) : ud[GF_UD(i, k)];
                 const gf_real ujk = (k == j) ? GF_R(1.0) : ud[GF_UD(j, k)];
@@ -121,8 +153,7 @@ static inline void gf_udu_to_cov(const gf_real *ud, unsigned n, gf_real *s,
 
 // The prediction's covariance (Thornton's time update), in place on ud:
 //   Sigma_bar = W diag(w_d) W^T,  W = [A U | G],  w_d = [D | Q_d],
-// with R = G Q_d G^T given by its factors rf (packed; only the columns of
-// G with q_j > 0 are taken), then U_bar D_bar U_bar^T = W diag(w_d) W^T by
+// with R = G Q_d G^T given by its factors rf (packed), then U_bar D_bar U_bar^T = W diag(w_d) W^T by
 // the modified weighted Gram-Schmidt, from the last row up:
 //   c = diag(w_d) w_j,  d_j = w_j . c,
 //   U_ij = (w_i . c) / d_j,  w_i -= U_ij w_j   (i < j).
@@ -136,35 +167,39 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud, const gf_real *a,
 {
     const unsigned cols2 = 2u * n;
     // W = [A U | G]: (A U)_ij = A_ij + sum_(l<j) A_il U_lj
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         wd[j] = ud[GF_UD(j, j)];
+        GF_UNROLL
         for (unsigned i = 0; i < n; i++) {
             gf_real acc = a[i * n + j];
+            GF_UNROLL
             for (unsigned l = 0; l < j; l++) {
                 acc += a[i * n + l] * ud[GF_UD(l, j)];
             }
             w[i * cols2 + j] = acc;
         }
     }
-    unsigned cols = n;
+    // G: the unit upper triangular factor of R, weights Q_d (zero
+    // weights included: every row has 2n entries)
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        const gf_real q = rf[GF_UD(j, j)];
-        if (q > 0) {
-            wd[cols] = q;
-            for (unsigned i = 0; i < n; i++) {
-                w[i * cols2 + cols] = (i < j)    ? rf[GF_UD(i, j)]
-                                      : (i == j) ? GF_R(1.0)
-                                                 : GF_R(0.0);
-            }
-            cols++;
+        wd[n + j] = rf[GF_UD(j, j)];
+        GF_UNROLL
+        for (unsigned i = 0; i < n; i++) {
+            w[i * cols2 + n + j] = (i < j)    ? rf[GF_UD(i, j)]
+                                   : (i == j) ? GF_R(1.0)
+                                              : GF_R(0.0);
         }
     }
     // Modified weighted Gram-Schmidt, rows n-1 .. 0
+    GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
         gf_real c[2u * GF_UDU_NMAX];
         gf_real *wj = &w[j * cols2];
         gf_real dj = 0;
-        for (unsigned k = 0; k < cols; k++) {
+        GF_UNROLL
+        for (unsigned k = 0; k < cols2; k++) {
             c[k] = wd[k] * wj[k];
             dj += wj[k] * c[k];
         }
@@ -172,14 +207,17 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud, const gf_real *a,
             dj = 0;
         }
         const gf_real inv = (dj > 0) ? GF_R(1.0) / dj : GF_R(0.0);
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             gf_real *wi = &w[i * cols2];
             gf_real acc = 0;
-            for (unsigned k = 0; k < cols; k++) {
+            GF_UNROLL
+            for (unsigned k = 0; k < cols2; k++) {
                 acc += wi[k] * c[k];
             }
             const gf_real uij = acc * inv;
-            for (unsigned k = 0; k < cols; k++) {
+            GF_UNROLL
+            for (unsigned k = 0; k < cols2; k++) {
                 wi[k] -= uij * wj[k];
             }
             ud[GF_UD(i, j)] = uij;
@@ -211,8 +249,10 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
     // f = U^T h
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         gf_real acc = h[j];
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             acc += ud[GF_UD(i, j)] * h[i];
         }
@@ -221,8 +261,10 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     // An exact quantity's scale: h Sigma h^T without its cancellations
     gf_real scale = 0;
     if (!(r > 0)) {
+        GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             gf_real t = GF_FABS(h[j]);
+            GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
                 t += GF_FABS(ud[GF_UD(i, j)] * h[i]);
             }
@@ -230,6 +272,7 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
         }
     }
     gf_real alpha = r, inv_prev = 0;
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         const gf_real d = ud[GF_UD(j, j)];
         const gf_real fj = f[j], gj = d * fj;
@@ -240,6 +283,7 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
             ud[GF_UD(j, j)] = d * alpha * inv;
         }
         const gf_real p = -fj * inv_prev;
+        GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
             const gf_real uij = ud[GF_UD(i, j)];
             ud[GF_UD(i, j)] = uij + b[i] * p;
@@ -257,10 +301,12 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     }
     const gf_real k = y * inv_prev; // y / s
     *nis += y * k;
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dx[j] += b[j] * k;
         if (!(ud[GF_UD(j, j)] >= GF_REAL_MIN)) {
             ud[GF_UD(j, j)] = 0;
+            GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
                 ud[GF_UD(i, j)] = 0;
             }
@@ -296,12 +342,14 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned m,
                                        gf_real *nis)
 {
     *nis = 0;
+    GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dx[j] = 0;
     }
     for (unsigned i = 0; i < m; i++) {
         const gf_real *hi = &hw[i * n];
         gf_real yi = yw[i];
+        GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             yi -= hi[j] * dx[j];
         }
