@@ -174,23 +174,31 @@ static inline int lib_belief(const lib *l, gr_real mu[3], gr_real P[3][3])
     memset(P, 0, 9 * sizeof(gr_real));
     mu[2] = 0;
     if (l->kind == GR_KF2) {
+        gf_mat2 sigma;
+        if (gf_kf2_cov(&l->kf, &sigma) != GF_OK) {
+            return 0;
+        }
         for (int i = 0; i < 2; i++) {
             mu[i] = (gr_real)l->kf.mu.v[i];
             for (int j = 0; j < 2; j++) {
-                P[i][j] = (gr_real)l->kf.sigma.m[i][j];
+                P[i][j] = (gr_real)sigma.m[i][j];
             }
         }
         gf_kf2 t;
-        return gf_kf2_init(&t, &l->kf.mu, &l->kf.sigma) == GF_OK;
+        return gf_kf2_init(&t, &l->kf.mu, &sigma) == GF_OK;
+    }
+    gf_mat3 sigma;
+    if (gf_ekf3_cov(&l->ekf, &sigma) != GF_OK) {
+        return 0;
     }
     for (int i = 0; i < 3; i++) {
         mu[i] = (gr_real)l->ekf.mu.v[i];
         for (int j = 0; j < 3; j++) {
-            P[i][j] = (gr_real)l->ekf.sigma.m[i][j];
+            P[i][j] = (gr_real)sigma.m[i][j];
         }
     }
     gf_ekf3 t;
-    return gf_ekf3_init(&t, &l->ekf.mu, &l->ekf.sigma) == GF_OK;
+    return gf_ekf3_init(&t, &l->ekf.mu, &sigma) == GF_OK;
 }
 
 #endif

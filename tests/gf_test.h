@@ -64,6 +64,22 @@ static inline void gf_check_close_(double got, double want, double tol,
         assert_memory_equal(before_, (obj), sizeof(*(obj)));               \
     } while (0)
 
+// The covariance of a belief, read through its accessor, which must
+// succeed.
+static inline gf_mat2 gf_test_kf2_sigma(const gf_kf2 *kf)
+{
+    gf_mat2 sigma;
+    assert_int_equal(gf_kf2_cov(kf, &sigma), GF_OK);
+    return sigma;
+}
+
+static inline gf_mat3 gf_test_ekf3_sigma(const gf_ekf3 *ekf)
+{
+    gf_mat3 sigma;
+    assert_int_equal(gf_ekf3_cov(ekf, &sigma), GF_OK);
+    return sigma;
+}
+
 // ekf3.h's promise to a motion callback, for every filter that calls one:
 // mu_bar arrives as a copy of mu and G as the identity. This model counts
 // the calls that broke it in *(unsigned *)ctx, then moves like the

@@ -26,10 +26,11 @@ static const gf_mat3 INIT_SIGMA = {{{0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 10000}}};
 static void check_belief(const gf_ekf3 *ekf, const gf_vec3 *mu,
                          const gf_mat3 *sigma)
 {
+    const gf_mat3 got = gf_test_ekf3_sigma(ekf);
     for (int i = 0; i < 3; i++) {
         CHECK_CLOSE(ekf->mu.v[i], mu->v[i]);
         for (int j = 0; j < 3; j++) {
-            CHECK_CLOSE(ekf->sigma.m[i][j], sigma->m[i][j]);
+            CHECK_CLOSE(got.m[i][j], sigma->m[i][j]);
         }
     }
 }
@@ -37,10 +38,11 @@ static void check_belief(const gf_ekf3 *ekf, const gf_vec3 *mu,
 static void check_printed(const gf_ekf3 *ekf, const gf_real mu[3],
                           const gf_real sigma[3][3])
 {
+    const gf_mat3 got = gf_test_ekf3_sigma(ekf);
     for (int i = 0; i < 3; i++) {
         CHECK_PRINTED(ekf->mu.v[i], mu[i]);
         for (int j = 0; j < 3; j++) {
-            CHECK_PRINTED(ekf->sigma.m[i][j], sigma[i][j]);
+            CHECK_PRINTED(got.m[i][j], sigma[i][j]);
         }
     }
 }
@@ -71,7 +73,7 @@ static void table_4_2(void **state)
     gf_ekf3 ekf;
     assert_int_equal(gf_ekf3_init(&ekf, &INIT_MU, &INIT_SIGMA), GF_OK);
     assert_int_equal(gf_ekf3_predict(&ekf, &FORWARD, MOVE_1), GF_OK);
-    gf_ekf3 predicted = ekf;
+    const gf_mat3 predicted = gf_test_ekf3_sigma(&ekf);
 
     const gf_vec3 z = {{-0.7, 0, 0}};
     gf_innovation info;
@@ -80,13 +82,14 @@ static void table_4_2(void **state)
     // S = 0.01 + 0.01, K = (0.5, 0, 0): x = 1 + 0.5 (-0.7 - 1) = 0.15,
     // Sigma_xx = 0.005; nothing else moves (Sigma_x* stays 0).
     const gf_vec3 mu = {{0.15, 0, 0}};
-    gf_mat3 sigma = predicted.sigma;
+    gf_mat3 sigma = predicted;
     sigma.m[0][0] = GF_R(0.005);
     check_belief(&ekf, &mu, &sigma);
     const gf_real pmu[3] = {0.15, 0, 0};
     const gf_real psig[3][3] = {{0.005, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}};
     check_printed(&ekf, pmu, psig);
-    assert_true(fabs((double)ekf.sigma.m[0][0] - 0.005) < 0.0005); // 3 decimals
+    const gf_mat3 got = gf_test_ekf3_sigma(&ekf);
+    assert_true(fabs((double)got.m[0][0] - 0.005) < 0.0005); // 3 decimals
 
     assert_int_equal(info.m, 1);
     CHECK_CLOSE(info.y[0], -1.7);
@@ -159,7 +162,8 @@ static void angle_wrapping(void **state)
     CHECK_CLOSE(info.y[0], -0.5);
     // K = 0.1 / 0.2 = 0.5: theta = -2.78 - 0.25 = -3.03, inside (-pi, pi].
     CHECK_CLOSE(ekf.mu.v[2], 3.25 - 2 * (double)GF_PI);
-    CHECK_CLOSE(ekf.sigma.m[2][2], 0.05);
+    const gf_mat3 got = gf_test_ekf3_sigma(&ekf);
+    CHECK_CLOSE(got.m[2][2], 0.05);
     assert_true(ekf.mu.v[2] > -GF_PI && ekf.mu.v[2] <= GF_PI);
 
     // Without the mask, the same reading is a 5.78 rad residual.
@@ -206,10 +210,11 @@ static void xy_measurement(void **state)
             post[i][j] = P[i][j] - K[i][0] * P[0][j] - K[i][1] * P[1][j];
         }
     }
+    const gf_mat3 got = gf_test_ekf3_sigma(&ekf);
     for (int i = 0; i < 3; i++) {
         CHECK_CLOSE(ekf.mu.v[i], mu[i]);
         for (int j = 0; j < 3; j++) {
-            CHECK_CLOSE(ekf.sigma.m[i][j], post[i][j]);
+            CHECK_CLOSE(got.m[i][j], post[i][j]);
         }
     }
     CHECK_CLOSE(info.nis, Si[0][0] * 1 - 2 * Si[0][1] + Si[1][1]);
@@ -276,11 +281,12 @@ static void full_state_measurement(void **state)
         }
     }
     inv3(O, Sg);
+    const gf_mat3 got = gf_test_ekf3_sigma(&ekf);
     for (int i = 0; i < 3; i++) {
         double mu = Sg[i][0] * xi[0] + Sg[i][1] * xi[1] + Sg[i][2] * xi[2];
         CHECK_CLOSE(ekf.mu.v[i], mu);
         for (int j = 0; j < 3; j++) {
-            CHECK_CLOSE(ekf.sigma.m[i][j], Sg[i][j]);
+            CHECK_CLOSE(got.m[i][j], Sg[i][j]);
         }
     }
     // NIS = y^T (P + Q)^-1 y
@@ -529,10 +535,13 @@ static void general_random(void **state)
             }
         }
         assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
-        for (int i = 0; i < 3; i++) { // the reference starts from the same
-            mu[i] = (double)ekf.mu.v[i]; // (symmetrized) gf_real values
+        // The reference starts from the belief as stored: mu, and Sigma as
+        // gf_ekf3_cov gives it back from its factors.
+        const gf_mat3 prior = gf_test_ekf3_sigma(&ekf);
+        for (int i = 0; i < 3; i++) {
+            mu[i] = (double)ekf.mu.v[i];
             for (int j = 0; j < 3; j++) {
-                P[i][j] = (double)ekf.sigma.m[i][j];
+                P[i][j] = (double)prior.m[i][j];
                 Q[i][j] = i < m && j < m ? (double)meas.Q.m[i][j] : 0;
             }
         }
@@ -612,6 +621,7 @@ static void general_random(void **state)
                 scale = fabs(P[i][j]) > scale ? fabs(P[i][j]) : scale;
             }
         }
+        const gf_mat3 got = gf_test_ekf3_sigma(&ekf);
         for (int i = 0; i < 3; i++) {
             double want = mu[i];
             for (int k = 0; k < m; k++) {
@@ -619,10 +629,10 @@ static void general_random(void **state)
             }
             assert_true(fabs((double)ekf.mu.v[i] - want) <= tol * scale);
             for (int j = 0; j < 3; j++) {
-                assert_true(fabs((double)ekf.sigma.m[i][j] - post[i][j]) <=
+                assert_true(fabs((double)got.m[i][j] - post[i][j]) <=
                             tol * scale);
                 // exactly symmetric
-                assert_true(ekf.sigma.m[i][j] == ekf.sigma.m[j][i]); // NOLINT
+                assert_true(got.m[i][j] == got.m[j][i]); // NOLINT
             }
         }
         assert_int_equal(info.m, (unsigned)m);

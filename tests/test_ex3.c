@@ -110,12 +110,13 @@ static void test_prediction_matches_samples(void **state)
     // A Sigma A^T + R = ((9.25 4.5) (4.5 4)).
     CHECK_CLOSE(kf.mu.v[0], -0.85);
     CHECK_CLOSE(kf.mu.v[1], -1.7);
-    CHECK_CLOSE(kf.sigma.m[0][0], 9.25);
-    CHECK_CLOSE(kf.sigma.m[0][1], 4.5);
-    CHECK_CLOSE(kf.sigma.m[1][1], 4.0);
+    const gf_mat2 sigma_bar = gf_test_kf2_sigma(&kf);
+    CHECK_CLOSE(sigma_bar.m[0][0], 9.25);
+    CHECK_CLOSE(sigma_bar.m[0][1], 4.5);
+    CHECK_CLOSE(sigma_bar.m[1][1], 4.0);
 
     sample_moments(&ex1, &mu, &sigma, &u, mean, cov);
-    double z = worst_z(mean, cov, &kf.mu, &kf.sigma);
+    double z = worst_z(mean, cov, &kf.mu, &sigma_bar);
     print_message("  exercise 3: worst deviation %.2f standard errors "
                   "(bound %.1f, N = %d)\n", z, SAMPLING_K, N_SAMPLES);
     assert_true(z <= SAMPLING_K);
@@ -131,13 +132,16 @@ static void test_table_1_1_steps_match_samples(void **state)
     gf_kf2 kf;
     assert_int_equal(gf_kf2_init(&kf, &mu, &zero), GF_OK);
     for (int t = 1; t <= 4; t++) {
-        gf_kf2 prev = kf;
+        const gf_kf2 prev = kf;
+        const gf_mat2 prev_sigma = gf_test_kf2_sigma(&prev);
         assert_int_equal(gf_kf2_predict(&kf, &ex1, &u0), GF_OK);
         double mean[2], cov[2][2];
-        sample_moments(&ex1, &prev.mu, &prev.sigma, &u0, mean, cov);
-        assert_true(worst_z(mean, cov, &kf.mu, &kf.sigma) <= SAMPLING_K);
+        sample_moments(&ex1, &prev.mu, &prev_sigma, &u0, mean, cov);
+        const gf_mat2 sigma_bar = gf_test_kf2_sigma(&kf);
+        assert_true(worst_z(mean, cov, &kf.mu, &sigma_bar) <= SAMPLING_K);
     }
-    CHECK_CLOSE(kf.sigma.m[0][0], 21.0); // Table 1.1, t = 4
+    const gf_mat2 sigma_4 = gf_test_kf2_sigma(&kf);
+    CHECK_CLOSE(sigma_4.m[0][0], 21.0); // Table 1.1, t = 4
 }
 
 // The check can fail: the seed's equation 1.8, R = diag(0.25, 1), is not
@@ -155,7 +159,8 @@ static void test_wrong_noise_is_detected(void **state)
     assert_int_equal(gf_kf2_init(&kf, &mu, &sigma), GF_OK);
     assert_int_equal(gf_kf2_predict(&kf, &eq18, &u), GF_OK);
     sample_moments(&ex1, &mu, &sigma, &u, mean, cov);
-    double z = worst_z(mean, cov, &kf.mu, &kf.sigma);
+    const gf_mat2 sigma_bar = gf_test_kf2_sigma(&kf);
+    double z = worst_z(mean, cov, &kf.mu, &sigma_bar);
     print_message("  equation 1.8's R: %.1f standard errors off\n", z);
     assert_true(z > 3 * SAMPLING_K);
 }

@@ -43,7 +43,8 @@ static void test_ekf(void **state)
     CHECK_CLOSE(ekf.mu.v[0], 0.15);
     CHECK_CLOSE(ekf.mu.v[1], 0.0);
     CHECK_CLOSE(ekf.mu.v[2], 0.0);
-    CHECK_CLOSE(ekf.sigma.m[0][0], 0.005);
+    const gf_mat3 sigma = gf_test_ekf3_sigma(&ekf);
+    CHECK_CLOSE(sigma.m[0][0], 0.005);
 }
 
 // alpha = 1, beta = 2, kappa = 0: gamma = sqrt(3), the centre weighs 0 in

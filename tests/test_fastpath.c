@@ -1,4 +1,4 @@
-// KF2's and EKF3's steps (the factored update of src/udu.c) against a
+// KF2's and EKF3's steps (the factored update of src/udu.h) against a
 // plain textbook implementation written here: full matrix products, the factored Joseph
 // form (I - K H) Sigma (I - K H)^T + K Q K^T, and a general G. Random
 // beliefs, headings all round the circle, and the inputs that take the slow
@@ -99,14 +99,15 @@ static double maxabs(int n, const double S[3][3])
 static void kf2_check(const gf_kf2 *kf, const ref_belief *r)
 {
     double sc = maxabs(2, r->S);
+    const gf_mat2 sigma = gf_test_kf2_sigma(kf);
     for (int i = 0; i < 2; i++) {
         check_rel(kf->mu.v[i], r->mu[i], fabs(r->mu[i]) + sc, "kf2 mu");
-        for (int j = 0; j < 2; j++)
-            check_rel(kf->sigma.m[i][j], r->S[i][j], sc, "kf2 sigma");
+        for (int j = 0; j < 2; j++) {
+            check_rel(sigma.m[i][j], r->S[i][j], sc, "kf2 sigma");
+        }
     }
     // exactly symmetric
-    assert_memory_equal(&kf->sigma.m[0][1], &kf->sigma.m[1][0],
-                        sizeof(gf_real));
+    assert_memory_equal(&sigma.m[0][1], &sigma.m[1][0], sizeof(gf_real));
 }
 
 static void kf2_random(void **state)
@@ -142,9 +143,10 @@ static void kf2_random(void **state)
         gf_mat2 s0 = {{{2, (gf_real)0.3}, {(gf_real)0.3, 1}}};
         assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
         for (int t = 0; t < 5; t++) {
+            const gf_mat2 s = gf_test_kf2_sigma(&kf);
             ref_belief r = {{kf.mu.v[0], kf.mu.v[1], 0},
-                            {{kf.sigma.m[0][0], kf.sigma.m[0][1], 0},
-                             {kf.sigma.m[1][0], kf.sigma.m[1][1], 0},
+                            {{s.m[0][0], s.m[0][1], 0},
+                             {s.m[1][0], s.m[1][1], 0},
                              {0, 0, 0}}};
             gf_vec2 u = {{(gf_real)urand(-1, 1), (gf_real)urand(-1, 1)}};
             model.B.m[0][0] = (gf_real)urand(-1, 1);
@@ -292,13 +294,16 @@ static double wrapd(double a)
 static void ekf3_check(const gf_ekf3 *e, const ref_belief *r)
 {
     double sc = maxabs(3, r->S);
+    const gf_mat3 sigma = gf_test_ekf3_sigma(e);
     for (int i = 0; i < 3; i++) {
         check_rel(e->mu.v[i], r->mu[i], fabs(r->mu[i]) + sc, "ekf3 mu");
-        for (int j = 0; j < 3; j++)
-            check_rel(e->sigma.m[i][j], r->S[i][j], sc, "ekf3 sigma");
-        for (int j = i + 1; j < 3; j++)
-            assert_memory_equal(&e->sigma.m[i][j], &e->sigma.m[j][i],
+        for (int j = 0; j < 3; j++) {
+            check_rel(sigma.m[i][j], r->S[i][j], sc, "ekf3 sigma");
+        }
+        for (int j = i + 1; j < 3; j++) {
+            assert_memory_equal(&sigma.m[i][j], &sigma.m[j][i],
                                 sizeof(gf_real));
+        }
     }
 }
 
@@ -337,10 +342,12 @@ static void ekf3_random(void **state)
         assert_int_equal(gf_ekf3_init(&e, &mu0, &s0), GF_OK);
         for (int t = 0; t < 6; t++) {
             ref_belief r;
+            const gf_mat3 s = gf_test_ekf3_sigma(&e);
             for (int i = 0; i < 3; i++) {
                 r.mu[i] = e.mu.v[i];
-                for (int j = 0; j < 3; j++)
-                    r.S[i][j] = e.sigma.m[i][j];
+                for (int j = 0; j < 3; j++) {
+                    r.S[i][j] = s.m[i][j];
+                }
             }
             gf_real u[2] = {(gf_real)urand(0.2, 1.5), (gf_real)urand(-3, 3)};
             assert_int_equal(gf_ekf3_predict(&e, &mo, u), GF_OK);

@@ -30,6 +30,8 @@ typedef struct fixture {
     gf_ekf3 ekf;
     gf_ekf3_motion motion;
     gf_ekf3_meas meas3;
+    gf_ekf3_pmotion epm;
+    gf_ekf3_pmeas epq;
     gf_real u[2];
     gf_if2 inf;
     gf_ukf3 ukf;
@@ -84,6 +86,8 @@ static void setup_fixture(void)
     fx.u[0] = 1;
     fx.u[1] = GF_R(0.1);
     assert_int_equal(gf_ekf3_init(&fx.ekf, &fx.v3, &spd3), GF_OK);
+    assert_int_equal(gf_ekf3_prepare_motion(&fx.epm, &fx.motion), GF_OK);
+    assert_int_equal(gf_ekf3_prepare_meas(&fx.epq, &fx.meas3), GF_OK);
     assert_int_equal(gf_if2_init(&fx.inf, &spd2, &fx.v2), GF_OK);
     fx.up.alpha = 1;
     fx.up.beta = 2;
@@ -233,6 +237,7 @@ static void test_kf2(void **state)
     (void)state;
     setup_fixture();
     VALID(gf_kf2_init(&fx.kf, &fx.v2, &fx.a2));
+    VALID(gf_kf2_cov(&fx.kf, &fx.o2));
     VALID(gf_kf2_predict(&fx.kf, &fx.model, &fx.x2));
     VALID(gf_kf2_predict(&fx.kf, &fx.model, NULL)); // no control
     VALID(gf_kf2_update(&fx.kf, &fx.meas2, &fx.x2, &fx.info));
@@ -248,6 +253,8 @@ static void test_kf2(void **state)
     NULL_FAILS(gf_kf2_init(NULL, &fx.v2, &fx.a2));
     NULL_FAILS(gf_kf2_init(&fx.kf, NULL, &fx.a2));
     NULL_FAILS(gf_kf2_init(&fx.kf, &fx.v2, NULL));
+    NULL_FAILS(gf_kf2_cov(NULL, &fx.o2));
+    NULL_FAILS(gf_kf2_cov(&fx.kf, NULL));
     NULL_FAILS(gf_kf2_predict(NULL, &fx.model, &fx.x2));
     NULL_FAILS(gf_kf2_predict(&fx.kf, NULL, &fx.x2));
     NULL_FAILS(gf_kf2_update(NULL, &fx.meas2, &fx.x2, &fx.info));
@@ -272,9 +279,15 @@ static void test_ekf3(void **state)
     VALID(gf_ekf3_meas_x(NULL, &fx.v3, &fx.x3, &fx.o3));
     VALID(gf_ekf3_meas_xy(NULL, &fx.v3, &fx.x3, &fx.o3));
     VALID(gf_ekf3_init(&fx.ekf, &fx.v3, &fx.a3));
+    VALID(gf_ekf3_cov(&fx.ekf, &fx.o3));
     VALID(gf_ekf3_predict(&fx.ekf, &fx.motion, fx.u));
     VALID(gf_ekf3_update(&fx.ekf, &fx.meas3, &fx.x3, &fx.info));
     VALID(gf_ekf3_update(&fx.ekf, &fx.meas3, &fx.x3, NULL));
+    VALID(gf_ekf3_prepare_motion(&fx.epm, &fx.motion));
+    VALID(gf_ekf3_prepare_meas(&fx.epq, &fx.meas3));
+    VALID(gf_ekf3_predict_prepared(&fx.ekf, &fx.epm, fx.u));
+    VALID(gf_ekf3_update_prepared(&fx.ekf, &fx.epq, &fx.x3, &fx.info));
+    VALID(gf_ekf3_update_prepared(&fx.ekf, &fx.epq, &fx.x3, NULL));
     setup_fixture();
 
     // The built-in models (ctx is unused, NULL is its usual value).
@@ -292,6 +305,8 @@ static void test_ekf3(void **state)
     NULL_FAILS(gf_ekf3_init(NULL, &fx.v3, &fx.a3));
     NULL_FAILS(gf_ekf3_init(&fx.ekf, NULL, &fx.a3));
     NULL_FAILS(gf_ekf3_init(&fx.ekf, &fx.v3, NULL));
+    NULL_FAILS(gf_ekf3_cov(NULL, &fx.o3));
+    NULL_FAILS(gf_ekf3_cov(&fx.ekf, NULL));
     NULL_FAILS(gf_ekf3_predict(NULL, &fx.motion, fx.u));
     NULL_FAILS(gf_ekf3_predict(&fx.ekf, NULL, fx.u));
     NULL_FAILS(gf_ekf3_predict(&fx.ekf, &fx.motion, NULL)); // the built-in's
@@ -303,6 +318,30 @@ static void test_ekf3(void **state)
     NULL_FAILS(gf_ekf3_update(&fx.ekf, &fx.meas3, NULL, &fx.info));
     fx.meas3.h = NULL;
     NULL_FAILS(gf_ekf3_update(&fx.ekf, &fx.meas3, &fx.x3, &fx.info));
+    fx.meas3.h = gf_ekf3_meas_xy;
+
+    NULL_FAILS(gf_ekf3_prepare_motion(NULL, &fx.motion));
+    NULL_FAILS(gf_ekf3_prepare_motion(&fx.epm, NULL));
+    NULL_FAILS(gf_ekf3_prepare_meas(NULL, &fx.meas3));
+    NULL_FAILS(gf_ekf3_prepare_meas(&fx.epq, NULL));
+    fx.motion.g = NULL;
+    NULL_FAILS(gf_ekf3_prepare_motion(&fx.epm, &fx.motion));
+    fx.motion.g = gf_ekf3_motion_forward_turn;
+    fx.meas3.h = NULL;
+    NULL_FAILS(gf_ekf3_prepare_meas(&fx.epq, &fx.meas3));
+    fx.meas3.h = gf_ekf3_meas_xy;
+    NULL_FAILS(gf_ekf3_predict_prepared(NULL, &fx.epm, fx.u));
+    NULL_FAILS(gf_ekf3_predict_prepared(&fx.ekf, NULL, fx.u));
+    // the built-in's u
+    NULL_FAILS(gf_ekf3_predict_prepared(&fx.ekf, &fx.epm, NULL));
+    NULL_FAILS(gf_ekf3_update_prepared(NULL, &fx.epq, &fx.x3, &fx.info));
+    NULL_FAILS(gf_ekf3_update_prepared(&fx.ekf, NULL, &fx.x3, &fx.info));
+    NULL_FAILS(gf_ekf3_update_prepared(&fx.ekf, &fx.epq, NULL, &fx.info));
+    // A prepared model whose callback was cleared after it was prepared.
+    fx.epm.motion.g = NULL;
+    NULL_FAILS(gf_ekf3_predict_prepared(&fx.ekf, &fx.epm, fx.u));
+    fx.epq.meas.h = NULL;
+    NULL_FAILS(gf_ekf3_update_prepared(&fx.ekf, &fx.epq, &fx.x3, &fx.info));
 }
 
 static void test_if2(void **state)

@@ -135,20 +135,22 @@ static void ld_from_kf2(const gf_kf2 *kf, ld P[3][3], ld mu[3])
 {
     memset(P, 0, 9 * sizeof(ld));
     mu[2] = 0;
+    const gf_mat2 sigma = gf_test_kf2_sigma(kf);
     for (int i = 0; i < 2; i++) {
         mu[i] = (ld)kf->mu.v[i];
         for (int j = 0; j < 2; j++) {
-            P[i][j] = (ld)kf->sigma.m[i][j];
+            P[i][j] = (ld)sigma.m[i][j];
         }
     }
 }
 
 static void ld_from_ekf3(const gf_ekf3 *e, ld P[3][3], ld mu[3])
 {
+    const gf_mat3 sigma = gf_test_ekf3_sigma(e);
     for (int i = 0; i < 3; i++) {
         mu[i] = (ld)e->mu.v[i];
         for (int j = 0; j < 3; j++) {
-            P[i][j] = (ld)e->sigma.m[i][j];
+            P[i][j] = (ld)sigma.m[i][j];
         }
     }
 }
@@ -229,13 +231,14 @@ static void kf2_scalar_update_keeps_the_noise(void **state)
         prior_held(P, 2);
         assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
         ld_update(2, P, mu, c, q, 0);
-        check_cov(kf.sigma.m[0], 2, P, __LINE__);
+        const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
+        check_cov(sigma.m[0], 2, P, __LINE__);
         // The whole run in long double: 0.01, 0.01, 0.00833.
         ld_update(2, Pr, mr, c, q, 0);
         double want = (double)Pr[0][0];
         assert_true(fabs(want - (t < 2 ? 0.01 : 0.00833)) < 5e-6);
-        assert_true(fabs((double)kf.sigma.m[0][0] - want) <= run_tol * want);
-        assert_true(kf.sigma.m[0][0] > 0 && kf.sigma.m[1][1] > 0);
+        assert_true(fabs((double)sigma.m[0][0] - want) <= run_tol * want);
+        assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
     }
     // The gain is alive: a later reading of 1 moves the mean by
     // K = Sigma00 / (Sigma00 + Q), about 0.45.
@@ -270,8 +273,9 @@ static void kf2_correlated_prior(void **state)
     const ld s = 1e8L + 1;
     ld w[3][3] = {{1e8L / s, 3e7L / s, 0}, {3e7L / s, 1e8L - 9e14L / s, 0},
                   {0, 0, 0}};
-    check_cov(kf.sigma.m[0], 2, w, __LINE__);
-    assert_true(kf.sigma.m[0][0] > 0 && kf.sigma.m[1][1] > 0);
+    const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
+    check_cov(sigma.m[0], 2, w, __LINE__);
+    assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
 }
 
 // Item 1, double: the same collapse from a prior/noise ratio of 1e10 (5e-7
@@ -314,9 +318,10 @@ static void kf2_large_ratio(void **state)
         prior_held(P, 2);
         assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
         ld_update(2, P, mu, c, 1, 3);
-        check_cov(kf.sigma.m[0], 2, P, __LINE__);
+        const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
+        check_cov(sigma.m[0], 2, P, __LINE__);
         CHECK_REL(kf.mu.v[0], mu[0]);
-        assert_true(kf.sigma.m[0][0] > 0 && kf.sigma.m[1][1] > 0);
+        assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
     }
     tol_now = REL_TOL;
 }
@@ -353,8 +358,9 @@ static void ekf3_scalar_update_keeps_the_noise(void **state)
         prior_held(P, 3);
         assert_int_equal(gf_ekf3_update(&ekf, &mx, &z, NULL), GF_OK);
         ld_update(3, P, mu, c, (ld)GF_R(0.01), 0);
-        check_cov(ekf.sigma.m[0], 3, P, __LINE__);
-        assert_true(ekf.sigma.m[0][0] > 0);
+        const gf_mat3 sigma = gf_test_ekf3_sigma(&ekf);
+        check_cov(sigma.m[0], 3, P, __LINE__);
+        assert_true(sigma.m[0][0] > 0);
     }
     tol_now = REL_TOL;
 }
@@ -452,18 +458,18 @@ static void ekf3_diffuse_heading_accepted(void **state)
     const ld cx[3] = {1, 0, 0}, cy[3] = {0, 1, 0};
     ld_update(3, P, mu, cx, (ld)GF_R(0.01), mu[0]);
     ld_update(3, P, mu, cy, (ld)GF_R(0.01), mu[1]);
-    check_cov(ekf.sigma.m[0], 3, P, __LINE__);
+    const gf_mat3 sigma = gf_test_ekf3_sigma(&ekf);
+    check_cov(sigma.m[0], 3, P, __LINE__);
     tol_now = REL_TOL;
     // Whatever the float prior can hold of it: the x variance after
     // measuring x with noise 0.01 lies in (0, 0.01], y's likewise, and the
     // belief is one init accepts.
     for (int i = 0; i < 2; i++) {
-        assert_true(ekf.sigma.m[i][i] > 0 &&
-                    ekf.sigma.m[i][i] <=
-                        GF_R(0.01) * (1 + 4 * GF_REAL_EPSILON));
+        assert_true(sigma.m[i][i] > 0 &&
+                    sigma.m[i][i] <= GF_R(0.01) * (1 + 4 * GF_REAL_EPSILON));
     }
     gf_ekf3 again;
-    assert_int_equal(gf_ekf3_init(&again, &ekf.mu, &ekf.sigma), GF_OK);
+    assert_int_equal(gf_ekf3_init(&again, &ekf.mu, &sigma), GF_OK);
 }
 
 // Item 6: NULL pointers that crashed; and every public function of mat.h,
@@ -528,6 +534,8 @@ static void null_pointers(void **state)
                           gf_kf2_update_prepared(&kf, NULL, &m2, NULL));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
                           gf_kf2_update_prepared(&kf, &pq, NULL, NULL));
+    assert_int_equal(gf_kf2_cov(NULL, &o2), GF_ERR_ARG);
+    assert_int_equal(gf_kf2_cov(&kf, NULL), GF_ERR_ARG);
 
     gf_ekf3 ekf;
     assert_int_equal(gf_ekf3_init(&ekf, &m3, &s3), GF_OK);
@@ -552,6 +560,28 @@ static void null_pointers(void **state)
                           gf_ekf3_update(&ekf, NULL, &m3, NULL));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
                           gf_ekf3_update(&ekf, &eme, NULL, NULL));
+    assert_int_equal(gf_ekf3_cov(NULL, &o3), GF_ERR_ARG);
+    assert_int_equal(gf_ekf3_cov(&ekf, NULL), GF_ERR_ARG);
+    gf_ekf3_pmotion epm;
+    gf_ekf3_pmeas epq;
+    assert_int_equal(gf_ekf3_prepare_motion(NULL, &emo), GF_ERR_ARG);
+    assert_int_equal(gf_ekf3_prepare_motion(&epm, NULL), GF_ERR_ARG);
+    assert_int_equal(gf_ekf3_prepare_meas(NULL, &eme), GF_ERR_ARG);
+    assert_int_equal(gf_ekf3_prepare_meas(&epq, NULL), GF_ERR_ARG);
+    emo.g = gf_ekf3_motion_forward_turn;
+    assert_int_equal(gf_ekf3_prepare_motion(&epm, &emo), GF_OK);
+    assert_int_equal(gf_ekf3_prepare_meas(&epq, &eme), GF_OK);
+    assert_int_equal(gf_ekf3_predict_prepared(NULL, &epm, u), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_predict_prepared(&ekf, NULL, u));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_predict_prepared(&ekf, &epm, NULL));
+    assert_int_equal(gf_ekf3_update_prepared(NULL, &epq, &m3, NULL),
+                     GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update_prepared(&ekf, NULL, &m3, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update_prepared(&ekf, &epq, NULL, NULL));
     eme.h = NULL;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
                           gf_ekf3_update(&ekf, &eme, &m3, NULL));
@@ -585,8 +615,9 @@ static void one_answer_per_call(void **state)
     gf_innovation info;
     assert_int_equal(gf_kf2_update(&kf, &me, &z, &info), GF_OK);
     const ld q = (ld)half_max, s = q + 1;
-    CHECK_REL(kf.sigma.m[0][0], q / s);
-    CHECK_REL(kf.sigma.m[1][1], 1.0L);
+    gf_mat2 sigma = gf_test_kf2_sigma(&kf);
+    CHECK_REL(sigma.m[0][0], q / s);
+    CHECK_REL(sigma.m[1][1], 1.0L);
     CHECK_REL(kf.mu.v[0], 1.0L / s);
     CHECK_REL(info.nis, 1.0L / s);
 
@@ -596,8 +627,9 @@ static void one_answer_per_call(void **state)
     assert_int_equal(gf_kf2_init(&kf, &mu1, &zero), GF_OK);
     assert_int_equal(gf_kf2_update(&kf, &me, &z1, &info), GF_OK);
     assert_true(kf.mu.v[0] == mu1.v[0] && kf.mu.v[1] == mu1.v[1]);
-    assert_true(kf.sigma.m[0][0] == 0 && kf.sigma.m[0][1] == 0 &&
-                kf.sigma.m[1][1] == 0);
+    sigma = gf_test_kf2_sigma(&kf);
+    assert_true(sigma.m[0][0] == 0 && sigma.m[0][1] == 0 &&
+                sigma.m[1][1] == 0);
     assert_true(info.nis == 0);
 
     // EKF3 the same: Q = half the largest gf_real on x, and a zero prior
@@ -612,7 +644,8 @@ static void one_answer_per_call(void **state)
     gf_ekf3 ekf;
     assert_int_equal(gf_ekf3_init(&ekf, &m3, &id3), GF_OK);
     assert_int_equal(gf_ekf3_update(&ekf, &eme, &z3, &info), GF_OK);
-    CHECK_REL(ekf.sigma.m[0][0], q / s);
+    const gf_mat3 sigma3 = gf_test_ekf3_sigma(&ekf);
+    CHECK_REL(sigma3.m[0][0], q / s);
     CHECK_REL(ekf.mu.v[0], 1.0L / s);
     const gf_mat3 zero3 = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     const gf_vec3 m31 = {{GF_R(0.5), 1, 0}}, z31 = {{GF_R(0.5), 0, 0}};
@@ -638,12 +671,14 @@ static void largest_covariance_stays_finite(void **state)
     const gf_mat2 s2 = {{{big, big}, {big, big}}};
     gf_kf2 kf;
     assert_int_equal(gf_kf2_init(&kf, &mu2, &s2), GF_OK);
-    assert_true(kf.sigma.m[0][1] == big && kf.sigma.m[1][0] == big);
+    const gf_mat2 sigma2 = gf_test_kf2_sigma(&kf);
+    assert_true(sigma2.m[0][1] == big && sigma2.m[1][0] == big);
     const gf_vec3 mu3 = {{0, 0, 0}};
     const gf_mat3 s3 = {{{big, big, 0}, {big, big, 0}, {0, 0, big}}};
     gf_ekf3 ekf;
     assert_int_equal(gf_ekf3_init(&ekf, &mu3, &s3), GF_OK);
-    assert_true(ekf.sigma.m[0][1] == big && ekf.sigma.m[1][0] == big);
+    const gf_mat3 sigma3 = gf_test_ekf3_sigma(&ekf);
+    assert_true(sigma3.m[0][1] == big && sigma3.m[1][0] == big);
 }
 
 int main(void)

@@ -1,5 +1,6 @@
 // The filter half of the endurance test, in whatever precision gf_real is
 // (see endurance.h). ENDURANCE_SUFFIX is d or f.
+#include <math.h>
 #include <string.h>
 
 #include "endurance.h"
@@ -46,24 +47,30 @@ static const gf_ekf3_meas ekf3_meas = {
     .gate = 0,
 };
 
+// The belief widened to double, Sigma read through its accessor (NaN,
+// which the driver reports, if that fails).
 static void widen2(const gf_kf2 *f, endurance_belief *out)
 {
     memset(out->mu, 0, sizeof out->mu);
     memset(out->sigma, 0, sizeof out->sigma);
+    gf_mat2 sigma;
+    const int ok = gf_kf2_cov(f, &sigma) == GF_OK;
     for (int i = 0; i < 2; i++) {
         out->mu[i] = (double)f->mu.v[i];
         for (int j = 0; j < 2; j++) {
-            out->sigma[i][j] = (double)f->sigma.m[i][j];
+            out->sigma[i][j] = ok ? (double)sigma.m[i][j] : (double)NAN;
         }
     }
 }
 
 static void widen3(const gf_ekf3 *f, endurance_belief *out)
 {
+    gf_mat3 sigma;
+    const int ok = gf_ekf3_cov(f, &sigma) == GF_OK;
     for (int i = 0; i < 3; i++) {
         out->mu[i] = (double)f->mu.v[i];
         for (int j = 0; j < 3; j++) {
-            out->sigma[i][j] = (double)f->sigma.m[i][j];
+            out->sigma[i][j] = ok ? (double)sigma.m[i][j] : (double)NAN;
         }
     }
 }

@@ -185,9 +185,11 @@ static void run_kf2(uint64_t seed, double r_scale, double q_filter,
             assert_int_equal(gf_kf2_update(&kf, &meas, &z, &info), GF_OK);
             nis_sum[t] += (double)info.nis;
             double e[2] = {x - (double)kf.mu.v[0], v - (double)kf.mu.v[1]};
+            gf_mat2 sigma;
+            assert_int_equal(gf_kf2_cov(&kf, &sigma), GF_OK);
             double s[3][3] = {
-                {(double)kf.sigma.m[0][0], (double)kf.sigma.m[0][1], 0},
-                {(double)kf.sigma.m[1][0], (double)kf.sigma.m[1][1], 0},
+                {(double)sigma.m[0][0], (double)sigma.m[0][1], 0},
+                {(double)sigma.m[1][0], (double)sigma.m[1][1], 0},
                 {0, 0, 0}};
             // Sigma_1 is singular (R has rank 1, all of it along g), so
             // NEES is judged from t = 2 on.
@@ -289,10 +291,12 @@ static void run_ekf3(const ekf3_case *c, uint64_t seed, double *nees_sum,
             double e[3] = {x[0] - (double)ekf.mu.v[0],
                            x[1] - (double)ekf.mu.v[1],
                            trust_wrap(x[2] - (double)ekf.mu.v[2])};
+            gf_mat3 sigma;
+            assert_int_equal(gf_ekf3_cov(&ekf, &sigma), GF_OK);
             double s[3][3];
             for (int i = 0; i < 3; i++) {
                 for (int j = 0; j < 3; j++) {
-                    s[i][j] = (double)ekf.sigma.m[i][j];
+                    s[i][j] = (double)sigma.m[i][j];
                 }
             }
             double q = trust_quad_form(s, e, 3);
