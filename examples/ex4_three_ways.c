@@ -24,6 +24,17 @@ static void ellipse(const char *name, const gf_vec3 *mu, const gf_mat3 *s)
            (double)mu->v[1], (double)e.a, (double)e.b, (double)e.angle);
 }
 
+// The EKF's ellipse: its belief carries Sigma as factors, read back here.
+static void ellipse_ekf(const char *name, const gf_ekf3 *ekf)
+{
+    gf_mat3 s;
+    if (gf_ekf3_cov(ekf, &s) != GF_OK) {
+        fprintf(stderr, "%s: no covariance\n", name);
+        return;
+    }
+    ellipse(name, &ekf->mu, &s);
+}
+
 static void dump(const char *stage)
 {
     for (unsigned k = 0; k < N_PARTICLES; k++) {
@@ -60,7 +71,7 @@ int main(void)
         gf_pf3_predict(&pf, &move, u)) {
         return 1;
     }
-    ellipse("ekf_pred", &ekf.mu, &ekf.sigma);
+    ellipse_ekf("ekf_pred", &ekf);
     ellipse("ukf_pred", &ukf.mu, &ukf.sigma);
     dump("pred");
     if (gf_ekf3_update(&ekf, &obs, &z, NULL) ||
@@ -68,7 +79,7 @@ int main(void)
         gf_pf3_update(&pf, &obs, &z) || gf_pf3_resample(&pf)) {
         return 1;
     }
-    ellipse("ekf_post", &ekf.mu, &ekf.sigma);
+    ellipse_ekf("ekf_post", &ekf);
     ellipse("ukf_post", &ukf.mu, &ukf.sigma);
     dump("post");
     return 0;

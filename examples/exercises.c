@@ -40,14 +40,40 @@ static void put_belief(int track, int seq, int stage, int n, const gf_real *mu,
     fprintf(g_beliefs, "\n");
 }
 
+// A belief's Sigma, read back from its factors (NaN, which shows as a
+// disagreement, if it cannot be).
+static gf_mat2 sigma2(const gf_kf2 *kf)
+{
+    gf_mat2 s;
+    if (gf_kf2_cov(kf, &s) != GF_OK) {
+        s.m[0][0] = s.m[0][1] = s.m[1][0] = s.m[1][1] = (gf_real)NAN;
+    }
+    return s;
+}
+
+static gf_mat3 sigma3(const gf_ekf3 *e)
+{
+    gf_mat3 s;
+    if (gf_ekf3_cov(e, &s) != GF_OK) {
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) {
+                s.m[i][j] = (gf_real)NAN;
+            }
+        }
+    }
+    return s;
+}
+
 static void put_kf2(int track, int seq, int stage, const gf_kf2 *kf)
 {
-    put_belief(track, seq, stage, 2, kf->mu.v, &kf->sigma.m[0][0], 2);
+    const gf_mat2 s = sigma2(kf);
+    put_belief(track, seq, stage, 2, kf->mu.v, &s.m[0][0], 2);
 }
 
 static void put_ekf3(int track, int seq, int stage, const gf_ekf3 *e)
 {
-    put_belief(track, seq, stage, 3, e->mu.v, &e->sigma.m[0][0], 3);
+    const gf_mat3 s = sigma3(e);
+    put_belief(track, seq, stage, 3, e->mu.v, &s.m[0][0], 3);
 }
 
 // One number, computed and printed by the seed with `digits` decimals.
@@ -59,16 +85,17 @@ static void cell(double got, double seed, int digits)
     printf(" %10.*f%s", digits + 2, got, ok ? " " : "!");
 }
 
-static void row2(const char *label, const gf_vec2 *mu, const gf_mat2 *s,
-                 const double seed_mu[2], const double seed_s[3], int digits)
+static void row2(const char *label, const gf_kf2 *kf, const double seed_mu[2],
+                 const double seed_s[3], int digits)
 {
+    const gf_mat2 s = sigma2(kf);
     printf("  %-8s mu =", label);
-    cell((double)mu->v[0], seed_mu[0], digits);
-    cell((double)mu->v[1], seed_mu[1], digits);
+    cell((double)kf->mu.v[0], seed_mu[0], digits);
+    cell((double)kf->mu.v[1], seed_mu[1], digits);
     printf("   Sigma =");
-    cell((double)s->m[0][0], seed_s[0], digits);
-    cell((double)s->m[0][1], seed_s[1], digits);
-    cell((double)s->m[1][1], seed_s[2], digits);
+    cell((double)s.m[0][0], seed_s[0], digits);
+    cell((double)s.m[0][1], seed_s[1], digits);
+    cell((double)s.m[1][1], seed_s[2], digits);
     printf("\n");
     if (!g_compare) {
         return;
@@ -81,11 +108,11 @@ static void row2(const char *label, const gf_vec2 *mu, const gf_mat2 *s,
 static void row3(const char *label, const gf_ekf3 *b, const double seed[9])
 {
     // mu (3), then Sigma's upper triangle: xx xy xt yy yt tt
+    const gf_mat3 s = sigma3(b);
     const double got[9] = {
         (double)b->mu.v[0], (double)b->mu.v[1], (double)b->mu.v[2],
-        (double)b->sigma.m[0][0], (double)b->sigma.m[0][1],
-        (double)b->sigma.m[0][2], (double)b->sigma.m[1][1],
-        (double)b->sigma.m[1][2], (double)b->sigma.m[2][2]};
+        (double)s.m[0][0], (double)s.m[0][1], (double)s.m[0][2],
+        (double)s.m[1][1], (double)s.m[1][2], (double)s.m[2][2]};
     printf("  %-9s", label);
     for (int i = 0; i < 9; i++) {
         cell(got[i], seed[i], i == 3 ? 3 : 2);
@@ -159,7 +186,7 @@ int main(int argc, char **argv)
             gf_kf2_predict(&kf, &car, NULL);
         }
         snprintf(label, sizeof label, "t = %d", t);
-        row2(label, &kf.mu, &kf.sigma, zero_mu, table_1_1[t], 2);
+        row2(label, &kf, zero_mu, table_1_1[t], 2);
     }
 
     printf("\nFigure 1.2: correlation of position and velocity\n");
@@ -171,7 +198,8 @@ int main(int argc, char **argv)
             gf_kf2_predict(&kf, &car, NULL);
         }
         put_kf2(1, t, t == 0 ? 0 : 1, &kf);
-        if (gf_cov2_correlation(&kf.sigma, &rho) != GF_OK) {
+        const gf_mat2 s = sigma2(&kf);
+        if (gf_cov2_correlation(&s, &rho) != GF_OK) {
             printf("  t = %2d  rho undefined (a variance is zero)\n", t);
             continue;
         }
@@ -202,11 +230,11 @@ int main(int argc, char **argv)
     }
     const double after_mu[2] = {4.02, 1.22}, after_s[3] = {8.05, 2.44, 1.95};
     g_compare = !ex2_differs;
-    row2("before", &kf.mu, &kf.sigma, zero_mu, table_1_1[5], 2);
+    row2("before", &kf, zero_mu, table_1_1[5], 2);
     const gf_vec2 z = {{(gf_real)book.ex2_z, 0}};
     gf_kf2_update(&kf, &gps, &z, NULL);
     put_kf2(2, book.ex2_steps + 1, 2, &kf);
-    row2("after", &kf.mu, &kf.sigma, after_mu, after_s, 2);
+    row2("after", &kf, after_mu, after_s, 2);
     g_compare = 1;
 
     printf("\nTables 4.1 and 4.2: EKF3, move 1 forward, then see x = -0.7\n"

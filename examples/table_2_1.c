@@ -30,14 +30,18 @@ int main(void)
     if (st == GF_OK) {
         st = gf_kf2_update(&kf, &gps, &z, &info);
     }
+    gf_mat2 sigma; // the belief carries Sigma as factors: read it back
+    if (st == GF_OK) {
+        st = gf_kf2_cov(&kf, &sigma);
+    }
     if (st != GF_OK) {
         fprintf(stderr, "kf2: %s\n", gf_status_str(st));
         return 1;
     }
     printf("mu = (%.4f, %.4f)\n", (double)kf.mu.v[0], (double)kf.mu.v[1]);
-    printf("Sigma = ((%.4f, %.4f), (%.4f, %.4f))\n", (double)kf.sigma.m[0][0],
-           (double)kf.sigma.m[0][1], (double)kf.sigma.m[1][0],
-           (double)kf.sigma.m[1][1]);
+    printf("Sigma = ((%.4f, %.4f), (%.4f, %.4f))\n", (double)sigma.m[0][0],
+           (double)sigma.m[0][1], (double)sigma.m[1][0],
+           (double)sigma.m[1][1]);
     printf("innovation %.4f, NIS %.4f\n", (double)info.y[0], (double)info.nis);
     return 0;
 }
