@@ -18,6 +18,8 @@ int main(void)
     gf_ekf3_meas see_x;
     gf_ekf3 ekf;
     gf_ellipse e;
+    gf_mat2 s1;
+    gf_mat3 p1;
     const gf_vec2 mu0 = {{GF_R(0.0), GF_R(0.0)}};
     const gf_mat2 s0 = {{{GF_R(1.0), GF_R(0.0)}, {GF_R(0.0), GF_R(1.0)}}};
     const gf_vec3 m0 = {{GF_R(0.0), GF_R(0.0), GF_R(0.0)}};
@@ -43,7 +45,8 @@ int main(void)
     st = (int)gf_kf2_init(&kf, &mu0, &s0);
     st |= (int)gf_kf2_predict(&kf, &car, 0);
     st |= (int)gf_kf2_update(&kf, &gps, &z, 0);
-    st |= (int)gf_cov2_ellipse(&kf.sigma, GF_R(0.68), &e);
+    st |= (int)gf_kf2_cov(&kf, &s1);
+    st |= (int)gf_cov2_ellipse(&s1, GF_R(0.68), &e);
     bm_out[0] = kf.mu.v[0];
     bm_out[1] = e.angle;
 
@@ -65,7 +68,8 @@ int main(void)
     st |= (int)gf_ekf3_predict(&ekf, &move, u);
     st |= (int)gf_ekf3_update(&ekf, &see_x, &zx, 0);
     bm_out[2] = ekf.mu.v[0];
-    bm_out[3] = ekf.sigma.m[0][0];
+    st |= (int)gf_ekf3_cov(&ekf, &p1);
+    bm_out[3] = p1.m[0][0];
     bm_status = st;
     return st;
 }
