@@ -197,20 +197,21 @@ static gf_node_result check_fingerprint(const void *data, size_t len,
 // The robot's prior in any filter: N(mu0, sigma0) (see track_prior).
 static const gf_ukf3_params ukf_params = {GF_R(1.0), GF_R(2.0), GF_R(0.0)};
 
-// The robot's moments as the belief carries them: the filter's own, or
-// the particles' last weighted summary.
-static void robot_moments(const gf_node_track *t, const gf_vec3 **mu,
-                          const gf_mat3 **sigma)
+// The robot's moments as the belief carries them: the filter's own (the
+// EKF's Sigma read from its factors), or the particles' last weighted
+// summary.
+static void robot_moments(const gf_node_track *t, gf_vec3 *mu,
+                          gf_mat3 *sigma)
 {
     if (t->filter == FILTER_UKF3) {
-        *mu = &t->f.ukf3.mu;
-        *sigma = &t->f.ukf3.sigma;
+        *mu = t->f.ukf3.mu;
+        *sigma = t->f.ukf3.sigma;
     } else if (t->filter == FILTER_PF3) {
-        *mu = &t->f.pf3.mu;
-        *sigma = &t->f.pf3.sigma;
+        *mu = t->f.pf3.mu;
+        *sigma = t->f.pf3.sigma;
     } else {
-        *mu = &t->f.ekf3.mu;
-        *sigma = &t->f.ekf3.sigma;
+        *mu = t->f.ekf3.mu;
+        (void)gf_ekf3_cov(&t->f.ekf3, sigma); // fails only on NULL
     }
 }
 
@@ -269,7 +270,9 @@ static gf_node_result pf_summary(gf_node_track *t)
 
 // The model's prior, which every new track starts from, and a resynced
 // track again. A new track (filter 0) takes the node's robot filter; a
-// resynced one keeps its own filter, and a PF track its pool slot.
+// resynced one keeps its own filter, and a PF track its pool slot. KF2's
+// and EKF3's init take every prior of a model gf_node_model_check passed
+// (it asks them), and a track's model is always one it passed.
 static void track_prior(gf_node *node, gf_node_track *t)
 {
     gf_vec3 mu0;
@@ -281,12 +284,16 @@ static void track_prior(gf_node *node, gf_node_track *t)
                  : node->robot_filter == GF_NODE_FILTER_PF ? FILTER_PF3
                                                            : FILTER_EKF3;
     if (t->model == MODEL_CAR) {
-        memset(&t->f.kf2, 0, sizeof(t->f.kf2));
+        gf_vec2 mu2;
+        gf_mat2 sigma2;
         for (i = 0; i < 2; i++) {
-            t->f.kf2.mu.v[i] = (gf_real)t->mdl.prior_mean[i];
-            for (j = 0; j < 2; j++)
-                t->f.kf2.sigma.m[i][j] = (gf_real)t->mdl.prior_cov[i][j];
+            mu2.v[i] = (gf_real)t->mdl.prior_mean[i];
+            for (j = 0; j < 2; j++) {
+                sigma2.m[i][j] = (gf_real)t->mdl.prior_cov[i][j];
+            }
         }
+        memset(&t->f.kf2, 0, sizeof(t->f.kf2));
+        (void)gf_kf2_init(&t->f.kf2, &mu2, &sigma2);
         t->filter = FILTER_KF2;
         return;
     }
@@ -308,19 +315,21 @@ static void track_prior(gf_node *node, gf_node_track *t)
         (void)pf_summary(t);
     } else {
         t->filter = FILTER_EKF3;
-        t->f.ekf3.mu = mu0;
-        t->f.ekf3.sigma = sigma0;
-        t->f.ekf3.mu.v[2] = gf_angle_wrap(mu0.v[2]);
+        (void)gf_ekf3_init(&t->f.ekf3, &mu0, &sigma0); // wraps the heading
     }
 }
 
 static void belief_fill(const gf_node_track *t, gaussfilt_lcm_belief_t *b)
 {
     unsigned i, j, n = t->model == MODEL_CAR ? 2u : 3u;
-    const gf_vec3 *mu3 = NULL;
-    const gf_mat3 *s3 = NULL;
-    if (n == 3)
+    gf_vec3 mu3;
+    gf_mat3 s3;
+    gf_mat2 s2;
+    if (n == 3) {
         robot_moments(t, &mu3, &s3);
+    } else {
+        (void)gf_kf2_cov(&t->f.kf2, &s2); // fails only on NULL
+    }
     memset(b, 0, sizeof(*b));
     b->track = t->id;
     b->model = t->model;
@@ -329,10 +338,9 @@ static void belief_fill(const gf_node_track *t, gaussfilt_lcm_belief_t *b)
     if (t->filter == FILTER_PF3 && t->f.pf3.no_summary)
         b->status = GF_NODE_STATUS_NO_SUMMARY;
     for (i = 0; i < n; i++) {
-        b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : mu3->v[i]);
+        b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : mu3.v[i]);
         for (j = 0; j < n; j++)
-            b->cov[i][j] = (double)(n == 2 ? t->f.kf2.sigma.m[i][j]
-                                           : s3->m[i][j]);
+            b->cov[i][j] = (double)(n == 2 ? s2.m[i][j] : s3.m[i][j]);
     }
 }
 
@@ -429,7 +437,7 @@ static const gf_node_model *model_for(const gf_node *node, int32_t id,
     const gf_node_model *m = NULL;
     if (node->models != NULL)
         m = node->models(node->models_ctx, id, kind);
-    if (m == NULL || m->kind != kind)
+    if (m == NULL || m->kind != kind || gf_node_model_check(m, NULL) != 0)
         m = kind == MODEL_CAR ? gf_node_model_book_car()
                               : gf_node_model_book_robot();
     return m;
@@ -617,14 +625,14 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     } else {
         gf_ekf3_motion mot;
         gf_real u[2];
-        const gf_vec3 *mu;
-        const gf_mat3 *sigma;
+        gf_vec3 mu;
+        gf_mat3 sigma;
         robot_moments(t, &mu, &sigma);
         u[0] = (gf_real)c->u[0];
         u[1] = (gf_real)c->u[1];
         // R at the mean's heading (a PF with no summary: heading 0)
         gf_node_model_robot(&t->mdl,
-                            isfinite((double)mu->v[2]) ? mu->v[2] : GF_R(0.0),
+                            isfinite((double)mu.v[2]) ? mu.v[2] : GF_R(0.0),
                             u, &mot);
         if (t->filter == FILTER_UKF3) {
             s = gf_ukf3_predict(&t->f.ukf3, &mot, u);

@@ -17,7 +17,8 @@
 //
 // Tracks are created by their first valid message, up to
 // GF_NODE_MAX_TRACKS per node; each takes its model (node_model.h) from
-// the node's model lookup (gf_node_set_models: gf_node --config), else the
+// the node's model lookup (gf_node_set_models: gf_node --config; a model
+// gf_node_model_check refuses counts as none), else the
 // book's preset of its kind (car: exercises 1-2, mu = 0, Sigma = 0; robot:
 // exercise 4, mu = 0, Sigma = diag(0.01, 0.01, 10000)), starts from the
 // model's prior and publishes that initial belief first. A model_t on

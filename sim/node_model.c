@@ -101,6 +101,36 @@ static int psd(const double a[3][3], unsigned n)
     return 1;
 }
 
+// The prior as the track's filter starts from it: 1 if the filter's init
+// (gf_kf2_init for the car, gf_ekf3_init for the robot) takes prior_mean
+// and prior_cov in gf_real, so that a track made from a checked model
+// always starts.
+static int prior_starts(const gf_node_model *mdl)
+{
+    if (mdl->kind == GF_NODE_KIND_CAR) {
+        gf_vec2 mu;
+        gf_mat2 sigma;
+        for (unsigned i = 0; i < 2; i++) {
+            mu.v[i] = (gf_real)mdl->prior_mean[i];
+            for (unsigned j = 0; j < 2; j++) {
+                sigma.m[i][j] = (gf_real)mdl->prior_cov[i][j];
+            }
+        }
+        gf_kf2 kf;
+        return gf_kf2_init(&kf, &mu, &sigma) == GF_OK;
+    }
+    gf_vec3 mu;
+    gf_mat3 sigma;
+    for (unsigned i = 0; i < 3; i++) {
+        mu.v[i] = (gf_real)mdl->prior_mean[i];
+        for (unsigned j = 0; j < 3; j++) {
+            sigma.m[i][j] = (gf_real)mdl->prior_cov[i][j];
+        }
+    }
+    gf_ekf3 ekf;
+    return gf_ekf3_init(&ekf, &mu, &sigma) == GF_OK;
+}
+
 int gf_node_model_check(const gf_node_model *mdl, const char **why)
 {
     const char *w = NULL;
@@ -140,6 +170,9 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why)
     for (i = 0; w == NULL && i < n; i++)
         if (!isfinite(mdl->prior_mean[i]))
             w = "prior_mean must be finite";
+    if (w == NULL && !prior_starts(mdl))
+        w = "the filter's init refuses prior_mean and prior_cov in its "
+            "precision";
     if (w == NULL)
         return 0;
 bad:

@@ -90,8 +90,9 @@ unsigned gf_node_measure_m(int8_t kind, int8_t measure);
 int gf_node_model_measure(const gf_node_model *mdl, unsigned m);
 
 // Checks a model: kind and measure agree, every number finite, dt > 0,
-// variances and gate >= 0, prior and meas_cov symmetric PSD. Returns 0, or
-// -1 and a reason in why (may be NULL).
+// variances and gate >= 0, prior and meas_cov symmetric PSD, and the prior
+// one the filter's init takes (gf_kf2_init or gf_ekf3_init, in gf_real).
+// Returns 0, or -1 and a reason in why (may be NULL).
 int gf_node_model_check(const gf_node_model *mdl, const char **why);
 
 // ---- the core's model structs, built from a model ------------------------

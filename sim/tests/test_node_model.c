@@ -221,6 +221,9 @@ static void model_between_steps(void **state)
     gf_vec2 z;
     const gaussfilt_lcm_belief_t *b;
     const double dt = 0.1, q = 2.0;
+    const gf_vec2 mu0 = {{GF_R(0.0), GF_R(0.0)}};
+    const gf_mat2 sigma0 = {{{GF_R(0.0), GF_R(0.0)}, {GF_R(0.0), GF_R(0.0)}}};
+    gf_mat2 sigma;
     int n;
     (void)state;
     // track 5: the book's car for one step and one position
@@ -248,8 +251,8 @@ static void model_between_steps(void **state)
                      GF_NODE_APPLIED);
 
     // The core directly: the book's step, then the new model, written
-    // out here.
-    memset(&kf, 0, sizeof kf);
+    // out here, from the book car's prior N(0, 0).
+    assert_int_equal(gf_kf2_init(&kf, &mu0, &sigma0), GF_OK);
     memset(&mot, 0, sizeof mot);
     mot.A.m[0][0] = mot.A.m[0][1] = mot.A.m[1][1] = GF_R(1.0);
     mot.B.m[0][0] = mot.B.m[1][1] = GF_R(1.0);
@@ -281,9 +284,10 @@ static void model_between_steps(void **state)
     assert_int_equal(b->m, 2);
     check_close(b->mean[0], (double)kf.mu.v[0]);
     check_close(b->mean[1], (double)kf.mu.v[1]);
-    check_close(b->cov[0][0], (double)kf.sigma.m[0][0]);
-    check_close(b->cov[0][1], (double)kf.sigma.m[0][1]);
-    check_close(b->cov[1][1], (double)kf.sigma.m[1][1]);
+    assert_int_equal(gf_kf2_cov(&kf, &sigma), GF_OK);
+    check_close(b->cov[0][0], (double)sigma.m[0][0]);
+    check_close(b->cov[0][1], (double)sigma.m[0][1]);
+    check_close(b->cov[1][1], (double)sigma.m[1][1]);
 
     // reset: the belief restarts from the message's prior
     mm.reset = 1;
@@ -342,6 +346,11 @@ static void range_bearing(void **state)
     gf_ekf3_meas meas;
     gf_vec3 z;
     gf_real u[2] = {GF_R(1.0), GF_R(0.2)};
+    const gf_vec3 mu0 = {{GF_R(1.0), GF_R(2.0), GF_R(0.5)}};
+    const gf_mat3 sigma0 = {{{GF_R(0.01), GF_R(0.0), GF_R(0.0)},
+                             {GF_R(0.0), GF_R(0.02), GF_R(0.0)},
+                             {GF_R(0.0), GF_R(0.0), GF_R(0.03)}}};
+    gf_mat3 sigma;
     const gaussfilt_lcm_belief_t *b;
     double vd = 0.0025, vp = 0.0001 * 0.2 * 0.2, c = cos(0.5), s = sin(0.5);
     int i, j;
@@ -353,13 +362,7 @@ static void range_bearing(void **state)
     assert_int_equal(feed(msg_meas2(31, GF_ROBOT, 2, 1, 3.2, 0.3, 0.0025,
                                     0.0001)),
                      GF_NODE_APPLIED);
-    memset(&ekf, 0, sizeof ekf);
-    ekf.mu.v[0] = GF_R(1.0);
-    ekf.mu.v[1] = GF_R(2.0);
-    ekf.mu.v[2] = GF_R(0.5);
-    ekf.sigma.m[0][0] = GF_R(0.01);
-    ekf.sigma.m[1][1] = GF_R(0.02);
-    ekf.sigma.m[2][2] = GF_R(0.03);
+    assert_int_equal(gf_ekf3_init(&ekf, &mu0, &sigma0), GF_OK);
     memset(&mot, 0, sizeof mot);
     mot.g = gf_ekf3_motion_forward_turn;
     mot.R.m[0][0] = (gf_real)(c * c * vd);
@@ -379,10 +382,11 @@ static void range_bearing(void **state)
     assert_int_equal(gf_ekf3_update(&ekf, &meas, &z, NULL), GF_OK);
     b = &fx.c.sink.b[fx.c.sink.n - 1];
     assert_int_equal(b->status, 0);
+    assert_int_equal(gf_ekf3_cov(&ekf, &sigma), GF_OK);
     for (i = 0; i < 3; i++) {
         check_close(b->mean[i], (double)ekf.mu.v[i]);
         for (j = 0; j < 3; j++)
-            check_close(b->cov[i][j], (double)ekf.sigma.m[i][j]);
+            check_close(b->cov[i][j], (double)sigma.m[i][j]);
     }
     // the wrap: a bearing one turn off gives the same innovation
     assert_int_equal(feed(gf_msg_ctrl(32, GF_ROBOT, 1, 1, 2, 1.0, 0.2)),
