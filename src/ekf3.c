@@ -61,9 +61,10 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 // The checks of a measurement model before its callback, in the order of
 // the status rules: GF_ERR_ARG (h NULL; m not 1..3), GF_ERR_NONFINITE
 // (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's verdict
-// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, qf holds Q's factors.
+// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, pq holds Q's factors
+// (pq->meas is not written).
 static gf_status meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
-                            gf_real qf[6])
+                            gf_ekf3_pmeas *pq)
 {
     const unsigned m = meas->m;
     if (!meas->h || m < 1 || m > 3) {
@@ -83,12 +84,13 @@ static gf_status meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
     if (!gf_sum_finite(f)) {
         return GF_ERR_NONFINITE;
     }
-    return gf_udu_factor(meas->Q.m[0], 3, m, qf);
+    return gf_cov_factor(meas->Q.m[0], 3, m, pq->Qf, pq->Qe, pq->Qorder);
 }
 
 // The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
-// R's verdict; on GF_OK, rf holds R's factors.
-static gf_status motion_check(const gf_ekf3_motion *motion, gf_real rf[6])
+// R's verdict; on GF_OK, rf and rd hold R's factors.
+static gf_status motion_check(const gf_ekf3_motion *motion, gf_real rf[9],
+                              gf_real rd[3])
 {
     if (!motion->g) {
         return GF_ERR_ARG;
@@ -96,7 +98,8 @@ static gf_status motion_check(const gf_ekf3_motion *motion, gf_real rf[6])
     if (!gf_all_finite(motion->R.m[0], 9)) {
         return GF_ERR_NONFINITE;
     }
-    return gf_udu_factor(motion->R.m[0], 3, 3, rf);
+    unsigned order[3];
+    return gf_cov_factor(motion->R.m[0], 3, 3, rf, rd, order);
 }
 
 gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
@@ -107,16 +110,15 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!gf_all_finite(mu->v, 3) || !gf_all_finite(sigma->m[0], 9)) {
         return GF_ERR_NONFINITE;
     }
-    gf_real ud[6];
-    const gf_status st = gf_udu_factor(sigma->m[0], 3, 3, ud);
+    const gf_status st = gf_cov_factor(sigma->m[0], 3, 3, NULL, NULL, NULL);
     if (st != GF_OK) {
         return st;
     }
-    ekf->mu = *mu;
-    ekf->mu.v[2] = gf_angle_wrap(mu->v[2]);
-    for (unsigned k = 0; k < 6u; k++) {
-        ekf->ud[k] = ud[k];
-    }
+    gf_ekf3 nb;
+    gf_udu_factor(sigma->m[0], 3, 3, nb.ud, nb.perm);
+    nb.mu = *mu;
+    nb.mu.v[2] = gf_angle_wrap(mu->v[2]);
+    *ekf = nb;
     return GF_OK;
 }
 
@@ -125,16 +127,17 @@ gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma)
     if (!ekf || !sigma) {
         return GF_ERR_ARG;
     }
-    gf_udu_to_cov(ekf->ud, 3, sigma->m[0], 3);
+    gf_udu_to_cov(ekf->ud, ekf->perm, 3, sigma->m[0], 3);
     return GF_OK;
 }
 
-// The prediction (Table 3.3, lines 2-3) once R is factored (rf):
+// The prediction (Table 3.3, lines 2-3) once R is factored (rf, rd):
 //   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,
 // the covariance on its factors (gf_udu_predict); the belief is written
 // only if all is finite.
 static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
-                         const gf_real rf[6], const gf_real *u)
+                         const gf_real rf[9], const gf_real rd[3],
+                         const gf_real *u)
 {
     gf_ekf3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
@@ -147,7 +150,7 @@ static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     // does an overflow: one test of the result stands for all.
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_real w[3 * 6], wd[6];
-    gf_udu_predict(3, nb.ud, G.m[0], rf, w, wd);
+    gf_udu_predict(3, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
     if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), nb.ud,
                                   6))) {
         return GF_ERR_NONFINITE; // keep the last good belief
@@ -156,14 +159,14 @@ static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     return GF_OK;
 }
 
-// The correction (Table 3.3, lines 4-6) once Q is factored (qf): z_hat =
+// The correction (Table 3.3, lines 4-6) once Q is factored (pq): z_hat =
 // h(mu_bar) and H from the callback, y = z - z_hat (angle residuals
-// wrapped), both whitened by Q's factors (y_w = V^-1 y, H_w = V^-1 H),
+// wrapped), both whitened by Q's factors (y_w = F^-1 y, H_w = F^-1 H),
 // then one scalar update per quantity (gf_udu_correct), the gate on the
 // total NIS, and the belief written only if every quantity passed and all
 // is finite.
 static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                        const gf_real qf[6], const gf_vec3 *z,
+                        const gf_ekf3_pmeas *pq, const gf_vec3 *z,
                         gf_innovation *info)
 {
     const unsigned m = meas->m;
@@ -196,14 +199,15 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         }
     }
     if (m > 1u) {
-        gf_udu_whiten(qf, m, yw, 1);
+        gf_udu_whiten(pq->Qf, pq->Qorder, m, yw, 1);
         for (unsigned j = 0; j < 3u; j++) {
-            gf_udu_whiten(qf, m, &H.m[0][j], 3);
+            gf_udu_whiten(pq->Qf, pq->Qorder, m, &H.m[0][j], 3);
         }
     }
     gf_ekf3 nb = *ekf;
-    gf_real dx[3];
-    st = gf_udu_correct(3, nb.ud, m, H.m[0], qf, yw, dx, &in.nis);
+    gf_real dx[3], w[3 * 6], wd[6];
+    st = gf_udu_correct(3, nb.ud, nb.perm, m, H.m[0], pq->Qe, yw, dx, &in.nis,
+                        w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -234,9 +238,9 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion) {
         return GF_ERR_ARG;
     }
-    gf_real rf[6];
-    const gf_status st = motion_check(motion, rf);
-    return st != GF_OK ? st : predict(ekf, motion, rf, u);
+    gf_real rf[9], rd[3];
+    const gf_status st = motion_check(motion, rf, rd);
+    return st != GF_OK ? st : predict(ekf, motion, rf, rd, u);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -245,9 +249,9 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (!ekf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_real qf[6];
-    const gf_status st = meas_check(meas, z, qf);
-    return st != GF_OK ? st : update(ekf, meas, qf, z, info);
+    gf_ekf3_pmeas pq;
+    const gf_status st = meas_check(meas, z, &pq);
+    return st != GF_OK ? st : update(ekf, meas, &pq, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
@@ -256,15 +260,13 @@ gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
     if (!pm || !motion) {
         return GF_ERR_ARG;
     }
-    gf_real rf[6];
-    const gf_status st = motion_check(motion, rf);
+    gf_ekf3_pmotion p;
+    const gf_status st = motion_check(motion, p.Rf, p.Rd);
     if (st != GF_OK) {
         return st;
     }
-    pm->motion = *motion;
-    for (unsigned k = 0; k < 6u; k++) {
-        pm->rf[k] = rf[k];
-    }
+    p.motion = *motion;
+    *pm = p;
     return GF_OK;
 }
 
@@ -273,15 +275,13 @@ gf_status gf_ekf3_prepare_meas(gf_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
     if (!pq || !meas) {
         return GF_ERR_ARG;
     }
-    gf_real qf[6];
-    const gf_status st = meas_check(meas, NULL, qf);
+    gf_ekf3_pmeas p;
+    const gf_status st = meas_check(meas, NULL, &p);
     if (st != GF_OK) {
         return st;
     }
-    pq->meas = *meas;
-    for (unsigned k = 0; k < 6u; k++) {
-        pq->qf[k] = qf[k];
-    }
+    p.meas = *meas;
+    *pq = p;
     return GF_OK;
 }
 
@@ -291,7 +291,7 @@ gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
     if (!ekf || !pm || !pm->motion.g) {
         return GF_ERR_ARG;
     }
-    return predict(ekf, &pm->motion, pm->rf, u);
+    return predict(ekf, &pm->motion, pm->Rf, pm->Rd, u);
 }
 
 gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
@@ -304,5 +304,5 @@ gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return update(ekf, &pq->meas, pq->qf, z, info);
+    return update(ekf, &pq->meas, pq, z, info);
 }

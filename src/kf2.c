@@ -6,9 +6,9 @@
 #include "udu.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
-// gf_kf2_predict's statuses; on GF_OK, rf holds R's factors.
+// gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
 static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u,
-                             gf_real rf[3])
+                             gf_real rf[4], gf_real rd[2])
 {
     gf_real z = gf_nan_sum(GF_R(0.0), model->A.m[0], 4);
     z = gf_nan_sum(z, model->B.m[0], 4);
@@ -20,14 +20,15 @@ static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u,
     if (!gf_sum_finite(z)) {
         return GF_ERR_NONFINITE;
     }
-    return gf_udu_factor(model->R.m[0], 2, 2, rf);
+    unsigned order[2];
+    return gf_cov_factor(model->R.m[0], 2, 2, rf, rd, order);
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
-// of gf_kf2_update's statuses; on GF_OK, qf holds Q's factors and cw the
-// whitened rows V^-1 C.
+// of gf_kf2_update's statuses; on GF_OK, pq holds Q's factors and the
+// whitened rows F^-1 C (pq->meas is not written).
 static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
-                            gf_real qf[3], gf_mat2 *cw)
+                            gf_kf2_pmeas *pq)
 {
     const unsigned m = meas->m;
     if (m < 1 || m > 2) {
@@ -47,15 +48,16 @@ static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     if (!gf_all_finite(meas->Q.m[0], m * m)) { // the m x m block
         return GF_ERR_NONFINITE;
     }
-    const gf_status st = gf_udu_factor(meas->Q.m[0], 2, m, qf);
+    const gf_status st =
+        gf_cov_factor(meas->Q.m[0], 2, m, pq->Qf, pq->Qe, pq->Qorder);
     if (st != GF_OK) {
         return st;
     }
-    // C_w = V^-1 C, column by column
-    *cw = meas->C;
+    // C_w = F^-1 C, column by column
+    pq->Cw = meas->C;
     if (m > 1u) {
-        gf_udu_whiten(qf, m, &cw->m[0][0], 2);
-        gf_udu_whiten(qf, m, &cw->m[0][1], 2);
+        gf_udu_whiten(pq->Qf, pq->Qorder, m, &pq->Cw.m[0][0], 2);
+        gf_udu_whiten(pq->Qf, pq->Qorder, m, &pq->Cw.m[0][1], 2);
     }
     return GF_OK;
 }
@@ -68,15 +70,14 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!gf_all_finite(mu->v, 2) || !gf_all_finite(sigma->m[0], 4)) {
         return GF_ERR_NONFINITE;
     }
-    gf_real ud[3];
-    const gf_status st = gf_udu_factor(sigma->m[0], 2, 2, ud);
+    const gf_status st = gf_cov_factor(sigma->m[0], 2, 2, NULL, NULL, NULL);
     if (st != GF_OK) {
         return st;
     }
-    kf->mu = *mu;
-    kf->ud[0] = ud[0];
-    kf->ud[1] = ud[1];
-    kf->ud[2] = ud[2];
+    gf_kf2 nb;
+    gf_udu_factor(sigma->m[0], 2, 2, nb.ud, nb.perm);
+    nb.mu = *mu;
+    *kf = nb;
     return GF_OK;
 }
 
@@ -85,15 +86,16 @@ gf_status gf_kf2_cov(const gf_kf2 *kf, gf_mat2 *sigma)
     if (!kf || !sigma) {
         return GF_ERR_ARG;
     }
-    gf_udu_to_cov(kf->ud, 2, sigma->m[0], 2);
+    gf_udu_to_cov(kf->ud, kf->perm, 2, sigma->m[0], 2);
     return GF_OK;
 }
 
-// The prediction once model and u are checked, R factored (rf):
+// The prediction once model and u are checked, R factored (rf, rd):
 //   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R.
 // The belief is written only if all of it is finite.
 static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
-                         const gf_real rf[3], const gf_vec2 *u)
+                         const gf_real rf[4], const gf_real rd[2],
+                         const gf_vec2 *u)
 {
     gf_kf2 nb = *kf;
     const gf_real *mu = kf->mu.v;
@@ -106,7 +108,7 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
         nb.mu.v[i] = acc;
     }
     gf_real w[2 * 4], wd[4];
-    gf_udu_predict(2, nb.ud, model->A.m[0], rf, w, wd);
+    gf_udu_predict(2, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
     if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), nb.ud,
                                   3))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
@@ -115,14 +117,14 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
     return GF_OK;
 }
 
-// The correction once meas and z are checked, Q factored (qf) and C
-// whitened (cw):
-//   y = z - c - C mu_bar,  y_w = V^-1 y,
+// The correction once meas and z are checked, Q factored and C whitened
+// (pq):
+//   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
 static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
-                        const gf_real qf[3], const gf_mat2 *cw,
-                        const gf_vec2 *z, gf_innovation *info)
+                        const gf_kf2_pmeas *pq, const gf_vec2 *z,
+                        gf_innovation *info)
 {
     const unsigned m = meas->m;
     gf_innovation in;
@@ -136,11 +138,12 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
         yw[i] = in.y[i];
     }
     if (m > 1u) {
-        gf_udu_whiten(qf, m, yw, 1);
+        gf_udu_whiten(pq->Qf, pq->Qorder, m, yw, 1);
     }
     gf_kf2 nb = *kf;
-    gf_real dx[2];
-    gf_status st = gf_udu_correct(2, nb.ud, m, cw->m[0], qf, yw, dx, &in.nis);
+    gf_real dx[2], w[2 * 4], wd[4];
+    gf_status st = gf_udu_correct(2, nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe,
+                                  yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -169,9 +172,9 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     if (!kf || !model) {
         return GF_ERR_ARG;
     }
-    gf_real rf[3];
-    const gf_status st = model_check(model, u, rf);
-    return st != GF_OK ? st : predict(kf, model, rf, u);
+    gf_real rf[4], rd[2];
+    const gf_status st = model_check(model, u, rf, rd);
+    return st != GF_OK ? st : predict(kf, model, rf, rd, u);
 }
 
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
@@ -180,10 +183,9 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_real qf[3];
-    gf_mat2 cw;
-    const gf_status st = meas_check(meas, z, qf, &cw);
-    return st != GF_OK ? st : update(kf, meas, qf, &cw, z, info);
+    gf_kf2_pmeas pq;
+    const gf_status st = meas_check(meas, z, &pq);
+    return st != GF_OK ? st : update(kf, meas, &pq, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -191,15 +193,13 @@ gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
     if (!pm || !model) {
         return GF_ERR_ARG;
     }
-    gf_real rf[3];
-    const gf_status st = model_check(model, NULL, rf);
+    gf_kf2_pmodel p;
+    const gf_status st = model_check(model, NULL, p.Rf, p.Rd);
     if (st != GF_OK) {
         return st;
     }
-    pm->model = *model;
-    for (unsigned k = 0; k < 3u; k++) {
-        pm->rf[k] = rf[k];
-    }
+    p.model = *model;
+    *pm = p;
     return GF_OK;
 }
 
@@ -208,17 +208,13 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
     if (!pq || !meas) {
         return GF_ERR_ARG;
     }
-    gf_real qf[3];
-    gf_mat2 cw;
-    const gf_status st = meas_check(meas, NULL, qf, &cw);
+    gf_kf2_pmeas p;
+    const gf_status st = meas_check(meas, NULL, &p);
     if (st != GF_OK) {
         return st;
     }
-    pq->meas = *meas;
-    for (unsigned k = 0; k < 3u; k++) {
-        pq->qf[k] = qf[k];
-    }
-    pq->Cw = cw;
+    p.meas = *meas;
+    *pq = p;
     return GF_OK;
 }
 
@@ -233,7 +229,7 @@ gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
     if (u && !gf_all_finite(u->v, 2)) {
         return GF_ERR_NONFINITE;
     }
-    return predict(kf, &pm->model, pm->rf, u);
+    return predict(kf, &pm->model, pm->Rf, pm->Rd, u);
 }
 
 gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
@@ -245,5 +241,5 @@ gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return update(kf, &pq->meas, pq->qf, &pq->Cw, z, info);
+    return update(kf, &pq->meas, pq, z, info);
 }

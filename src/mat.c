@@ -5,7 +5,116 @@
 
 #include "udu.h"
 
-// ---- the verdict on a covariance passed in ---------------------------
+// ---- the verdict and the factors of a covariance passed in ------------
+
+gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
+                 gf_real *d, unsigned *order)
+{
+    const gf_real rtol = GF_PD_RTOL;
+    gf_real a[3][3]; // the Schur complements (upper triangle, by state)
+    unsigned p[3] = {0, 1, 2}; // p[t..n-1]: the states not pivots yet
+    if (n > 3u) {
+        return GF_ERR_ARG;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned k = i; k < n; k++) {
+            a[i][k] = s[i * stride + k];
+        }
+    }
+    // The first pivot: all ratios are 1 there (0 for a zero variance):
+    // the first state whose variance is positive.
+    unsigned f0 = n;
+    for (unsigned k = 0; k < n && f0 == n; k++) {
+        if (s[k * stride + k] > 0) {
+            f0 = k;
+        }
+    }
+    if (f0 < n) {
+        p[f0] = 0;
+        p[0] = f0;
+    }
+    unsigned t = 0;
+    for (; t < n; t++) {
+        // the pivot: the largest a_jj / s_jj left (a tie keeps p's order)
+        if (t > 0u && t + 1u < n) {
+            gf_real best = -1;
+            unsigned at = t;
+            for (unsigned u = t; u < n; u++) {
+                const unsigned k = p[u];
+                const gf_real skk = s[k * stride + k];
+                const gf_real ratio = (skk > 0) ? a[k][k] / skk : GF_R(0.0);
+                if (ratio > best) {
+                    best = ratio;
+                    at = u;
+                }
+            }
+            const unsigned sw = p[at];
+            p[at] = p[t];
+            p[t] = sw;
+        }
+        const unsigned j = p[t];
+        const gf_real pj = a[j][j];
+        if (!(pj > rtol * s[j * stride + j])) { // (NaN fails)
+            break; // this one and every state left are zero: below
+        }
+        if (d) {
+            d[j] = pj;
+        }
+        if (F) {
+            for (unsigned u = 0; u < t; u++) {
+                F[p[u] * n + j] = 0;
+            }
+            F[j * n + j] = 1;
+        }
+        // a_ik -= (a_ij / a_jj) a_jk over the states left, upper triangle
+        for (unsigned u = t + 1u; u < n; u++) {
+            const unsigned i = p[u];
+            const gf_real aij = (i < j) ? a[i][j] : a[j][i];
+            const gf_real l = aij / pj;
+            if (F) {
+                F[i * n + j] = l;
+            }
+            for (unsigned v = t + 1u; v < n; v++) {
+                const unsigned k = p[v];
+                if (k >= i) {
+                    a[i][k] -= l * ((k < j) ? a[k][j] : a[j][k]);
+                }
+            }
+        }
+    }
+    if (order) {
+        for (unsigned u = 0; u < n; u++) {
+            order[u] = p[u];
+        }
+    }
+    // The states left (p[t..n-1], if any) have zero variance.
+    for (unsigned u = t; u < n; u++) {
+        const unsigned k = p[u];
+        const gf_real skk = s[k * stride + k];
+        if (!(a[k][k] >= -rtol * skk)) {
+            return GF_ERR_NOT_PSD;
+        }
+        for (unsigned w = t; w < u; w++) {
+            const unsigned i = p[w];
+            const gf_real aii = a[i][i] > 0 ? a[i][i] : GF_R(0.0);
+            const gf_real akk = a[k][k] > 0 ? a[k][k] : GF_R(0.0);
+            const gf_real aik = (i < k) ? a[i][k] : a[k][i];
+            if (!gf_coupled_ok(aik, aii + rtol * s[i * stride + i],
+                               akk + rtol * skk)) {
+                return GF_ERR_NOT_PSD;
+            }
+        }
+        if (d) {
+            d[k] = 0;
+        }
+        if (F) {
+            for (unsigned i = 0; i < n; i++) {
+                F[i * n + k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
+            }
+        }
+    }
+    return GF_OK;
+}
 
 gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
 {
@@ -14,8 +123,7 @@ gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
             return GF_ERR_NONFINITE;
         }
     }
-    gf_real ud[GF_UD_SIZE(GF_UDU_NMAX)];
-    return gf_udu_factor(s, stride, n, ud);
+    return gf_cov_factor(s, stride, n, NULL, NULL, NULL);
 }
 
 // ---- 2x2 -----------------------------------------------------------------

@@ -2,24 +2,31 @@
 // gaussfilt: the factored covariance of the Kalman filters, one
 // implementation for any number of states n (docs/numerics.md).
 //
-// A belief carries Sigma = U D U^T: U unit upper triangular, D diagonal
-// and >= 0. Every step works on the factors and never forms Sigma:
-//   prediction  Sigma_bar = (A U) D (A U)^T + G Q_d G^T (R = G Q_d G^T),
+// A belief carries Sigma = P U D U^T P^T: U unit upper triangular, D
+// diagonal and >= 0, P a permutation of the states (perm[k] is the state
+// of the factors' index k). Every step works on the factors and never
+// forms Sigma:
+//   prediction  Sigma_bar = (A P U) D (A P U)^T + F_R D_R F_R^T,
 //               triangularised again by Thornton's modified weighted
 //               Gram-Schmidt: each d_j a weighted sum of squares;
 //   correction  Bierman's scalar update, one whitened measured quantity at
 //               a time: each d_j scaled by a ratio of innovation variances
 //               alpha_(j-1) / alpha_j in [0, 1].
-// No step can make a variance negative or Sigma asymmetric; the
-// accessor (gf_udu_to_cov) returns Sigma exactly symmetric.
+// Bierman's update changes no entry of U for the state at the root (the
+// last index, whose d is its whole variance), and loses digits in the
+// entries of a state it measures far more precisely than it knew it
+// anywhere else: before a correction, the state the most informative
+// quantity measures is made the root (gf_udu_reorder, a Gram-Schmidt pass
+// like the prediction's), which the next corrections then find in place.
+// The accessor (gf_udu_to_cov) returns Sigma exactly symmetric.
 //
 // Packed storage, n (n + 1) / 2 numbers, column by column: U_ij (i < j)
 // at GF_UD(i, j), d_j at GF_UD(j, j).
 //
-// Matrices passed in are row-major, rows of `stride` entries. The
-// functions are static inline: each filter's source compiles them for its
-// own n (an optimising build unrolls the loops, a build for size keeps
-// them); the arithmetic is written once, here.
+// Matrices passed in are row-major, rows of `stride` entries, indexed by
+// state. The functions are static inline: each filter's source compiles
+// them for its own n (an optimising build unrolls the loops); the
+// arithmetic is written once, here.
 #ifndef GAUSSFILT_SRC_UDU_H
 #define GAUSSFILT_SRC_UDU_H
 
@@ -27,6 +34,7 @@
 
 #define GF_UD(i, j) ((j) * ((j) + 1u) / 2u + (i))
 #define GF_UD_SIZE(n) ((n) * ((n) + 1u) / 2u)
+
 
 // The largest n these functions take (the size of their O(n) locals).
 #define GF_UDU_NMAX 3u
@@ -42,164 +50,149 @@ static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
     return (x / y) * x <= z;
 }
 
-// The verdict on a symmetric matrix s passed in (finite: the caller tests
-// that), and its factors U D U^T into ud (packed; written even when the
-// verdict is not GF_OK). Column j from the last: with t_k = d_k U_jk,
-//   d_j  = s_jj - sum_(k>j) U_jk t_k,
-//   U_ij = (s_ij - sum_(k>j) U_ik t_k) / d_j.
-// GF_ERR_NOT_PSD if an off-diagonal pair differs by more than GF_SYM_RTOL
-// (|s_ij| + |s_ji|), or a pivot d_j is below -GF_PD_RTOL s_jj. A pivot up
-// to GF_PD_RTOL s_jj is zero (semidefinite in that direction): its column
-// of U is zero, and every entry that couples it to a state i must then
-// be within the 2x2 bound r_ij^2 <= r_ii d_j, both sides widened by
-// GF_PD_RTOL times their variance (r: what is left of s once the later
-// columns are taken out), else GF_ERR_NOT_PSD. Every test is relative to
-// s's own diagonal: the correlation form, the same in any units.
-GF_ALWAYS_INLINE gf_status gf_udu_factor(const gf_real *s, unsigned stride,
-                                         unsigned n, gf_real *ud)
+// The verdict on a covariance passed in and its factors, by pivoting
+// (defined in mat.c, one copy): M = F diag(d) F^T for the leading n x n
+// block of a symmetric s (upper triangle read), F unit lower triangular in
+// the order of its pivots: each pivot the state whose variance left (once
+// the earlier pivots' states are known) is the largest relative to its own
+// variance, the pivots of the correlation form D^-1/2 M D^-1/2, in [0, 1],
+// the same in any units. order[t] is the state of step t; column order[t]
+// of F is 1 there and zero on the earlier pivots' rows. F (rows of n), d
+// and order may be NULL (a verdict only). A pivot up to GF_PD_RTOL times
+// its variance is zero, and then so is every state left (none is larger):
+// each variance left must be >= -GF_PD_RTOL times its own and each entry
+// left coupling two of them within the 2x2 bound a_ik^2 <= a_ii a_kk, both
+// sides widened by GF_PD_RTOL times their variance; else GF_ERR_NOT_PSD.
+// GF_ERR_ARG for n > 3.
+gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
+                 gf_real *d, unsigned *order);
+
+// The verdict on a finite covariance passed in (R, Q, a prior) and, where
+// F, d and order are not NULL, its factors as gf_ldl's: symmetric within
+// GF_SYM_RTOL (|s_ij - s_ji| <= GF_SYM_RTOL (|s_ij| + |s_ji|), the same for
+// any scale), no negative variance, then gf_ldl's verdict; a diagonal
+// matrix (the usual noise) is its own factorisation (F = I). Else
+// GF_ERR_NOT_PSD.
+GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
+                                         unsigned n, gf_real *F, gf_real *d,
+                                         unsigned *order)
 {
-    const gf_real rtol = GF_PD_RTOL;
-    // A diagonal matrix (the usual noise) is its own factorisation.
-    gf_real off = 0;
-    GF_UNROLL
+    gf_real off = 0; // the sum of |off-diagonal entries|
     for (unsigned i = 0; i < n; i++) {
-        GF_UNROLL
         for (unsigned j = i + 1u; j < n; j++) {
-            off += GF_FABS(s[i * stride + j]) + GF_FABS(s[j * stride + i]);
-        }
-    }
-    if (!(off > 0)) {
-        GF_UNROLL
-        for (unsigned j = 0; j < n; j++) {
-            const gf_real sjj = s[j * stride + j];
-            if (sjj < 0) {
+            const gf_real x = s[i * stride + j], y = s[j * stride + i];
+            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
                 return GF_ERR_NOT_PSD;
             }
-            ud[GF_UD(j, j)] = sjj;
-            GF_UNROLL
-            for (unsigned i = 0; i < j; i++) {
-                ud[GF_UD(i, j)] = 0;
-            }
+            off += GF_FABS(x) + GF_FABS(y);
         }
-        return GF_OK;
-    }
-    GF_UNROLL
-    for (unsigned j = n; j-- > 0u;) {
-        const gf_real sjj = s[j * stride + j];
-        gf_real dj = sjj;
-        GF_UNROLL
-        for (unsigned k = j + 1u; k < n; k++) {
-            dj -= ud[GF_UD(j, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
-        }
-        const int pos = dj > rtol * sjj;
-        if (!pos && !(dj >= -rtol * sjj)) {
+        if (s[i * stride + i] < 0) {
             return GF_ERR_NOT_PSD;
         }
-        const gf_real inv = pos ? GF_R(1.0) / dj : GF_R(0.0);
-        GF_UNROLL
-        for (unsigned i = 0; i < j; i++) {
-            const gf_real sij = s[i * stride + j], sji = s[j * stride + i];
-            if (!(GF_FABS(sij - sji) <=
-                  GF_SYM_RTOL * (GF_FABS(sij) + GF_FABS(sji)))) {
-                return GF_ERR_NOT_PSD;
+    }
+    if (off > 0) {
+        return gf_ldl(s, stride, n, F, d, order);
+    }
+    if (F) {
+        for (unsigned i = 0; i < n; i++) {
+            d[i] = s[i * stride + i];
+            order[i] = i;
+            for (unsigned j = 0; j < n; j++) {
+                F[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
             }
-            gf_real r = sij;
-            GF_UNROLL
-            for (unsigned k = j + 1u; k < n; k++) {
-                r -= ud[GF_UD(i, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
-            }
-            if (!pos) {
-                const gf_real sii = s[i * stride + i];
-                gf_real rii = sii;
-                GF_UNROLL
-                for (unsigned k = j + 1u; k < n; k++) {
-                    rii -= ud[GF_UD(i, k)] * ud[GF_UD(k, k)] *
-                           ud[GF_UD(i, k)];
-                }
-                if (!gf_coupled_ok(r, (rii > 0 ? rii : GF_R(0.0)) + rtol * sii,
-                                   (dj > 0 ? dj : GF_R(0.0)) + rtol * sjj)) {
-                    return GF_ERR_NOT_PSD;
-                }
-            }
-            ud[GF_UD(i, j)] = r * inv;
         }
-        ud[GF_UD(j, j)] = pos ? dj : GF_R(0.0);
     }
     return GF_OK;
 }
 
-// Sigma = U D U^T into s (rows of stride), exactly symmetric:
-//   Sigma_ij = sum_(k >= max(i, j)) U_ik d_k U_jk,  U_kk = 1,
-// each variance a sum of non-negative terms.
-static inline void gf_udu_to_cov(const gf_real *ud, unsigned n, gf_real *s,
-                                 unsigned stride)
+// The factors of a covariance s that gf_cov_factor accepted, for a new
+// belief: perm is the states reversed (state 0, most often a position, the
+// measured quantity, at the root), then column j from the last, with
+// t_k = d_k U_jk (s read at the states perm[i], perm[j]):
+//   d_j  = s_jj - sum_(k>j) U_jk t_k,
+//   U_ij = (s_ij - sum_(k>j) U_ik t_k) / d_j.
+// A pivot up to GF_PD_RTOL s_jj (the verdict's zero: that direction is
+// known exactly once the later states are) is zero, with a zero column of
+// U. s's upper triangle is read.
+static inline void gf_udu_factor(const gf_real *s, unsigned stride,
+                                 unsigned n, gf_real *ud, unsigned char *perm)
 {
-    GF_UNROLL
+    for (unsigned k = 0; k < n; k++) {
+        perm[k] = (unsigned char)(n - 1u - k);
+    }
+    for (unsigned k = n; k < (unsigned)sizeof(gf_real); k++) {
+        perm[k] = 0; // a belief's unused bytes, set
+    }
+    for (unsigned j = n; j-- > 0u;) {
+        const unsigned sj = perm[j];
+        const gf_real sjj = s[sj * stride + sj];
+        gf_real dj = sjj;
+        for (unsigned k = j + 1u; k < n; k++) {
+            dj -= ud[GF_UD(j, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
+        }
+        const int pos = dj > GF_PD_RTOL * sjj && dj >= GF_REAL_MIN;
+        for (unsigned i = 0; i < j; i++) {
+            const unsigned si = perm[i];
+            gf_real r = s[(si < sj ? si : sj) * stride + (si < sj ? sj : si)];
+            for (unsigned k = j + 1u; k < n; k++) {
+                r -= ud[GF_UD(i, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
+            }
+            ud[GF_UD(i, j)] = pos ? r / dj : GF_R(0.0);
+        }
+        ud[GF_UD(j, j)] = pos ? dj : GF_R(0.0);
+    }
+}
+
+// Sigma = P U D U^T P^T into s (rows of stride), exactly symmetric:
+//   Sigma_(perm i)(perm j) = sum_(k >= max(i, j)) U_ik d_k U_jk,  U_kk = 1,
+// each variance a sum of non-negative terms. A variance below GF_REAL_MIN
+// (its terms underflowed, where a covariance's may not have) is zero, with
+// its row and column: that state is known exactly.
+static inline void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm,
+                                 unsigned n, gf_real *s, unsigned stride)
+{
     for (unsigned i = 0; i < n; i++) {
-        GF_UNROLL
         for (unsigned j = i; j < n; j++) {
             gf_real acc = 0;
-            GF_UNROLL
             for (unsigned k = j; k < n; k++) {
                 const gf_real uik = (k == i) ? GF_R(1.0) : ud[GF_UD(i, k)];
                 const gf_real ujk = (k == j) ? GF_R(1.0) : ud[GF_UD(j, k)];
                 acc += uik * ud[GF_UD(k, k)] * ujk;
             }
-            s[i * stride + j] = acc;
-            s[j * stride + i] = acc;
+            s[perm[i] * stride + perm[j]] = acc;
+            s[perm[j] * stride + perm[i]] = acc;
+        }
+    }
+    for (unsigned i = 0; i < n; i++) {
+        if (!(s[i * stride + i] >= GF_REAL_MIN)) {
+            for (unsigned j = 0; j < n; j++) {
+                s[i * stride + j] = 0;
+                s[j * stride + i] = 0;
+            }
         }
     }
 }
 
-// The prediction's covariance (Thornton's time update), in place on ud:
-//   Sigma_bar = W diag(w_d) W^T,  W = [A U | G],  w_d = [D | Q_d],
-// with R = G Q_d G^T given by its factors rf (packed), then U_bar D_bar U_bar^T = W diag(w_d) W^T by
-// the modified weighted Gram-Schmidt, from the last row up:
-//   c = diag(w_d) w_j,  d_j = w_j . c,
+// The modified weighted Gram-Schmidt: the factors U D U^T (into ud) of
+// W diag(wd) W^T, W n rows of 2n (its columns beyond `cols` zero, so
+// skipped), from the last row up:
+//   c = diag(wd) w_j,  d_j = w_j . c,
 //   U_ij = (w_i . c) / d_j,  w_i -= U_ij w_j   (i < j).
-// A d_j below GF_REAL_MIN (every term zero, or too few digits to tell it
-// from zero) is zero, with a zero column of U: that state is known exactly
-// once the later ones are. a: n x n, rows of n. w: scratch of n rows of
-// 2n, wd: scratch of 2n (caller-owned).
-static inline void gf_udu_predict(unsigned n, gf_real *ud, const gf_real *a,
-                                  const gf_real *rf, gf_real *w,
-                                  gf_real *wd)
+// Each d_j is a weighted sum of squares: never negative. A d_j below
+// GF_REAL_MIN (every term zero, or too few digits to tell it from zero) is
+// zero, with a zero column of U: that state is known exactly once the
+// later ones are. w is overwritten.
+static inline void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
+                           const gf_real *wd, gf_real *ud)
 {
-    const unsigned cols2 = 2u * n;
-    // W = [A U | G]: (A U)_ij = A_ij + sum_(l<j) A_il U_lj
-    GF_UNROLL
-    for (unsigned j = 0; j < n; j++) {
-        wd[j] = ud[GF_UD(j, j)];
-        GF_UNROLL
-        for (unsigned i = 0; i < n; i++) {
-            gf_real acc = a[i * n + j];
-            GF_UNROLL
-            for (unsigned l = 0; l < j; l++) {
-                acc += a[i * n + l] * ud[GF_UD(l, j)];
-            }
-            w[i * cols2 + j] = acc;
-        }
-    }
-    // G: the unit upper triangular factor of R, weights Q_d (zero
-    // weights included: every row has 2n entries)
-    GF_UNROLL
-    for (unsigned j = 0; j < n; j++) {
-        wd[n + j] = rf[GF_UD(j, j)];
-        GF_UNROLL
-        for (unsigned i = 0; i < n; i++) {
-            w[i * cols2 + n + j] = (i < j)    ? rf[GF_UD(i, j)]
-                                   : (i == j) ? GF_R(1.0)
-                                              : GF_R(0.0);
-        }
-    }
-    // Modified weighted Gram-Schmidt, rows n-1 .. 0
+    const unsigned stride = 2u * n;
     GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
         gf_real c[2u * GF_UDU_NMAX];
-        gf_real *wj = &w[j * cols2];
+        gf_real *wj = &w[j * stride];
         gf_real dj = 0;
         GF_UNROLL
-        for (unsigned k = 0; k < cols2; k++) {
+        for (unsigned k = 0; k < cols; k++) {
             c[k] = wd[k] * wj[k];
             dj += wj[k] * c[k];
         }
@@ -209,15 +202,15 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud, const gf_real *a,
         const gf_real inv = (dj > 0) ? GF_R(1.0) / dj : GF_R(0.0);
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            gf_real *wi = &w[i * cols2];
+            gf_real *wi = &w[i * stride];
             gf_real acc = 0;
             GF_UNROLL
-            for (unsigned k = 0; k < cols2; k++) {
+            for (unsigned k = 0; k < cols; k++) {
                 acc += wi[k] * c[k];
             }
             const gf_real uij = acc * inv;
             GF_UNROLL
-            for (unsigned k = 0; k < cols2; k++) {
+            for (unsigned k = 0; k < cols; k++) {
                 wi[k] -= uij * wj[k];
             }
             ud[GF_UD(i, j)] = uij;
@@ -226,35 +219,133 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud, const gf_real *a,
     }
 }
 
+// The prediction's covariance (Thornton's time update), in place on ud:
+//   Sigma_bar = W diag(w_d) W^T,  W = [P^T A P U | P^T F_R],  w_d = [D | D_R],
+// with R = F_R diag(D_R) F_R^T given by its factors (gf_cov_factor: fr
+// n x n, rows of n, by state; a column of zero weight adds nothing), then
+// gf_mwgs. a: n x n, rows of n, by state. w: scratch of n rows of 2n, wd:
+// scratch of 2n (caller-owned).
+static inline void gf_udu_predict(unsigned n, gf_real *ud,
+                                  const unsigned char *perm,
+                                  const gf_real *a, const gf_real *fr,
+                                  const gf_real *dr, gf_real *w, gf_real *wd)
+{
+    const unsigned stride = 2u * n;
+    // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj
+    GF_UNROLL
+    for (unsigned j = 0; j < n; j++) {
+        wd[j] = ud[GF_UD(j, j)];
+        wd[n + j] = dr[j];
+        GF_UNROLL
+        for (unsigned i = 0; i < n; i++) {
+            const gf_real *ai = &a[perm[i] * n];
+            gf_real acc = ai[perm[j]];
+            GF_UNROLL
+            for (unsigned l = 0; l < j; l++) {
+                acc += ai[perm[l]] * ud[GF_UD(l, j)];
+            }
+            w[i * stride + j] = acc;
+            w[i * stride + n + j] = fr[perm[i] * n + j];
+        }
+    }
+    gf_mwgs(n, stride, w, wd, ud);
+}
+
+// The state measured by the row h (by state) with the largest share of
+// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal (by
+// state), sum_(k >= i) U_ik^2 d_k for the state perm[i].
+static inline unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
+                                         const unsigned char *perm,
+                                         const gf_real *h, gf_real *sigma_d)
+{
+    unsigned best = 0;
+    gf_real most = -1;
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        gf_real v = ud[GF_UD(i, i)];
+        GF_UNROLL
+        for (unsigned k = i + 1u; k < n; k++) {
+            v += ud[GF_UD(i, k)] * ud[GF_UD(i, k)] * ud[GF_UD(k, k)];
+        }
+        const unsigned s = perm[i];
+        sigma_d[s] = v;
+        const gf_real part = h[s] * h[s] * v;
+        if (part > most) {
+            most = part;
+            best = s;
+        }
+    }
+    return best;
+}
+
+// Makes state `root` the root of the factors (the last index), the other
+// states in their order: W's row i is the old factor's row of the state
+// newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
+// factors. w, wd: scratch as gf_udu_predict's.
+static inline void gf_udu_reorder(unsigned n, gf_real *ud,
+                                  unsigned char *perm, unsigned root,
+                                  gf_real *w, gf_real *wd)
+{
+    const unsigned stride = 2u * n;
+    unsigned char np[GF_UDU_NMAX];
+    unsigned t = 0, at = 0;
+    for (unsigned k = 0; k < n; k++) {
+        if (perm[k] == root) {
+            at = k;
+        } else {
+            np[t++] = perm[k];
+        }
+    }
+    np[n - 1u] = (unsigned char)root;
+    for (unsigned i = 0; i < n; i++) {
+        // the old index of the state np[i]
+        const unsigned o = (i == n - 1u) ? at : (i < at ? i : i + 1u);
+        for (unsigned c = 0; c < n; c++) {
+            w[i * stride + c] = (c == o)  ? GF_R(1.0)
+                                : (c > o) ? ud[GF_UD(o, c)]
+                                          : GF_R(0.0);
+        }
+    }
+    for (unsigned c = 0; c < n; c++) {
+        wd[c] = ud[GF_UD(c, c)];
+    }
+    gf_mwgs(n, n, w, wd, ud);
+    for (unsigned k = 0; k < n; k++) {
+        perm[k] = np[k];
+    }
+}
+
 // One scalar correction (Bierman's update), in place on ud, for the
-// measured quantity z = h x + v, v ~ N(0, r), r >= 0, whose innovation at
-// the current mean is y: with f = U^T h, g = D f and alpha_(-1) = r,
+// measured quantity z = h x + v, v ~ N(0, r), r >= 0 (h by state), whose
+// innovation at the current mean is y: with f = U^T P^T h, g = D f and
+// alpha_(-1) = r,
 //   alpha_j = alpha_(j-1) + f_j g_j,
 //   d_j    <- d_j alpha_(j-1) / alpha_j,
 //   U_ij   <- U_ij - b_i f_j / alpha_(j-1),  b_i <- b_i + U_ij g_j (i < j),
 //   b_j    =  g_j,
-// then K = b / alpha_(n-1), alpha_(n-1) = h Sigma h^T + r = s:
+// then K = P b / alpha_(n-1), alpha_(n-1) = h Sigma h^T + r = s:
 //   dx += K y,  *nis += y^2 / s.
-// A zero alpha (an exact quantity, r = 0, on the states taken so far)
-// leaves U as it is (b is zero there) and d_j as it is while alpha stays
-// zero; the first d_j to make it positive becomes zero: that direction
-// is now known exactly. A d_j below GF_REAL_MIN becomes zero, with its
+// A zero alpha (an exact quantity, r = 0, on the states taken so far; or
+// one below GF_REAL_MIN, too small to invert) leaves U as it is (b is zero
+// there) and d_j as it is while alpha stays zero; the first d_j to make it
+// positive becomes zero: that direction is now known exactly. A d_j below GF_REAL_MIN becomes zero, with its
 // column of U. GF_ERR_NONFINITE if s overflows; GF_ERR_SINGULAR if r = 0
 // and s is zero relative to its terms before cancellation,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
 // ud and dx are partly written then.
 static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
+                                      const unsigned char *perm,
                                       const gf_real *h, gf_real r,
                                       gf_real y, gf_real *dx, gf_real *nis)
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
-    // f = U^T h
+    // f = U^T P^T h
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        gf_real acc = h[j];
+        gf_real acc = h[perm[j]];
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            acc += ud[GF_UD(i, j)] * h[i];
+            acc += ud[GF_UD(i, j)] * h[perm[i]];
         }
         f[j] = acc;
     }
@@ -263,10 +354,10 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     if (!(r > 0)) {
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            gf_real t = GF_FABS(h[j]);
+            gf_real t = GF_FABS(h[perm[j]]);
             GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
-                t += GF_FABS(ud[GF_UD(i, j)] * h[i]);
+                t += GF_FABS(ud[GF_UD(i, j)] * h[perm[i]]);
             }
             scale += ud[GF_UD(j, j)] * t * t;
         }
@@ -278,9 +369,9 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
         const gf_real fj = f[j], gj = d * fj;
         const gf_real a1 = alpha + fj * gj;
         gf_real inv = 0;
-        if (a1 > 0) {
+        if (a1 >= GF_REAL_MIN) { // (a smaller one is zero: 1 / a1 overflows)
             inv = GF_R(1.0) / a1;
-            ud[GF_UD(j, j)] = d * alpha * inv;
+            ud[GF_UD(j, j)] = d * (alpha * inv);
         }
         const gf_real p = -fj * inv_prev;
         GF_UNROLL
@@ -303,7 +394,7 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     *nis += y * k;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        dx[j] += b[j] * k;
+        dx[perm[j]] += b[j] * k;
         if (!(ud[GF_UD(j, j)] >= GF_REAL_MIN)) {
             ud[GF_UD(j, j)] = 0;
             GF_UNROLL
@@ -315,46 +406,83 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     return GF_OK;
 }
 
-// The whitening of m measured quantities whose noise is Q = V E V^T (qf,
-// packed; V unit upper triangular): x <- V^-1 x in place, x of m entries
-// spaced `step` apart, by back substitution (no division):
-//   x_i <- x_i - sum_(k>i) V_ik x_k,  i = m-1 .. 0.
-// The quantities V^-1 z then have independent noises E.
-static inline void gf_udu_whiten(const gf_real *qf, unsigned m, gf_real *x,
-                                 unsigned step)
+// The whitening of m measured quantities whose noise is Q = F diag(e) F^T
+// (gf_cov_factor: f m x m, rows of m; order its pivots' order, in which F
+// is unit lower triangular): x <- F^-1 x in place, x of m entries spaced
+// `step` apart, by substitution in that order (no division):
+//   x_i <- x_i - sum_(k before i) F_ik x_k.
+// The quantities F^-1 z then have independent noises e.
+static inline void gf_udu_whiten(const gf_real *f, const unsigned *order,
+                                 unsigned m, gf_real *x, unsigned step)
 {
-    for (unsigned i = m; i-- > 0u;) {
-        for (unsigned k = i + 1u; k < m; k++) {
-            x[i * step] -= qf[GF_UD(i, k)] * x[k * step];
+    for (unsigned t = 1; t < m; t++) {
+        const unsigned i = order[t];
+        for (unsigned u = 0; u < t; u++) {
+            const unsigned k = order[u];
+            x[i * step] -= f[i * m + k] * x[k * step];
         }
     }
 }
 
-// The correction with m whitened quantities (rows of hw, stride n; their
-// noises on qf's diagonal; yw their whitened innovations at mu_bar), one
-// after another, each innovation taken at the mean the earlier ones gave:
+// The correction with m whitened quantities (rows of hw, stride n, by
+// state; e their noises; yw their whitened innovations at mu_bar): the
+// quantities in the order of how much they tell, the largest
+// sum_s h_s^2 Sigma_ss / e_i first (a ratio of variances: the same in any
+// units; e_i = 0, an exact quantity, before all), the first one's main
+// state (gf_udu_main_state) made the root if it is not, then one after
+// another, each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
-// dx (n entries) receives mu - mu_bar, *nis the sum of the scalar NIS,
-// which is y^T S^-1 y. Statuses as gf_udu_update.
-static inline gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned m,
-                                       const gf_real *hw, const gf_real *qf,
+// dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
+// scalar NIS, which is y^T S^-1 y. w, wd: scratch as gf_udu_predict's.
+// Statuses as gf_udu_update.
+static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
+                                       unsigned char *perm, unsigned m,
+                                       const gf_real *hw, const gf_real *e,
                                        const gf_real *yw, gf_real *dx,
-                                       gf_real *nis)
+                                       gf_real *nis, gf_real *w, gf_real *wd)
 {
+    gf_real sd[GF_UDU_NMAX];
+    unsigned rank[GF_UDU_NMAX] = {0, 1, 2};
+    unsigned first = gf_udu_main_state(n, ud, perm, hw, sd);
+    if (m > 1u) {
+        gf_real tell[GF_UDU_NMAX];
+        for (unsigned i = 0; i < m; i++) {
+            gf_real v = 0;
+            for (unsigned s = 0; s < n; s++) {
+                v += hw[i * n + s] * hw[i * n + s] * sd[s];
+            }
+            tell[i] = (e[i] > 0) ? v / e[i] : (gf_real)INFINITY;
+            rank[i] = i;
+        }
+        for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
+            for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
+                 k--) {
+                const unsigned t = rank[k];
+                rank[k] = rank[k - 1u];
+                rank[k - 1u] = t;
+            }
+        }
+        if (rank[0] != 0u) {
+            first = gf_udu_main_state(n, ud, perm, &hw[rank[0] * n], sd);
+        }
+    }
+    if (perm[n - 1u] != first) {
+        gf_udu_reorder(n, ud, perm, first, w, wd);
+    }
     *nis = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dx[j] = 0;
     }
-    for (unsigned i = 0; i < m; i++) {
+    for (unsigned t = 0; t < m; t++) {
+        const unsigned i = rank[t];
         const gf_real *hi = &hw[i * n];
         gf_real yi = yw[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             yi -= hi[j] * dx[j];
         }
-        const gf_status st =
-            gf_udu_update(n, ud, hi, qf[GF_UD(i, i)], yi, dx, nis);
+        const gf_status st = gf_udu_update(n, ud, perm, hi, e[i], yi, dx, nis);
         if (st != GF_OK) {
             return st;
         }

@@ -15,12 +15,16 @@ extern "C" {
 #endif
 
 // The belief N(mu, Sigma), mu = (x, y, theta), Sigma carried as its
-// factors U D U^T as in gf_kf2; read it with gf_ekf3_cov. Write a belief
-// with gf_ekf3_init only.
+// factors as in gf_kf2; read it with gf_ekf3_cov. Write a belief with
+// gf_ekf3_init only. 40 bytes in float, 80 in double.
 typedef struct gf_ekf3 {
     gf_vec3 mu;
-    gf_real ud[6]; // U_01, d_0, U_02, U_12, d_1, d_2 (src/udu.h's order)
+    gf_real ud[3 * 4 / 2]; // U and D, packed (src/udu.h)
+    // P: the state of each index of the factors (entries beyond the
+    // third zero: as many bytes as a gf_real, so there is no padding)
+    unsigned char perm[sizeof(gf_real)];
 } gf_ekf3;
+
 
 // Motion callback: mu_bar = g(u, mu) and G = dg/dx at mu. u is whatever the
 // callback defines (the built-in takes two entries). Returns GF_OK or any
@@ -104,13 +108,16 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
 // A checked motion model. Fill with gf_ekf3_prepare_motion only.
 typedef struct gf_ekf3_pmotion {
     gf_ekf3_motion motion; // the model as given, checked
-    gf_real rf[6];         // R's factors (packed as gf_ekf3.ud)
+    gf_real Rf[9];         // R = F diag(Rd) F^T: F, rows of 3 (src/udu.h)
+    gf_real Rd[3];
 } gf_ekf3_pmotion;
 
 // A checked measurement model. Fill with gf_ekf3_prepare_meas only.
 typedef struct gf_ekf3_pmeas {
-    gf_ekf3_meas meas; // the model as given, checked
-    gf_real qf[6];     // Q's factors V E V^T (packed as gf_ekf3.ud)
+    gf_ekf3_meas meas;  // the model as given, checked
+    gf_real Qf[9];      // Q = F diag(Qe) F^T: F, m x m, rows of m
+    gf_real Qe[3];      // the noises of the whitened quantities
+    unsigned Qorder[3]; // F's pivot order (src/udu.h)
 } gf_ekf3_pmeas;
 
 // Checks motion as gf_ekf3_predict does before its callback (g not NULL;

@@ -21,14 +21,19 @@
 extern "C" {
 #endif
 
-// The belief N(mu, Sigma). Sigma is carried as its factors U D U^T (U
-// unit upper triangular, D >= 0 diagonal), which every step updates in
-// place, so that no rounding can make it indefinite; read it with
-// gf_kf2_cov. Write a belief with gf_kf2_init only.
+// The belief N(mu, Sigma). Sigma is carried as its factors
+// P U D U^T P^T (U unit upper triangular, D >= 0 diagonal, P a permutation
+// of the states), which every step updates in place, so that no rounding
+// can make it indefinite; read it with gf_kf2_cov. Write a belief with
+// gf_kf2_init only. 24 bytes in float, 48 in double.
 typedef struct gf_kf2 {
     gf_vec2 mu;
-    gf_real ud[3]; // U_01, d_0, d_1 (src/udu.h's packed order)
+    gf_real ud[2 * 3 / 2];  // U and D, packed (src/udu.h)
+    // P: the state of each index of the factors (entries beyond the
+    // second zero: as many bytes as a gf_real, so there is no padding)
+    unsigned char perm[sizeof(gf_real)];
 } gf_kf2;
+
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
 // Never changes in most programs, so it can live in flash as const.
@@ -111,14 +116,17 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
 // A checked motion model. Fill with gf_kf2_prepare_model only.
 typedef struct gf_kf2_pmodel {
     gf_kf2_model model; // the model as given, checked
-    gf_real rf[3];      // R's factors G Q_d G^T (packed as gf_kf2.ud)
+    gf_real Rf[4];      // R = F diag(Rd) F^T: F, rows of 2 (src/udu.h)
+    gf_real Rd[2];
 } gf_kf2_pmodel;
 
 // A checked measurement model. Fill with gf_kf2_prepare_meas only.
 typedef struct gf_kf2_pmeas {
-    gf_kf2_meas meas; // the model as given, checked
-    gf_real qf[3];    // Q's factors V E V^T (packed as gf_kf2.ud)
-    gf_mat2 Cw;       // V^-1 C: the rows of independent noises E
+    gf_kf2_meas meas;   // the model as given, checked
+    gf_real Qf[4];      // Q = F diag(Qe) F^T: F, m x m, rows of m
+    gf_real Qe[2];      // the noises of the whitened quantities
+    unsigned Qorder[2]; // F's pivot order (src/udu.h)
+    gf_mat2 Cw;         // F^-1 C: the rows of independent noises Qe
 } gf_kf2_pmeas;
 
 // Checks model as gf_kf2_predict does (A, B, c finite; R symmetric PSD)
