@@ -90,6 +90,35 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
             return GF_ERR_NOT_PSD;
         }
     }
+    if (off > 0 && n == 2u) {
+        // gf_ldl's arithmetic for 2 x 2, in closed form: the first state
+        // of positive variance the pivot, then s_kk - (s_jk / s_jj) s_jk
+        const unsigned j = (s[0] > 0) ? 0u : 1u, k = 1u - j;
+        const gf_real sjj = s[j * stride + j], skk = s[k * stride + k];
+        const gf_real sjk = s[0 * stride + 1];
+        if (!(sjj > 0)) {
+            return GF_ERR_NOT_PSD; // both variances zero, coupled
+        }
+        const gf_real l = sjk / sjj;
+        gf_real dk = skk - l * sjk;
+        if (!(dk >= -GF_PD_RTOL * skk)) {
+            return GF_ERR_NOT_PSD;
+        }
+        if (!(dk > GF_PD_RTOL * skk)) {
+            dk = 0;
+        }
+        if (F) {
+            F[j * 2u + j] = 1;
+            F[k * 2u + k] = 1;
+            F[k * 2u + j] = l;
+            F[j * 2u + k] = 0;
+            d[j] = sjj;
+            d[k] = dk;
+            order[0] = j;
+            order[1] = k;
+        }
+        return GF_OK;
+    }
     if (off > 0) {
         return gf_ldl(s, stride, n, F, d, order);
     }
@@ -174,8 +203,8 @@ static inline void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm,
 }
 
 // The modified weighted Gram-Schmidt: the factors U D U^T (into ud) of
-// W diag(wd) W^T, W n rows of 2n (its columns beyond `cols` zero, so
-// skipped), from the last row up:
+// W diag(wd) W^T, W n rows of 2n (cols of them read), from the last row
+// up:
 //   c = diag(wd) w_j,  d_j = w_j . c,
 //   U_ij = (w_i . c) / d_j,  w_i -= U_ij w_j   (i < j).
 // Each d_j is a weighted sum of squares: never negative. A d_j below
@@ -304,26 +333,28 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud,
             w[i * stride + c] = (c == o)  ? GF_R(1.0)
                                 : (c > o) ? ud[GF_UD(o, c)]
                                           : GF_R(0.0);
+            w[i * stride + n + c] = 0;
         }
     }
     for (unsigned c = 0; c < n; c++) {
         wd[c] = ud[GF_UD(c, c)];
+        wd[n + c] = 0;
     }
-    gf_mwgs(n, n, w, wd, ud);
+    gf_mwgs(n, stride, w, wd, ud);
     for (unsigned k = 0; k < n; k++) {
         perm[k] = np[k];
     }
 }
 
 // One scalar correction (Bierman's update), in place on ud, for the
-// measured quantity z = h x + v, v ~ N(0, r), r >= 0 (h by state), whose
-// innovation at the current mean is y: with f = U^T P^T h, g = D f and
-// alpha_(-1) = r,
+// measured quantity z = h x + v, v ~ N(0, r), r >= 0, whose innovation at
+// the current mean is y; hp = P^T h and dx in the factors' order. With
+// f = U^T hp, g = D f and alpha_(-1) = r,
 //   alpha_j = alpha_(j-1) + f_j g_j,
 //   d_j    <- d_j alpha_(j-1) / alpha_j,
 //   U_ij   <- U_ij - b_i f_j / alpha_(j-1),  b_i <- b_i + U_ij g_j (i < j),
 //   b_j    =  g_j,
-// then K = P b / alpha_(n-1), alpha_(n-1) = h Sigma h^T + r = s:
+// then K = b / alpha_(n-1), alpha_(n-1) = h Sigma h^T + r = s:
 //   dx += K y,  *nis += y^2 / s.
 // A zero alpha (an exact quantity, r = 0, on the states taken so far; or
 // one below GF_REAL_MIN, too small to invert) leaves U as it is (b is zero
@@ -334,18 +365,17 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
 // ud and dx are partly written then.
 static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
-                                      const unsigned char *perm,
-                                      const gf_real *h, gf_real r,
+                                      const gf_real *hp, gf_real r,
                                       gf_real y, gf_real *dx, gf_real *nis)
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
-    // f = U^T P^T h
+    // f = U^T hp
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        gf_real acc = h[perm[j]];
+        gf_real acc = hp[j];
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            acc += ud[GF_UD(i, j)] * h[perm[i]];
+            acc += ud[GF_UD(i, j)] * hp[i];
         }
         f[j] = acc;
     }
@@ -354,10 +384,10 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     if (!(r > 0)) {
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            gf_real t = GF_FABS(h[perm[j]]);
+            gf_real t = GF_FABS(hp[j]);
             GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
-                t += GF_FABS(ud[GF_UD(i, j)] * h[perm[i]]);
+                t += GF_FABS(ud[GF_UD(i, j)] * hp[i]);
             }
             scale += ud[GF_UD(j, j)] * t * t;
         }
@@ -394,7 +424,7 @@ static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
     *nis += y * k;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        dx[perm[j]] += b[j] * k;
+        dx[j] += b[j] * k;
         if (!(ud[GF_UD(j, j)] >= GF_REAL_MIN)) {
             ud[GF_UD(j, j)] = 0;
             GF_UNROLL
@@ -469,23 +499,30 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
     if (perm[n - 1u] != first) {
         gf_udu_reorder(n, ud, perm, first, w, wd);
     }
+    // In the factors' order: hp = P^T h_i, dp = P^T dx
+    gf_real dp[GF_UDU_NMAX];
     *nis = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        dx[j] = 0;
+        dp[j] = 0;
     }
     for (unsigned t = 0; t < m; t++) {
         const unsigned i = rank[t];
-        const gf_real *hi = &hw[i * n];
+        gf_real hp[GF_UDU_NMAX];
         gf_real yi = yw[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            yi -= hi[j] * dx[j];
+            hp[j] = hw[i * n + perm[j]];
+            yi -= hp[j] * dp[j];
         }
-        const gf_status st = gf_udu_update(n, ud, perm, hi, e[i], yi, dx, nis);
+        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis);
         if (st != GF_OK) {
             return st;
         }
+    }
+    GF_UNROLL
+    for (unsigned j = 0; j < n; j++) {
+        dx[perm[j]] = dp[j];
     }
     return GF_OK;
 }
