@@ -76,6 +76,7 @@ static inline gf_status lin_meas(void *ctx, const gf_vec3 *mu, gf_vec3 *z_hat,
 
 typedef struct lib {
     int kind;
+    int prepared; // 1: through _prepare_* and the _prepared steps
     gf_kf2 kf;
     gf_ekf3 ekf;
     lin_ctx ctx;
@@ -84,6 +85,7 @@ typedef struct lib {
 static inline gf_status lib_init(lib *l, const gr_scen *sc)
 {
     l->kind = sc->kind;
+    l->prepared = 0;
     l->ctx.sc = sc;
     l->ctx.theta = (gr_real)sc->mu0[2];
     if (sc->kind == GR_KF2) {
@@ -110,18 +112,31 @@ static inline gf_status lib_predict(lib *l, const gr_scen *sc)
                 mo.R.m[i][j] = sc->R[i][j];
             }
         }
+        if (l->prepared) {
+            gf_kf2_pmodel pm;
+            const gf_status st = gf_kf2_prepare_model(&pm, &mo);
+            return st != GF_OK ? st
+                               : gf_kf2_predict_prepared(&l->kf, &pm, NULL);
+        }
         return gf_kf2_predict(&l->kf, &mo, NULL);
     }
     gf_ekf3_motion mo;
     memset(&mo, 0, sizeof mo);
     memcpy(mo.R.m, sc->R, sizeof mo.R.m);
+    const gf_real *u = NULL;
     if (sc->kind == GR_EKF3_TURN) {
         mo.g = gf_ekf3_motion_forward_turn;
-        return gf_ekf3_predict(&l->ekf, &mo, sc->u);
+        u = sc->u;
+    } else {
+        mo.g = lin_motion;
+        mo.ctx = &l->ctx;
     }
-    mo.g = lin_motion;
-    mo.ctx = &l->ctx;
-    return gf_ekf3_predict(&l->ekf, &mo, NULL);
+    if (l->prepared) {
+        gf_ekf3_pmotion pm;
+        const gf_status st = gf_ekf3_prepare_motion(&pm, &mo);
+        return st != GF_OK ? st : gf_ekf3_predict_prepared(&l->ekf, &pm, u);
+    }
+    return gf_ekf3_predict(&l->ekf, &mo, u);
 }
 
 static inline gf_status lib_update(lib *l, const gr_scen *sc,
@@ -142,6 +157,13 @@ static inline gf_status lib_update(lib *l, const gr_scen *sc,
         }
         me.gate = gate;
         gf_vec2 zz = {{z[0], z[1]}};
+        if (l->prepared) {
+            gf_kf2_pmeas pq;
+            const gf_status st = gf_kf2_prepare_meas(&pq, &me);
+            return st != GF_OK
+                       ? st
+                       : gf_kf2_update_prepared(&l->kf, &pq, &zz, info);
+        }
         return gf_kf2_update(&l->kf, &me, &zz, info);
     }
     gf_ekf3_meas me;
@@ -157,6 +179,12 @@ static inline gf_status lib_update(lib *l, const gr_scen *sc,
     me.gate = gate;
     me.angle_mask = gr_angle_row(sc) >= 0 ? 1u << gr_angle_row(sc) : 0u;
     gf_vec3 zz = {{z[0], z[1], z[2]}};
+    if (l->prepared) {
+        gf_ekf3_pmeas pq;
+        const gf_status st = gf_ekf3_prepare_meas(&pq, &me);
+        return st != GF_OK ? st
+                           : gf_ekf3_update_prepared(&l->ekf, &pq, &zz, info);
+    }
     return gf_ekf3_update(&l->ekf, &me, &zz, info);
 }
 
