@@ -151,8 +151,8 @@ static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_real w[3 * 6], wd[6];
     gf_udu_predict(3, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), nb.ud,
-                                  6))) {
+    if (!gf_sum_finite(
+            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), 3, nb.ud))) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
     *ekf = nb;
@@ -221,8 +221,8 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         nb.mu.v[j] += dx[j];
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), nb.ud,
-                                  6))) {
+    if (!gf_sum_finite(
+            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), 3, nb.ud))) {
         return GF_ERR_NONFINITE;
     }
     *ekf = nb;

@@ -109,8 +109,8 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
     }
     gf_real w[2 * 4], wd[4];
     gf_udu_predict(2, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), nb.ud,
-                                  3))) {
+    if (!gf_sum_finite(
+            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), 2, nb.ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     *kf = nb;
@@ -155,8 +155,8 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     nb.mu.v[0] += dx[0];
     nb.mu.v[1] += dx[1];
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), nb.ud,
-                                  3))) {
+    if (!gf_sum_finite(
+            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), 2, nb.ud))) {
         return GF_ERR_NONFINITE;
     }
     *kf = nb;

@@ -202,6 +202,25 @@ static inline void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm,
     }
 }
 
+// z plus 0 times every number of a belief's factors and every variance
+// U D U^T gives them, sum_(k >= i) U_ik d_k U_ik as gf_udu_to_cov computes
+// it: NaN if one is not finite (finite factors can still give a variance
+// beyond the largest gf_real).
+// For gf_sum_finite.
+static inline gf_real gf_udu_nan_sum(gf_real z, unsigned n, const gf_real *ud)
+{
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        gf_real v = ud[GF_UD(i, i)];
+        GF_UNROLL
+        for (unsigned k = i + 1u; k < n; k++) {
+            v += ud[GF_UD(i, k)] * ud[GF_UD(k, k)] * ud[GF_UD(i, k)];
+        }
+        z += v * GF_R(0.0);
+    }
+    return gf_nan_sum(z, ud, GF_UD_SIZE(n));
+}
+
 // The modified weighted Gram-Schmidt: the factors U D U^T (into ud) of
 // W diag(wd) W^T, W n rows of 2n (cols of them read), from the last row
 // up:

@@ -18,7 +18,8 @@
 #define GF_NAME(name) name##_f64
 #endif
 
-// src/gf_internal.h: internal, defined in mat.c
+// src/gf_internal.h and src/udu.h: internal, defined in mat.c
+#define gf_ldl GF_NAME(gf_ldl)
 #define gf_psd_check GF_NAME(gf_psd_check)
 
 // mat.h
