@@ -20,7 +20,7 @@ for prec in double float; do
         -DGAUSSFILT_BUILD_TESTS=OFF -DGAUSSFILT_BUILD_EXAMPLES=OFF \
         -DGAUSSFILT_SINGLE_PRECISION=$single >/dev/null
     cmake --build "$dir" --parallel 2 >/dev/null
-    for wl in w1 w1p w2 w2c w2m2 w2m3; do
+    for wl in w1 w1p w2 w2p w2c w2m2 w2m3; do
         for part in step predict update ref; do
             "$dir/bench/gf_bench" count "$wl" "$part" 2500
             "$dir/bench/gf_bench" time "$wl" "$part" 100 3 >/dev/null
