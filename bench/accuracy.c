@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The float accuracy benchmark (not a test): the random scenarios of
 // tests/gf_ref.h (those of tests/test_random.c, and more of them) run with
 // gaussfilt, with a textbook Joseph filter in gf_real written in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt LCM pipeline benchmark: publishes measurements for
 // T car tracks at a given rate to a running gf_node and times the beliefs
 // that come back, all over real udpm sockets.

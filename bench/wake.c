@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_wake: what one thread waking another costs on this machine, the floor
 // under every LCM hop (scripts/bench-lcm prints it before its runs).
 //

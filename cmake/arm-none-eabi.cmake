@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Shared by the arm-none-eabi toolchain files: GF_TARGET_CPU_FLAGS is set by
 # the including file. Bare metal: libraries only in try_compile (no
 # startup code for an executable), the sysroot is the toolchain's own.

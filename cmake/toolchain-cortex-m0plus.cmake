@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Cross-compiling for an Arm Cortex-M0+ (no FPU: soft-float ABI, floating
 # point in libgcc) with Debian's gcc-arm-none-eabi and newlib.
 #   cmake -S . -B build/m0p -DCMAKE_TOOLCHAIN_FILE=cmake/toolchain-cortex-m0plus.cmake \

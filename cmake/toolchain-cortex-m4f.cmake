@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Cross-compiling for an Arm Cortex-M4F (single-precision FPU, hard-float
 # ABI) with Debian's gcc-arm-none-eabi and newlib. Use with the float build:
 #   cmake -S . -B build/m4f -DCMAKE_TOOLCHAIN_FILE=cmake/toolchain-cortex-m4f.cmake \

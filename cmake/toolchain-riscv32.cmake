@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Cross-compiling for a 32-bit RISC-V MCU (RV32IMAFC, single-precision FPU,
 # ilp32f ABI) with Debian's gcc-riscv64-unknown-elf, which ships rv32
 # multilibs, and picolibc (the Debian package has no newlib for RISC-V).

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Prints gf_node's beliefs as they arrive, and plots one track.
 
     python examples/beliefs.py [--url URL] [--track N] [--plot FILE.png]

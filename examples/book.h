@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The book's exercises, every number in one place: Probabilistic Robotics,
 // chapter 3, exercises 1, 2 and 4, as the in-process program
 // (examples/exercises.c), the simulator (gf_sim --exercise), the node's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Exercise 4 three ways, as data for a figure (scripts/ex4-figure): EKF3,
 // UKF3 and PF3 from the same prior, one move of 1, one observation
 // x = -0.7. Prints one record a line:

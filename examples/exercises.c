@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Prints the exercise tables of Probabilistic Robotics chapter 3 as
 // gaussfilt computes them, beside the values the seed prints
 // (../shared/seeds/000_da0a77abadc93716.txt). Exit status 1 if any value

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The minimal firmware image of the footprint report. Built twice from this
 // file: gf_fw_min (GF_FW_WITH_FILTERS: one KF2 step and one EKF3 step with
 // the built-in models, the exercises' numbers) and gf_fw_base (the same

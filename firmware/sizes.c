@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // For scripts/footprint: one array per public struct, sized sizeof(T), so
 // that the cross target's nm reports each struct's size without running
 // anything on the target.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Start-up code for the firmware images and the on-target tests: the
 // Cortex-M vector table and a reset handler that enables the FPU (when the
 // build uses it), copies .data from flash, zeroes .bss and calls main().

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer target for the core API: the input is a little program of
 // calls (init, predict, update of KF2 and EKF3 with arbitrary models,
 // beliefs and measurements, and the matrix and covariance helpers), each

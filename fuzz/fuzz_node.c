@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer target for the filter node's message handling
 // (sim/node_core.c, gf_node_handle): arbitrary channels and bytes, exactly
 // as LCM would deliver them, through one node. After every message it

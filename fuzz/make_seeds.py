@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Writes the seed corpus of fuzz_core (fuzz/corpus/core/), in the input
 encoding described at the top of fuzz_core.c: the book's exercises as call
 programs, plus one input per helper. Run once; the output is committed."""

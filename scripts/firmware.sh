@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Shared by the firmware stages (scripts/test.d/3*-*.sh) and
 # scripts/footprint: the cross targets, their toolchains, and building the
 # firmware project for one of them. Sourced after lib.sh, not run.

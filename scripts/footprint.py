@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """The firmware footprint report, from the build trees scripts/footprint
 made: per module and target .text/.rodata/.data/.bss, sizeof of the public
 structs, worst-case stack depth of every public function, and the minimal

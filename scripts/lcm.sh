@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # LCM for scripts/test.d/20-lcm.sh and scripts/demo: installs what the
 # streaming side needs and builds sim/. Sourced after lib.sh, not run.
 #

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Shared by the scripts in scripts/: logging, installing what is missing,
 # the project's Python venv, and ctest with a running tally. Sourced, not run.
 

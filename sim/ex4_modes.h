@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt sim: what exercise 4 must look like after z = -0.7, checked on
 // what a node put on the wire (gf_ex4check over udpm, test_node_filters in
 // process). Header-only; analysis of received values, no filter math.

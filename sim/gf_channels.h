@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt sim: every LCM channel name, in one place. (sim/tools/*.py
 // repeat the prefixes; keep them in step.)
 //

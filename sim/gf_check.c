@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_check: listens to one track's beliefs on the wire and checks them
 // against a table of the seed (Probabilistic Robotics, chapter 3 exercises).
 // Prints the beliefs beside the seed's values; exit 0 only if they agree.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_ex4check: exercise 4 three ways, checked from the wire. Listens to
 // three robot tracks run by three nodes (gf_node --filter ekf|ukf|pf), each
 // fed `gf_sim --exercise 4`, and checks what each filter must show

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_help.h: --help for sim's programs. Header-only.
 //
 //   gf_help(argc, argv, text): if any argument is --help or -h, prints

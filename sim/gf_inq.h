@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_inq.h: gf_node's input queue, between LCM's dispatch and the thread
 // that filters and publishes. Header-only, POSIX threads; one producer
 // (the thread that calls lcm_handle) and one consumer.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_logcmp: compares the events of LCM log files, channel and payload
 // byte for byte (the log's own timestamps are ignored: they are the time of
 // writing).

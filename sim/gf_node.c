@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_node: the filter node. Subscribes to the controls, measurements and
 // models of its tracks over LCM; LCM's dispatch copies each message into
 // the node's input queue (gf_inq.h), and a handling thread hands it to

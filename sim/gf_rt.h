@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_rt.h: real-time placement for the LCM programs (gf_node, gf_lcmbench),
 // the way a latency-critical node is deployed: threads pinned to CPUs,
 // SCHED_FIFO, memory locked (mlockall, as root or with an unlimited

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_setmodel: sets one track's model in a running gf_node, by publishing
 // a model_t (lcm_types/model_t.lcm) on GF_MODEL_<track>.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_sim: the simulators of the exercises, publishing over LCM.
 //
 //   gf_sim --model car|robot [--track N] [--steps N] [--seed S] [--rate HZ]

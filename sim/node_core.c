@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt sim: the filter node's message handling (see node_core.h).
 // Only message checking and bookkeeping live here; every filter step is a
 // call into the core (gf_kf2_*, gf_ekf3_*, gf_ukf3_*, gf_pf3_*).

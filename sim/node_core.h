@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt sim: the filter node's message handling, with no sockets.
 //
 // gf_node_handle() takes one LCM message (channel + bytes, exactly as LCM

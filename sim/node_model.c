@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt sim: track models as data and the configuration file (see
 // node_model.h). This builds the core's model structs from numbers and
 // holds the range-bearing measurement callback; every filter step stays in

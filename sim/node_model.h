@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt sim: a track's model as data, and the configuration file that
 // maps channel patterns to models (gf_node --config, gf_sim --config).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Angles without libm: wrapping to (-pi, pi] and sin/cos by polynomials.
 //
 // Nearest-integer rounding uses the "magic number" trick: for |q| below

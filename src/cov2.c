@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "gaussfilt/cov2.h"
 
 gf_status gf_cov2_correlation(const gf_mat2 *s, gf_real *rho)

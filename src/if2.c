@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "gaussfilt/if2.h"
 
 #include "gf_internal.h"

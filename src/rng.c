@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "gaussfilt/rng.h"
 
 static uint32_t rotl(uint32_t x, unsigned k)

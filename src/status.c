@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "gaussfilt/status.h"
 
 const char *gf_status_str(gf_status status)

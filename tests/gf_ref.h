@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by tests/test_random.c and bench/accuracy.c: seeded random
 // scenarios for KF2 and EKF3, a reference Joseph filter in long double (the
 // batch form; its perturbed copies, which measure a scenario's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by tests/test_random.c and bench/accuracy.c: the filter under test
 // (KF2 or EKF3, through the public API) driven by the scenarios of
 // tests/gf_ref.h, with the test's own linear EKF3 models. Test code.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by the gaussfilt tests: the tolerances, stated once, and the
 // checks built on them.
 #ifndef GF_TEST_H

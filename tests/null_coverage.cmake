@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Fails unless tests/test_null.c calls every function declared in
 # include/gaussfilt/*.h: a public function added later needs its NULL
 # cases there. Run by ctest as `null_coverage`:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_sincos against long double sinl/cosl over (-GF_PI, GF_PI], the range
 // gf_angle_wrap returns (every heading the filters keep): the error
 // relative to the true value (in ulps of it) and absolute, worst case over

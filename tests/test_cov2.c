@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Correlation and uncertainty ellipses of 2-D covariances (Figures 1.1,
 // 1.2, 2.1 and 4.1 of the seed draw 68% ellipses).
 #include "gf_test.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // EKF3 against exercise 4 of Probabilistic Robotics chapter 3
 // (../shared/seeds/000_da0a77abadc93716.txt): Tables 4.1 and 4.2.
 #include "gf_test.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Exercise 3 as a property test: the prediction step of the Kalman filter
 // is what happens to samples. Draw x_{t-1} ~ N(mu, Sigma) and
 // eps ~ N(0, R), push them through x_t = A x_{t-1} + B u + eps, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Exercise 4 three ways: the robot at the origin, heading unknown
 // (variance 10000), moves 1 forward, then observes x = -0.7 (variance
 // 0.01). It must be near (-0.7, +0.714) or (-0.7, -0.714).

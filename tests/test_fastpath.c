@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // KF2's and EKF3's steps (the factored update of src/udu.h) against a
 // plain textbook implementation written here: full matrix products, the factored Joseph
 // form (I - K H) Sigma (I - K H)^T + K Q K^T, and a general G. Random

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // IF2, the information filter, golden-tested beside KF2 on exercises 1, 2
 // and 5, and on what only the canonical form can hold.
 #include "gf_test.h"

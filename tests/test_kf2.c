@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // KF2 against exercises 1, 2 and 5 of Probabilistic Robotics chapter 3
 // (../shared/seeds/000_da0a77abadc93716.txt): Table 1.1, Figure 1.2,
 // Table 2.1, and the additive constants of exercise 5.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Small-matrix math: products, sandwich, symmetrization, PSD checks,
 // SPD solves, the closed-form 2x2 eigen-decomposition and angle wrapping.
 #include "gf_test.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // NULL safety of every public function of every header in
 // include/gaussfilt/: each pointer argument (and each pointer a call reads
 // through: a model's callback, a filter's particle array) NULL in turn.

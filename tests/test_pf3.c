@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // PF3: sampling, weighting, low-variance resampling in place, summaries,
 // determinism, and the promise that a failing call leaves the belief (the
 // struct, its generator and every particle) as it was. Exercise 4 is in

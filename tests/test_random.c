@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // KF2 and EKF3 against a reference Joseph filter in long double, on seeded
 // random scenarios (tests/gf_ref.h): prior/noise variance ratios up to
 // GR_RATIO_MAX, prior correlation forms with condition numbers up to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The defects found in the core, each as the smallest call sequence that
 // showed it, against long-double values computed here or exact ones:
 // the scalar update collapsing the covariance, verdicts that depended on

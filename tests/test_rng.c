@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_rng and gf_mat3_sqrt_psd: the generator's known answers and
 // determinism, the moments of its uniform and normal draws, and the
 // semidefinite square root that sigma points and samples are made with.

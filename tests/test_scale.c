@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Verdicts do not depend on units: for s = 2^k, k = -K..K (K = 60 in
 // float, 500 in double: every entry of s M and every product of two of
 // them stays a normal number, products of three do not), s M gets the

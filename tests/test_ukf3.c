@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // UKF3: exact on linear models (where it must equal the Kalman filter, for
 // any scaling), angle-aware across +-pi, and every bad input refused with
 // the belief unchanged. Exercise 4 is in test_ex4.c.

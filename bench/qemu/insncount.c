@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // insncount: a QEMU TCG plugin that counts the guest instructions executed
 // between two marked addresses, for the Cortex-M4F benchmark image
 // (bench/m4f.c). Debian's qemu 7.2 installs no plugin header, so the few

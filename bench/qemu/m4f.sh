@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Counting on the Cortex-M4F: building the insncount plugin and the
 # benchmark image (bench/m4f.c), and running the image under QEMU with the
 # plugin. Shared by scripts/bench and scripts/test.d/40-bench-smoke.sh;

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Where the instructions of each report of the Cortex-M4F benchmark image
 go, by function: reads the image's output (its "bench WL PART N" lines)
 and the insncount plugin's log of a profile=on run (bench/qemu/m4f.sh,

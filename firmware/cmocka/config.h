@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 /* cmocka's config.h for newlib on a bare-metal Arm target (semihosting via
    rdimon), in place of the one cmocka's own CMake would generate by probing
    the host. What is left out, and why:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: the scalar type and the few math hooks the core uses.
 //
 // The scalar type is chosen here, once. Double by default; define

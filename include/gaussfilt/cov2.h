@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: what a 2-D covariance says: correlation and uncertainty ellipse.
 #ifndef GAUSSFILT_COV2_H
 #define GAUSSFILT_COV2_H

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: allocation-free Gaussian filters in C99. Include this, or the
 // one module header you need.
 #ifndef GAUSSFILT_GAUSSFILT_H

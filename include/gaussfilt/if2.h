@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: IF2, the information filter (Table 3.6 of Probabilistic
 // Robotics) on KF2's state x = (position, velocity) and KF2's models.
 //

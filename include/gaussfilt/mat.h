@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: fixed-size 2x2 and 3x3 matrix math, only what the filters need.
 //
 // Matrices are row-major structs (m[row][col]) so they copy by assignment.

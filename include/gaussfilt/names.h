@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: every public function's link name carries the precision it was
 // compiled for, so a program and a library built for different gf_real
 // cannot link: a float library (GF_SINGLE_PRECISION) defines

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: PF3, a particle filter (Tables 4.3 and 4.4 of Probabilistic
 // Robotics) on EKF3's state x = (x, y, theta) with EKF3's callbacks: a
 // particle moves by g(u, x) plus a draw of N(0, R), and is weighted by the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: a small deterministic random number generator the caller owns
 // and seeds, for the particle filter and for tests that sample.
 //

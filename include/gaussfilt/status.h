@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: the one status enum every call returns.
 #ifndef GAUSSFILT_STATUS_H
 #define GAUSSFILT_STATUS_H

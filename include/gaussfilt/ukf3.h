@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gaussfilt: UKF3, the unscented Kalman filter (Table 3.4 of Probabilistic
 // Robotics) on EKF3's state x = (x, y, theta), with EKF3's motion and
 // measurement callbacks (their Jacobian outputs are ignored: the UKF

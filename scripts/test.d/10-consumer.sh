@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Another project takes gaussfilt the ways README.md's "Vendoring" shows,
 # each with the README's own text (taken out between its marker comments,
 # so the README cannot drift from what is tested):

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The core and its tests built with clang, warnings as errors, double and
 # float (scripts/test's core stage uses gcc).
 set -euo pipefail

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Stage lcm: the LCM message types, filter node and simulators (sim/),
 # built against PyPI lcm 1.5 in .venv, and their tests: encode/decode of
 # every type, the node's handling (duplicates, order, malformed, non-finite,

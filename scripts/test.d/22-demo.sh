@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Stage demo: scripts/demo with the exercises' numbers changed (exercise
 # 2's measurement variance, exercise 4's heading variance) streams, checks,
 # draws every figure, exits 0 and names each table that differs from the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Cross-builds of the core, warnings as errors, for every firmware target
 # (Cortex-M4F, Cortex-M0+, RV32IMAFC) in float and double, and the link
 # check: a minimal image running KF2 and EKF3 pulls in no malloc, free,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The golden tests on an emulated Cortex-M4F: every tests/test_*.c, built
 # unchanged for QEMU's mps2-an386 (float build, newlib + semihosting) and
 # run from ctest. cmocka is not packaged for arm-none-eabi, so its source

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Static analysis of the core (src/, include/), all clean or the stage fails:
 #   cppcheck (warning, style, performance, portability) with its MISRA C:2012
 #   addon: the deviations kept are in scripts/analysis/misra-suppressions.txt

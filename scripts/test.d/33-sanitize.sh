@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The whole ctest suite under AddressSanitizer and UndefinedBehaviorSanitizer
 # (host gcc), in double and in float. Any report aborts the test that made
 # it (-fno-sanitize-recover), so ctest fails.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Smoke stage for the benchmarks: builds bench/gf_bench in double and float
 # and runs every workload and part for a few steps, runs the Cortex-M4F
 # benchmark image once under QEMU and the insncount plugin, and runs the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Bounded fuzzing (about a minute per fuzz target source): libFuzzer with
 # ASan + UBSan on the core API, gf_real double (40 s) and float (20 s), and
 # on the LCM node's message handling (60 s, once sim/ is there), starting

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Stage net: the LCM node under network faults (a seeded drop/dup/reorder/
 # delay relay, node and simulator restarts, every message reconciled), two
 # nodes over a veth pair sharing the tracks, and a few seconds of load

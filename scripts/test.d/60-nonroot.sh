@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # scripts/test as a user who is not root, in a throwaway copy of the tree
 # (under /tmp, owned by that user, deleted afterwards). Run as root, which
 # creates the user (gf-nonroot) once.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_consist: statistical consistency of the node's beliefs, from the wire.
 // Reads beliefs (GF_BELIEF_<id>) and the simulator's truths (GF_TRUTH_<id>)
 // of M tracks, each one Monte-Carlo run of `gf_sim --config F --model NAME

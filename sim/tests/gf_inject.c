@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_inject: publishes broken messages on one track's node channels, to
 // show the node counts them, drops them and keeps answering.
 //

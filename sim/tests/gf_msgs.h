@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by the sim tests: building encoded controls and measurements, and
 // catching the beliefs a node publishes.
 #ifndef GF_MSGS_H

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # cmake --install of the sim build into a scratch prefix: every program is
 # installed, and `PROGRAM --help` says what it does, its usage and an
 # example, and exits 0; the types and the examples are there too.

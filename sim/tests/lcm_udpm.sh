@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Multi-process LCM tests over udpm: simulator, filter node and checker run
 # as separate processes and talk over real UDP multicast sockets.
 #

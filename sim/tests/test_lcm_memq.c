@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // In-process publish/subscribe through LCM's memq:// provider: the node's
 // handler subscribed by channel regex, a belief listener, and the
 // exercises published as encoded messages. Real liblcm, no sockets.

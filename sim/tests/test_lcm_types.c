@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The message types: every type survives encode/decode bit for bit, the
 // sizes are what we document, and decoding one type's bytes as another is
 // detected (the fingerprint), as is a truncated message.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The node's message handling without sockets (node_core.c): the exercise
 // tables through gf_node_handle, and every way a message can be refused.
 #include <setjmp.h>

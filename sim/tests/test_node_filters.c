@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The node's robot filters beyond the EKF (gf_node_set_filter, gf_node
 // --filter): exercise 4 through UKF3 and PF3 tracks, checked on the bytes
 // the node published (beliefs and particles_t clouds); the PF pool's

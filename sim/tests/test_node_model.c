@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The node's models as data (node_model.h) and its edges (node_core.h), in
 // process: the configuration file and its errors, a run-time model_t
 // between two steps against the core run directly with the new model, the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The live part of scripts/demo: node, simulators, checkers and lcm-logger
 # as separate processes over LCM udpm (ttl=0). scripts/demo runs it inside
 # a private network namespace when root (GF_IN_NETNS=1: lo up, multicast

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Draws the seed's figures from an LCM log recorded by scripts/demo, or
 from the beliefs examples/exercises --beliefs wrote (scripts/demo --core).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """LCM multicast self-test: publishes one message on URL and must hear it
 back within a second (channel GF_SELFTEST, sim/gf_channels.h).
 

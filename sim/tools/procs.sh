@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Background processes for the multi-process scripts (sim/tests/lcm_udpm.sh,
 # tests/net/net.sh, sim/tools/demo_live.sh). Sourced, not run:
 #

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A bare-metal application for the vendoring tests: KF2 with a two-value
 // measurement, the 68% ellipse of its covariance and one EKF3 step, so
 // that the image needs sqrtf, atan2f and logf from libm. Inputs and

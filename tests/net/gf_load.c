@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gf_load: load for the node. Many car tracks from one process: every
 // step of every track is a control and a position measurement (variance
 // 10) on GF_CTRL_<n> / GF_MEAS_<n>, tracks F..F+N-1 (--first F, default

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """gf_netcheck: the network tests' listener and bookkeeper.
 
     gf_netcheck.py listen URL FILE

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """gf_relay: a fault-injecting LCM relay between two LCM URLs.
 
     gf_relay.py --in URL --out URL --log FILE [--seed S] [--drop P] [--dup P]

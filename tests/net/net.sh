@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Network tests of the LCM node: faults, scale-out, load.
 #
 #   net.sh SCENARIO PORT BIN_DIR PYTHON LCM_PYTHONPATH WORK_DIR [SECONDS]

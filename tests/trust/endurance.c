@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Float endurance: runs KF2 and EKF3 for many steps in float and in double
 // side by side on the same inputs (controls and measurements from a
 // simulated truth, fixed seed) and checks, at every step:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The interface between the endurance driver and the filter steps, which
 // are compiled twice: once with gf_real = double (names ending in _d) and
 // once with gf_real = float (names ending in _f, every gf_ symbol of that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The filter half of the endurance test, in whatever precision gf_real is
 // (see endurance.h). ENDURANCE_SUFFIX is d or f.
 #include <math.h>

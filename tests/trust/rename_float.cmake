@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # cmake -DNM=... -DOBJCOPY=... -DIN=lib.a -DOUT=lib.a -P rename_float.cmake
 # Copies the archive IN to OUT with every defined gf_ symbol renamed gff_
 # (definitions and the references to them), so a float copy of the core can

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Statistical consistency of KF2 and EKF3 (Bar-Shalom, Li, Kirubarajan,
 // "Estimation with Applications to Tracking and Navigation", 5.4): on data
 // drawn from the very model the filter assumes, the normalised estimation

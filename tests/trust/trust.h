@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by the trust tests (consistency, endurance): a deterministic
 // random number generator with a Gaussian sampler, the chi-square and
 // binomial quantiles the consistency bounds come from, and small

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Decodes every event of an LCM log whose channel starts with GF_ the way
 // lcm-spy does: the class comes from the fingerprint (lcm.spy.LCMTypeDatabase
 // scans the CLASSPATH, gaussfilt_lcm_types.jar included), then the class's
