@@ -140,9 +140,10 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
 // t_k = d_k U_jk (s read at the states perm[i], perm[j]):
 //   d_j  = s_jj - sum_(k>j) U_jk t_k,
 //   U_ij = (s_ij - sum_(k>j) U_ik t_k) / d_j.
-// A pivot up to GF_PD_RTOL s_jj (the verdict's zero: that direction is
-// known exactly once the later states are) is zero, with a zero column of
-// U. s's upper triangle is read.
+// Every positive pivot is kept, however small (a direction taken as known
+// exactly because its variance is at the rounding level of the others
+// would make the filter overconfident there); one below GF_REAL_MIN is
+// zero, with a zero column of U. s's upper triangle is read.
 static inline void gf_udu_factor(const gf_real *s, unsigned stride,
                                  unsigned n, gf_real *ud, unsigned char *perm)
 {
@@ -159,7 +160,7 @@ static inline void gf_udu_factor(const gf_real *s, unsigned stride,
         for (unsigned k = j + 1u; k < n; k++) {
             dj -= ud[GF_UD(j, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
         }
-        const int pos = dj > GF_PD_RTOL * sjj && dj >= GF_REAL_MIN;
+        const int pos = dj >= GF_REAL_MIN;
         for (unsigned i = 0; i < j; i++) {
             const unsigned si = perm[i];
             gf_real r = s[(si < sj ? si : sj) * stride + (si < sj ? sj : si)];
