@@ -78,7 +78,9 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
                                          unsigned *order)
 {
     gf_real off = 0; // the sum of |off-diagonal entries|
+    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        GF_UNROLL
         for (unsigned j = i + 1u; j < n; j++) {
             const gf_real x = s[i * stride + j], y = s[j * stride + i];
             if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
@@ -123,9 +125,11 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
         return gf_ldl(s, stride, n, F, d, order);
     }
     if (F) {
+        GF_UNROLL
         for (unsigned i = 0; i < n; i++) {
             d[i] = s[i * stride + i];
             order[i] = i;
+            GF_UNROLL
             for (unsigned j = 0; j < n; j++) {
                 F[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
             }
@@ -208,7 +212,7 @@ static inline void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm,
 // it: NaN if one is not finite (finite factors can still give a variance
 // beyond the largest gf_real).
 // For gf_sum_finite.
-static inline gf_real gf_udu_nan_sum(gf_real z, unsigned n, const gf_real *ud)
+GF_ALWAYS_INLINE gf_real gf_udu_nan_sum(gf_real z, unsigned n, const gf_real *ud)
 {
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
@@ -231,7 +235,7 @@ static inline gf_real gf_udu_nan_sum(gf_real z, unsigned n, const gf_real *ud)
 // GF_REAL_MIN (every term zero, or too few digits to tell it from zero) is
 // zero, with a zero column of U: that state is known exactly once the
 // later ones are. w is overwritten.
-static inline void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
+GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
                            const gf_real *wd, gf_real *ud)
 {
     const unsigned stride = 2u * n;
@@ -303,7 +307,7 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud,
 // The state measured by the row h (by state) with the largest share of
 // h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal (by
 // state), sum_(k >= i) U_ik^2 d_k for the state perm[i].
-static inline unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
+GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
                                          const unsigned char *perm,
                                          const gf_real *h, gf_real *sigma_d)
 {
