@@ -170,10 +170,11 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                         gf_innovation *info)
 {
     const unsigned m = meas->m;
-    // z_hat and the m rows of H the callback fills arrive as zeros
+    // z_hat and the rows of H the callback fills arrive as zeros
     gf_vec3 zh;
     gf_mat3 H;
-    for (unsigned i = 0; i < m; i++) {
+    GF_UNROLL
+    for (unsigned i = 0; i < 3u; i++) {
         zh.v[i] = 0;
         H.m[i][0] = H.m[i][1] = H.m[i][2] = 0;
     }
@@ -181,13 +182,22 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), zh.v, m), H.m[0],
-                                  3 * m))) {
+    // only the m rows are the callback's answer
+    gf_real f = GF_R(0.0);
+    GF_UNROLL
+    for (unsigned i = 0; i < 3u; i++) {
+        if (i < m) {
+            f = gf_nan_sum(f + zh.v[i] * GF_R(0.0), H.m[i], 3);
+        }
+    }
+    if (!gf_sum_finite(f)) {
         return GF_ERR_NONFINITE;
     }
     gf_innovation in;
     gf_real yw[3];
     in.m = m;
+    // y = z - z_hat, angle residuals wrapped
+    GF_UNROLL
     for (unsigned i = 0; i < 3u; i++) {
         in.y[i] = 0;
         if (i < m) {
@@ -195,8 +205,8 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
             if (meas->angle_mask & (1u << i)) {
                 in.y[i] = gf_angle_wrap(in.y[i]);
             }
-            yw[i] = in.y[i];
         }
+        yw[i] = in.y[i];
     }
     if (m > 1u) {
         gf_udu_whiten(pq->Qf, pq->Qorder, m, yw, 1);
