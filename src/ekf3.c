@@ -209,10 +209,9 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         yw[i] = in.y[i];
     }
     if (m > 1u) {
-        gf_udu_whiten(pq->Qf, pq->Qorder, m, yw, 1);
-        for (unsigned j = 0; j < 3u; j++) {
-            gf_udu_whiten(pq->Qf, pq->Qorder, m, &H.m[0][j], 3);
-        }
+        // H_w = F^-1 H, y_w = F^-1 y
+        gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, H.m[0], 3);
+        gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, yw, 1);
     }
     gf_ekf3 nb = *ekf;
     gf_real dx[3], w[3 * 6], wd[6];

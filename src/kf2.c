@@ -53,11 +53,10 @@ static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     if (st != GF_OK) {
         return st;
     }
-    // C_w = F^-1 C, column by column
+    // C_w = F^-1 C
     pq->Cw = meas->C;
     if (m > 1u) {
-        gf_udu_whiten(pq->Qf, pq->Qorder, m, &pq->Cw.m[0][0], 2);
-        gf_udu_whiten(pq->Qf, pq->Qorder, m, &pq->Cw.m[0][1], 2);
+        gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, pq->Cw.m[0], 2);
     }
     return GF_OK;
 }
@@ -138,7 +137,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
         yw[i] = in.y[i];
     }
     if (m > 1u) {
-        gf_udu_whiten(pq->Qf, pq->Qorder, m, yw, 1);
+        gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, yw, 1);
     }
     gf_kf2 nb = *kf;
     gf_real dx[2], w[2 * 4], wd[4];

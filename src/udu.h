@@ -478,6 +478,26 @@ static inline void gf_udu_whiten(const gf_real *f, const unsigned *order,
     }
 }
 
+// gf_udu_whiten's substitution on m rows of `cols` entries at once (x
+// row-major: a quantity's row, then the next), each column whitened as
+// gf_udu_whiten would: the same arithmetic, one pass over Q's factor.
+GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
+                                         const unsigned *order, unsigned m,
+                                         gf_real *x, unsigned cols)
+{
+    for (unsigned t = 1; t < m; t++) {
+        gf_real *xi = &x[order[t] * cols];
+        for (unsigned u = 0; u < t; u++) {
+            const unsigned k = order[u];
+            const gf_real fik = f[order[t] * m + k];
+            GF_UNROLL
+            for (unsigned c = 0; c < cols; c++) {
+                xi[c] -= fik * x[k * cols + c];
+            }
+        }
+    }
+}
+
 // The correction with m whitened quantities (rows of hw, stride n, by
 // state; e their noises; yw their whitened innovations at mu_bar): the
 // quantities in the order of how much they tell, the largest
@@ -502,6 +522,7 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
         gf_real tell[GF_UDU_NMAX];
         for (unsigned i = 0; i < m; i++) {
             gf_real v = 0;
+            GF_UNROLL
             for (unsigned s = 0; s < n; s++) {
                 v += hw[i * n + s] * hw[i * n + s] * sd[s];
             }
