@@ -98,6 +98,7 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
 {
     gf_kf2 nb = *kf;
     const gf_real *mu = kf->mu.v;
+    GF_UNROLL
     for (unsigned i = 0; i < 2u; i++) {
         gf_real acc = model->A.m[i][0] * mu[0] + model->A.m[i][1] * mu[1] +
                       model->c.v[i];
@@ -129,11 +130,15 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
     gf_innovation in;
     gf_real yw[2];
     in.m = m;
-    in.y[1] = in.y[2] = 0;
-    for (unsigned i = 0; i < m; i++) {
-        in.y[i] = z->v[i] - meas->c.v[i] -
-                  (meas->C.m[i][0] * kf->mu.v[0] +
-                   meas->C.m[i][1] * kf->mu.v[1]);
+    in.y[2] = 0;
+    GF_UNROLL
+    for (unsigned i = 0; i < 2u; i++) {
+        in.y[i] = 0;
+        if (i < m) {
+            in.y[i] = z->v[i] - meas->c.v[i] -
+                      (meas->C.m[i][0] * kf->mu.v[0] +
+                       meas->C.m[i][1] * kf->mu.v[1]);
+        }
         yw[i] = in.y[i];
     }
     if (m > 1u) {
