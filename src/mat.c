@@ -8,17 +8,24 @@
 // ---- the verdict and the factors of a covariance passed in ------------
 
 gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
-                 gf_real *d, unsigned *order)
+                 gf_real *d, unsigned *order, gf_real *a, unsigned *p)
 {
     const gf_real rtol = GF_PD_RTOL;
-    gf_real a[3][3]; // the Schur complements (upper triangle, by state)
-    unsigned p[3] = {0, 1, 2}; // p[t..n-1]: the states not pivots yet
-    if (n > 3u) {
-        return GF_ERR_ARG;
+    gf_real a3[3 * 3];
+    unsigned p3[3];
+    if (!a || !p) { // n <= 3: the caller's scratch is here
+        if (n > 3u) {
+            return GF_ERR_ARG;
+        }
+        a = a3;
+        p = p3;
     }
+    // a: the Schur complements (upper triangle, by state, rows of n);
+    // p[t..n-1]: the states not pivots yet
     for (unsigned i = 0; i < n; i++) {
+        p[i] = i;
         for (unsigned k = i; k < n; k++) {
-            a[i][k] = s[i * stride + k];
+            a[i * n + k] = s[i * stride + k];
         }
     }
     // The first pivot: all ratios are 1 there (0 for a zero variance):
@@ -42,7 +49,7 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
             for (unsigned u = t; u < n; u++) {
                 const unsigned k = p[u];
                 const gf_real skk = s[k * stride + k];
-                const gf_real ratio = (skk > 0) ? a[k][k] / skk : GF_R(0.0);
+                const gf_real ratio = (skk > 0) ? a[k * n + k] / skk : GF_R(0.0);
                 if (ratio > best) {
                     best = ratio;
                     at = u;
@@ -53,7 +60,7 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
             p[t] = sw;
         }
         const unsigned j = p[t];
-        const gf_real pj = a[j][j];
+        const gf_real pj = a[j * n + j];
         if (!(pj > rtol * s[j * stride + j])) { // (NaN fails)
             break; // this one and every state left are zero: below
         }
@@ -69,7 +76,7 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
         // a_ik -= (a_ij / a_jj) a_jk over the states left, upper triangle
         for (unsigned u = t + 1u; u < n; u++) {
             const unsigned i = p[u];
-            const gf_real aij = (i < j) ? a[i][j] : a[j][i];
+            const gf_real aij = (i < j) ? a[i * n + j] : a[j * n + i];
             const gf_real l = aij / pj;
             if (F) {
                 F[i * n + j] = l;
@@ -77,7 +84,7 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
             for (unsigned v = t + 1u; v < n; v++) {
                 const unsigned k = p[v];
                 if (k >= i) {
-                    a[i][k] -= l * ((k < j) ? a[k][j] : a[j][k]);
+                    a[i * n + k] -= l * ((k < j) ? a[k * n + j] : a[j * n + k]);
                 }
             }
         }
@@ -91,14 +98,14 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
     for (unsigned u = t; u < n; u++) {
         const unsigned k = p[u];
         const gf_real skk = s[k * stride + k];
-        if (!(a[k][k] >= -rtol * skk)) {
+        if (!(a[k * n + k] >= -rtol * skk)) {
             return GF_ERR_NOT_PSD;
         }
         for (unsigned w = t; w < u; w++) {
             const unsigned i = p[w];
-            const gf_real aii = a[i][i] > 0 ? a[i][i] : GF_R(0.0);
-            const gf_real akk = a[k][k] > 0 ? a[k][k] : GF_R(0.0);
-            const gf_real aik = (i < k) ? a[i][k] : a[k][i];
+            const gf_real aii = a[i * n + i] > 0 ? a[i * n + i] : GF_R(0.0);
+            const gf_real akk = a[k * n + k] > 0 ? a[k * n + k] : GF_R(0.0);
+            const gf_real aik = (i < k) ? a[i * n + k] : a[k * n + i];
             if (!gf_coupled_ok(aik, aii + rtol * s[i * stride + i],
                                akk + rtol * skk)) {
                 return GF_ERR_NOT_PSD;

@@ -30,14 +30,19 @@
 #ifndef GAUSSFILT_SRC_UDU_H
 #define GAUSSFILT_SRC_UDU_H
 
+#include <stddef.h>
+
 #include "gf_internal.h"
 
 #define GF_UD(i, j) ((j) * ((j) + 1u) / 2u + (i))
 #define GF_UD_SIZE(n) ((n) * ((n) + 1u) / 2u)
 
 
-// The largest n these functions take (the size of their O(n) locals).
+// The largest n these functions take (the size of their O(n) locals): a
+// source that includes this header for larger filters defines it first.
+#ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX 3u
+#endif
 
 // 1 if x^2 <= y z for y, z >= 0, without a product that could overflow
 // or a square root: (x / y) x <= z, and for y = 0 only x = 0. The same
@@ -63,19 +68,20 @@ static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
 // each variance left must be >= -GF_PD_RTOL times its own and each entry
 // left coupling two of them within the 2x2 bound a_ik^2 <= a_ii a_kk, both
 // sides widened by GF_PD_RTOL times their variance; else GF_ERR_NOT_PSD.
-// GF_ERR_ARG for n > 3.
+// a (n x n) and p (n) are scratch; NULL for n <= 3 (GF_ERR_ARG beyond).
 gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
-                 gf_real *d, unsigned *order);
+                 gf_real *d, unsigned *order, gf_real *a, unsigned *p);
 
 // The verdict on a finite covariance passed in (R, Q, a prior) and, where
-// F, d and order are not NULL, its factors as gf_ldl's: symmetric within
+// F, d and order are not NULL, its factors as gf_ldl's (a, p: its scratch): symmetric within
 // GF_SYM_RTOL (|s_ij - s_ji| <= GF_SYM_RTOL (|s_ij| + |s_ji|), the same for
 // any scale), no negative variance, then gf_ldl's verdict; a diagonal
 // matrix (the usual noise) is its own factorisation (F = I). Else
 // GF_ERR_NOT_PSD.
-GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
-                                         unsigned n, gf_real *F, gf_real *d,
-                                         unsigned *order)
+GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
+                                           unsigned n, gf_real *F, gf_real *d,
+                                           unsigned *order, gf_real *a,
+                                           unsigned *p)
 {
     gf_real off = 0; // the sum of |off-diagonal entries|
     GF_UNROLL
@@ -122,7 +128,7 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
         return GF_OK;
     }
     if (off > 0) {
-        return gf_ldl(s, stride, n, F, d, order);
+        return gf_ldl(s, stride, n, F, d, order, a, p);
     }
     if (F) {
         GF_UNROLL
@@ -136,6 +142,14 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
         }
     }
     return GF_OK;
+}
+
+// gf_cov_factor_n for n <= 3, gf_ldl's scratch its own.
+GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
+                                         unsigned n, gf_real *F, gf_real *d,
+                                         unsigned *order)
+{
+    return gf_cov_factor_n(s, stride, n, F, d, order, NULL, NULL);
 }
 
 // The factors of a covariance s that gf_cov_factor accepted, for a new
@@ -516,7 +530,11 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                        gf_real *nis, gf_real *w, gf_real *wd)
 {
     gf_real sd[GF_UDU_NMAX];
-    unsigned rank[GF_UDU_NMAX] = {0, 1, 2};
+    unsigned rank[GF_UDU_NMAX];
+    GF_UNROLL
+    for (unsigned i = 0; i < GF_UDU_NMAX; i++) {
+        rank[i] = i;
+    }
     unsigned first = gf_udu_main_state(n, ud, perm, hw, sd);
     if (m > 1u) {
         gf_real tell[GF_UDU_NMAX];

@@ -39,6 +39,18 @@ typedef struct fixture {
     gf_ukf3_params up;
     gf_pf3 pf;
     gf_pf3_particle part[N_PART];
+    gf_kf kfn;
+    gf_kf_work work;
+    gf_kf_model kmodel;
+    gf_kf_meas kmeas;
+    gf_kf_pmodel kpm;
+    gf_kf_pmeas kpq;
+    gf_ekf_motion emotion;
+    gf_ekf_meas emeas;
+    gf_ekf_pmotion epmn;
+    gf_ekf_pmeas epqn;
+    gf_kf_innovation kinfo;
+    gf_real kz[2];
 } fixture;
 
 static fixture fx;
@@ -94,6 +106,58 @@ static void setup_fixture(void)
     fx.up.beta = 2;
     assert_int_equal(gf_ukf3_init(&fx.ukf, &fx.v3, &spd3, &fx.up), GF_OK);
     assert_int_equal(gf_pf3_init(&fx.pf, fx.part, N_PART, 3, &fx.v3, &spd3),
+                     GF_OK);
+}
+
+// gf_ekf's models for the fixture: x' = x (G = I, as preset), z = x_0
+// (H = (1 0)).
+static gf_status ekf_still(void *ctx, unsigned n, const gf_real *mu,
+                           const gf_real *u, gf_real *mu_bar, gf_real *G)
+{
+    (void)ctx;
+    (void)n;
+    (void)mu;
+    (void)u;
+    (void)mu_bar;
+    (void)G;
+    return GF_OK;
+}
+
+static gf_status ekf_first(void *ctx, unsigned n, unsigned m,
+                           const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
+{
+    (void)ctx;
+    (void)n;
+    (void)m;
+    z_hat[0] = mu_bar[0];
+    H[0] = 1;
+    return GF_OK;
+}
+
+// The any-size filters' part of the fixture: n = 2, models in the
+// fixture's own 2x2 matrices.
+static void setup_kfn(void)
+{
+    fx.kmodel.A = fx.model.A.m[0];
+    fx.kmodel.R = fx.model.R.m[0];
+    fx.kmeas.m = 1;
+    fx.kmeas.C = fx.meas2.C.m[0];
+    fx.kmeas.Q = fx.meas2.Q.m[0];
+    fx.emotion.g = ekf_still;
+    fx.emotion.R = fx.model.R.m[0];
+    fx.emeas.m = 1;
+    fx.emeas.h = ekf_first;
+    fx.emeas.Q = fx.meas2.Q.m[0];
+    fx.kz[0] = 1;
+    assert_int_equal(gf_kf_init(&fx.kfn, 2, fx.v2.v, fx.a2.m[0], &fx.work),
+                     GF_OK);
+    assert_int_equal(gf_kf_prepare_model(&fx.kpm, 2, &fx.kmodel, &fx.work),
+                     GF_OK);
+    assert_int_equal(gf_kf_prepare_meas(&fx.kpq, 2, &fx.kmeas, &fx.work),
+                     GF_OK);
+    assert_int_equal(
+        gf_ekf_prepare_motion(&fx.epmn, 2, &fx.emotion, &fx.work), GF_OK);
+    assert_int_equal(gf_ekf_prepare_meas(&fx.epqn, 2, &fx.emeas, &fx.work),
                      GF_OK);
 }
 
@@ -345,6 +409,114 @@ static void test_ekf3(void **state)
     NULL_FAILS(gf_ekf3_update_prepared(&fx.ekf, &fx.epq, &fx.x3, &fx.info));
 }
 
+static void test_kfn(void **state)
+{
+    (void)state;
+    setup_fixture();
+    setup_kfn();
+    VALID(gf_kf_cov(&fx.kfn, fx.o2.m[0]));
+    VALID(gf_kf_predict(&fx.kfn, &fx.kmodel, NULL, &fx.work));
+    VALID(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, &fx.kinfo, &fx.work));
+    VALID(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, NULL, &fx.work));
+    VALID(gf_kf_predict_prepared(&fx.kfn, &fx.kpm, NULL, &fx.work));
+    VALID(gf_kf_update_prepared(&fx.kfn, &fx.kpq, fx.kz, &fx.kinfo,
+                                &fx.work));
+    VALID(gf_ekf_init(&fx.kfn, 2, fx.v2.v, fx.a2.m[0], 1u, &fx.work));
+    VALID(gf_ekf_predict(&fx.kfn, &fx.emotion, NULL, &fx.work));
+    VALID(gf_ekf_update(&fx.kfn, &fx.emeas, fx.kz, &fx.kinfo, &fx.work));
+    VALID(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, &fx.work));
+    VALID(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL, &fx.work));
+    setup_fixture();
+    setup_kfn();
+
+    NULL_FAILS(gf_kf_init(NULL, 2, fx.v2.v, fx.a2.m[0], &fx.work));
+    NULL_FAILS(gf_kf_init(&fx.kfn, 2, NULL, fx.a2.m[0], &fx.work));
+    NULL_FAILS(gf_kf_init(&fx.kfn, 2, fx.v2.v, NULL, &fx.work));
+    NULL_FAILS(gf_kf_init(&fx.kfn, 2, fx.v2.v, fx.a2.m[0], NULL));
+    NULL_FAILS(gf_kf_cov(NULL, fx.o2.m[0]));
+    NULL_FAILS(gf_kf_cov(&fx.kfn, NULL));
+    NULL_FAILS(gf_kf_predict(NULL, &fx.kmodel, NULL, &fx.work));
+    NULL_FAILS(gf_kf_predict(&fx.kfn, NULL, NULL, &fx.work));
+    NULL_FAILS(gf_kf_predict(&fx.kfn, &fx.kmodel, NULL, NULL));
+    fx.kmodel.A = NULL;
+    NULL_FAILS(gf_kf_predict(&fx.kfn, &fx.kmodel, NULL, &fx.work));
+    fx.kmodel.A = fx.model.A.m[0];
+    fx.kmodel.R = NULL;
+    NULL_FAILS(gf_kf_predict(&fx.kfn, &fx.kmodel, NULL, &fx.work));
+    fx.kmodel.R = fx.model.R.m[0];
+    fx.kmodel.nu = 2; // B is read for nu > 0
+    NULL_FAILS(gf_kf_predict(&fx.kfn, &fx.kmodel, fx.u, &fx.work));
+    fx.kmodel.nu = 0;
+    NULL_FAILS(gf_kf_update(NULL, &fx.kmeas, fx.kz, &fx.kinfo, &fx.work));
+    NULL_FAILS(gf_kf_update(&fx.kfn, NULL, fx.kz, &fx.kinfo, &fx.work));
+    NULL_FAILS(gf_kf_update(&fx.kfn, &fx.kmeas, NULL, &fx.kinfo, &fx.work));
+    NULL_FAILS(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, &fx.kinfo, NULL));
+    fx.kmeas.C = NULL;
+    NULL_FAILS(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, &fx.kinfo, &fx.work));
+    fx.kmeas.C = fx.meas2.C.m[0];
+    fx.kmeas.Q = NULL;
+    NULL_FAILS(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, &fx.kinfo, &fx.work));
+    fx.kmeas.Q = fx.meas2.Q.m[0];
+    NULL_FAILS(gf_kf_prepare_model(NULL, 2, &fx.kmodel, &fx.work));
+    NULL_FAILS(gf_kf_prepare_model(&fx.kpm, 2, NULL, &fx.work));
+    NULL_FAILS(gf_kf_prepare_model(&fx.kpm, 2, &fx.kmodel, NULL));
+    NULL_FAILS(gf_kf_prepare_meas(NULL, 2, &fx.kmeas, &fx.work));
+    NULL_FAILS(gf_kf_prepare_meas(&fx.kpq, 2, NULL, &fx.work));
+    NULL_FAILS(gf_kf_prepare_meas(&fx.kpq, 2, &fx.kmeas, NULL));
+    NULL_FAILS(gf_kf_predict_prepared(NULL, &fx.kpm, NULL, &fx.work));
+    NULL_FAILS(gf_kf_predict_prepared(&fx.kfn, NULL, NULL, &fx.work));
+    NULL_FAILS(gf_kf_predict_prepared(&fx.kfn, &fx.kpm, NULL, NULL));
+    NULL_FAILS(gf_kf_update_prepared(NULL, &fx.kpq, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_kf_update_prepared(&fx.kfn, NULL, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_kf_update_prepared(&fx.kfn, &fx.kpq, NULL, NULL, &fx.work));
+    NULL_FAILS(gf_kf_update_prepared(&fx.kfn, &fx.kpq, fx.kz, NULL, NULL));
+
+    NULL_FAILS(gf_ekf_init(NULL, 2, fx.v2.v, fx.a2.m[0], 0u, &fx.work));
+    NULL_FAILS(gf_ekf_init(&fx.kfn, 2, NULL, fx.a2.m[0], 0u, &fx.work));
+    NULL_FAILS(gf_ekf_init(&fx.kfn, 2, fx.v2.v, NULL, 0u, &fx.work));
+    NULL_FAILS(gf_ekf_init(&fx.kfn, 2, fx.v2.v, fx.a2.m[0], 0u, NULL));
+    NULL_FAILS(gf_ekf_predict(NULL, &fx.emotion, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_predict(&fx.kfn, NULL, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_predict(&fx.kfn, &fx.emotion, NULL, NULL));
+    fx.emotion.g = NULL;
+    NULL_FAILS(gf_ekf_predict(&fx.kfn, &fx.emotion, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_prepare_motion(&fx.epmn, 2, &fx.emotion, &fx.work));
+    fx.emotion.g = ekf_still;
+    fx.emotion.R = NULL;
+    NULL_FAILS(gf_ekf_predict(&fx.kfn, &fx.emotion, NULL, &fx.work));
+    fx.emotion.R = fx.model.R.m[0];
+    NULL_FAILS(gf_ekf_update(NULL, &fx.emeas, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_update(&fx.kfn, NULL, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_update(&fx.kfn, &fx.emeas, NULL, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_update(&fx.kfn, &fx.emeas, fx.kz, NULL, NULL));
+    fx.emeas.h = NULL;
+    NULL_FAILS(gf_ekf_update(&fx.kfn, &fx.emeas, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_prepare_meas(&fx.epqn, 2, &fx.emeas, &fx.work));
+    fx.emeas.h = ekf_first;
+    fx.emeas.Q = NULL;
+    NULL_FAILS(gf_ekf_update(&fx.kfn, &fx.emeas, fx.kz, NULL, &fx.work));
+    fx.emeas.Q = fx.meas2.Q.m[0];
+    NULL_FAILS(gf_ekf_prepare_motion(NULL, 2, &fx.emotion, &fx.work));
+    NULL_FAILS(gf_ekf_prepare_motion(&fx.epmn, 2, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_prepare_motion(&fx.epmn, 2, &fx.emotion, NULL));
+    NULL_FAILS(gf_ekf_prepare_meas(NULL, 2, &fx.emeas, &fx.work));
+    NULL_FAILS(gf_ekf_prepare_meas(&fx.epqn, 2, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_prepare_meas(&fx.epqn, 2, &fx.emeas, NULL));
+    NULL_FAILS(gf_ekf_predict_prepared(NULL, &fx.epmn, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_predict_prepared(&fx.kfn, NULL, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, NULL));
+    NULL_FAILS(gf_ekf_update_prepared(NULL, &fx.epqn, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, NULL, fx.kz, NULL, &fx.work));
+    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, NULL, NULL,
+                                      &fx.work));
+    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL, NULL));
+    fx.epmn.motion.g = NULL;
+    NULL_FAILS(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, &fx.work));
+    fx.epqn.meas.h = NULL;
+    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL,
+                                      &fx.work));
+}
+
 static void test_if2(void **state)
 {
     (void)state;
@@ -451,7 +623,8 @@ int main(void)
         cmocka_unit_test(test_mat2),  cmocka_unit_test(test_mat3),
         cmocka_unit_test(test_angle), cmocka_unit_test(test_rng),
         cmocka_unit_test(test_cov2),  cmocka_unit_test(test_kf2),
-        cmocka_unit_test(test_ekf3),  cmocka_unit_test(test_if2),
+        cmocka_unit_test(test_ekf3),  cmocka_unit_test(test_kfn),
+        cmocka_unit_test(test_if2),
         cmocka_unit_test(test_ukf3),  cmocka_unit_test(test_pf3),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

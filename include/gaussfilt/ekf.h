@@ -76,7 +76,7 @@ typedef struct gf_ekf_pmeas {
     unsigned n;
     gf_real Qf[GF_KF_NMAX * GF_KF_NMAX];
     gf_real Qe[GF_KF_NMAX];
-    unsigned char Qorder[GF_KF_PERM_BYTES];
+    unsigned Qorder[GF_KF_NMAX];
 } gf_ekf_pmeas;
 
 gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,

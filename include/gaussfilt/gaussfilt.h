@@ -10,6 +10,8 @@
 #include "gaussfilt/cov2.h"
 #include "gaussfilt/kf2.h"
 #include "gaussfilt/ekf3.h"
+#include "gaussfilt/kf.h"
+#include "gaussfilt/ekf.h"
 #include "gaussfilt/rng.h"
 #include "gaussfilt/if2.h"
 #include "gaussfilt/ukf3.h"

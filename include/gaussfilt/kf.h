@@ -47,11 +47,12 @@ typedef struct gf_kf {
 
 // The steps' scratch: caller-owned, contents meaningless between calls.
 typedef struct gf_kf_work {
+    gf_kf b;                                // the new belief, until it is whole
     gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX]; // Gram-Schmidt rows
-    gf_real v[GF_KF_NMAX * GF_KF_NMAX];     // noise factors, Jacobians
-    gf_real x[GF_KF_NMAX * GF_KF_NMAX];     // whitened rows, Schur complements
+    gf_real v[GF_KF_NMAX * GF_KF_NMAX];     // noise factors
+    gf_real x[GF_KF_NMAX * GF_KF_NMAX];     // Jacobians, whitened rows
     gf_real s[8 * GF_KF_NMAX];              // vectors
-    unsigned char k[4 * GF_KF_NMAX];        // orders
+    unsigned k[2 * GF_KF_NMAX];             // pivot orders
 } gf_kf_work;
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
@@ -120,7 +121,7 @@ typedef struct gf_kf_pmeas {
     unsigned n;                           // the states it was prepared for
     gf_real Qf[GF_KF_NMAX * GF_KF_NMAX];  // Q = F diag(Qe) F^T (rows of m)
     gf_real Qe[GF_KF_NMAX];
-    unsigned char Qorder[GF_KF_PERM_BYTES]; // F's pivot order
+    unsigned Qorder[GF_KF_NMAX];          // F's pivot order
     gf_real Cw[GF_KF_NMAX * GF_KF_NMAX];  // F^-1 C (m x n)
 } gf_kf_pmeas;
 

@@ -72,6 +72,32 @@
 #define gf_ekf3_update GF_NAME(gf_ekf3_update)
 #define gf_ekf3_update_prepared GF_NAME(gf_ekf3_update_prepared)
 
+// kf.h
+#define gf_kf_cov GF_NAME(gf_kf_cov)
+#define gf_kf_init GF_NAME(gf_kf_init)
+#define gf_kf_predict GF_NAME(gf_kf_predict)
+#define gf_kf_predict_prepared GF_NAME(gf_kf_predict_prepared)
+#define gf_kf_prepare_meas GF_NAME(gf_kf_prepare_meas)
+#define gf_kf_prepare_model GF_NAME(gf_kf_prepare_model)
+#define gf_kf_update GF_NAME(gf_kf_update)
+#define gf_kf_update_prepared GF_NAME(gf_kf_update_prepared)
+
+// ekf.h
+#define gf_ekf_init GF_NAME(gf_ekf_init)
+#define gf_ekf_predict GF_NAME(gf_ekf_predict)
+#define gf_ekf_predict_prepared GF_NAME(gf_ekf_predict_prepared)
+#define gf_ekf_prepare_meas GF_NAME(gf_ekf_prepare_meas)
+#define gf_ekf_prepare_motion GF_NAME(gf_ekf_prepare_motion)
+#define gf_ekf_update GF_NAME(gf_ekf_update)
+#define gf_ekf_update_prepared GF_NAME(gf_ekf_update_prepared)
+
+// src/kf_core.h: internal, defined in kf.c
+#define gf_kfc_init GF_NAME(gf_kfc_init)
+#define gf_kfc_meas_check GF_NAME(gf_kfc_meas_check)
+#define gf_kfc_noise GF_NAME(gf_kfc_noise)
+#define gf_kfc_predict GF_NAME(gf_kfc_predict)
+#define gf_kfc_update GF_NAME(gf_kfc_update)
+
 // rng.h
 #define gf_rng_mvn3 GF_NAME(gf_rng_mvn3)
 #define gf_rng_normal GF_NAME(gf_rng_normal)

@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+// gf_ekf: the extended Kalman filter for n states, on gf_kf's belief,
+// workspace and factored steps (src/kf_core.h).
+#include <stddef.h>
+
+#include "gaussfilt/ekf.h"
+
+#include "kf_core.h"
+
+gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
+                      const gf_real *sigma, unsigned angles,
+                      gf_kf_work *work)
+{
+    return gf_kfc_init(ekf, n, mu, sigma, angles, work);
+}
+
+// R's verdict and factors (into Rf, Rd).
+static gf_status motion_check(unsigned n, const gf_ekf_motion *motion,
+                              gf_real *Rf, gf_real *Rd, gf_kf_work *work)
+{
+    if (!motion->g || !motion->R || n < 1u || n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    return gf_kfc_noise(motion->R, n, Rf, Rd, work->k, work);
+}
+
+// mu_bar = g(u, mu) and G from the callback (mu_bar preset to mu, G to the
+// identity), then the factored prediction.
+static gf_status predict(gf_kf *ekf, const gf_ekf_motion *motion,
+                         const gf_real *u, const gf_real *Rf,
+                         const gf_real *Rd, gf_kf_work *work)
+{
+    const unsigned n = ekf->n;
+    gf_real *mu_bar = &work->s[4u * GF_KF_NMAX];
+    gf_real *G = work->x;
+    for (unsigned i = 0; i < n; i++) {
+        mu_bar[i] = ekf->mu[i];
+        for (unsigned j = 0; j < n; j++) {
+            G[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
+        }
+    }
+    const gf_status st = motion->g(motion->ctx, n, ekf->mu, u, mu_bar, G);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    // A NaN or inf in mu_bar or G reaches the result (G_ij is a term of
+    // (G U)_ij with U_jj = 1), so does an overflow: one test of the result
+    // stands for all.
+    return gf_kfc_predict(ekf, mu_bar, G, Rf, Rd, work);
+}
+
+gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
+                         const gf_real *u, gf_kf_work *work)
+{
+    if (!ekf || !motion || !work) {
+        return GF_ERR_ARG;
+    }
+    gf_real *Rd = &work->s[5u * GF_KF_NMAX];
+    const gf_status st = motion_check(ekf->n, motion, work->v, Rd, work);
+    return st != GF_OK ? st : predict(ekf, motion, u, work->v, Rd, work);
+}
+
+gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
+                                const gf_ekf_motion *motion,
+                                gf_kf_work *work)
+{
+    if (!pm || !motion || !work) {
+        return GF_ERR_ARG;
+    }
+    gf_real *Rd = &work->s[5u * GF_KF_NMAX];
+    const gf_status st = motion_check(n, motion, work->v, Rd, work);
+    if (st != GF_OK) {
+        return st;
+    }
+    pm->motion = *motion;
+    pm->n = n;
+    for (unsigned k = 0; k < n * n; k++) {
+        pm->Rf[k] = work->v[k];
+    }
+    for (unsigned k = 0; k < n; k++) {
+        pm->Rd[k] = Rd[k];
+    }
+    return GF_OK;
+}
+
+gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
+                                  const gf_real *u, gf_kf_work *work)
+{
+    if (!ekf || !pm || !work || !pm->motion.g || pm->n != ekf->n) {
+        return GF_ERR_ARG;
+    }
+    return predict(ekf, &pm->motion, u, pm->Rf, pm->Rd, work);
+}
+
+// z_hat and H from the callback (both preset to zeros), y = z - z_hat
+// (angle residuals wrapped), then the factored correction, H whitened.
+static gf_status update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
+                        const gf_real *Qf, const gf_real *Qe,
+                        const unsigned *Qorder, gf_kf_innovation *info,
+                        gf_kf_work *work)
+{
+    const unsigned n = ekf->n, m = meas->m;
+    gf_real *zh = &work->s[4u * GF_KF_NMAX];
+    gf_real *y = &work->s[6u * GF_KF_NMAX];
+    gf_real *H = work->x;
+    for (unsigned i = 0; i < m; i++) {
+        zh[i] = 0;
+        for (unsigned j = 0; j < n; j++) {
+            H[i * n + j] = 0;
+        }
+    }
+    const gf_status st = meas->h(meas->ctx, n, m, ekf->mu, zh, H);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), zh, m), H, m * n))) {
+        return GF_ERR_NONFINITE;
+    }
+    for (unsigned i = 0; i < m; i++) {
+        y[i] = z[i] - zh[i];
+        if ((meas->angle_mask >> i) & 1u) {
+            y[i] = gf_angle_wrap(y[i]);
+        }
+    }
+    // gf_kfc_update whitens H in place of a copy: H is work->x itself, so
+    // it is whitened where it is
+    return gf_kfc_update(ekf, m, y, H, Qf, Qe, Qorder, 1, meas->gate, info,
+                         work);
+}
+
+gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
+                        gf_kf_innovation *info, gf_kf_work *work)
+{
+    if (!ekf || !meas || !z || !work || !meas->h || ekf->n < 1u ||
+        ekf->n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    const gf_status st = gf_kfc_meas_check(ekf->n, meas->m, meas->Q,
+                                           meas->gate, z, work->v, Qe,
+                                           work->k, work);
+    return st != GF_OK
+               ? st
+               : update(ekf, meas, z, work->v, Qe, work->k, info, work);
+}
+
+gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
+                              const gf_ekf_meas *meas, gf_kf_work *work)
+{
+    if (!pq || !meas || !work || !meas->h || n < 1u || n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    const gf_status st = gf_kfc_meas_check(n, meas->m, meas->Q, meas->gate,
+                                           NULL, work->v, Qe, work->k, work);
+    if (st != GF_OK) {
+        return st;
+    }
+    const unsigned m = meas->m;
+    pq->meas = *meas;
+    pq->n = n;
+    for (unsigned k = 0; k < m * m; k++) {
+        pq->Qf[k] = work->v[k];
+    }
+    for (unsigned k = 0; k < m; k++) {
+        pq->Qe[k] = Qe[k];
+        pq->Qorder[k] = work->k[k];
+    }
+    return GF_OK;
+}
+
+gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
+                                 const gf_real *z, gf_kf_innovation *info,
+                                 gf_kf_work *work)
+{
+    if (!ekf || !pq || !z || !work || !pq->meas.h || pq->n != ekf->n ||
+        pq->meas.m < 1u || pq->meas.m > ekf->n) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
+        return GF_ERR_NONFINITE;
+    }
+    return update(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info, work);
+}

@@ -1,0 +1,401 @@
+// SPDX-License-Identifier: MIT
+// gf_kf and the steps gf_ekf shares with it (src/kf_core.h): the factored
+// core of src/udu.h for n states, 1 <= n <= GF_KF_NMAX, with the scratch
+// that grows with n^2 in the caller's gf_kf_work.
+#include <stddef.h>
+
+#include "gaussfilt/kf.h"
+
+#include "kf_core.h"
+
+// ---- shared with ekf.c ---------------------------------------------------
+
+gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
+                       unsigned *order, gf_kf_work *work)
+{
+    gf_real z = GF_R(0.0);
+    for (unsigned i = 0; i < n * n; i++) {
+        z += s[i] * GF_R(0.0);
+    }
+    if (!gf_sum_finite(z)) {
+        return GF_ERR_NONFINITE;
+    }
+    return gf_cov_factor_n(s, n, n, F, d, order, work->x,
+                           &work->k[GF_KF_NMAX]);
+}
+
+gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
+                      const gf_real *sigma, unsigned angles,
+                      gf_kf_work *work)
+{
+    if (!kf || !mu || !sigma || !work || n < 1u || n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), mu, n))) {
+        return GF_ERR_NONFINITE;
+    }
+    const gf_status st = gf_kfc_noise(sigma, n, NULL, NULL, NULL, work);
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_kf *nb = &work->b;
+    nb->n = n;
+    nb->angles = angles;
+    for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
+        nb->perm[k] = 0;
+    }
+    gf_udu_factor(sigma, n, n, nb->ud, nb->perm);
+    for (unsigned i = 0; i < GF_KF_NMAX; i++) {
+        nb->mu[i] = i < n ? mu[i] : GF_R(0.0);
+        if (i < n && (angles >> i) & 1u) {
+            nb->mu[i] = gf_angle_wrap(mu[i]);
+        }
+    }
+    for (unsigned k = GF_KF_TRI(n); k < GF_KF_TRI(GF_KF_NMAX); k++) {
+        nb->ud[k] = 0;
+    }
+    *kf = *nb;
+    return GF_OK;
+}
+
+gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
+                         const gf_real *Rf, const gf_real *Rd,
+                         gf_kf_work *work)
+{
+    const unsigned n = kf->n;
+    gf_kf *nb = &work->b;
+    *nb = *kf;
+    for (unsigned i = 0; i < n; i++) {
+        nb->mu[i] = ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i])
+                                              : mu_bar[i];
+    }
+    // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
+    gf_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work->w,
+                   &work->s[2u * GF_KF_NMAX]);
+    if (!gf_sum_finite(
+            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
+        return GF_ERR_NONFINITE; // overflow: keep the last good belief
+    }
+    *kf = *nb;
+    return GF_OK;
+}
+
+gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
+                        const gf_real *H, const gf_real *Qf,
+                        const gf_real *Qe, const unsigned *Qorder,
+                        int whiten_h, gf_real gate, gf_kf_innovation *info,
+                        gf_kf_work *work)
+{
+    const unsigned n = kf->n;
+    gf_kf_innovation in;
+    in.m = m;
+    for (unsigned i = 0; i < GF_KF_NMAX; i++) {
+        in.y[i] = i < m ? y[i] : GF_R(0.0);
+    }
+    // y_w = F_Q^-1 y, H_w = F_Q^-1 H (H already whitened when prepared)
+    gf_real *yw = &work->s[0];
+    gf_real *dx = &work->s[GF_KF_NMAX];
+    for (unsigned i = 0; i < m; i++) {
+        yw[i] = y[i];
+    }
+    const gf_real *hw = H;
+    if (m > 1u) {
+        gf_udu_whiten(Qf, Qorder, m, yw, 1);
+        if (whiten_h) {
+            gf_real *x = work->x;
+            for (unsigned k = 0; k < m * n; k++) {
+                x[k] = H[k];
+            }
+            for (unsigned j = 0; j < n; j++) {
+                gf_udu_whiten(Qf, Qorder, m, &x[j], n);
+            }
+            hw = x;
+        }
+    }
+    gf_kf *nb = &work->b;
+    *nb = *kf;
+    const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw,
+                                        dx, &in.nis, work->w,
+                                        &work->s[2u * GF_KF_NMAX]);
+    if (st != GF_OK) {
+        return st;
+    }
+    if (!GF_ISFINITE(in.nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate > 0 && in.nis > gate) {
+        if (info) {
+            *info = in;
+        }
+        return GF_ERR_GATED;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        nb->mu[i] += dx[i];
+        if ((kf->angles >> i) & 1u) {
+            nb->mu[i] = gf_angle_wrap(nb->mu[i]);
+        }
+    }
+    if (!gf_sum_finite(
+            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
+        return GF_ERR_NONFINITE;
+    }
+    *kf = *nb;
+    if (info) {
+        *info = in;
+    }
+    return GF_OK;
+}
+
+gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
+                            gf_real gate, const gf_real *z, gf_real *Qf,
+                            gf_real *Qe, unsigned *Qorder, gf_kf_work *work)
+{
+    if (!Q || m < 1u || m > n) {
+        return GF_ERR_ARG;
+    }
+    gf_real f = gate * GF_R(0.0);
+    if (z) {
+        f = gf_nan_sum(f, z, m);
+    }
+    if (!gf_sum_finite(f)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate < 0) {
+        return GF_ERR_ARG;
+    }
+    return gf_kfc_noise(Q, m, Qf, Qe, Qorder, work);
+}
+
+// ---- gf_kf ---------------------------------------------------------------
+
+gf_status gf_kf_init(gf_kf *kf, unsigned n, const gf_real *mu,
+                     const gf_real *sigma, gf_kf_work *work)
+{
+    return gf_kfc_init(kf, n, mu, sigma, 0, work);
+}
+
+gf_status gf_kf_cov(const gf_kf *kf, gf_real *sigma)
+{
+    if (!kf || !sigma || kf->n < 1u || kf->n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    gf_udu_to_cov(kf->ud, kf->perm, kf->n, sigma, kf->n);
+    return GF_OK;
+}
+
+// The checks of a motion model for n states (and of u, if not NULL), in
+// the order of gf_kf_predict's statuses; on GF_OK, Rf and Rd hold R's
+// factors.
+static gf_status model_check(unsigned n, const gf_kf_model *model,
+                             const gf_real *u, gf_real *Rf, gf_real *Rd,
+                             gf_kf_work *work)
+{
+    if (!model->A || !model->R || (model->nu > 0u && !model->B) ||
+        n < 1u || n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    gf_real z = gf_nan_sum(GF_R(0.0), model->A, n * n);
+    if (model->nu > 0u) {
+        z = gf_nan_sum(z, model->B, n * model->nu);
+        if (u) {
+            z = gf_nan_sum(z, u, model->nu);
+        }
+    }
+    if (model->c) {
+        z = gf_nan_sum(z, model->c, n);
+    }
+    if (!gf_sum_finite(z)) {
+        return GF_ERR_NONFINITE;
+    }
+    return gf_kfc_noise(model->R, n, Rf, Rd, work->k, work);
+}
+
+// mu_bar = A mu + B u + c, into work->s, then the factored prediction.
+static gf_status predict(gf_kf *kf, const gf_kf_model *model,
+                         const gf_real *u, const gf_real *Rf,
+                         const gf_real *Rd, gf_kf_work *work)
+{
+    const unsigned n = kf->n;
+    gf_real *mu_bar = &work->s[4u * GF_KF_NMAX];
+    // (A mu)_i + c_i, then + (B u)_i: KF2's order of operations
+    for (unsigned i = 0; i < n; i++) {
+        gf_real acc = model->A[i * n] * kf->mu[0];
+        for (unsigned j = 1; j < n; j++) {
+            acc += model->A[i * n + j] * kf->mu[j];
+        }
+        acc += model->c ? model->c[i] : GF_R(0.0);
+        if (u && model->nu > 0u) {
+            gf_real bu = model->B[i * model->nu] * u[0];
+            for (unsigned j = 1; j < model->nu; j++) {
+                bu += model->B[i * model->nu + j] * u[j];
+            }
+            acc += bu;
+        }
+        mu_bar[i] = acc;
+    }
+    return gf_kfc_predict(kf, mu_bar, model->A, Rf, Rd, work);
+}
+
+gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model,
+                        const gf_real *u, gf_kf_work *work)
+{
+    if (!kf || !model || !work) {
+        return GF_ERR_ARG;
+    }
+    const gf_status st =
+        model_check(kf->n, model, u, work->v, &work->s[5u * GF_KF_NMAX], work);
+    return st != GF_OK ? st
+                       : predict(kf, model, u, work->v,
+                                 &work->s[5u * GF_KF_NMAX], work);
+}
+
+gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
+                              const gf_kf_model *model, gf_kf_work *work)
+{
+    if (!pm || !model || !work) {
+        return GF_ERR_ARG;
+    }
+    const gf_status st = model_check(n, model, NULL, work->v,
+                                     &work->s[5u * GF_KF_NMAX], work);
+    if (st != GF_OK) {
+        return st;
+    }
+    pm->model = *model;
+    pm->n = n;
+    for (unsigned k = 0; k < n * n; k++) {
+        pm->Rf[k] = work->v[k];
+    }
+    for (unsigned k = 0; k < n; k++) {
+        pm->Rd[k] = work->s[5u * GF_KF_NMAX + k];
+    }
+    return GF_OK;
+}
+
+gf_status gf_kf_predict_prepared(gf_kf *kf, const gf_kf_pmodel *pm,
+                                 const gf_real *u, gf_kf_work *work)
+{
+    if (!kf || !pm || !work || pm->n != kf->n) {
+        return GF_ERR_ARG;
+    }
+    if (u && pm->model.nu > 0u &&
+        !gf_sum_finite(gf_nan_sum(GF_R(0.0), u, pm->model.nu))) {
+        return GF_ERR_NONFINITE;
+    }
+    return predict(kf, &pm->model, u, pm->Rf, pm->Rd, work);
+}
+
+// The checks of a measurement model for n states (and of z, if not NULL),
+// in the order of gf_kf_update's statuses; on GF_OK, Q's factors are in
+// Qf, Qe, Qorder and F_Q^-1 C in Cw.
+static gf_status meas_check(unsigned n, const gf_kf_meas *meas,
+                            const gf_real *z, gf_real *Qf, gf_real *Qe,
+                            unsigned *Qorder, gf_real *Cw, gf_kf_work *work)
+{
+    const unsigned m = meas->m;
+    if (!meas->C || m < 1u || m > n) {
+        return GF_ERR_ARG;
+    }
+    gf_real f = gf_nan_sum(GF_R(0.0), meas->C, m * n);
+    if (meas->c) {
+        f = gf_nan_sum(f, meas->c, m);
+    }
+    if (!gf_sum_finite(f)) {
+        return GF_ERR_NONFINITE;
+    }
+    const gf_status st = gf_kfc_meas_check(n, m, meas->Q, meas->gate, z, Qf,
+                                           Qe, Qorder, work);
+    if (st != GF_OK) {
+        return st;
+    }
+    // C_w = F_Q^-1 C, column by column
+    for (unsigned k = 0; k < m * n; k++) {
+        Cw[k] = meas->C[k];
+    }
+    if (m > 1u) {
+        for (unsigned j = 0; j < n; j++) {
+            gf_udu_whiten(Qf, Qorder, m, &Cw[j], n);
+        }
+    }
+    return GF_OK;
+}
+
+// y = z - c - C mu_bar, then the factored correction on the whitened rows.
+static gf_status update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
+                        const gf_real *Qf, const gf_real *Qe,
+                        const unsigned *Qorder, const gf_real *Cw,
+                        gf_kf_innovation *info, gf_kf_work *work)
+{
+    const unsigned n = kf->n, m = meas->m;
+    gf_real *y = &work->s[6u * GF_KF_NMAX];
+    // (z_i - c_i) - (C mu)_i: KF2's order of operations
+    for (unsigned i = 0; i < m; i++) {
+        gf_real dot = meas->C[i * n] * kf->mu[0];
+        for (unsigned j = 1; j < n; j++) {
+            dot += meas->C[i * n + j] * kf->mu[j];
+        }
+        y[i] = z[i] - (meas->c ? meas->c[i] : GF_R(0.0)) - dot;
+    }
+    return gf_kfc_update(kf, m, y, Cw, Qf, Qe, Qorder, 0, meas->gate, info,
+                         work);
+}
+
+gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
+                       gf_kf_innovation *info, gf_kf_work *work)
+{
+    if (!kf || !meas || !z || !work || kf->n < 1u || kf->n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    gf_real *Cw = work->x;
+    // the whitened rows live where gf_kfc_update would whiten H: it is
+    // told they are whitened already
+    const gf_status st =
+        meas_check(kf->n, meas, z, work->v, Qe, work->k, Cw, work);
+    if (st != GF_OK) {
+        return st;
+    }
+    return update(kf, meas, z, work->v, Qe, work->k, Cw, info, work);
+}
+
+gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
+                             const gf_kf_meas *meas, gf_kf_work *work)
+{
+    if (!pq || !meas || !work) {
+        return GF_ERR_ARG;
+    }
+    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    const gf_status st =
+        meas_check(n, meas, NULL, work->v, Qe, work->k, work->x, work);
+    if (st != GF_OK) {
+        return st;
+    }
+    const unsigned m = meas->m;
+    pq->meas = *meas;
+    pq->n = n;
+    for (unsigned k = 0; k < m * m; k++) {
+        pq->Qf[k] = work->v[k];
+    }
+    for (unsigned k = 0; k < m; k++) {
+        pq->Qe[k] = Qe[k];
+        pq->Qorder[k] = work->k[k];
+    }
+    for (unsigned k = 0; k < m * n; k++) {
+        pq->Cw[k] = work->x[k];
+    }
+    return GF_OK;
+}
+
+gf_status gf_kf_update_prepared(gf_kf *kf, const gf_kf_pmeas *pq,
+                                const gf_real *z, gf_kf_innovation *info,
+                                gf_kf_work *work)
+{
+    if (!kf || !pq || !z || !work || pq->n != kf->n || pq->meas.m < 1u ||
+        pq->meas.m > kf->n) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
+        return GF_ERR_NONFINITE;
+    }
+    return update(kf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, pq->Cw, info,
+                  work);
+}

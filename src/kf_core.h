@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// gaussfilt: the steps gf_kf and gf_ekf share (defined in kf.c), on the
+// factored core of src/udu.h compiled for n up to GF_KF_NMAX. Not
+// installed, not part of the API.
+#ifndef GAUSSFILT_SRC_KF_CORE_H
+#define GAUSSFILT_SRC_KF_CORE_H
+
+#include "gaussfilt/ekf.h"
+
+#ifndef GF_UDU_NMAX
+#define GF_UDU_NMAX GF_KF_NMAX
+#endif
+#include "udu.h"
+
+// The verdict on an n x n covariance s passed in (finite, symmetric, PSD)
+// and, where F is not NULL, its factors F diag(d) F^T with their pivot
+// order (gf_cov_factor's); the Schur complements in work->x.
+gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
+                       unsigned *order, gf_kf_work *work);
+
+// Checks n and mu, judges sigma, and sets *kf to N(mu, sigma) factored,
+// the states in `angles` wrapped; kf untouched on failure.
+gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
+                      const gf_real *sigma, unsigned angles,
+                      gf_kf_work *work);
+
+// The prediction once the model is checked: mu_bar (n, the angle states
+// wrapped here), Sigma_bar = G Sigma G^T + R with R's factors (Rf, Rd); the
+// belief written only if all of it is finite.
+gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
+                         const gf_real *Rf, const gf_real *Rd,
+                         gf_kf_work *work);
+
+// The checks of m, Q, the gate and z (if not NULL), in the order of the
+// update's statuses; on GF_OK, Q's factors in Qf (m x m), Qe, Qorder.
+gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
+                            gf_real gate, const gf_real *z, gf_real *Qf,
+                            gf_real *Qe, unsigned *Qorder, gf_kf_work *work);
+
+// The correction once the measurement is checked: innovation y (m), the
+// rows H (m x n; whitened here if whiten_h, else already F_Q^-1 H), Q's
+// factors; the gate on the total NIS, the belief and info written only if
+// every quantity passed.
+gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
+                        const gf_real *H, const gf_real *Qf,
+                        const gf_real *Qe, const unsigned *Qorder,
+                        int whiten_h, gf_real gate, gf_kf_innovation *info,
+                        gf_kf_work *work);
+
+#endif
