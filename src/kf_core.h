@@ -7,6 +7,10 @@
 
 #include "gaussfilt/ekf.h"
 
+// n is known only at run time here: the loops stay loops.
+#include "gf_internal.h"
+#undef GF_UNROLL
+#define GF_UNROLL
 #ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX GF_KF_NMAX
 #endif
