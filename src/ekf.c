@@ -55,7 +55,7 @@ gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
     if (!ekf || !motion || !work) {
         return GF_ERR_ARG;
     }
-    gf_real *Rd = &work->s[5u * GF_KF_NMAX];
+    gf_real *Rd = GF_KFC_D(work);
     const gf_status st = motion_check(ekf->n, motion, work->v, Rd, work);
     return st != GF_OK ? st : predict(ekf, motion, u, work->v, Rd, work);
 }
@@ -67,19 +67,14 @@ gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
     if (!pm || !motion || !work) {
         return GF_ERR_ARG;
     }
-    gf_real *Rd = &work->s[5u * GF_KF_NMAX];
+    gf_real *Rd = GF_KFC_D(work);
     const gf_status st = motion_check(n, motion, work->v, Rd, work);
     if (st != GF_OK) {
         return st;
     }
     pm->motion = *motion;
     pm->n = n;
-    for (unsigned k = 0; k < n * n; k++) {
-        pm->Rf[k] = work->v[k];
-    }
-    for (unsigned k = 0; k < n; k++) {
-        pm->Rd[k] = Rd[k];
-    }
+    gf_kfc_keep(n, pm->Rf, pm->Rd, NULL, work);
     return GF_OK;
 }
 
@@ -135,7 +130,7 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         ekf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    gf_real *Qe = GF_KFC_D(work);
     const gf_status st = gf_kfc_meas_check(ekf->n, meas->m, meas->Q,
                                            meas->gate, z, work->v, Qe,
                                            work->k, work);
@@ -150,22 +145,15 @@ gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work || !meas->h || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    gf_real *Qe = GF_KFC_D(work);
     const gf_status st = gf_kfc_meas_check(n, meas->m, meas->Q, meas->gate,
                                            NULL, work->v, Qe, work->k, work);
     if (st != GF_OK) {
         return st;
     }
-    const unsigned m = meas->m;
     pq->meas = *meas;
     pq->n = n;
-    for (unsigned k = 0; k < m * m; k++) {
-        pq->Qf[k] = work->v[k];
-    }
-    for (unsigned k = 0; k < m; k++) {
-        pq->Qe[k] = Qe[k];
-        pq->Qorder[k] = work->k[k];
-    }
+    gf_kfc_keep(meas->m, pq->Qf, pq->Qe, pq->Qorder, work);
     return GF_OK;
 }
 

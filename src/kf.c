@@ -166,6 +166,20 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
     return gf_kfc_noise(Q, m, Qf, Qe, Qorder, work);
 }
 
+void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,
+                 const gf_kf_work *work)
+{
+    for (unsigned k = 0; k < m * m; k++) {
+        F[k] = work->v[k];
+    }
+    for (unsigned k = 0; k < m; k++) {
+        d[k] = work->s[5u * GF_KF_NMAX + k];
+        if (order) {
+            order[k] = work->k[k];
+        }
+    }
+}
+
 // ---- gf_kf ---------------------------------------------------------------
 
 gf_status gf_kf_init(gf_kf *kf, unsigned n, const gf_real *mu,
@@ -243,10 +257,10 @@ gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model,
         return GF_ERR_ARG;
     }
     const gf_status st =
-        model_check(kf->n, model, u, work->v, &work->s[5u * GF_KF_NMAX], work);
+        model_check(kf->n, model, u, work->v, GF_KFC_D(work), work);
     return st != GF_OK ? st
                        : predict(kf, model, u, work->v,
-                                 &work->s[5u * GF_KF_NMAX], work);
+                                 GF_KFC_D(work), work);
 }
 
 gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
@@ -255,19 +269,14 @@ gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
     if (!pm || !model || !work) {
         return GF_ERR_ARG;
     }
-    const gf_status st = model_check(n, model, NULL, work->v,
-                                     &work->s[5u * GF_KF_NMAX], work);
+    const gf_status st =
+        model_check(n, model, NULL, work->v, GF_KFC_D(work), work);
     if (st != GF_OK) {
         return st;
     }
     pm->model = *model;
     pm->n = n;
-    for (unsigned k = 0; k < n * n; k++) {
-        pm->Rf[k] = work->v[k];
-    }
-    for (unsigned k = 0; k < n; k++) {
-        pm->Rd[k] = work->s[5u * GF_KF_NMAX + k];
-    }
+    gf_kfc_keep(n, pm->Rf, pm->Rd, NULL, work);
     return GF_OK;
 }
 
@@ -345,7 +354,7 @@ gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
     if (!kf || !meas || !z || !work || kf->n < 1u || kf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    gf_real *Qe = GF_KFC_D(work);
     gf_real *Cw = work->x;
     // the whitened rows live where gf_kfc_update would whiten H: it is
     // told they are whitened already
@@ -363,23 +372,16 @@ gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = &work->s[5u * GF_KF_NMAX];
+    gf_real *Qe = GF_KFC_D(work);
     const gf_status st =
         meas_check(n, meas, NULL, work->v, Qe, work->k, work->x, work);
     if (st != GF_OK) {
         return st;
     }
-    const unsigned m = meas->m;
     pq->meas = *meas;
     pq->n = n;
-    for (unsigned k = 0; k < m * m; k++) {
-        pq->Qf[k] = work->v[k];
-    }
-    for (unsigned k = 0; k < m; k++) {
-        pq->Qe[k] = Qe[k];
-        pq->Qorder[k] = work->k[k];
-    }
-    for (unsigned k = 0; k < m * n; k++) {
+    gf_kfc_keep(meas->m, pq->Qf, pq->Qe, pq->Qorder, work);
+    for (unsigned k = 0; k < meas->m * n; k++) {
         pq->Cw[k] = work->x[k];
     }
     return GF_OK;

@@ -51,4 +51,12 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
                         int whiten_h, gf_real gate, gf_kf_innovation *info,
                         gf_kf_work *work);
 
+// Where a check leaves a noise's factors in work: F (m x m) in work->v, d
+// in work->s from GF_KF_NMAX * 5, the pivot order in work->k.
+#define GF_KFC_D(work) (&(work)->s[5u * GF_KF_NMAX])
+
+// Copies them into a prepared model's arrays (order may be NULL).
+void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,
+                 const gf_kf_work *work);
+
 #endif

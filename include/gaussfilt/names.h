@@ -93,6 +93,7 @@
 
 // src/kf_core.h: internal, defined in kf.c
 #define gf_kfc_init GF_NAME(gf_kfc_init)
+#define gf_kfc_keep GF_NAME(gf_kfc_keep)
 #define gf_kfc_meas_check GF_NAME(gf_kfc_meas_check)
 #define gf_kfc_noise GF_NAME(gf_kfc_noise)
 #define gf_kfc_predict GF_NAME(gf_kfc_predict)
