@@ -13,7 +13,10 @@
 // _meas once, then gf_kf2_predict_prepared and _update_prepared), w2, w2c
 // (W2 with the caller's own copies of the two models, which take the
 // core's general path), w2p (W2 through the prepared models), w2m2 or
-// w2m3 (W2 with an update of m = 2 or 3);
+// w2m3 (W2 with an update of m = 2 or 3), or a workload of the filters of n
+// states (workloads_n.h): cv2, cv3, cv4, cv6, cv8, cv12 (gf_kf) or gps
+// (gf_ekf), with PART step or ref only (the floor of bench/ref_n.c) and no
+// flop floor (floor prints "-");
 // PART is step, predict, update or ref (the step done by the no-checks
 // reference of bench/ref.c). The inputs (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
@@ -27,7 +30,9 @@
 
 #include "gaussfilt/gaussfilt.h"
 #include "ref.h"
+#include "ref_n.h"
 #include "workloads.h"
+#include "workloads_n.h"
 
 #define TAB WL_TAB
 
@@ -295,6 +300,53 @@ NOINLINE static double bench_loop_w2_ref(unsigned long n)
     return (double)ekf.mu.v[0] + (double)ekf.sigma.m[0][0];
 }
 
+// The filters of n states (workloads_n.h): the step loop and the floor's
+// (bench/ref_n.c), for the workload wl_setup_n set up.
+NOINLINE static double bench_loop_n_step(unsigned long n)
+{
+    gf_kf kf = wl_nw.init;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        if (j == 0) {
+            kf = wl_nw.init;
+        }
+        gf_status a, b;
+        if (wl_nw.ekf) {
+            a = gf_ekf_predict(&kf, &wl_nw.motion, NULL, &wl_n_work);
+            b = gf_ekf_update(&kf, &wl_nw.emeas, wl_n_z[j], NULL, &wl_n_work);
+        } else {
+            a = gf_kf_predict(&kf, &wl_nw.model, NULL, &wl_n_work);
+            b = gf_kf_update(&kf, &wl_nw.meas, wl_n_z[j], NULL, &wl_n_work);
+        }
+        if (a != GF_OK || b != GF_OK) {
+            fail_sink = (double)i;
+            return -1;
+        }
+    }
+    return (double)kf.mu[0] + (double)kf.ud[1];
+}
+
+static ref_n ref_n_belief;
+
+NOINLINE static double bench_loop_n_ref(unsigned long n)
+{
+    ref_n *r = &ref_n_belief;
+    for (unsigned long i = 0; i < n; i++) {
+        unsigned j = (unsigned)(i & (TAB - 1));
+        if (j == 0) {
+            ref_n_from(r, wl_nw.n, wl_nw.mu0, wl_nw.sigma0);
+        }
+        if (wl_nw.ekf) {
+            ref_ekf_predict(r, &wl_nw.motion, NULL);
+            ref_ekf_update(r, &wl_nw.emeas, wl_n_z[j]);
+        } else {
+            ref_kf_predict(r, &wl_nw.model);
+            ref_kf_update(r, &wl_nw.meas, wl_n_z[j]);
+        }
+    }
+    return (double)r->mu[0] + (double)r->P[0];
+}
+
 typedef double (*loop_fn)(unsigned long n);
 
 static double now_ns(void)
@@ -316,8 +368,30 @@ static int usage(void)
             "usage: gf_bench count WL PART N | time WL PART N R | "
             "floor WL PART\n"
             "       WL = w1 | w1p | w2 | w2p | w2c | w2m2 | w2m3, PART = step | "
-            "predict | update | ref\n");
+            "predict | update | ref\n"
+            "       WL = cv2 | cv3 | cv4 | cv6 | cv8 | cv12 | gps, PART = step | "
+            "ref\n");
     return 2;
+}
+
+static int run_loop(loop_fn loop, int argc, char **argv);
+
+// gf_bench MODE WL PART ... for the filters of n states.
+static int main_n(int argc, char **argv)
+{
+    const char *mode = argv[1], *wl = argv[2], *part = argv[3];
+    const int ref = strcmp(part, "ref") == 0;
+    if (!ref && strcmp(part, "step") != 0) {
+        return usage();
+    }
+    if (strcmp(mode, "floor") == 0) {
+        printf("-\n");
+        return 0;
+    }
+    if (wl_setup_n(wl) != 0) {
+        return usage();
+    }
+    return run_loop(ref ? bench_loop_n_ref : bench_loop_n_step, argc, argv);
 }
 
 int main(int argc, char **argv)
@@ -326,6 +400,9 @@ int main(int argc, char **argv)
         return usage();
     }
     const char *mode = argv[1], *wl = argv[2], *part = argv[3];
+    if (strncmp(wl, "cv", 2) == 0 || strcmp(wl, "gps") == 0) {
+        return main_n(argc, argv);
+    }
     int user = strcmp(wl, "w2c") == 0;
     unsigned m = strcmp(wl, "w2m2") == 0 ? 2u : strcmp(wl, "w2m3") == 0 ? 3u : 1u;
     int w2 = user || m > 1 || strcmp(wl, "w2") == 0;
@@ -380,6 +457,13 @@ int main(int argc, char **argv)
         wl_setup_w1();
     }
 
+    return run_loop(loop, argc, argv);
+}
+
+// The count and time modes of main, for the loop chosen.
+static int run_loop(loop_fn loop, int argc, char **argv)
+{
+    const char *mode = argv[1], *wl = argv[2], *part = argv[3];
     if (strcmp(mode, "count") == 0 && argc == 5) {
         unsigned long n = strtoul(argv[4], NULL, 10);
         double r = loop(n);

@@ -7,6 +7,10 @@
 // the loop and the copies of the stored beliefs are outside; the empty
 // region ("empty"), run first, is what the markers themselves cost.
 //
+// The filters of n states (workloads_n.h): each row's step through gf_kf
+// (gf_ekf for gps) and the same step by the floor of bench/ref_n.c, named
+// "cvN step" / "cvN ref" and "gps step" / "gps ref".
+//
 // After each report the image prints, over semihosting, one line
 //   bench WL PART N
 // naming the report (the i-th line names the plugin's i-th report), and
@@ -15,7 +19,9 @@
 
 #include "gaussfilt/gaussfilt.h"
 #include "ref.h"
+#include "ref_n.h"
 #include "workloads.h"
+#include "workloads_n.h"
 
 #define NOINLINE __attribute__((noinline, used))
 
@@ -155,6 +161,48 @@ static void w2(const char *name, unsigned m)
     report(name, "ref");
 }
 
+static ref_n ref_belief;
+
+static void n_rows(const char *name)
+{
+    if (wl_setup_n(name) != 0) {
+        wl_die(name, -1, GF_ERR_ARG);
+    }
+    gf_kf kf = wl_nw.init;
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        gf_status a, b;
+        if (wl_nw.ekf) {
+            bench_mark_start(&kf);
+            a = gf_ekf_predict(&kf, &wl_nw.motion, NULL, &wl_n_work);
+            b = gf_ekf_update(&kf, &wl_nw.emeas, wl_n_z[i], NULL, &wl_n_work);
+            bench_mark_stop(&kf);
+        } else {
+            bench_mark_start(&kf);
+            a = gf_kf_predict(&kf, &wl_nw.model, NULL, &wl_n_work);
+            b = gf_kf_update(&kf, &wl_nw.meas, wl_n_z[i], NULL, &wl_n_work);
+            bench_mark_stop(&kf);
+        }
+        check(a != GF_OK ? a : b, name, i);
+    }
+    report(name, "step");
+    ref_n *r = &ref_belief;
+    ref_n_from(r, wl_nw.n, wl_nw.mu0, wl_nw.sigma0);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        if (wl_nw.ekf) {
+            bench_mark_start(r);
+            ref_ekf_predict(r, &wl_nw.motion, NULL);
+            ref_ekf_update(r, &wl_nw.emeas, wl_n_z[i]);
+            bench_mark_stop(r);
+        } else {
+            bench_mark_start(r);
+            ref_kf_predict(r, &wl_nw.model);
+            ref_kf_update(r, &wl_nw.meas, wl_n_z[i]);
+            bench_mark_stop(r);
+        }
+    }
+    report(name, "ref");
+}
+
 int main(void)
 {
     empty();
@@ -162,6 +210,9 @@ int main(void)
     w2("w2", 1);
     w2("w2m2", 2);
     w2("w2m3", 3);
+    for (unsigned k = 0; k < WL_N_ROWS; k++) {
+        n_rows(wl_n_names[k]);
+    }
     printf("bench done\n");
     return 0;
 }

@@ -48,7 +48,8 @@ gf_m4f_image() {
 gf_m4f_count() {
     local elf=$1 plugin=$2 prof=${3:-} nm=arm-none-eabi-nm addr args log out
     addr() {
-        "$nm" "$elf" | awk -v s="$1" '$3 == s {print "0x" $1; exit}'
+        # (awk reads to the end: nm must not die of SIGPIPE under pipefail)
+        "$nm" "$elf" | awk -v s="$1" '$3 == s && !f {print "0x" $1; f = 1}'
     }
     args="start=$(addr bench_mark_start),stop=$(addr bench_mark_stop)"
     args="$args,report=$(addr bench_mark_report)"
