@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 # Smoke stage for the benchmarks: builds bench/gf_bench in double and float
-# and runs every workload and part for a few steps, runs the Cortex-M4F
+# and runs every workload and part for a few steps (the filters of n states,
+# cv2 ... cv12 and gps, their step and their floor's), runs the Cortex-M4F
 # benchmark image once under QEMU and the insncount plugin, and runs the
 # LCM pipeline benchmark for half a second, so they cannot rot. No timing
 # is asserted: figures come from scripts/bench and scripts/bench-lcm.
@@ -28,14 +29,24 @@ for prec in double float; do
             "$dir/bench/gf_bench" floor "$wl" "$part" >/dev/null
         done
     done
+    # The filters of n states (bench/workloads_n.h): set-up runs the filter
+    # over the whole table, then a few hundred steps of each loop.
+    for wl in cv2 cv3 cv4 cv6 cv8 cv12 gps; do
+        for part in step ref; do
+            "$dir/bench/gf_bench" count "$wl" "$part" 300
+            "$dir/bench/gf_bench" time "$wl" "$part" 50 3 >/dev/null
+        done
+    done
 done
 echo "bench smoke: gf_bench runs in double and float"
 
 # The Cortex-M4F image under the plugin (-Os). The plugin's figures must be
 # counts of what ran: an empty region is exactly the one `bl` to the stop
 # marker, every workload counts more than the floor's W1 step and fewer
-# than 100000 instructions per call, and the run as a whole counts at least
-# as many as all the regions.
+# than 200000 instructions per call, the filters of n states report their
+# 14 rows (step and floor of cv2 ... cv12 and gps), each step dearer than
+# the one before it in n (cv2 < cv3 < ... < cv12), and the run as a whole
+# counts at least as many as all the regions.
 gf_log "bench smoke: the Cortex-M4F image under qemu and insncount (-Os)"
 plugin=$(gf_m4f_plugin)
 elf=$(gf_m4f_image Os)
@@ -47,8 +58,14 @@ awk '$1 == "empty" {if ($8 != $3) bad = bad " empty region counted " $8 / $3 " i
      $1 == "total" {total = $2}
      END {if (floor < 20) bad = bad " W1 floor " floor
           for (i = 1; i <= rows; i++)
-              if (v[i] < floor || v[i] > 100000) bad = bad " " n[i] " " v[i]
-          if (rows < 8) bad = bad " only " rows " rows"
+              if (v[i] < floor || v[i] > 200000) bad = bad " " n[i] " " v[i]
+          if (rows < 22) bad = bad " only " rows " rows"
+          split("cv2 cv3 cv4 cv6 cv8 cv12 gps", nr, " ")
+          for (i = 1; i <= 7; i++) for (j = 1; j <= rows; j++)
+              if (n[j] == nr[i] " step") { step[i] = v[j]; found[i]++ }
+              else if (n[j] == nr[i] " ref") found[i]++
+          for (i = 1; i <= 7; i++) if (found[i] != 2) bad = bad " " nr[i] ": " found[i] + 0 " of 2 rows"
+          for (i = 2; i <= 6; i++) if (step[i] <= step[i - 1]) bad = bad " " nr[i] " step not above " nr[i - 1]
           if (total < sum) bad = bad " run total " total " < regions " sum
           if (bad != "") {print "implausible counts:" bad; exit 1}}' <<<"$counts" ||
     gf_die "bench smoke: the plugin's counts are implausible"
