@@ -120,10 +120,16 @@ typedef struct scen {
 
 typedef double dmat[TN][TN];
 
+// The generator's temporaries: file-scope, as the emulated target's stack
+// (16 KiB) is small.
+static struct {
+    dmat r, t, ft, g, f, mt, v, vt, s0, hs, ht, hsh, hd;
+} gs;
+
 static void dmul(int n, int k, int p, dmat a, dmat b, dmat out)
 {
-    dmat r;
-    memset(r, 0, sizeof r);
+    double(*r)[TN] = gs.r;
+    memset(r, 0, sizeof gs.r);
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < p; j++) {
             for (int l = 0; l < k; l++) {
@@ -131,19 +137,19 @@ static void dmul(int n, int k, int p, dmat a, dmat b, dmat out)
             }
         }
     }
-    memcpy(out, r, sizeof r);
+    memcpy(out, r, sizeof gs.r);
 }
 
 static void dtrans(int n, int m, dmat a, dmat out)
 {
-    dmat t;
-    memset(t, 0, sizeof t);
+    double(*t)[TN] = gs.t;
+    memset(t, 0, sizeof gs.t);
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < m; j++) {
             t[j][i] = a[i][j];
         }
     }
-    memcpy(out, t, sizeof t);
+    memcpy(out, t, sizeof gs.t);
 }
 
 // A random orthogonal n x n matrix (Gram-Schmidt on Gaussian columns).
@@ -206,7 +212,7 @@ static void corr_factor(gr_rng *r, int n, double cond, int rank, dmat f)
 // out = f f^T rounded to gf_real, exactly symmetric (n x n, flat).
 static void round_gram(int n, dmat f, gf_real *out)
 {
-    dmat ft, g;
+    double(*ft)[TN] = gs.ft, (*g)[TN] = gs.g;
     dtrans(n, n, f, ft);
     dmul(n, n, n, f, ft, g);
     for (int i = 0; i < n; i++) {
@@ -261,7 +267,7 @@ static void scen_make(scen *sc, int kind, int n, unsigned index)
     // Prior: std devs spread over 1e-2..1e2 units, correlation form of
     // condition number log-uniform in [1, GR_COND_MAX].
     double sd[TN];
-    dmat f;
+    double(*f)[TN] = gs.f;
     for (int i = 0; i < n; i++) {
         sd[i] = unit[i] * gr_logu(r, 1e-2, 1e2);
     }
@@ -297,8 +303,8 @@ static void scen_make(scen *sc, int kind, int n, unsigned index)
     // magnitude in [0.5, 1.3] (a fifth of them negative) and off-diagonal
     // entries N(0, 0.3^2 min(1, 3 / n)); B = D N(0, 0.1^2) for a control u
     // of N(0, 1) entries; c = D N(0, 0.1^2).
-    dmat v, t, vt;
-    memset(t, 0, sizeof t);
+    double(*v)[TN] = gs.v, (*t)[TN] = gs.mt, (*vt)[TN] = gs.vt;
+    memset(t, 0, sizeof gs.mt);
     orth(r, n, v);
     const double off = 0.3 * sqrt(n > 3 ? 3.0 / n : 1.0);
     for (int i = 0; i < n; i++) {
@@ -346,8 +352,8 @@ static void scen_make(scen *sc, int kind, int n, unsigned index)
     // always for forward_turn) rows of the identity: position fixes.
     int ident = turn || gr_below(r, 4) == 0;
     int shift = turn ? 0 : (int)gr_below(r, (unsigned)n);
-    dmat hd;
-    memset(hd, 0, sizeof hd);
+    double(*hd)[TN] = gs.hd;
+    memset(hd, 0, sizeof gs.hd);
     for (int i = 0; i < m; i++) {
         for (int j = 0; j < n; j++) {
             double h0 = ident ? (j == (i + shift) % n ? 1.0 : 0.0)
@@ -369,7 +375,8 @@ static void scen_make(scen *sc, int kind, int n, unsigned index)
             rank = m - 1;
             sc->q_pd = 0;
         }
-        dmat s0, hs, ht, hsh;
+        double(*s0)[TN] = gs.s0, (*hs)[TN] = gs.hs, (*ht)[TN] = gs.ht;
+        double(*hsh)[TN] = gs.hsh;
         for (int i = 0; i < n; i++) {
             for (int j = 0; j < n; j++) {
                 s0[i][j] = (double)AT(sc->S0, n, i, j);
@@ -594,11 +601,17 @@ static void ref_predict(ref *f, const scen *sc)
     ref_store(f, mu, P);
 }
 
+// The update's matrices: file-scope, as the emulated target's stack
+// (16 KiB) is small.
+static struct {
+    lmat H, Q, PH, S, L, Si, K, M, Pn, LQ, Qi, PnH, MP, KQ;
+} rs;
+
 // Pn = M P M^T + K Q K^T (K Q K^T left out by BUG_NO_KQK).
 static void joseph(const ref *f, int m, lmat M, lmat K, lmat Q, lmat Pn)
 {
     const int n = f->n;
-    lmat MP, KQ;
+    gr_real(*MP)[TN] = rs.MP, (*KQ)[TN] = rs.KQ;
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < n; j++) {
             MP[i][j] = 0;
@@ -651,7 +664,10 @@ static int ref_update(ref *f, const scen *sc, const gf_real z[TN],
                       gr_real *nis_out)
 {
     const int n = f->n, m = sc->m;
-    lmat H, Q, PH, S, L, Si, K, M, Pn;
+    gr_real(*H)[TN] = rs.H, (*Q)[TN] = rs.Q, (*PH)[TN] = rs.PH;
+    gr_real(*S)[TN] = rs.S, (*L)[TN] = rs.L, (*Si)[TN] = rs.Si;
+    gr_real(*K)[TN] = rs.K, (*M)[TN] = rs.M, (*Pn)[TN] = rs.Pn;
+    gr_real(*LQ)[TN] = rs.LQ, (*Qi)[TN] = rs.Qi, (*PnH)[TN] = rs.PnH;
     gr_real D[TN], y[TN];
     for (int i = 0; i < m; i++) {
         for (int j = 0; j < n; j++) {
@@ -712,11 +728,9 @@ static int ref_update(ref *f, const scen *sc, const gf_real z[TN],
     }
     i_minus_kh(f, m, K, H, M);
     joseph(f, m, M, K, Q, Pn);
-    lmat LQ, Qi;
     gr_real DQ[TN];
     if (f->bug == BUG_NONE && ldl_ld(m, Q, LQ, DQ)) {
         ldl_inverse(m, LQ, DQ, Qi);
-        lmat PnH;
         for (int i = 0; i < n; i++) {
             for (int b = 0; b < m; b++) {
                 PnH[i][b] = 0;
@@ -1260,10 +1274,12 @@ static int traced(int n, unsigned index)
     return e && sscanf(e, "%d:%u", &tn, &ti) == 2 && tn == n && ti == index;
 }
 
+// gf_ekf runs gf_kf's steps behind its callbacks: half the scenarios.
 static void run_n(int n, int ekf, tally *t)
 {
     memset(t, 0, sizeof *t);
-    for (unsigned index = 0; index < SCENARIOS; index++) {
+    const unsigned count = ekf ? SCENARIOS / 2u : SCENARIOS;
+    for (unsigned index = 0; index < count; index++) {
         const int trace = traced(n, index);
         scen *sc = &sc_run;
         scen_make(sc, K_LIN, n, index);
