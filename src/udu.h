@@ -38,6 +38,14 @@
 #define GF_UD_SIZE(n) ((n) * ((n) + 1u) / 2u)
 
 
+// A correction makes the state its quantity measures most the root of the
+// factors when the quantity tells more than this (sum_s h_s^2 Sigma_ss /
+// e_i: by how much it can shrink a variance); below, Bierman's update
+// loses fewer digits than this ratio, and the factors keep their order.
+#ifndef GF_UDU_ROOT_TELL
+#define GF_UDU_ROOT_TELL GF_R(16.0)
+#endif
+
 // The largest n these functions take (the size of their O(n) locals): a
 // source that includes this header for larger filters defines it first.
 #ifndef GF_UDU_NMAX
@@ -516,9 +524,10 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // state; e their noises; yw their whitened innovations at mu_bar): the
 // quantities in the order of how much they tell, the largest
 // sum_s h_s^2 Sigma_ss / e_i first (a ratio of variances: the same in any
-// units; e_i = 0, an exact quantity, before all), the first one's main
-// state (gf_udu_main_state) made the root if it is not, then one after
-// another, each innovation taken at the mean the earlier ones gave:
+// units; e_i = 0, an exact quantity, before all), one after another, each
+// made the root first if it tells more than GF_UDU_ROOT_TELL (its main
+// state, gf_udu_main_state, at the factors' last index; gf_udu_reorder),
+// each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
 // scalar NIS, which is y^T S^-1 y. w, wd: scratch as gf_udu_predict's.
@@ -529,38 +538,29 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                        const gf_real *yw, gf_real *dx,
                                        gf_real *nis, gf_real *w, gf_real *wd)
 {
-    gf_real sd[GF_UDU_NMAX];
+    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX];
-    GF_UNROLL
-    for (unsigned i = 0; i < GF_UDU_NMAX; i++) {
+    // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
+    unsigned main = gf_udu_main_state(n, ud, perm, hw, sd);
+    for (unsigned i = 0; i < m; i++) {
+        gf_real acc = 0;
+        GF_UNROLL
+        for (unsigned s = 0; s < n; s++) {
+            acc += hw[i * n + s] * hw[i * n + s] * sd[s];
+        }
+        v[i] = acc;
         rank[i] = i;
     }
-    unsigned first = gf_udu_main_state(n, ud, perm, hw, sd);
-    if (m > 1u) {
-        gf_real tell[GF_UDU_NMAX];
-        for (unsigned i = 0; i < m; i++) {
-            gf_real v = 0;
-            GF_UNROLL
-            for (unsigned s = 0; s < n; s++) {
-                v += hw[i * n + s] * hw[i * n + s] * sd[s];
-            }
-            tell[i] = (e[i] > 0) ? v / e[i] : (gf_real)INFINITY;
-            rank[i] = i;
-        }
-        for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
-            for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
-                 k--) {
-                const unsigned t = rank[k];
-                rank[k] = rank[k - 1u];
-                rank[k - 1u] = t;
-            }
-        }
-        if (rank[0] != 0u) {
-            first = gf_udu_main_state(n, ud, perm, &hw[rank[0] * n], sd);
-        }
+    for (unsigned i = 0; i < m && m > 1u; i++) {
+        tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
     }
-    if (perm[n - 1u] != first) {
-        gf_udu_reorder(n, ud, perm, first, w, wd);
+    for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
+        for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
+             k--) {
+            const unsigned t = rank[k];
+            rank[k] = rank[k - 1u];
+            rank[k - 1u] = t;
+        }
     }
     // In the factors' order: hp = P^T h_i, dp = P^T dx
     gf_real dp[GF_UDU_NMAX];
@@ -571,6 +571,24 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
     }
     for (unsigned t = 0; t < m; t++) {
         const unsigned i = rank[t];
+        // A quantity that tells more than GF_UDU_ROOT_TELL makes its main
+        // state the root first (Bierman's update then leaves its row of U
+        // alone); one that tells less loses fewer digits than that ratio.
+        if (v[i] > GF_UDU_ROOT_TELL * e[i]) {
+            if (t > 0u || i != 0u) {
+                main = gf_udu_main_state(n, ud, perm, &hw[i * n], sd);
+            }
+            if (perm[n - 1u] != main) {
+                gf_real dxs[GF_UDU_NMAX];
+                for (unsigned j = 0; j < n; j++) {
+                    dxs[perm[j]] = dp[j];
+                }
+                gf_udu_reorder(n, ud, perm, main, w, wd);
+                for (unsigned j = 0; j < n; j++) {
+                    dp[j] = dxs[perm[j]];
+                }
+            }
+        }
         gf_real hp[GF_UDU_NMAX];
         gf_real yi = yw[i];
         GF_UNROLL
