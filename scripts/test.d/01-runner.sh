@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-#
 # Stage runner: scripts/test itself. --help and -h print the usage (the
 # script's header) and exit 0, an unknown stage is still an error, and the
 # closing counts agree with ctest's: scripts/test runs stages made here
@@ -22,7 +21,11 @@ for h in --help -h; do
         gf_die "scripts/test $h does not print the usage: $out"
     grep -q '^The last line$\|scripts/test: N passed, N failed' <<<"$out" ||
         gf_die "scripts/test $h does not say what the last line counts"
-    ! grep -q '^#' <<<"$out" || gf_die "scripts/test $h prints the comment signs"
+    ! grep -q '^#\|SPDX' <<<"$out" ||
+        gf_die "scripts/test $h prints the comment signs or the licence line"
+    first=$(grep -m1 -v '^#!\|SPDX' scripts/test | sed 's/^# //')
+    [ "$(head -1 <<<"$out")" = "$first" ] ||
+        gf_die "scripts/test $h does not start with the header's first line ($first): $(head -1 <<<"$out")"
     echo "scripts/test $h: exit 0, $(wc -l <<<"$out") lines of usage"
 done
 if out=$(bash scripts/test no-such-stage 2>&1); then

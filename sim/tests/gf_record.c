@@ -1,5 +1,4 @@
 // SPDX-License-Identifier: MIT
-//
 // gf_record: records LCM traffic to a log file, for the udpm tests that
 // count what went over the wire. lcm-logger cannot be used for that: its
 // subscription keeps LCM's default queue of 30 messages, so whenever its
