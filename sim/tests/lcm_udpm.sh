@@ -14,10 +14,11 @@
 #   table11, table21, table42  the exercise, checked from the wire by gf_check
 #   malformed  broken packets on the node's channels: counted exactly,
 #              dropped, and the node still reproduces Table 4.2 afterwards
-#   replay     lcm-logger records the simulators; the log is played through
-#              the node twice with the file:// provider (speed=0): the two
-#              belief logs are identical, and Table 2.1 is in them; and
-#              gf_sim gives the same bytes for the same seed (and session)
+#   replay     gf_record records the simulators' 768 messages; the log is
+#              played through the node twice with the file:// provider
+#              (speed=0): the two belief logs are identical, and Table 2.1
+#              is in them; and gf_sim gives the same bytes for the same
+#              seed (and session)
 #   config     node_test.conf: a car at 100 Hz (position and velocity), a
 #              robot with odometry noise seeing (x, y), and one seeing the
 #              range and bearing of a landmark; three nodes (one per model,
@@ -26,10 +27,10 @@
 #              of the beliefs consistent (gf_consist, 95% bounds per step)
 #   model      a node without a configuration; gf_setmodel gives track 150
 #              the car100 model at run time; after it, every belief of the
-#              track equals that of a node configured with car100 from the
-#              start (gf_logcmp)
+#              track (gf_record records them from the wire) equals that of
+#              a node configured with car100 from the start (gf_logcmp)
 #   java       a demo-like log (exercises 1, 2, 4 and a random robot through
-#              an EKF and a PF node, a run-time model_t) by lcm-logger; the
+#              an EKF and a PF node, a run-time model_t) by gf_record; the
 #              Java types jar decodes every GF_ event of it the way lcm-spy
 #              does, all six types (GfDecodeLog; GF_JAVA, GF_JAVA_CP)
 #   python     examples/beliefs.py (the venv's Python, the installed
@@ -39,6 +40,14 @@
 #   ex4three   exercise 4 through three nodes (--filter ekf, ukf, pf):
 #              gf_ex4check sees the EKF at (0.15, 0), the UKF's predicted
 #              mean inside the unit circle, the PF's two modes
+#
+# Nothing is sent before its receivers are ready (their ready lines), and
+# no count depends on a fixed sleep: a test that counts messages on the
+# wire records them with gf_record (sim/tests/gf_record.c: LCM's queue
+# unbounded, a socket buffer that holds the whole test, kernel drops
+# counted), not with lcm-logger, whose subscription keeps LCM's default
+# queue of 30 messages and loses the rest whenever it falls behind. A
+# node is stopped only once its last belief has been seen.
 set -euo pipefail
 scenario=$1 port=$2 bin=$3 lcmbin=$4 work=$5
 
@@ -48,6 +57,18 @@ if [ "$(id -u)" -eq 0 ] && [ -z "${GF_IN_NETNS:-}" ] &&
 fi
 GF_PROC_DIR=$work GF_PROC_TAG=lcm_udpm
 . "$(dirname "$0")/../tools/procs.sh"
+
+# The datagrams the kernel dropped in this namespace because a socket's
+# buffer was full (UDP RcvbufErrors), said at the end of every scenario.
+udp_drops() { awk '/^Udp:/ { if (n++) print $6 }' /proc/net/snmp; }
+on_exit() {
+    local rc=$?
+    [ -z "${GF_IN_NETNS:-}" ] ||
+        echo "lcm_udpm: datagrams the kernel dropped in the namespace (socket buffers full): $(udp_drops)"
+    gf_procs_cleanup
+    exit "$rc"
+}
+trap on_exit EXIT
 if [ -n "${GF_IN_NETNS:-}" ]; then
     gf_netns_lo
     where="a private network namespace"
@@ -69,6 +90,15 @@ stop_node() {
     summary=$(grep 'gf_node: summary' "$work/node.out") ||
         { echo "lcm_udpm: no summary from the node" >&2; exit 1; }
     echo "$summary"
+}
+
+# recorded NAME: waits for gf_record NAME to end; fails unless it recorded
+# exactly the events it was told to expect, with no kernel drop.
+recorded() {
+    local pid_var=${1}_pid rc=0
+    wait "${!pid_var}" || rc=$?
+    cat "$work/$1.out"
+    [ "$rc" -eq 0 ] || { echo "lcm_udpm: $1 did not record what was sent" >&2; exit 1; }
 }
 
 # expect KEY VALUE: the node's summary says KEY=VALUE.
@@ -117,23 +147,16 @@ malformed)
     expect received $((4 * rounds + 2))
     ;;
 replay)
-    start logger "$lcmbin/lcm-logger" --lcm-url="$URL" -f "$work/in.lcmlog"
-    sleep 0.5
+    # inputs: 10 + 6 + 2 + 400 + 100; truths: 200 + 50
+    start recorder "$bin/gf_record" --url "$URL" --channels 'GF_.*' \
+        --count 768 "$work/in.lcmlog"
+    ready recorder
     "$bin/gf_sim" --url "$URL" --exercise 1 --track 1
     "$bin/gf_sim" --url "$URL" --exercise 2 --track 2
     "$bin/gf_sim" --url "$URL" --exercise 4 --track 4
     "$bin/gf_sim" --url "$URL" --model car --track 10 --steps 200 --seed 7 --rate 2000
     "$bin/gf_sim" --url "$URL" --model robot --track 11 --steps 50 --seed 8 --rate 2000
-    # lcm-logger writes behind (flushes every 100 ms) and drops what it has
-    # not written when stopped: wait until all 768 are on disk (up to 10 s).
-    # inputs: 10 + 6 + 2 + 400 + 100; truths: 200 + 50
-    for i in $(seq 100); do
-        "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog" \
-            >/dev/null 2>&1 && break
-        sleep 0.1
-    done
-    kill -INT "$logger_pid"
-    wait "$logger_pid" || true
+    recorded recorder
     "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog"
     for run in a b; do
         "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" \
@@ -239,15 +262,18 @@ config)
     ;;
 model)
     conf=$(dirname "$0")/node_test.conf
-    start node "$bin/gf_node" --url "$URL" \
-        --out-url "file://$work/beliefs-set.lcmlog?mode=w"
+    # 1 initial belief (the model message's) + 100
+    start recorder "$bin/gf_record" --url "$URL" --channels GF_BELIEF_150 \
+        --count 101 "$work/beliefs-set.lcmlog"
+    ready recorder
+    start node "$bin/gf_node" --url "$URL"
     ready node
+    # the node's socket keeps the order of sending: the model first
     "$bin/gf_setmodel" --url "$URL" --config "$conf" --model car100 \
         --track 150 --reset --utime 10000
-    sleep 0.2
     "$bin/gf_sim" --url "$URL" --config "$conf" --model car100 --track 150 \
         --steps 50 --seed 5 --session 1 --rate 500
-    sleep 0.2
+    recorded recorder
     stop_node
     expect models 1
     expect received 101
@@ -263,34 +289,28 @@ model)
         "$work/beliefs-set.lcmlog" "$work/beliefs-conf.lcmlog"
     ;;
 java)
-    start logger "$lcmbin/lcm-logger" --lcm-url="$URL" -f "$work/demo.lcmlog"
+    # inputs 10 + 6 + 2 + 2 + 40 and 1 model_t; truths 20; beliefs (the
+    # initial one and one per input) 11 + 7 + 3 + 3 + 41; clouds 3 (PF node)
+    want=$((10 + 6 + 2 + 2 + 40 + 1 + 20 + 11 + 7 + 3 + 3 + 41 + 3))
+    start recorder "$bin/gf_record" --url "$URL" --channels 'GF_.*' \
+        --count $want "$work/demo.lcmlog"
+    ready recorder
     start node "$bin/gf_node" --url "$URL" --channels 'GF_(MEAS|CTRL|MODEL)_[0-9]'
     start pfnode "$bin/gf_node" --url "$URL" --filter pf \
         --channels 'GF_(MEAS|CTRL|MODEL)_43'
     ready node
     ready pfnode
-    sleep 0.3
     "$bin/gf_sim" --url "$URL" --exercise 1 --track 1
     "$bin/gf_sim" --url "$URL" --exercise 2 --track 2
     "$bin/gf_sim" --url "$URL" --exercise 4 --track 4
     "$bin/gf_sim" --url "$URL" --exercise 4 --track 43
     "$bin/gf_setmodel" --url "$URL" --model book-robot --track 5 --reset
     "$bin/gf_sim" --url "$URL" --model robot --track 5 --steps 20 --seed 3 --rate 500
-    sleep 0.3
+    recorded recorder # the inputs, and every belief and cloud of both nodes
     stop_node
     kill -TERM "$pfnode_pid"
     wait "$pfnode_pid" || true
-    # inputs 10 + 6 + 2 + 2 + 40 and 1 model_t; truths 20; beliefs (the
-    # initial one and one per input) 11 + 7 + 3 + 3 + 41; clouds 3 (PF node)
-    want=$((10 + 6 + 2 + 2 + 40 + 1 + 20 + 11 + 7 + 3 + 3 + 41 + 3))
-    for i in $(seq 100); do
-        "$bin/gf_logcmp" --prefix GF_ --expect $want "$work/demo.lcmlog" \
-            >/dev/null 2>&1 && break
-        sleep 0.1
-    done
-    kill -INT "$logger_pid"
-    wait "$logger_pid" || true
-    "$bin/gf_logcmp" --prefix GF_ "$work/demo.lcmlog"
+    "$bin/gf_logcmp" --prefix GF_ --expect $want "$work/demo.lcmlog"
     "$GF_JAVA" -cp "$GF_JAVA_CP" GfDecodeLog "$work/demo.lcmlog" $want \
         2>"$work/java.err" | tee "$work/java.out"
     n=$(grep -c '^GfDecodeLog: gaussfilt_lcm\.' "$work/java.out")
@@ -314,10 +334,13 @@ python)
         { echo "lcm_udpm: beliefs.py did not print Table 2.1's corrected belief" >&2; exit 1; }
     grep -q '^7 beliefs' "$work/table.out" ||
         { echo "lcm_udpm: beliefs.py did not print the 7 beliefs of Table 2.1" >&2; exit 1; }
-    # live: lcm-logplayer replays the car's beliefs on udpm
-    start example "$py" "$example" --url "$URL" --track 150 --count 201 \
-        --seconds 10 --plot "$work/car100.png"
-    sleep 1.5
+    # live: lcm-logplayer replays the car's beliefs on udpm, as fast as the
+    # node wrote them: a socket buffer that holds all 201 (up to 400 at
+    # the kernel's usual net.core.rmem_max), and the listener's header
+    # line (printed once it has subscribed) before the first is sent
+    start example "$py" "$example" --url "$URL&recv_buf_size=2097152" \
+        --track 150 --count 201 --seconds 10 --plot "$work/car100.png"
+    wait_line example '^ +track +seq ' 60
     "$lcmbin/lcm-logplayer" --lcm-url="$URL" -s 4 "$work/out-150.lcmlog"
     wait "$example_pid" || { cat "$work/example.out"; echo "lcm_udpm: beliefs.py failed" >&2; exit 1; }
     tail -3 "$work/example.out"

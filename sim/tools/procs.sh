@@ -7,8 +7,12 @@
 # start NAME CMD...   CMD in the background, output in DIR/NAME.out, its
 #                     pid in the variable NAME_pid; killed when the script
 #                     exits
-# ready NAME [SECS]   waits (default 5 s) for NAME's ": ready" line; if it
-#                     never comes, prints NAME's output and exits 1
+# ready NAME [SECS]   waits (default 20 s) for NAME's ": ready" line; if it
+#                     never comes (or NAME ends first), prints NAME's
+#                     output and exits 1
+# wait_line NAME REGEX [SECS]
+#                     the same for the first line of NAME's output that
+#                     matches REGEX (grep -E)
 # gf_netns_lo         in a private network namespace: lo up, multicast
 #                     (224.0.0.0/4) routed to lo
 
@@ -28,13 +32,22 @@ start() {
 }
 
 ready() {
-    local i tries=$((${2:-5} * 20))
-    for ((i = 0; i < tries; i++)); do
-        grep -q ': ready' "$GF_PROC_DIR/$1.out" 2>/dev/null && return 0
-        sleep 0.05
+    wait_line "$1" ': ready' "${2:-20}"
+}
+
+wait_line() {
+    local i tries=$((${3:-20} * 20)) pid_var=${1}_pid alive=1
+    for ((i = 0; i < tries && alive; i++)); do
+        kill -0 "${!pid_var}" 2>/dev/null || alive=0 # one last look below
+        grep -Eq "$2" "$GF_PROC_DIR/$1.out" 2>/dev/null && return 0
+        [ "$alive" -eq 0 ] || sleep 0.05
     done
     cat "$GF_PROC_DIR/$1.out" >&2
-    echo "$GF_PROC_TAG: $1 never got ready" >&2
+    if [ "$alive" -eq 0 ]; then
+        echo "$GF_PROC_TAG: $1 ended before a line matching '$2'" >&2
+    else
+        echo "$GF_PROC_TAG: $1 never got ready (no line matching '$2' in ${3:-20} s)" >&2
+    fi
     exit 1
 }
 
