@@ -2,7 +2,8 @@
 # Another project takes gaussfilt the ways README.md's "Vendoring" shows,
 # each with the README's own text (taken out between its marker comments,
 # so the README cannot drift from what is tested):
-#   - the README's examples (KF2, EKF3 with a callback) as C99 and as C++17,
+#   - the README's examples (KF2, EKF3 with a callback, a 4-state gf_kf) as
+#     C99 and as C++17,
 #     -Wall -Wextra -Wpedantic -Werror, printing what the README says;
 #   - the CMake snippet with add_subdirectory() on a copy holding only
 #     CMakeLists.txt, include/ and src/ (no cmake/, no tests/): it builds,
@@ -24,7 +25,7 @@ rm -rf "$b"
 mkdir -p "$b/examples"
 
 # The examples and what the README says they print.
-for ex in kf2 ekf3; do
+for ex in kf2 ekf3 kf4; do
     gf_readme_block "example-$ex" >"$b/examples/$ex.c"
     cp "$b/examples/$ex.c" "$b/examples/$ex.cpp"
     sed -n "s/.*<!-- example-$ex-prints -->\`\(.*\)\`<!-- \/example-$ex-prints -->.*/\1/p" \
@@ -75,7 +76,7 @@ vendor_copy "$c/gaussfilt"
 line=$(gf_readme_block vendor-cc | sed -n '1,/^$/p' | sed '/^$/d')
 [ "${line%% *}" = cc ] || gf_die "the README's first compiler line is not cc's: $line"
 echo "$line"
-for ex in kf2 ekf3; do
+for ex in kf2 ekf3 kf4; do
     cp "$b/examples/$ex.c" "$c/main.c"
     (cd "$c" && bash -euc "$line") || gf_die "the README's compiler line failed on the $ex example"
     mv "$c/app" "$c/app-$ex"
@@ -110,7 +111,7 @@ cmake -S tests/consumer -B "$b/subdir" -DGAUSSFILT_SOURCE_DIR="$GF_ROOT" \
     -DGF_EXAMPLES_DIR="$b/examples" >/dev/null
 cmake --build "$b/subdir" --parallel 2 >/dev/null ||
     cmake --build "$b/subdir" || gf_die "the examples do not build (as C or C++17)"
-for ex in kf2 ekf3; do
+for ex in kf2 ekf3 kf4; do
     for lang in c cxx; do
         expect_prints "add_subdirectory(), $lang" "$b/subdir/${ex}_$lang" "$ex"
     done
@@ -128,7 +129,7 @@ for prec in double float; do
         -DGF_EXAMPLES_DIR="$b/examples" >/dev/null
     cmake --build "$b/pkg-$prec" --parallel 2 >/dev/null ||
         gf_die "find_package consumer ($prec) does not build"
-    for ex in kf2 ekf3; do
+    for ex in kf2 ekf3 kf4; do
         for lang in c cxx; do
             expect_prints "find_package(gaussfilt), $prec, $lang" "$b/pkg-$prec/${ex}_$lang" "$ex"
         done
