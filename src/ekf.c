@@ -15,7 +15,7 @@ gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
 }
 
 // R's verdict and factors (into Rf, Rd).
-static gf_status motion_check(unsigned n, const gf_ekf_motion *motion,
+static gf_status ekf_motion_check(unsigned n, const gf_ekf_motion *motion,
                               gf_real *Rf, gf_real *Rd, gf_kf_work *work)
 {
     if (!motion->g || !motion->R || n < 1u || n > GF_KF_NMAX) {
@@ -26,12 +26,12 @@ static gf_status motion_check(unsigned n, const gf_ekf_motion *motion,
 
 // mu_bar = g(u, mu) and G from the callback (mu_bar preset to mu, G to the
 // identity), then the factored prediction.
-static gf_status predict(gf_kf *ekf, const gf_ekf_motion *motion,
+static gf_status ekf_predict_step(gf_kf *ekf, const gf_ekf_motion *motion,
                          const gf_real *u, const gf_real *Rf,
                          const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = ekf->n;
-    gf_real *mu_bar = &work->s[4u * GF_KF_NMAX];
+    gf_real *mu_bar = GF_KFC_S(work, 4);
     gf_real *G = work->x;
     for (unsigned i = 0; i < n; i++) {
         mu_bar[i] = ekf->mu[i];
@@ -56,8 +56,9 @@ gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
         return GF_ERR_ARG;
     }
     gf_real *Rd = GF_KFC_D(work);
-    const gf_status st = motion_check(ekf->n, motion, work->v, Rd, work);
-    return st != GF_OK ? st : predict(ekf, motion, u, work->v, Rd, work);
+    const gf_status st = ekf_motion_check(ekf->n, motion, work->v, Rd, work);
+    return st != GF_OK ? st
+                       : ekf_predict_step(ekf, motion, u, work->v, Rd, work);
 }
 
 gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
@@ -68,7 +69,7 @@ gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
         return GF_ERR_ARG;
     }
     gf_real *Rd = GF_KFC_D(work);
-    const gf_status st = motion_check(n, motion, work->v, Rd, work);
+    const gf_status st = ekf_motion_check(n, motion, work->v, Rd, work);
     if (st != GF_OK) {
         return st;
     }
@@ -84,19 +85,20 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
     if (!ekf || !pm || !work || !pm->motion.g || pm->n != ekf->n) {
         return GF_ERR_ARG;
     }
-    return predict(ekf, &pm->motion, u, pm->Rf, pm->Rd, work);
+    return ekf_predict_step(ekf, &pm->motion, u, pm->Rf, pm->Rd, work);
 }
 
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
 // (angle residuals wrapped), then the factored correction, H whitened.
-static gf_status update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
+static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
+                                 const gf_real *z,
                         const gf_real *Qf, const gf_real *Qe,
                         const unsigned *Qorder, gf_kf_innovation *info,
                         gf_kf_work *work)
 {
     const unsigned n = ekf->n, m = meas->m;
-    gf_real *zh = &work->s[4u * GF_KF_NMAX];
-    gf_real *y = &work->s[6u * GF_KF_NMAX];
+    gf_real *zh = GF_KFC_S(work, 4);
+    gf_real *y = GF_KFC_S(work, 6);
     gf_real *H = work->x;
     for (unsigned i = 0; i < m; i++) {
         zh[i] = 0;
@@ -136,7 +138,8 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
                                            work->k, work);
     return st != GF_OK
                ? st
-               : update(ekf, meas, z, work->v, Qe, work->k, info, work);
+               : ekf_update_step(ekf, meas, z, work->v, Qe, work->k, info,
+                                 work);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -168,5 +171,6 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return update(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info, work);
+    return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder,
+                           info, work);
 }

@@ -63,7 +63,7 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 // (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's verdict
 // (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, pq holds Q's factors
 // (pq->meas is not written).
-static gf_status meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
+static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
                             gf_ekf3_pmeas *pq)
 {
     const unsigned m = meas->m;
@@ -89,7 +89,7 @@ static gf_status meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
 
 // The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
 // R's verdict; on GF_OK, rf and rd hold R's factors.
-static gf_status motion_check(const gf_ekf3_motion *motion, gf_real rf[9],
+static gf_status ekf3_motion_check(const gf_ekf3_motion *motion, gf_real rf[9],
                               gf_real rd[3])
 {
     if (!motion->g) {
@@ -135,7 +135,7 @@ gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma)
 //   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,
 // the covariance on its factors (gf_udu_predict); the belief is written
 // only if all is finite.
-static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
+static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
                          const gf_real rf[9], const gf_real rd[3],
                          const gf_real *u)
 {
@@ -165,7 +165,7 @@ static gf_status predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 // then one scalar update per quantity (gf_udu_correct), the gate on the
 // total NIS, and the belief written only if every quantity passed and all
 // is finite.
-static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                         const gf_ekf3_pmeas *pq, const gf_vec3 *z,
                         gf_innovation *info)
 {
@@ -214,7 +214,7 @@ static gf_status update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, yw, 1);
     }
     gf_ekf3 nb = *ekf;
-    gf_real dx[3], w[3 * 6], wd[6];
+    gf_real dx[3] = {0, 0, 0}, w[3 * 6], wd[6];
     st = gf_udu_correct(3, nb.ud, nb.perm, m, H.m[0], pq->Qe, yw, dx, &in.nis,
                         w, wd);
     if (st != GF_OK) {
@@ -248,8 +248,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
         return GF_ERR_ARG;
     }
     gf_real rf[9], rd[3];
-    const gf_status st = motion_check(motion, rf, rd);
-    return st != GF_OK ? st : predict(ekf, motion, rf, rd, u);
+    const gf_status st = ekf3_motion_check(motion, rf, rd);
+    return st != GF_OK ? st : ekf3_predict_step(ekf, motion, rf, rd, u);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -259,8 +259,8 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return GF_ERR_ARG;
     }
     gf_ekf3_pmeas pq;
-    const gf_status st = meas_check(meas, z, &pq);
-    return st != GF_OK ? st : update(ekf, meas, &pq, z, info);
+    const gf_status st = ekf3_meas_check(meas, z, &pq);
+    return st != GF_OK ? st : ekf3_update_step(ekf, meas, &pq, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
@@ -270,7 +270,7 @@ gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
         return GF_ERR_ARG;
     }
     gf_ekf3_pmotion p;
-    const gf_status st = motion_check(motion, p.Rf, p.Rd);
+    const gf_status st = ekf3_motion_check(motion, p.Rf, p.Rd);
     if (st != GF_OK) {
         return st;
     }
@@ -285,7 +285,7 @@ gf_status gf_ekf3_prepare_meas(gf_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
         return GF_ERR_ARG;
     }
     gf_ekf3_pmeas p;
-    const gf_status st = meas_check(meas, NULL, &p);
+    const gf_status st = ekf3_meas_check(meas, NULL, &p);
     if (st != GF_OK) {
         return st;
     }
@@ -300,7 +300,7 @@ gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
     if (!ekf || !pm || !pm->motion.g) {
         return GF_ERR_ARG;
     }
-    return predict(ekf, &pm->motion, pm->Rf, pm->Rd, u);
+    return ekf3_predict_step(ekf, &pm->motion, pm->Rf, pm->Rd, u);
 }
 
 gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
@@ -313,5 +313,5 @@ gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return update(ekf, &pq->meas, pq, z, info);
+    return ekf3_update_step(ekf, &pq->meas, pq, z, info);
 }

@@ -20,10 +20,13 @@
 // step costs about half as many instructions for about 12% more flash
 // (docs/performance.md). (clang unrolls such loops by itself, and warns
 // where a pragma asked it to and the trip count is not known.)
+// A source whose n is known only at run time defines it empty first.
+#ifndef GF_UNROLL
 #if defined(__GNUC__) && !defined(__clang__)
 #define GF_UNROLL _Pragma("GCC unroll 6")
 #else
 #define GF_UNROLL
+#endif
 #endif
 
 // Finiteness in one pass with no branch: x_i * 0 is 0 for a finite x_i
@@ -34,11 +37,12 @@
 // fails z < 1). Needs IEEE arithmetic (no -ffinite-math-only).
 GF_ALWAYS_INLINE gf_real gf_nan_sum(gf_real z, const gf_real *x, unsigned n)
 {
+    gf_real acc = z;
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
-        z += x[i] * GF_R(0.0);
+        acc += x[i] * GF_R(0.0);
     }
-    return z;
+    return acc;
 }
 
 GF_ALWAYS_INLINE int gf_sum_finite(gf_real z)

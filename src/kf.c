@@ -21,7 +21,7 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
         return GF_ERR_NONFINITE;
     }
     return gf_cov_factor_n(s, n, n, F, d, order, work->x,
-                           &work->k[GF_KF_NMAX]);
+                           &work->k[(size_t)GF_KF_NMAX]);
 }
 
 gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
@@ -71,7 +71,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
     }
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
     gf_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work->w,
-                   &work->s[2u * GF_KF_NMAX]);
+                   GF_KFC_S(work, 2));
     if (!gf_sum_finite(
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
@@ -116,7 +116,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
     *nb = *kf;
     const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw,
                                         dx, &in.nis, work->w,
-                                        &work->s[2u * GF_KF_NMAX]);
+                                        GF_KFC_S(work, 2));
     if (st != GF_OK) {
         return st;
     }
@@ -173,7 +173,7 @@ void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,
         F[k] = work->v[k];
     }
     for (unsigned k = 0; k < m; k++) {
-        d[k] = work->s[5u * GF_KF_NMAX + k];
+        d[k] = GF_KFC_D(work)[k];
         if (order) {
             order[k] = work->k[k];
         }
@@ -200,7 +200,7 @@ gf_status gf_kf_cov(const gf_kf *kf, gf_real *sigma)
 // The checks of a motion model for n states (and of u, if not NULL), in
 // the order of gf_kf_predict's statuses; on GF_OK, Rf and Rd hold R's
 // factors.
-static gf_status model_check(unsigned n, const gf_kf_model *model,
+static gf_status kf_model_check(unsigned n, const gf_kf_model *model,
                              const gf_real *u, gf_real *Rf, gf_real *Rd,
                              gf_kf_work *work)
 {
@@ -225,21 +225,21 @@ static gf_status model_check(unsigned n, const gf_kf_model *model,
 }
 
 // mu_bar = A mu + B u + c, into work->s, then the factored prediction.
-static gf_status predict(gf_kf *kf, const gf_kf_model *model,
+static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
                          const gf_real *u, const gf_real *Rf,
                          const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = kf->n;
-    gf_real *mu_bar = &work->s[4u * GF_KF_NMAX];
+    gf_real *mu_bar = GF_KFC_S(work, 4);
     // (A mu)_i + c_i, then + (B u)_i: KF2's order of operations
     for (unsigned i = 0; i < n; i++) {
-        gf_real acc = model->A[i * n] * kf->mu[0];
+        gf_real acc = model->A[(size_t)i * n] * kf->mu[0];
         for (unsigned j = 1; j < n; j++) {
             acc += model->A[i * n + j] * kf->mu[j];
         }
         acc += model->c ? model->c[i] : GF_R(0.0);
         if (u && model->nu > 0u) {
-            gf_real bu = model->B[i * model->nu] * u[0];
+            gf_real bu = model->B[(size_t)i * model->nu] * u[0];
             for (unsigned j = 1; j < model->nu; j++) {
                 bu += model->B[i * model->nu + j] * u[j];
             }
@@ -257,9 +257,9 @@ gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model,
         return GF_ERR_ARG;
     }
     const gf_status st =
-        model_check(kf->n, model, u, work->v, GF_KFC_D(work), work);
+        kf_model_check(kf->n, model, u, work->v, GF_KFC_D(work), work);
     return st != GF_OK ? st
-                       : predict(kf, model, u, work->v,
+                       : kf_predict_step(kf, model, u, work->v,
                                  GF_KFC_D(work), work);
 }
 
@@ -270,7 +270,7 @@ gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
         return GF_ERR_ARG;
     }
     const gf_status st =
-        model_check(n, model, NULL, work->v, GF_KFC_D(work), work);
+        kf_model_check(n, model, NULL, work->v, GF_KFC_D(work), work);
     if (st != GF_OK) {
         return st;
     }
@@ -290,13 +290,13 @@ gf_status gf_kf_predict_prepared(gf_kf *kf, const gf_kf_pmodel *pm,
         !gf_sum_finite(gf_nan_sum(GF_R(0.0), u, pm->model.nu))) {
         return GF_ERR_NONFINITE;
     }
-    return predict(kf, &pm->model, u, pm->Rf, pm->Rd, work);
+    return kf_predict_step(kf, &pm->model, u, pm->Rf, pm->Rd, work);
 }
 
 // The checks of a measurement model for n states (and of z, if not NULL),
 // in the order of gf_kf_update's statuses; on GF_OK, Q's factors are in
 // Qf, Qe, Qorder and F_Q^-1 C in Cw.
-static gf_status meas_check(unsigned n, const gf_kf_meas *meas,
+static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
                             const gf_real *z, gf_real *Qf, gf_real *Qe,
                             unsigned *Qorder, gf_real *Cw, gf_kf_work *work)
 {
@@ -329,16 +329,17 @@ static gf_status meas_check(unsigned n, const gf_kf_meas *meas,
 }
 
 // y = z - c - C mu_bar, then the factored correction on the whitened rows.
-static gf_status update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
+static gf_status kf_update_step(gf_kf *kf, const gf_kf_meas *meas,
+                                const gf_real *z,
                         const gf_real *Qf, const gf_real *Qe,
                         const unsigned *Qorder, const gf_real *Cw,
                         gf_kf_innovation *info, gf_kf_work *work)
 {
     const unsigned n = kf->n, m = meas->m;
-    gf_real *y = &work->s[6u * GF_KF_NMAX];
+    gf_real *y = GF_KFC_S(work, 6);
     // (z_i - c_i) - (C mu)_i: KF2's order of operations
     for (unsigned i = 0; i < m; i++) {
-        gf_real dot = meas->C[i * n] * kf->mu[0];
+        gf_real dot = meas->C[(size_t)i * n] * kf->mu[0];
         for (unsigned j = 1; j < n; j++) {
             dot += meas->C[i * n + j] * kf->mu[j];
         }
@@ -359,11 +360,11 @@ gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
     // the whitened rows live where gf_kfc_update would whiten H: it is
     // told they are whitened already
     const gf_status st =
-        meas_check(kf->n, meas, z, work->v, Qe, work->k, Cw, work);
+        kf_meas_check(kf->n, meas, z, work->v, Qe, work->k, Cw, work);
     if (st != GF_OK) {
         return st;
     }
-    return update(kf, meas, z, work->v, Qe, work->k, Cw, info, work);
+    return kf_update_step(kf, meas, z, work->v, Qe, work->k, Cw, info, work);
 }
 
 gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
@@ -374,7 +375,7 @@ gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
     }
     gf_real *Qe = GF_KFC_D(work);
     const gf_status st =
-        meas_check(n, meas, NULL, work->v, Qe, work->k, work->x, work);
+        kf_meas_check(n, meas, NULL, work->v, Qe, work->k, work->x, work);
     if (st != GF_OK) {
         return st;
     }
@@ -398,6 +399,7 @@ gf_status gf_kf_update_prepared(gf_kf *kf, const gf_kf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return update(kf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, pq->Cw, info,
+    return kf_update_step(kf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder,
+                          pq->Cw, info,
                   work);
 }

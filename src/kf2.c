@@ -7,7 +7,7 @@
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
-static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u,
+static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
                              gf_real rf[4], gf_real rd[2])
 {
     gf_real z = gf_nan_sum(GF_R(0.0), model->A.m[0], 4);
@@ -27,7 +27,7 @@ static gf_status model_check(const gf_kf2_model *model, const gf_vec2 *u,
 // The checks of a measurement model (and of z, if not NULL), in the order
 // of gf_kf2_update's statuses; on GF_OK, pq holds Q's factors and the
 // whitened rows F^-1 C (pq->meas is not written).
-static gf_status meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
+static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
                             gf_kf2_pmeas *pq)
 {
     const unsigned m = meas->m;
@@ -92,7 +92,7 @@ gf_status gf_kf2_cov(const gf_kf2 *kf, gf_mat2 *sigma)
 // The prediction once model and u are checked, R factored (rf, rd):
 //   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R.
 // The belief is written only if all of it is finite.
-static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
+static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
                          const gf_real rf[4], const gf_real rd[2],
                          const gf_vec2 *u)
 {
@@ -122,7 +122,7 @@ static gf_status predict(gf_kf2 *kf, const gf_kf2_model *model,
 //   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
-static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
+static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
                         const gf_kf2_pmeas *pq, const gf_vec2 *z,
                         gf_innovation *info)
 {
@@ -145,7 +145,7 @@ static gf_status update(gf_kf2 *kf, const gf_kf2_meas *meas,
         gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, yw, 1);
     }
     gf_kf2 nb = *kf;
-    gf_real dx[2], w[2 * 4], wd[4];
+    gf_real dx[2] = {0, 0}, w[2 * 4], wd[4];
     gf_status st = gf_udu_correct(2, nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe,
                                   yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {
@@ -177,8 +177,8 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
         return GF_ERR_ARG;
     }
     gf_real rf[4], rd[2];
-    const gf_status st = model_check(model, u, rf, rd);
-    return st != GF_OK ? st : predict(kf, model, rf, rd, u);
+    const gf_status st = kf2_model_check(model, u, rf, rd);
+    return st != GF_OK ? st : kf2_predict_step(kf, model, rf, rd, u);
 }
 
 gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
@@ -188,8 +188,8 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
         return GF_ERR_ARG;
     }
     gf_kf2_pmeas pq;
-    const gf_status st = meas_check(meas, z, &pq);
-    return st != GF_OK ? st : update(kf, meas, &pq, z, info);
+    const gf_status st = kf2_meas_check(meas, z, &pq);
+    return st != GF_OK ? st : kf2_update_step(kf, meas, &pq, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -198,7 +198,7 @@ gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
         return GF_ERR_ARG;
     }
     gf_kf2_pmodel p;
-    const gf_status st = model_check(model, NULL, p.Rf, p.Rd);
+    const gf_status st = kf2_model_check(model, NULL, p.Rf, p.Rd);
     if (st != GF_OK) {
         return st;
     }
@@ -213,7 +213,7 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
         return GF_ERR_ARG;
     }
     gf_kf2_pmeas p;
-    const gf_status st = meas_check(meas, NULL, &p);
+    const gf_status st = kf2_meas_check(meas, NULL, &p);
     if (st != GF_OK) {
         return st;
     }
@@ -233,7 +233,7 @@ gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
     if (u && !gf_all_finite(u->v, 2)) {
         return GF_ERR_NONFINITE;
     }
-    return predict(kf, &pm->model, pm->Rf, pm->Rd, u);
+    return kf2_predict_step(kf, &pm->model, pm->Rf, pm->Rd, u);
 }
 
 gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
@@ -245,5 +245,5 @@ gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return update(kf, &pq->meas, pq, z, info);
+    return kf2_update_step(kf, &pq->meas, pq, z, info);
 }

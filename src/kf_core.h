@@ -8,8 +8,6 @@
 #include "gaussfilt/ekf.h"
 
 // n is known only at run time here: the loops stay loops.
-#include "gf_internal.h"
-#undef GF_UNROLL
 #define GF_UNROLL
 #ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX GF_KF_NMAX
@@ -53,7 +51,10 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
 
 // Where a check leaves a noise's factors in work: F (m x m) in work->v, d
 // in work->s from GF_KF_NMAX * 5, the pivot order in work->k.
-#define GF_KFC_D(work) (&(work)->s[5u * GF_KF_NMAX])
+#define GF_KFC_D(work) GF_KFC_S(work, 5)
+
+// The vector k (0..7) of n entries in work->s.
+#define GF_KFC_S(work, k) (&(work)->s[(size_t)(k) * GF_KF_NMAX])
 
 // Copies them into a prepared model's arrays (order may be NULL).
 void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,

@@ -7,19 +7,35 @@
 
 // ---- the verdict and the factors of a covariance passed in ------------
 
-gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
-                 gf_real *d, unsigned *order, gf_real *a, unsigned *p)
+// 1 if the state p[u], one of the zero ones left (p[t..n-1]), is coupled to
+// each zero one before it, p[w] (t <= w < u), within the 2x2 bound
+// a_ik^2 <= a_ii a_kk, both sides widened by GF_PD_RTOL times their
+// variance.
+static int ldl_zero_coupled(const gf_real *s, unsigned stride, unsigned n,
+                            const gf_real *a, const unsigned *p, unsigned t,
+                            unsigned u)
 {
     const gf_real rtol = GF_PD_RTOL;
-    gf_real a3[3 * 3];
-    unsigned p3[3];
-    if (!a || !p) { // n <= 3: the caller's scratch is here
-        if (n > 3u) {
-            return GF_ERR_ARG;
+    const unsigned k = p[u];
+    const gf_real akk = a[k * n + k] > 0 ? a[k * n + k] : GF_R(0.0);
+    for (unsigned w = t; w < u; w++) {
+        const unsigned i = p[w];
+        const gf_real aii = a[i * n + i] > 0 ? a[i * n + i] : GF_R(0.0);
+        const gf_real aik = (i < k) ? a[i * n + k] : a[k * n + i];
+        if (!gf_coupled_ok(aik, aii + rtol * s[i * stride + i],
+                           akk + rtol * s[k * stride + k])) {
+            return 0;
         }
-        a = a3;
-        p = p3;
     }
+    return 1;
+}
+
+// gf_ldl with its scratch given.
+static gf_status ldl_core(const gf_real *s, unsigned stride, unsigned n,
+                          gf_real *F, gf_real *d, unsigned *order, gf_real *a,
+                          unsigned *p)
+{
+    const gf_real rtol = GF_PD_RTOL;
     // a: the Schur complements (upper triangle, by state, rows of n);
     // p[t..n-1]: the states not pivots yet
     for (unsigned i = 0; i < n; i++) {
@@ -49,7 +65,8 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
             for (unsigned u = t; u < n; u++) {
                 const unsigned k = p[u];
                 const gf_real skk = s[k * stride + k];
-                const gf_real ratio = (skk > 0) ? a[k * n + k] / skk : GF_R(0.0);
+                const gf_real ratio =
+                    (skk > 0) ? a[k * n + k] / skk : GF_R(0.0);
                 if (ratio > best) {
                     best = ratio;
                     at = u;
@@ -101,15 +118,8 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
         if (!(a[k * n + k] >= -rtol * skk)) {
             return GF_ERR_NOT_PSD;
         }
-        for (unsigned w = t; w < u; w++) {
-            const unsigned i = p[w];
-            const gf_real aii = a[i * n + i] > 0 ? a[i * n + i] : GF_R(0.0);
-            const gf_real akk = a[k * n + k] > 0 ? a[k * n + k] : GF_R(0.0);
-            const gf_real aik = (i < k) ? a[i * n + k] : a[k * n + i];
-            if (!gf_coupled_ok(aik, aii + rtol * s[i * stride + i],
-                               akk + rtol * skk)) {
-                return GF_ERR_NOT_PSD;
-            }
+        if (!ldl_zero_coupled(s, stride, n, a, p, t, u)) {
+            return GF_ERR_NOT_PSD;
         }
         if (d) {
             d[k] = 0;
@@ -121,6 +131,20 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
         }
     }
     return GF_OK;
+}
+
+gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
+                 gf_real *d, unsigned *order, gf_real *a, unsigned *p)
+{
+    if (a && p) {
+        return ldl_core(s, stride, n, F, d, order, a, p);
+    }
+    if (n > 3u) {
+        return GF_ERR_ARG;
+    }
+    gf_real a3[3 * 3]; // n <= 3: the scratch is here
+    unsigned p3[3];
+    return ldl_core(s, stride, n, F, d, order, a3, p3);
 }
 
 gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)

@@ -81,9 +81,10 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
                  gf_real *d, unsigned *order, gf_real *a, unsigned *p);
 
 // The verdict on a finite covariance passed in (R, Q, a prior) and, where
-// F, d and order are not NULL, its factors as gf_ldl's (a, p: its scratch): symmetric within
-// GF_SYM_RTOL (|s_ij - s_ji| <= GF_SYM_RTOL (|s_ij| + |s_ji|), the same for
-// any scale), no negative variance, then gf_ldl's verdict; a diagonal
+// F, d and order are not NULL, its factors as gf_ldl's (a, p: its
+// scratch): symmetric within GF_SYM_RTOL (|s_ij - s_ji| <= GF_SYM_RTOL
+// (|s_ij| + |s_ji|), the same for any scale), no negative variance, then
+// gf_ldl's verdict; a diagonal
 // matrix (the usual noise) is its own factorisation (F = I). Else
 // GF_ERR_NOT_PSD.
 GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
@@ -109,9 +110,13 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
     if (off > 0 && n == 2u) {
         // gf_ldl's arithmetic for 2 x 2, in closed form: the first state
         // of positive variance the pivot, then s_kk - (s_jk / s_jj) s_jk
-        const unsigned j = (s[0] > 0) ? 0u : 1u, k = 1u - j;
+        unsigned j = 1u, k = 0u;
+        if (s[0] > 0) {
+            j = 0u;
+            k = 1u;
+        }
         const gf_real sjj = s[j * stride + j], skk = s[k * stride + k];
-        const gf_real sjk = s[0 * stride + 1];
+        const gf_real sjk = s[1];
         if (!(sjj > 0)) {
             return GF_ERR_NOT_PSD; // both variances zero, coupled
         }
@@ -234,8 +239,10 @@ static inline void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm,
 // it: NaN if one is not finite (finite factors can still give a variance
 // beyond the largest gf_real).
 // For gf_sum_finite.
-GF_ALWAYS_INLINE gf_real gf_udu_nan_sum(gf_real z, unsigned n, const gf_real *ud)
+GF_ALWAYS_INLINE gf_real gf_udu_nan_sum(gf_real z, unsigned n,
+                                        const gf_real *ud)
 {
+    gf_real acc = z;
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         gf_real v = ud[GF_UD(i, i)];
@@ -243,9 +250,9 @@ GF_ALWAYS_INLINE gf_real gf_udu_nan_sum(gf_real z, unsigned n, const gf_real *ud
         for (unsigned k = i + 1u; k < n; k++) {
             v += ud[GF_UD(i, k)] * ud[GF_UD(k, k)] * ud[GF_UD(i, k)];
         }
-        z += v * GF_R(0.0);
+        acc += v * GF_R(0.0);
     }
-    return gf_nan_sum(z, ud, GF_UD_SIZE(n));
+    return gf_nan_sum(acc, ud, GF_UD_SIZE(n));
 }
 
 // The modified weighted Gram-Schmidt: the factors U D U^T (into ud) of
@@ -368,7 +375,8 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud,
         if (perm[k] == root) {
             at = k;
         } else {
-            np[t++] = perm[k];
+            np[t] = perm[k];
+            t++;
         }
     }
     np[n - 1u] = (unsigned char)root;
@@ -405,8 +413,9 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud,
 // A zero alpha (an exact quantity, r = 0, on the states taken so far; or
 // one below GF_REAL_MIN, too small to invert) leaves U as it is (b is zero
 // there) and d_j as it is while alpha stays zero; the first d_j to make it
-// positive becomes zero: that direction is now known exactly. A d_j below GF_REAL_MIN becomes zero, with its
-// column of U. GF_ERR_NONFINITE if s overflows; GF_ERR_SINGULAR if r = 0
+// positive becomes zero: that direction is now known exactly. A d_j
+// below GF_REAL_MIN becomes zero, with its column of U. GF_ERR_NONFINITE
+// if s overflows; GF_ERR_SINGULAR if r = 0
 // and s is zero relative to its terms before cancellation,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
 // ud and dx are partly written then.
@@ -538,7 +547,7 @@ static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                        const gf_real *yw, gf_real *dx,
                                        gf_real *nis, gf_real *w, gf_real *wd)
 {
-    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
+    gf_real sd[GF_UDU_NMAX] = {0}, tell[GF_UDU_NMAX] = {0}, v[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     unsigned main = gf_udu_main_state(n, ud, perm, hw, sd);
