@@ -47,7 +47,7 @@ gf_check_names() {
     [ -z "$bad" ] || gf_die "$lib ($prec) defines $(tr '\n' ' ' <<<"$bad")without \
 the precision in the name; add to include/gaussfilt/names.h, for each:
        #define NAME GF_NAME(NAME)"
-    bad=$(comm -23 <(sed "s/\$/$suffix/" <<<"$listed") <(printf '%s\n' "$defined") | tr '\n' ' ')
+    bad=$(comm -23 <(sed "s/\$/$suffix/" <<<"$listed" | sort) <(printf '%s\n' "$defined") | tr '\n' ' ')
     [ -z "$bad" ] || gf_die "include/gaussfilt/names.h renames what $lib ($prec) does not define: $bad"
     echo "$(wc -l <<<"$listed") function names carry $suffix; gf_status_str keeps its name"
 }
