@@ -38,6 +38,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sim_rng.h"
 #include "gaussfilt/ekf.h"
 
 #define STEPS 300
@@ -52,22 +53,13 @@
 #define NSAT 4
 #define SEED 0x6e5a7f01u
 
-// ---- the simulation's generator (double) -------------------------------
+// ---- the simulation's generator (double, examples/sim_rng.h) ----------
 
-static uint64_t rng_state = SEED;
-
-static double unif(void)
-{
-    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-}
+static sim_rng rng = {SEED};
 
 static double normal(void)
 {
-    double u1 = 1.0 - unif(), u2 = unif();
-    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+    return sim_normal(&rng);
 }
 
 // ---- satellites ------------------------------------------------------------

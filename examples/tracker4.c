@@ -25,6 +25,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "sim_rng.h"
 #include "gaussfilt/kf.h"
 
 #define STEPS 200
@@ -33,22 +34,13 @@
 #define SIGMA_Z 10.0 // m: the position measurement's noise
 #define SEED 0x7a3c4e1du
 
-// ---- the simulation's generator (double) -------------------------------
+// ---- the simulation's generator (double, examples/sim_rng.h) ----------
 
-static uint64_t rng_state = SEED;
-
-static double unif(void)
-{
-    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-}
+static sim_rng rng = {SEED};
 
 static double normal(void)
 {
-    double u1 = 1.0 - unif(), u2 = unif();
-    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+    return sim_normal(&rng);
 }
 
 // ---- the model -----------------------------------------------------------
