@@ -273,6 +273,17 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
             }
         }
         (void)gf_mat2_symmetrize(&r.omega);
+        // An information below the smallest normal number (its products
+        // underflowed where a coupling's may not have) is zero, with its
+        // row and column of Omega and its entry of xi: nothing is known
+        // of that state, and Omega stays positive semidefinite.
+        for (unsigned i = 0; i < 2u; i++) {
+            if (!(r.omega.m[i][i] >= GF_REAL_MIN)) {
+                r.omega.m[i][0] = r.omega.m[0][i] = 0;
+                r.omega.m[i][1] = r.omega.m[1][i] = 0;
+                r.xi.v[i] = 0;
+            }
+        }
 
         if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
             return GF_ERR_NONFINITE;

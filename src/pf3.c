@@ -219,6 +219,8 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return st;
     }
+    // z copied: it may point into the particles this call rewrites
+    const gf_vec3 zc = *z;
     // chol(Q), packed: gf_mat3_chol's arithmetic in 6 entries
     gf_real L[6];
     for (unsigned i = 0; i < meas->m; i++) {
@@ -242,7 +244,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
     gf_real best = 0, d2min = 0;
     for (unsigned k = 0; k < pf->n; k++) {
         gf_real d2;
-        st = mahalanobis(meas, L, z, &pf->p[k].x, &d2);
+        st = mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
         if (st != GF_OK) {
             return st;
         }
@@ -267,7 +269,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
     gf_real sum = 0;
     for (unsigned k = 0; k < pf->n; k++) {
         gf_real d2 = 0;
-        (void)mahalanobis(meas, L, z, &pf->p[k].x, &d2);
+        (void)mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
         gf_real w = 0;
         if (pf->p[k].w > 0) {
             w = GF_EXP(GF_LOG(pf->p[k].w) - GF_R(0.5) * d2 - best);

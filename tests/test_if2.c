@@ -235,6 +235,39 @@ static void test_ex5_constants(void **state)
 
 // Every public function on bad input: the status that names the failure,
 // and the belief (and outputs) unchanged.
+// A measurement whose C products underflow: from no information at all,
+// C = ((1, tiny), (0, 0)), Q = 10 gives C^T Q^-1 C = ((0.1, tiny / 10),
+// (tiny / 10, tiny^2 / 10)), whose last entry underflows to zero while its
+// coupling does not. The result must stay positive semidefinite: the
+// state whose information is below the smallest normal number has a zero
+// row, column and xi entry; the other keeps its 0.1 and 0.5.
+static void test_underflow_stays_psd(void **state)
+{
+    (void)state;
+#ifdef GF_SINGLE_PRECISION
+    const gf_real tiny = GF_R(1e-30);
+#else
+    const gf_real tiny = 1e-300;
+#endif
+    const gf_mat2 zero = {{{0, 0}, {0, 0}}};
+    const gf_vec2 xi0 = {{0, 0}}, z = {{5, 1}};
+    gf_kf2_meas meas;
+    memset(&meas, 0, sizeof meas);
+    meas.m = 1;
+    meas.C.m[0][0] = 1;
+    meas.C.m[0][1] = tiny;
+    meas.Q.m[0][0] = 10;
+    gf_if2 inf;
+    assert_int_equal(gf_if2_init(&inf, &zero, &xi0), GF_OK);
+    assert_int_equal(gf_if2_update(&inf, &meas, &z, NULL), GF_OK);
+    assert_true(inf.omega.m[1][1] == 0);
+    assert_true(inf.omega.m[0][1] == 0 && inf.omega.m[1][0] == 0);
+    assert_true(inf.xi.v[1] == 0);
+    assert_true(fabs((double)inf.omega.m[0][0] - 0.1) < 1e-6);
+    assert_true(fabs((double)inf.xi.v[0] - 0.5) < 1e-6);
+    assert_int_equal(gf_mat2_check_psd(&inf.omega), GF_OK);
+}
+
 static void test_bad_inputs(void **state)
 {
     (void)state;
@@ -360,6 +393,7 @@ int main(void)
         cmocka_unit_test(test_updates_commute),
         cmocka_unit_test(test_no_information_prior),
         cmocka_unit_test(test_ex5_constants),
+        cmocka_unit_test(test_underflow_stays_psd),
         cmocka_unit_test(test_bad_inputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -284,6 +284,29 @@ static void test_neff_and_estimate(void **state)
         assert_memory_equal(keep_, small, sizeof small);                   \
     } while (0)
 
+// z may point into the particles an update rewrites: a z whose first
+// entry is particle 0's weight gives the same particles, bit for bit, as
+// a copy of it.
+static void test_update_z_aliasing_weight(void **state)
+{
+    (void)state;
+    gf_ekf3_meas meas;
+    memset(&meas, 0, sizeof meas);
+    meas.m = 1;
+    meas.h = gf_ekf3_meas_x;
+    meas.Q.m[0][0] = GF_R(0.01);
+    gf_pf3 pf;
+    four(&pf);
+    const gf_vec3 zc = {{small[0].w, 0, 0}};
+    assert_int_equal(gf_pf3_update(&pf, &meas, &zc), GF_OK);
+    gf_pf3_particle want[N];
+    memcpy(want, small, sizeof want);
+    four(&pf);
+    const gf_vec3 *alias = (const gf_vec3 *)(const void *)&small[0].w;
+    assert_int_equal(gf_pf3_update(&pf, &meas, alias), GF_OK);
+    assert_memory_equal(want, small, sizeof want);
+}
+
 static void test_bad_inputs(void **state)
 {
     (void)state;
@@ -391,6 +414,7 @@ int main(void)
         cmocka_unit_test(test_resample_counts),
         cmocka_unit_test(test_resample_matches_table_4_4),
         cmocka_unit_test(test_neff_and_estimate),
+        cmocka_unit_test(test_update_z_aliasing_weight),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_motion_args),
     };

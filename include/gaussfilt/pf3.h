@@ -53,7 +53,9 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
 //   x_t^[k] = g(u, x_{t-1}^[k]) + eps^[k],  eps^[k] ~ N(0, R),
 // heading wrapped; the weights are kept. G is ignored.
 // GF_ERR_ARG (NULL), GF_ERR_NOT_PSD (R), GF_ERR_NONFINITE, or the
-// callback's own error; the belief is untouched on failure.
+// callback's own error; the belief is untouched on failure. u must not
+// point into the particle array: it is read again for every particle
+// while the particles are rewritten (its length is the callback's).
 gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
                          const gf_real *u);
 
