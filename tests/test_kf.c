@@ -90,7 +90,7 @@
 // The share of compared steps that may exceed the bound (as test_random).
 #define OVER_MAX 0.02
 // The bound beside the textbook Joseph filter in gf_real (tb_*) on the
-// same step: TB_C times its error, while it is alive (the target:
+// same step: TB_C times its error, while it is alive (the accuracy target:
 // no worse than a textbook filter; 16 for two algorithms' roundings).
 #define TB_C 16.0
 

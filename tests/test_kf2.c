@@ -154,7 +154,7 @@ static void table_2_1(void **state)
     CHECK_PRINTED(got.m[0][1], 2.44);
     CHECK_PRINTED(got.m[1][0], 2.44);
     CHECK_PRINTED(got.m[1][1], 1.95);
-    // ... and to the four digits the issue quotes.
+    // ... and to four digits (the long-double values, 4.0244, 1.2195, ...).
     assert_true(fabs((double)kf.mu.v[0] - 4.0244) < 0.00005);
     assert_true(fabs((double)kf.mu.v[1] - 1.2195) < 0.00005);
     assert_true(fabs((double)got.m[0][0] - 8.0488) < 0.00005);

@@ -28,7 +28,7 @@
 //   same step, whichever is larger (see BOUND_C and docs/testing.md). The
 //   reference updates in the batch form and the library sequentially, so
 //   these comparisons are also the test that the two forms agree. What is
-//   asserted of them is the target on these scenarios: the
+//   asserted of them is the accuracy target on these scenarios: the
 //   library no worse than the textbook filter, i.e. no more steps over the
 //   bound than the textbook filter has, and a worst error / bound no
 //   larger than the textbook filter's; steps over the bound stay below
@@ -88,7 +88,7 @@
 // directions of perturbation do not excite; the textbook filter then
 // exceeds 64 times their spread too, which the test prints), the bound is
 // TB_C times the error of the textbook Joseph filter in gf_real (gr_tb) on
-// the same step, while that filter is alive: the target (no worse
+// the same step, while that filter is alive: the accuracy target (no worse
 // than a textbook filter), with a factor of 16 for the difference of two
 // algorithms' rounding on one step.
 #define TB_C 16.0
