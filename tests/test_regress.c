@@ -191,8 +191,7 @@ static void ld_predict(int n, ld P[3][3], ld mu[3], ld A[3][3])
 // that stores Sigma in float gives 0.008; double holds it to u / 1e-10 =
 // 1e-6. Each update against long double from the prior held, and the
 // whole run against the long-double figures above within that storage
-// limit: 5%
-// (float), 1e-5 (double).
+// limit: 5% (float), 1e-5 (double).
 static void kf2_scalar_update_keeps_the_noise(void **state)
 {
     (void)state;
