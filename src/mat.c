@@ -406,19 +406,15 @@ gf_status gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
     if (!l || !b || !x || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
+    // l's lower triangle packed, then the packed solver (gf_internal.h)
+    gf_real p[6] = {0, 0, 0, 0, 0, 0};
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j <= i; j++) {
+            p[GF_TRI(i, j)] = l->m[i][j];
+        }
+    }
     gf_vec3 y = *b;
-    for (unsigned i = 0; i < n; i++) { // l y = b
-        for (unsigned k = 0; k < i; k++) {
-            y.v[i] -= l->m[i][k] * y.v[k];
-        }
-        y.v[i] /= l->m[i][i];
-    }
-    for (unsigned i = n; i-- > 0;) { // l^T x = y
-        for (unsigned k = i + 1; k < n; k++) {
-            y.v[i] -= l->m[k][i] * y.v[k];
-        }
-        y.v[i] /= l->m[i][i];
-    }
+    gf_chol_solve_packed(p, n, y.v);
     *x = y;
     return GF_OK;
 }
