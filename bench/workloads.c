@@ -12,18 +12,29 @@
 // simulated truth only.
 static unsigned long long rng_state;
 
+double wl_uniform(unsigned long long *state)
+{
+    *state ^= *state >> 12;
+    *state ^= *state << 25;
+    *state ^= *state >> 27;
+    unsigned long long r = *state * 2685821657736338717ull;
+    return ((double)(r >> 11) + 0.5) / 9007199254740992.0;
+}
+
+double wl_normal(unsigned long long *state)
+{
+    const double u1 = wl_uniform(state);
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * wl_uniform(state));
+}
+
 static double uniform01(void)
 {
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    unsigned long long r = rng_state * 2685821657736338717ull;
-    return ((double)(r >> 11) + 0.5) / 9007199254740992.0;
+    return wl_uniform(&rng_state);
 }
 
 static double normal01(void)
 {
-    return sqrt(-2.0 * log(uniform01())) * cos(6.283185307179586 * uniform01());
+    return wl_normal(&rng_state);
 }
 
 const gf_kf2_model wl_w1_model = {

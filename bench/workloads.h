@@ -58,6 +58,11 @@ gf_status wl_meas_x(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 gf_status wl_meas_xyt(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
                       gf_mat3 *H);
 
+// The simulated truth's generator: xorshift64* on *state, uniform in
+// (0, 1), and Box-Muller normals (double; bench only).
+double wl_uniform(unsigned long long *state);
+double wl_normal(unsigned long long *state);
+
 // Prints what failed and exits with 1.
 void wl_die(const char *what, int i, gf_status st);
 

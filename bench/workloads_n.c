@@ -19,22 +19,13 @@ static gf_real mR[GF_KF_NMAX * GF_KF_NMAX];
 static gf_real mC[GF_KF_NMAX * GF_KF_NMAX];
 static gf_real mQ[GF_KF_NMAX * GF_KF_NMAX];
 
-// A deterministic xorshift64* generator and Box-Muller normals, for the
-// simulated truth only (workloads.c's, with a state of its own).
+// The simulated truth's generator (workloads.c's wl_normal), with a state
+// of its own.
 static unsigned long long rng;
-
-static double uniform01(void)
-{
-    rng ^= rng >> 12;
-    rng ^= rng << 25;
-    rng ^= rng >> 27;
-    unsigned long long r = rng * 2685821657736338717ull;
-    return ((double)(r >> 11) + 0.5) / 9007199254740992.0;
-}
 
 static double normal01(void)
 {
-    return sqrt(-2.0 * log(uniform01())) * cos(6.283185307179586 * uniform01());
+    return wl_normal(&rng);
 }
 
 // A draw of the white-acceleration noise of one axis, R = q ((dt^3/3,
