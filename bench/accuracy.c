@@ -169,8 +169,8 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
     }
 }
 
-static void report(const char *name, fig *g, fig *t, unsigned count,
-                   int *met, int *met10)
+static void report(const char *name, fig *g, fig *t, unsigned count, int *met,
+                   int *met10)
 {
     double gws = worst(g->s, g->n), gwm = worst(g->m, g->n);
     double tws = worst(t->s, t->n), twm = worst(t->m, t->n);

@@ -133,8 +133,8 @@ NOINLINE static double bench_loop_w1p_step(unsigned long n)
             kf = wl_w1_init;
         }
         if (gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL) != GF_OK ||
-            gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j], &info_sink) !=
-                GF_OK) {
+            gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j],
+                                   &info_sink) != GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -161,8 +161,8 @@ NOINLINE static double bench_loop_w1p_update(unsigned long n)
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_kf2 kf = wl_w1_prior[j];
-        if (gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j], &info_sink) !=
-            GF_OK) {
+        if (gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j],
+                                   &info_sink) != GF_OK) {
             return -1;
         }
         acc += (double)kf.ud[1];
@@ -179,7 +179,8 @@ NOINLINE static double bench_loop_w2_step(unsigned long n)
             ekf = wl_w2_init;
         }
         if (gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]) != GF_OK ||
-            gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) != GF_OK) {
+            gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) !=
+                GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -207,7 +208,8 @@ NOINLINE static double bench_loop_w2_update(unsigned long n)
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_ekf3 ekf = wl_w2_prior[j];
-        if (gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) != GF_OK) {
+        if (gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) !=
+            GF_OK) {
             return -1;
         }
         acc += (double)ekf.ud[1];
@@ -224,9 +226,10 @@ NOINLINE static double bench_loop_w2p_step(unsigned long n)
         if (j == 0) {
             ekf = wl_w2_init;
         }
-        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) != GF_OK ||
-            gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j], &info_sink) !=
-                GF_OK) {
+        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) !=
+                GF_OK ||
+            gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j],
+                                    &info_sink) != GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -240,7 +243,8 @@ NOINLINE static double bench_loop_w2p_predict(unsigned long n)
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_ekf3 ekf = wl_w2_post[j];
-        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) != GF_OK) {
+        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) !=
+            GF_OK) {
             return -1;
         }
         acc += (double)ekf.ud[1];
@@ -254,8 +258,8 @@ NOINLINE static double bench_loop_w2p_update(unsigned long n)
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_ekf3 ekf = wl_w2_prior[j];
-        if (gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j], &info_sink) !=
-            GF_OK) {
+        if (gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j],
+                                    &info_sink) != GF_OK) {
             return -1;
         }
         acc += (double)ekf.ud[1];
@@ -364,13 +368,14 @@ static int cmp_double(const void *a, const void *b)
 
 static int usage(void)
 {
-    fprintf(stderr,
-            "usage: gf_bench count WL PART N | time WL PART N R | "
-            "floor WL PART\n"
-            "       WL = w1 | w1p | w2 | w2p | w2c | w2m2 | w2m3, PART = step | "
-            "predict | update | ref\n"
-            "       WL = cv2 | cv3 | cv4 | cv6 | cv8 | cv12 | gps, PART = step | "
-            "ref\n");
+    fprintf(
+        stderr,
+        "usage: gf_bench count WL PART N | time WL PART N R | "
+        "floor WL PART\n"
+        "       WL = w1 | w1p | w2 | w2p | w2c | w2m2 | w2m3, PART = step | "
+        "predict | update | ref\n"
+        "       WL = cv2 | cv3 | cv4 | cv6 | cv8 | cv12 | gps, PART = step | "
+        "ref\n");
     return 2;
 }
 
@@ -404,7 +409,9 @@ int main(int argc, char **argv)
         return main_n(argc, argv);
     }
     int user = strcmp(wl, "w2c") == 0;
-    unsigned m = strcmp(wl, "w2m2") == 0 ? 2u : strcmp(wl, "w2m3") == 0 ? 3u : 1u;
+    unsigned m = strcmp(wl, "w2m2") == 0   ? 2u
+                 : strcmp(wl, "w2m3") == 0 ? 3u
+                                           : 1u;
     int w2 = user || m > 1 || strcmp(wl, "w2") == 0;
     int prepared = strcmp(wl, "w1p") == 0;
     int w2p = strcmp(wl, "w2p") == 0;
@@ -471,8 +478,8 @@ static int run_loop(loop_fn loop, int argc, char **argv)
             fprintf(stderr, "gf_bench: a filter call failed\n");
             return 1;
         }
-        printf("%s %s %s: %lu iterations, checksum %.9g\n", mode, wl, part,
-               n, r);
+        printf("%s %s %s: %lu iterations, checksum %.9g\n", mode, wl, part, n,
+               r);
         return 0;
     }
     if (strcmp(mode, "time") == 0 && argc == 6) {

@@ -77,8 +77,8 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
     run *r = user;
     int64_t t = now_ns();
     gaussfilt_lcm_belief_t b;
-    if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size,
-                                      &b) < 0)
+    if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size, &b) <
+        0)
         return;
     r->beliefs++;
     int k = b.track - r->first;
@@ -154,11 +154,12 @@ int main(int argc, char **argv)
     }
     if (i != argc || !url || rate < 0 || seconds <= 0 || tracks < 1 ||
         tracks > MAX_TRACKS || tick_min < 0) {
-        fprintf(stderr, "usage: gf_lcmbench --url URL [--belief-url URL2] "
-                        "--rate R --seconds S [--tracks T] [--first ID] "
-                        "[--tick NS] [--cpu N] [--rx-cpu M] [--rt P] "
-                        "[--dump FILE]\n"
-                        "  R >= 0 (0: flat out), S > 0, 1 <= T <= %d\n",
+        fprintf(stderr,
+                "usage: gf_lcmbench --url URL [--belief-url URL2] "
+                "--rate R --seconds S [--tracks T] [--first ID] "
+                "[--tick NS] [--cpu N] [--rx-cpu M] [--rt P] "
+                "[--dump FILE]\n"
+                "  R >= 0 (0: flat out), S > 0, 1 <= T <= %d\n",
                 MAX_TRACKS);
         return 2;
     }
@@ -206,8 +207,8 @@ int main(int argc, char **argv)
     const int64_t t0 = now_ns();
     const int64_t t_end = t0 + (int64_t)(seconds * 1e9);
     const double period = rate > 0 ? 1e9 / rate : 0;
-    const int64_t tick = period > (double)tick_min ? (int64_t)period
-                                                   : (int64_t)tick_min;
+    const int64_t tick =
+        period > (double)tick_min ? (int64_t)period : (int64_t)tick_min;
     int64_t next_tick = t0;
     long sent = 0, seq = 0, pub_fail = 0;
     for (;;) {
@@ -266,10 +267,9 @@ int main(int argc, char **argv)
             llat[matched] = r.t_lcm[idx] - r.t_pub[idx];
             lat[matched] = r.t_rx[idx] - r.t_pub[idx];
             if (df)
-                fprintf(df, "%.1f %.1f %.1f\n",
-                        (double)(r.t_pub[idx] - t0) / 1e3,
-                        (double)lat[matched] / 1e3,
-                        (double)llat[matched] / 1e3);
+                fprintf(
+                    df, "%.1f %.1f %.1f\n", (double)(r.t_pub[idx] - t0) / 1e3,
+                    (double)lat[matched] / 1e3, (double)llat[matched] / 1e3);
             matched++;
         }
     }
@@ -281,8 +281,8 @@ int main(int argc, char **argv)
     double secs = (double)(t_stop - t0) / 1e9;
     printf("gf_lcmbench: rate_target=%.0f sent=%ld publish_failed=%ld "
            "seconds=%.3f rate=%.0f beliefs=%lu matched=%ld lost=%ld",
-           rate, sent, pub_fail, secs, (double)sent / secs, r.beliefs,
-           matched, sent - matched);
+           rate, sent, pub_fail, secs, (double)sent / secs, r.beliefs, matched,
+           sent - matched);
     if (matched > 0)
         printf(" p50_us=%.1f p99_us=%.1f max_us=%.1f",
                (double)lat[matched / 2] / 1e3,

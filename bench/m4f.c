@@ -147,10 +147,9 @@ static void w2(const char *name, unsigned m)
         report("w2p", "step");
     }
     void (*const ref_update)(ref_ekf3 *, const gf_ekf3_meas *,
-                             const gf_vec3 *) =
-        m == 1 ? ref_ekf3_update
-        : m == 2 ? ref_ekf3_update_xy
-                 : ref_ekf3_update_xyt;
+                             const gf_vec3 *) = m == 1   ? ref_ekf3_update
+                                                : m == 2 ? ref_ekf3_update_xy
+                                                         : ref_ekf3_update_xyt;
     ref_ekf3 re = ref_ekf3_from(&wl_w2_init);
     for (unsigned i = 0; i < WL_TAB; i++) {
         bench_mark_start(&re);

@@ -94,8 +94,7 @@ void ref_ekf3_predict(ref_ekf3 *ekf, const gf_ekf3_motion *motion,
     o[2][2] = s22 + R->m[2][2];
 }
 
-void ref_ekf3_update(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
-                     const gf_vec3 *z)
+void ref_ekf3_update(ref_ekf3 *ekf, const gf_ekf3_meas *meas, const gf_vec3 *z)
 {
     // W2's measurement written in: z_hat = x, H = (1 0 0), so p = Sigma's
     // first column.

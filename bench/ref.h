@@ -25,8 +25,7 @@ void ref_kf2_predict(ref_kf2 *kf, const gf_kf2_model *model);
 void ref_kf2_update(ref_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z);
 void ref_ekf3_predict(ref_ekf3 *ekf, const gf_ekf3_motion *motion,
                       const gf_real *u);
-void ref_ekf3_update(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
-                     const gf_vec3 *z);
+void ref_ekf3_update(ref_ekf3 *ekf, const gf_ekf3_meas *meas, const gf_vec3 *z);
 void ref_ekf3_update_xy(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
                         const gf_vec3 *z);
 void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,

@@ -94,8 +94,8 @@ int main(int argc, char **argv)
                 return 1;
             }
             printf("gf_wake: cpu0<->cpu%d%s: round trip p50 %.1f us, p99 "
-                   "%.1f us (%d rounds; caller %s)\n", cpu,
-                   idle ? ", 200 us idle between" : ", back to back",
+                   "%.1f us (%d rounds; caller %s)\n",
+                   cpu, idle ? ", 200 us idle between" : ", back to back",
                    (double)rt[rounds / 2] / 1e3,
                    (double)rt[rounds / 100 * 99] / 1e3, rounds, placed);
         }

@@ -67,8 +67,7 @@ gf_ekf3 wl_w2_prior[WL_TAB];
 
 void wl_die(const char *what, int i, gf_status st)
 {
-    printf("gf_bench: %s failed at step %d: %s\n", what, i,
-           gf_status_str(st));
+    printf("gf_bench: %s failed at step %d: %s\n", what, i, gf_status_str(st));
     exit(1);
 }
 
@@ -160,7 +159,7 @@ void wl_setup_w2(unsigned m, int user)
     wl_w2_motion.R.m[2][2] = GF_R(0.0004);
     memset(&wl_w2_meas, 0, sizeof wl_w2_meas);
     wl_w2_meas.m = m;
-    wl_w2_meas.h = m == 1 ? (user ? wl_meas_x : gf_ekf3_meas_x)
+    wl_w2_meas.h = m == 1   ? (user ? wl_meas_x : gf_ekf3_meas_x)
                    : m == 2 ? gf_ekf3_meas_xy
                             : wl_meas_xyt;
     wl_w2_meas.Q.m[0][0] = GF_R(0.01);
@@ -174,8 +173,8 @@ void wl_setup_w2(unsigned m, int user)
     }
 
     gf_vec3 mu = {{0, 0, 0}};
-    gf_mat3 sig = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                    {0, 0, GF_R(0.01)}}};
+    gf_mat3 sig = {
+        {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, GF_R(0.01)}}};
     if (gf_ekf3_init(&wl_w2_init, &mu, &sig) != GF_OK) {
         wl_die("w2 init", 0, GF_ERR_ARG);
     }

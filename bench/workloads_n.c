@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-const char *const wl_n_names[WL_N_ROWS] = {"cv2", "cv3", "cv4", "cv6",
+const char *const wl_n_names[WL_N_ROWS] = {"cv2", "cv3",  "cv4", "cv6",
                                            "cv8", "cv12", "gps"};
 
 wl_n wl_nw;
@@ -56,18 +56,15 @@ static void run_check(void)
 {
     gf_kf kf = wl_nw.init;
     for (unsigned i = 0; i < WL_TAB; i++) {
-        gf_status st = wl_nw.ekf
-                           ? gf_ekf_predict(&kf, &wl_nw.motion, NULL,
-                                            &wl_n_work)
-                           : gf_kf_predict(&kf, &wl_nw.model, NULL,
-                                           &wl_n_work);
+        gf_status st =
+            wl_nw.ekf ? gf_ekf_predict(&kf, &wl_nw.motion, NULL, &wl_n_work)
+                      : gf_kf_predict(&kf, &wl_nw.model, NULL, &wl_n_work);
         if (st != GF_OK) {
             wl_die(wl_nw.name, (int)i, st);
         }
-        st = wl_nw.ekf ? gf_ekf_update(&kf, &wl_nw.emeas, wl_n_z[i], NULL,
-                                       &wl_n_work)
-                       : gf_kf_update(&kf, &wl_nw.meas, wl_n_z[i], NULL,
-                                      &wl_n_work);
+        st = wl_nw.ekf
+                 ? gf_ekf_update(&kf, &wl_nw.emeas, wl_n_z[i], NULL, &wl_n_work)
+                 : gf_kf_update(&kf, &wl_nw.meas, wl_n_z[i], NULL, &wl_n_work);
         if (st != GF_OK) {
             wl_die(wl_nw.name, (int)i, st);
         }
@@ -128,12 +125,12 @@ static void setup_cv(unsigned n)
 // ---- gps -----------------------------------------------------------------
 
 #define GPS_DT 1.0
-#define GPS_Q 0.1          // white acceleration, m^2/s^3
-#define GPS_QB 0.1         // clock bias white noise, m^2/s
-#define GPS_QD 0.01        // clock drift white noise, m^2/s^3
-#define GPS_SIGMA 5.0      // pseudorange noise, m
-#define GPS_RE 6371000.0   // receiver radius, m
-#define GPS_RS 26560000.0  // satellites' orbit radius, m
+#define GPS_Q 0.1         // white acceleration, m^2/s^3
+#define GPS_QB 0.1        // clock bias white noise, m^2/s
+#define GPS_QD 0.01       // clock drift white noise, m^2/s^3
+#define GPS_SIGMA 5.0     // pseudorange noise, m
+#define GPS_RE 6371000.0  // receiver radius, m
+#define GPS_RS 26560000.0 // satellites' orbit radius, m
 
 static gf_real sats[4][3];
 
@@ -153,8 +150,8 @@ gf_status wl_gps_motion(void *ctx, unsigned n, const gf_real *mu,
     return GF_OK;
 }
 
-gf_status wl_gps_meas(void *ctx, unsigned n, unsigned m,
-                      const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
+gf_status wl_gps_meas(void *ctx, unsigned n, unsigned m, const gf_real *mu_bar,
+                      gf_real *z_hat, gf_real *H)
 {
     (void)ctx;
     // z_hat and H arrive as zeros.
@@ -204,8 +201,8 @@ static void setup_gps(void)
         mR[(3 + k) * n + k] = mR[k * n + 3 + k];
         mR[(3 + k) * n + 3 + k] = (gf_real)(GPS_Q * GPS_DT);
     }
-    mR[6 * n + 6] = (gf_real)(GPS_QB * GPS_DT +
-                              GPS_QD * GPS_DT * GPS_DT * GPS_DT / 3.0);
+    mR[6 * n + 6] =
+        (gf_real)(GPS_QB * GPS_DT + GPS_QD * GPS_DT * GPS_DT * GPS_DT / 3.0);
     mR[6 * n + 7] = (gf_real)(GPS_QD * GPS_DT * GPS_DT / 2.0);
     mR[7 * n + 6] = mR[6 * n + 7];
     mR[7 * n + 7] = (gf_real)(GPS_QD * GPS_DT);

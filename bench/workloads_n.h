@@ -42,13 +42,13 @@ extern const char *const wl_n_names[WL_N_ROWS]; // "cv2" ... "cv12", "gps"
 typedef struct wl_n {
     const char *name;
     unsigned n, m;
-    int ekf;                   // 1: gps (gf_ekf), 0: gf_kf
-    gf_kf_model model;         // gf_kf rows
+    int ekf;           // 1: gps (gf_ekf), 0: gf_kf
+    gf_kf_model model; // gf_kf rows
     gf_kf_meas meas;
-    gf_ekf_motion motion;      // the gps row
+    gf_ekf_motion motion; // the gps row
     gf_ekf_meas emeas;
-    gf_kf init;                // the belief at the start of each replay
-    gf_real mu0[GF_KF_NMAX];   // the same, as mu and Sigma
+    gf_kf init;              // the belief at the start of each replay
+    gf_real mu0[GF_KF_NMAX]; // the same, as mu and Sigma
     gf_real sigma0[GF_KF_NMAX * GF_KF_NMAX];
 } wl_n;
 
@@ -64,7 +64,7 @@ int wl_setup_n(const char *name);
 // The gps models (ctx: unused; the satellites are this file's).
 gf_status wl_gps_motion(void *ctx, unsigned n, const gf_real *mu,
                         const gf_real *u, gf_real *mu_bar, gf_real *G);
-gf_status wl_gps_meas(void *ctx, unsigned n, unsigned m,
-                      const gf_real *mu_bar, gf_real *z_hat, gf_real *H);
+gf_status wl_gps_meas(void *ctx, unsigned n, unsigned m, const gf_real *mu_bar,
+                      gf_real *z_hat, gf_real *H);
 
 #endif

@@ -51,12 +51,14 @@ typedef struct gf_book {
     double ex4_heading_var;
 } gf_book;
 
-#define GF_BOOK_DEFAULTS                                                     \
-    {GF_BOOK_EX2_Q, GF_BOOK_EX2_Z, GF_BOOK_EX2_STEPS, GF_BOOK_EX4_HEADING_VAR}
+#define GF_BOOK_DEFAULTS                                                       \
+    {                                                                          \
+        GF_BOOK_EX2_Q, GF_BOOK_EX2_Z, GF_BOOK_EX2_STEPS,                       \
+            GF_BOOK_EX4_HEADING_VAR                                            \
+    }
 
 // The usage line of the options.
-#define GF_BOOK_USAGE                                                        \
-    "[--meas-var V] [--z Z] [--steps N] [--heading-var V]"
+#define GF_BOOK_USAGE "[--meas-var V] [--z Z] [--steps N] [--heading-var V]"
 
 // a != b, without comparing doubles for equality (-Wfloat-equal).
 static inline int gf_book_changed(double a, double b)
@@ -111,10 +113,10 @@ static inline int gf_book_differs(const gf_book *b, const char *table,
 {
     size_t n = 0;
     out[0] = '\0';
-#define GF_BOOK_ADD(...)                                                     \
-    do {                                                                     \
-        if (n < size)                                                        \
-            n += (size_t)snprintf(out + n, size - n, __VA_ARGS__);           \
+#define GF_BOOK_ADD(...)                                                       \
+    do {                                                                       \
+        if (n < size)                                                          \
+            n += (size_t)snprintf(out + n, size - n, __VA_ARGS__);             \
     } while (0)
     if (strcmp(table, "2.1") == 0) {
         if (gf_book_changed(b->ex2_q, GF_BOOK_EX2_Q))

@@ -50,13 +50,14 @@ int main(void)
     const gf_vec3 mu0 = {{0, 0, 0}};
     // exercise 4's numbers (book.h)
     const gf_real xy = (gf_real)GF_BOOK_EX4_XY_VAR;
-    const gf_mat3 s0 = {{{xy, 0, 0}, {0, xy, 0},
-                         {0, 0, (gf_real)GF_BOOK_EX4_HEADING_VAR}}};
-    const gf_ekf3_motion move = {gf_ekf3_motion_forward_turn, NULL,
-                                 {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
+    const gf_mat3 s0 = {
+        {{xy, 0, 0}, {0, xy, 0}, {0, 0, (gf_real)GF_BOOK_EX4_HEADING_VAR}}};
+    const gf_ekf3_motion move = {
+        gf_ekf3_motion_forward_turn, NULL, {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
     const gf_ekf3_meas obs = {
-        1, gf_ekf3_meas_x, NULL,
-        {{{(gf_real)GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+        1,    gf_ekf3_meas_x,
+        NULL, {{{(gf_real)GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+        0,    0};
     const gf_real u[2] = {(gf_real)GF_BOOK_EX4_D, (gf_real)GF_BOOK_EX4_PHI};
     const gf_vec3 z = {{(gf_real)GF_BOOK_EX4_Z, 0, 0}};
     const gf_ukf3_params p = {1, 2, 0};
@@ -76,8 +77,8 @@ int main(void)
     ellipse("ukf_pred", &ukf.mu, &ukf.sigma);
     dump("pred");
     if (gf_ekf3_update(&ekf, &obs, &z, NULL) ||
-        gf_ukf3_update(&ukf, &obs, &z, NULL) ||
-        gf_pf3_update(&pf, &obs, &z) || gf_pf3_resample(&pf)) {
+        gf_ukf3_update(&ukf, &obs, &z, NULL) || gf_pf3_update(&pf, &obs, &z) ||
+        gf_pf3_resample(&pf)) {
         return 1;
     }
     ellipse_ekf("ekf_post", &ekf);

@@ -21,7 +21,7 @@
 
 static int mismatches;
 static int g_compare = 1; // 0: the table differs from the book's (options)
-static FILE *g_beliefs; // --beliefs, or NULL
+static FILE *g_beliefs;   // --beliefs, or NULL
 
 // One belief as a line of text (see gf_plots.py): track seq stage n, the
 // mean (3), the covariance (9, row by row).
@@ -101,9 +101,9 @@ static void row2(const char *label, const gf_kf2 *kf, const double seed_mu[2],
     if (!g_compare) {
         return;
     }
-    printf("  %-8s seed  %10.*f  %10.*f           %10.*f  %10.*f  %10.*f\n",
-           "", digits, seed_mu[0], digits, seed_mu[1], digits, seed_s[0],
-           digits, seed_s[1], digits, seed_s[2]);
+    printf("  %-8s seed  %10.*f  %10.*f           %10.*f  %10.*f  %10.*f\n", "",
+           digits, seed_mu[0], digits, seed_mu[1], digits, seed_s[0], digits,
+           seed_s[1], digits, seed_s[2]);
 }
 
 static void row3(const char *label, const gf_ekf3 *b, const double seed[9])
@@ -112,8 +112,8 @@ static void row3(const char *label, const gf_ekf3 *b, const double seed[9])
     const gf_mat3 s = sigma3(b);
     const double got[9] = {
         (double)b->mu.v[0], (double)b->mu.v[1], (double)b->mu.v[2],
-        (double)s.m[0][0], (double)s.m[0][1], (double)s.m[0][2],
-        (double)s.m[1][1], (double)s.m[1][2], (double)s.m[2][2]};
+        (double)s.m[0][0],  (double)s.m[0][1],  (double)s.m[0][2],
+        (double)s.m[1][1],  (double)s.m[1][2],  (double)s.m[2][2]};
     printf("  %-9s", label);
     for (int i = 0; i < 9; i++) {
         cell(got[i], seed[i], i == 3 ? 3 : 2);
@@ -134,8 +134,10 @@ int main(int argc, char **argv)
     // x += v dt, R = accel_var G G^T, G = (dt^2/2, dt)^T (book.h)
     const gf_kf2_model car = {
         .A = {{{1, (gf_real)GF_BOOK_CAR_DT}, {0, 1}}},
-        .R = {{{(gf_real)(GF_BOOK_CAR_ACCEL_VAR * 0.25), (gf_real)(GF_BOOK_CAR_ACCEL_VAR * 0.5)},
-               {(gf_real)(GF_BOOK_CAR_ACCEL_VAR * 0.5), (gf_real)GF_BOOK_CAR_ACCEL_VAR}}},
+        .R = {{{(gf_real)(GF_BOOK_CAR_ACCEL_VAR * 0.25),
+                (gf_real)(GF_BOOK_CAR_ACCEL_VAR * 0.5)},
+               {(gf_real)(GF_BOOK_CAR_ACCEL_VAR * 0.5),
+                (gf_real)GF_BOOK_CAR_ACCEL_VAR}}},
     };
     gf_book book = GF_BOOK_DEFAULTS;
     char differs[256];
@@ -164,11 +166,11 @@ int main(int argc, char **argv)
         fprintf(g_beliefs, "# meas 2 %.17g %.17g\n# meas 4 %.17g %.17g\n",
                 book.ex2_z, book.ex2_q, GF_BOOK_EX4_Z, GF_BOOK_EX4_Q);
     }
-    const gf_kf2_meas gps = {.m = 1, .C = {{{1, 0}}},
-                             .Q = {{{(gf_real)book.ex2_q}}}};
-    static const double table_1_1[6][3] = {
-        {0, 0, 0}, {0.25, 0.5, 1}, {2.5, 2, 2},
-        {8.75, 4.5, 3}, {21, 8, 4}, {41.25, 12.5, 5}};
+    const gf_kf2_meas gps = {
+        .m = 1, .C = {{{1, 0}}}, .Q = {{{(gf_real)book.ex2_q}}}};
+    static const double table_1_1[6][3] = {{0, 0, 0},   {0.25, 0.5, 1},
+                                           {2.5, 2, 2}, {8.75, 4.5, 3},
+                                           {21, 8, 4},  {41.25, 12.5, 5}};
     const double zero_mu[2] = {0, 0};
     const gf_vec2 mu0 = {{0, 0}};
     const gf_mat2 s0 = {{{0, 0}, {0, 0}}};
@@ -277,8 +279,9 @@ int main(int argc, char **argv)
 
     printf("\n%s: %d value(s) disagree with the seed%s%s%s\n",
            mismatches ? "FAIL" : "OK", mismatches,
-           ex2_differs || ex4_differs ? "; not compared (changed by an option): "
-                                      : "",
+           ex2_differs || ex4_differs
+               ? "; not compared (changed by an option): "
+               : "",
            ex2_differs ? "Table 2.1" : "",
            ex4_differs ? (ex2_differs ? ", Table 4.2" : "Table 4.2") : "");
     return mismatches ? 1 : 0;

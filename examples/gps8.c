@@ -42,13 +42,13 @@
 #include "gaussfilt/ekf.h"
 
 #define STEPS 300
-#define DT 1.0          // s
-#define SIGMA_RHO 6.0   // m: pseudorange noise
-#define QACC 0.1        // m^2/s^3: the receiver's acceleration
-#define QB 0.1          // m^2/s: clock bias (white frequency noise)
-#define QD 0.01         // m^2/s^3: clock drift (random-walk frequency)
-#define R_EARTH 6.371e6 // m
-#define R_ORBIT 2.66e7  // m
+#define DT 1.0            // s
+#define SIGMA_RHO 6.0     // m: pseudorange noise
+#define QACC 0.1          // m^2/s^3: the receiver's acceleration
+#define QB 0.1            // m^2/s: clock bias (white frequency noise)
+#define QD 0.01           // m^2/s^3: clock drift (random-walk frequency)
+#define R_EARTH 6.371e6   // m
+#define R_ORBIT 2.66e7    // m
 #define GM 3.986004418e14 // m^3/s^2
 #define NSAT 4
 #define SEED 0x6e5a7f01u
@@ -119,8 +119,7 @@ static gf_status motion(void *ctx, unsigned n, const gf_real *mu,
 
 // rho_k = |s_k - p| + b, H_k = (-(s_k - p) / |s_k - p|, 0, 0, 0, 1, 0).
 static gf_status pseudoranges(void *ctx, unsigned n, unsigned m,
-                              const gf_real *mu_bar, gf_real *z_hat,
-                              gf_real *H)
+                              const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
 {
     const fix *f = ctx;
     for (unsigned k = 0; k < m; k++) {
@@ -167,8 +166,7 @@ int main(int argc, char **argv)
     // The receiver: on the surface at latitude 45, longitude 7 degrees,
     // moving east at 20 m/s; clock bias 30 km, drift 2 m/s.
     const double lat = 0.7853981633974483, lon = 0.12217304763960307;
-    const double up[3] = {cos(lat) * cos(lon), cos(lat) * sin(lon),
-                          sin(lat)};
+    const double up[3] = {cos(lat) * cos(lon), cos(lat) * sin(lon), sin(lat)};
     const double east[3] = {-sin(lon), cos(lon), 0.0};
     double north[3];
     cross(up, east, north);
@@ -212,8 +210,7 @@ int main(int argc, char **argv)
     const double dt = DT;
     for (int i = 0; i < 3; i++) {
         R[i * 8 + i] = (gf_real)(QACC * dt * dt * dt / 3.0);
-        R[i * 8 + i + 3] = R[(i + 3) * 8 + i] =
-            (gf_real)(QACC * dt * dt / 2.0);
+        R[i * 8 + i + 3] = R[(i + 3) * 8 + i] = (gf_real)(QACC * dt * dt / 2.0);
         R[(i + 3) * 8 + i + 3] = (gf_real)(QACC * dt);
     }
     R[6 * 8 + 6] = (gf_real)(QB * dt + QD * dt * dt * dt / 3.0);
@@ -289,9 +286,8 @@ int main(int argc, char **argv)
         }
         sum_e2 += e2;
         if (out) {
-            fprintf(out, "%d %.17g %.17g %.17g %.17g\n", k,
-                    (double)ekf.mu[0], (double)ekf.mu[1], (double)ekf.mu[2],
-                    (double)ekf.mu[6]);
+            fprintf(out, "%d %.17g %.17g %.17g %.17g\n", k, (double)ekf.mu[0],
+                    (double)ekf.mu[1], (double)ekf.mu[2], (double)ekf.mu[6]);
         }
         double dpos = -1;
         if (other) {
@@ -334,7 +330,8 @@ int main(int argc, char **argv)
 
     const double rms = sqrt(sum_e2 / (STEPS - refused));
     printf("gps8 (%s): rms position error %.2f m against the truth over %d "
-           "fixes, %d refused\n", prec, rms, STEPS, refused);
+           "fixes, %d refused\n",
+           prec, rms, STEPS, refused);
     int ok = refused == 0 && rms < 3.0 * SIGMA_RHO;
     if (other) {
         const double rms_d = compared ? sqrt(sum_d2 / compared) : 0.0;

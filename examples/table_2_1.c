@@ -41,8 +41,7 @@ int main(void)
     }
     printf("mu = (%.4f, %.4f)\n", (double)kf.mu.v[0], (double)kf.mu.v[1]);
     printf("Sigma = ((%.4f, %.4f), (%.4f, %.4f))\n", (double)sigma.m[0][0],
-           (double)sigma.m[0][1], (double)sigma.m[1][0],
-           (double)sigma.m[1][1]);
+           (double)sigma.m[0][1], (double)sigma.m[1][0], (double)sigma.m[1][1]);
     printf("innovation %.4f, NIS %.4f\n", (double)info.y[0], (double)info.nis);
     return 0;
 }

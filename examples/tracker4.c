@@ -49,19 +49,14 @@ static double normal(void)
 #define R12 (QACC * DT * DT / 2.0)
 #define R22 (QACC * DT)
 
-static const gf_real A[16] = {
-    1, (gf_real)DT, 0, 0,
-    0, 1, 0, 0,
-    0, 0, 1, (gf_real)DT,
-    0, 0, 0, 1};
+static const gf_real A[16] = {1, (gf_real)DT, 0, 0,           0, 1, 0, 0,
+                              0, 0,           1, (gf_real)DT, 0, 0, 0, 1};
 static const gf_real R[16] = {
-    (gf_real)R11, (gf_real)R12, 0, 0,
-    (gf_real)R12, (gf_real)R22, 0, 0,
-    0, 0, (gf_real)R11, (gf_real)R12,
-    0, 0, (gf_real)R12, (gf_real)R22};
+    (gf_real)R11, (gf_real)R12, 0, 0, (gf_real)R12, (gf_real)R22, 0, 0, 0, 0,
+    (gf_real)R11, (gf_real)R12, 0, 0, (gf_real)R12, (gf_real)R22};
 static const gf_real C[8] = {1, 0, 0, 0, 0, 0, 1, 0};
 static const gf_real Q[4] = {(gf_real)(SIGMA_Z * SIGMA_Z), 0, 0,
-                             (gf_real)(SIGMA_Z * SIGMA_Z)};
+                             (gf_real)(SIGMA_Z *SIGMA_Z)};
 
 // chi-square quantile of k degrees of freedom at the standard normal
 // quantile zq, by Wilson and Hilferty's cube-root approximation (good to
@@ -139,8 +134,8 @@ int main(void)
     printf("tracker4 (%s): 4 states, (x, y) measured, sigma_z %.0f m, "
            "q %.2f m^2/s^3, dt %.0f s\n",
            sizeof(gf_real) == 4 ? "float" : "double", SIGMA_Z, QACC, DT);
-    printf("%5s %10s %10s %10s %10s %8s %7s %7s\n", "step", "x", "y",
-           "x est", "y est", "err m", "NEES", "NIS");
+    printf("%5s %10s %10s %10s %10s %8s %7s %7s\n", "step", "x", "y", "x est",
+           "y est", "err m", "NEES", "NIS");
     double sum_e2 = 0, sum_z2 = 0, sum_nees = 0, sum_nis = 0;
     int refused = 0;
     for (int k = 1; k <= STEPS; k++) {

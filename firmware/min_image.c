@@ -7,8 +7,7 @@
 // away at compile time.
 #include "gaussfilt/gaussfilt.h"
 
-volatile gf_real gf_fw_in[4] = {GF_R(1.0), GF_R(0.0), GF_R(5.0),
-                                GF_R(-0.7)};
+volatile gf_real gf_fw_in[4] = {GF_R(1.0), GF_R(0.0), GF_R(5.0), GF_R(-0.7)};
 volatile gf_real gf_fw_out[6];
 volatile int gf_fw_status;
 

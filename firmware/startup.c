@@ -81,7 +81,10 @@ const gf_fw_vector gf_fw_vectors[16] = {
     Fault_Handler, // MemManage
     Fault_Handler, // BusFault
     Fault_Handler, // UsageFault
-    0, 0, 0, 0,
+    0,
+    0,
+    0,
+    0,
     Fault_Handler, // SVCall
     Fault_Handler, // DebugMon
     0,

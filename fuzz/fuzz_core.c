@@ -57,12 +57,34 @@ static uint8_t byte(cursor *c)
 }
 
 static const gf_real special[] = {
-    GF_R(0.0), -GF_R(0.0), GF_R(1e-3), GF_R(0.01), GF_R(0.1), GF_R(100.0),
-    GF_R(1e4), GF_R(1e6), GF_R(1e-6), GF_R(1e-12), GF_R(1e12), GF_R(1e-30),
-    GF_R(1e30), REAL_MAX, -REAL_MAX, REAL_MIN, REAL_MIN * GF_REAL_EPSILON, GF_PI, -GF_PI,
-    GF_R(0.5) * GF_PI, GF_R(2.0) * GF_PI, GF_REAL_EPSILON,
-    GF_R(1.0) + GF_REAL_EPSILON, GF_R(1.0) - GF_REAL_EPSILON,
-    GF_R(0.25), GF_R(10.0), GF_R(-0.7), GF_R(0.68),
+    GF_R(0.0),
+    -GF_R(0.0),
+    GF_R(1e-3),
+    GF_R(0.01),
+    GF_R(0.1),
+    GF_R(100.0),
+    GF_R(1e4),
+    GF_R(1e6),
+    GF_R(1e-6),
+    GF_R(1e-12),
+    GF_R(1e12),
+    GF_R(1e-30),
+    GF_R(1e30),
+    REAL_MAX,
+    -REAL_MAX,
+    REAL_MIN,
+    REAL_MIN *GF_REAL_EPSILON,
+    GF_PI,
+    -GF_PI,
+    GF_R(0.5) * GF_PI,
+    GF_R(2.0) * GF_PI,
+    GF_REAL_EPSILON,
+    GF_R(1.0) + GF_REAL_EPSILON,
+    GF_R(1.0) - GF_REAL_EPSILON,
+    GF_R(0.25),
+    GF_R(10.0),
+    GF_R(-0.7),
+    GF_R(0.68),
 };
 
 static gf_real real(cursor *c)
@@ -72,7 +94,8 @@ static gf_real real(cursor *c)
         return (gf_real)((int)s - 100) / GF_R(4.0);
     }
     if (s < 240) {
-        return special[(size_t)(s - 200) % (sizeof special / sizeof special[0])];
+        return special[(size_t)(s - 200) %
+                       (sizeof special / sizeof special[0])];
     }
     unsigned char raw[sizeof(gf_real)];
     for (size_t i = 0; i < sizeof raw; i++) {
@@ -138,13 +161,13 @@ static void cov3(cursor *c, gf_mat3 *a)
     }
 }
 
-#define REQUIRE(cond)                                                      \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "contract broken: %s (%s:%d)\n", #cond,        \
-                    __FILE__, __LINE__);                                   \
-            abort();                                                       \
-        }                                                                  \
+#define REQUIRE(cond)                                                          \
+    do {                                                                       \
+        if (!(cond)) {                                                         \
+            fprintf(stderr, "contract broken: %s (%s:%d)\n", #cond, __FILE__,  \
+                    __LINE__);                                                 \
+            abort();                                                           \
+        }                                                                      \
     } while (0)
 
 static int known_status(gf_status st)
@@ -475,16 +498,36 @@ static void op_nulls(cursor *c, gf_kf2 *kf, gf_ekf3 *ekf)
     const gf_mat3 s3 = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     gf_real r;
     switch (byte(c) % 10) {
-    case 0: REQUIRE(gf_kf2_init(kf, NULL, &s2) == GF_ERR_ARG); break;
-    case 1: REQUIRE(gf_kf2_init(kf, &mu2, NULL) == GF_ERR_ARG); break;
-    case 2: REQUIRE(gf_kf2_predict(kf, NULL, NULL) == GF_ERR_ARG); break;
-    case 3: REQUIRE(gf_kf2_update(kf, NULL, &mu2, NULL) == GF_ERR_ARG); break;
-    case 4: REQUIRE(gf_ekf3_init(ekf, NULL, &s3) == GF_ERR_ARG); break;
-    case 5: REQUIRE(gf_ekf3_init(ekf, &mu3, NULL) == GF_ERR_ARG); break;
-    case 6: REQUIRE(gf_ekf3_predict(ekf, NULL, NULL) == GF_ERR_ARG); break;
-    case 7: REQUIRE(gf_ekf3_update(ekf, NULL, &mu3, NULL) == GF_ERR_ARG); break;
-    case 8: REQUIRE(gf_cov2_correlation(NULL, &r) == GF_ERR_ARG); break;
-    default: REQUIRE(gf_kf2_init(NULL, &mu2, &s2) == GF_ERR_ARG); break;
+    case 0:
+        REQUIRE(gf_kf2_init(kf, NULL, &s2) == GF_ERR_ARG);
+        break;
+    case 1:
+        REQUIRE(gf_kf2_init(kf, &mu2, NULL) == GF_ERR_ARG);
+        break;
+    case 2:
+        REQUIRE(gf_kf2_predict(kf, NULL, NULL) == GF_ERR_ARG);
+        break;
+    case 3:
+        REQUIRE(gf_kf2_update(kf, NULL, &mu2, NULL) == GF_ERR_ARG);
+        break;
+    case 4:
+        REQUIRE(gf_ekf3_init(ekf, NULL, &s3) == GF_ERR_ARG);
+        break;
+    case 5:
+        REQUIRE(gf_ekf3_init(ekf, &mu3, NULL) == GF_ERR_ARG);
+        break;
+    case 6:
+        REQUIRE(gf_ekf3_predict(ekf, NULL, NULL) == GF_ERR_ARG);
+        break;
+    case 7:
+        REQUIRE(gf_ekf3_update(ekf, NULL, &mu3, NULL) == GF_ERR_ARG);
+        break;
+    case 8:
+        REQUIRE(gf_cov2_correlation(NULL, &r) == GF_ERR_ARG);
+        break;
+    default:
+        REQUIRE(gf_kf2_init(NULL, &mu2, &s2) == GF_ERR_ARG);
+        break;
     }
     REQUIRE(memcmp(kf, &kb, sizeof kb) == 0);
     REQUIRE(memcmp(ekf, &eb, sizeof eb) == 0);
@@ -502,7 +545,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const gf_vec2 mu2 = {{0, 0}};
     const gf_mat2 s2 = {{{0, 0}, {0, 0}}};
     const gf_vec3 mu3 = {{0, 0, 0}};
-    const gf_mat3 s3 = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 10000}}};
+    const gf_mat3 s3 = {
+        {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 10000}}};
     REQUIRE(gf_kf2_init(&kf, &mu2, &s2) == GF_OK);
     REQUIRE(gf_ekf3_init(&ekf, &mu3, &s3) == GF_OK);
     const char *st = gf_status_str(GF_OK);
@@ -511,10 +555,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         uint8_t op = byte(&c);
         REQUIRE(gf_status_str((gf_status)(int8_t)op) != NULL);
         switch (op % 8) {
-        case 0: case 1: case 2: op_kf2(&c, op % 8, &kf); break;
-        case 3: case 4: case 5: op_ekf3(&c, op % 8, &ekf); break;
-        case 6: op_helpers(&c, (uint8_t)(op / 8)); break;
-        default: op_nulls(&c, &kf, &ekf); break;
+        case 0:
+        case 1:
+        case 2:
+            op_kf2(&c, op % 8, &kf);
+            break;
+        case 3:
+        case 4:
+        case 5:
+            op_ekf3(&c, op % 8, &ekf);
+            break;
+        case 6:
+            op_helpers(&c, (uint8_t)(op / 8));
+            break;
+        default:
+            op_nulls(&c, &kf, &ekf);
+            break;
         }
     }
     return 0;

@@ -31,13 +31,13 @@
 #include "gaussfilt_lcm_model_t.h"
 #include "node_core.h"
 
-#define REQUIRE(cond)                                                      \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "contract broken: %s (%s:%d)\n", #cond,        \
-                    __FILE__, __LINE__);                                   \
-            abort();                                                       \
-        }                                                                  \
+#define REQUIRE(cond)                                                          \
+    do {                                                                       \
+        if (!(cond)) {                                                         \
+            fprintf(stderr, "contract broken: %s (%s:%d)\n", #cond, __FILE__,  \
+                    __LINE__);                                                 \
+            abort();                                                           \
+        }                                                                      \
     } while (0)
 
 #ifndef FUZZ_NODE_MAKE_SEEDS
@@ -51,7 +51,8 @@ static int on_publish(void *ctx, const char *channel, const void *data,
 {
     pub_log *log = ctx;
     gaussfilt_lcm_belief_t b;
-    REQUIRE(strncmp(channel, GF_CHANNEL_BELIEF, strlen(GF_CHANNEL_BELIEF)) == 0);
+    REQUIRE(strncmp(channel, GF_CHANNEL_BELIEF, strlen(GF_CHANNEL_BELIEF)) ==
+            0);
     REQUIRE(gaussfilt_lcm_belief_t_decode(data, 0, (int)len, &b) == (int)len);
     char want[GF_CHANNEL_MAX];
     snprintf(want, sizeof want, "%s%d", GF_CHANNEL_BELIEF, (int)b.track);
@@ -73,7 +74,8 @@ static int on_publish(void *ctx, const char *channel, const void *data,
 static int belief_finite(const gf_node_track *t)
 {
     const gf_real *p = t->model == GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
-                           ? &t->f.kf2.mu.v[0] : &t->f.ekf3.mu.v[0];
+                           ? &t->f.kf2.mu.v[0]
+                           : &t->f.ekf3.mu.v[0];
     size_t n = t->model == GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
                    ? sizeof(gf_kf2) / sizeof(gf_real)
                    : sizeof(gf_ekf3) / sizeof(gf_real);
@@ -144,8 +146,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             sum += node.counts.by_result[k];
         }
         REQUIRE(sum == node.counts.received);
-        REQUIRE(node.counts.published == before.counts.published +
-                                             (log.n - pub0));
+        REQUIRE(node.counts.published ==
+                before.counts.published + (log.n - pub0));
         REQUIRE(node.ntracks <= GF_NODE_MAX_TRACKS);
         REQUIRE(node.ntracks >= before.ntracks);
         for (unsigned t = 0; t < before.ntracks; t++) {
@@ -237,8 +239,7 @@ static size_t model(uint8_t *out, int8_t track, int8_t kind_of, int8_t measure,
     return put(out, 6, track, buf, len); // kind 6: GF_MODEL_<track>
 }
 
-static void save(const char *dir, const char *name, const uint8_t *d,
-                 size_t n)
+static void save(const char *dir, const char *name, const uint8_t *d, size_t n)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", dir, name);

@@ -27,8 +27,8 @@
 
 // Where the robot can be: x = z on the circle of radius d around the start.
 #define GF_EX4_MODE_X GF_BOOK_EX4_Z
-#define GF_EX4_MODE_Y                                                        \
-    sqrt(GF_BOOK_EX4_D * GF_BOOK_EX4_D - GF_BOOK_EX4_Z * GF_BOOK_EX4_Z)
+#define GF_EX4_MODE_Y                                                          \
+    sqrt(GF_BOOK_EX4_D *GF_BOOK_EX4_D - GF_BOOK_EX4_Z * GF_BOOK_EX4_Z)
 
 // One half plane of a cloud: its weight, its mode (the densest particle)
 // and its weighted mean.
@@ -68,8 +68,8 @@ static inline gf_ex4_half gf_ex4_half_plane(const float *x, const float *y,
         return h;
     for (k = 0; k < count; k++) {
         if (sign * (double)y[k] > 0) {
-            double d = gf_ex4_density(x, y, w, count, (double)x[k],
-                                      (double)y[k]);
+            double d =
+                gf_ex4_density(x, y, w, count, (double)x[k], (double)y[k]);
             h.mass += (double)w[k] / total;
             h.meanx += (double)w[k] / total * (double)x[k];
             h.meany += (double)w[k] / total * (double)y[k];
@@ -110,10 +110,10 @@ static inline int gf_ex4_check_modes(const float *x, const float *y,
     gf_ex4_half dn = gf_ex4_half_plane(x, y, w, count, -1.0);
     double at_ekf = gf_ex4_mass_near(x, y, w, count, 0.15, 0.0, 0.3);
     double at_pred = gf_ex4_mass_near(x, y, w, count, 1.0, 0.0, 0.3);
-    double at_up = gf_ex4_mass_near(x, y, w, count, GF_EX4_MODE_X,
-                                    GF_EX4_MODE_Y, 0.3);
-    double at_dn = gf_ex4_mass_near(x, y, w, count, GF_EX4_MODE_X,
-                                    -GF_EX4_MODE_Y, 0.3);
+    double at_up =
+        gf_ex4_mass_near(x, y, w, count, GF_EX4_MODE_X, GF_EX4_MODE_Y, 0.3);
+    double at_dn =
+        gf_ex4_mass_near(x, y, w, count, GF_EX4_MODE_X, -GF_EX4_MODE_Y, 0.3);
     double dip = gf_ex4_density(x, y, w, count, GF_EX4_MODE_X, 0.0) /
                  fmin(gf_ex4_density(x, y, w, count, up.mx, up.my),
                       gf_ex4_density(x, y, w, count, dn.mx, dn.my));
@@ -139,7 +139,8 @@ static inline int gf_ex4_check_ukf_pred(double mx, double my)
 {
     double r = hypot(mx, my);
     printf("  UKF predicted mean (%.4f, %.4f), %.3f from the origin, %.3f "
-           "from (1, 0)\n", mx, my, r, hypot(mx - 1.0, my));
+           "from (1, 0)\n",
+           mx, my, r, hypot(mx - 1.0, my));
     return !(r < 0.5) + !(hypot(mx - 1.0, my) > 0.5);
 }
 
@@ -147,7 +148,8 @@ static inline int gf_ex4_check_ukf_pred(double mx, double my)
 static inline int gf_ex4_check_ekf_post(const double *mean, double tol)
 {
     printf("  EKF corrected mean (%.6f, %.6f, %.6f), Table 4.2: (0.15, 0, "
-           "0)\n", mean[0], mean[1], mean[2]);
+           "0)\n",
+           mean[0], mean[1], mean[2]);
     return !(fabs(mean[0] - 0.15) <= tol) + !(fabs(mean[1]) <= tol) +
            !(fabs(mean[2]) <= tol);
 }

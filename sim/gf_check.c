@@ -146,16 +146,15 @@ static int run_rows(const check *c, const want *w, const int *seq, int rows)
 // Table 1.1 and Figure 1.2: t = 0..5 against the table, rho_t to t = 10.
 static int table_1_1(const check *c)
 {
-    static const double s[6][3] = {{0, 0, 0},     {0.25, 0.5, 1},
-                                   {2.5, 2, 2},   {8.75, 4.5, 3},
-                                   {21, 8, 4},    {41.25, 12.5, 5}};
-    static const char *seed[6] = {
-        "mu = (0 0)  Sigma = (0 0; 0 0)",
-        "mu = (0 0)  Sigma = (0.25 0.5; 0.5 1)",
-        "mu = (0 0)  Sigma = (2.5 2; 2 2)",
-        "mu = (0 0)  Sigma = (8.75 4.5; 4.5 3)",
-        "mu = (0 0)  Sigma = (21 8; 8 4)",
-        "mu = (0 0)  Sigma = (41.25 12.5; 12.5 5)"};
+    static const double s[6][3] = {{0, 0, 0},   {0.25, 0.5, 1},
+                                   {2.5, 2, 2}, {8.75, 4.5, 3},
+                                   {21, 8, 4},  {41.25, 12.5, 5}};
+    static const char *seed[6] = {"mu = (0 0)  Sigma = (0 0; 0 0)",
+                                  "mu = (0 0)  Sigma = (0.25 0.5; 0.5 1)",
+                                  "mu = (0 0)  Sigma = (2.5 2; 2 2)",
+                                  "mu = (0 0)  Sigma = (8.75 4.5; 4.5 3)",
+                                  "mu = (0 0)  Sigma = (21 8; 8 4)",
+                                  "mu = (0 0)  Sigma = (41.25 12.5; 12.5 5)"};
     static const char *label[6] = {"t = 0", "t = 1", "t = 2",
                                    "t = 3", "t = 4", "t = 5"};
     want w[6];
@@ -250,7 +249,8 @@ static int table_2_1(const check *c, const gf_book *bk)
     w[1].cov[1][1] = sv - sxv * sxv / s;
     w[1].seed = "mu = (4.02 1.22)  cov = (8.05 2.44; 2.44 1.95)";
     printf("Table 2.1: the car at t = %d before and after z = %g "
-           "(variance %g, from the wire)\n", n, z, q);
+           "(variance %g, from the wire)\n",
+           n, z, q);
     return run_rows(c, w, seq, 2) + (c->count < n + 2);
 }
 
@@ -300,8 +300,10 @@ static long elapsed_ms(const struct timespec *t0)
 
 static const char help_text[] =
     "gf_check: listens to one track's beliefs and checks them against a table\n"
-    "of Probabilistic Robotics ch. 3's worked exercises; exit 0 if they agree.\n\n"
-    "usage: gf_check --table 1.1|2.1|4.2 --track N [--url URL] [--timeout-ms MS]\n"
+    "of Probabilistic Robotics ch. 3's worked exercises; exit 0 if they "
+    "agree.\n\n"
+    "usage: gf_check --table 1.1|2.1|4.2 --track N [--url URL] [--timeout-ms "
+    "MS]\n"
     "                [--meas-var V] [--z Z] [--steps N] [--heading-var V]\n"
     "       gf_check --count N --track N [--url URL] [--timeout-ms MS]\n\n"
     "  --table T       1.1 (gf_sim --exercise 1), 2.1 (2) or 4.2 (4)\n"
@@ -310,9 +312,11 @@ static const char help_text[] =
     "  --meas-var V, --z Z, --steps N   exercise 2's numbers (book: 10, 5, 5)\n"
     "  --heading-var V exercise 4's initial heading variance (book: 10000);\n"
     "                  a table they change is checked against what they give\n"
-    "                  and named as differing from the book (examples/book.h)\n\n"
+    "                  and named as differing from the book "
+    "(examples/book.h)\n\n"
     "example:\n"
-    "  gf_check --table 2.1 --track 2 & gf_node & gf_sim --exercise 2 --track 2\n";
+    "  gf_check --table 2.1 --track 2 & gf_node & gf_sim --exercise 2 --track "
+    "2\n";
 
 int main(int argc, char **argv)
 {
@@ -402,7 +406,8 @@ int main(int argc, char **argv)
     gf_book_differs(&book, table, g_differs, sizeof g_differs);
     if (g_differs[0] != '\0')
         printf("Table %s differs from the book because of %s: checked "
-               "against what these numbers give\n", table, g_differs);
+               "against what these numbers give\n",
+               table, g_differs);
     if (strcmp(table, "1.1") == 0)
         fails = table_1_1(&c);
     else if (strcmp(table, "2.1") == 0)

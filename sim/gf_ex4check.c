@@ -108,11 +108,12 @@ static int check(const state *s)
     int f, j, fails = 0;
     for (f = 0; f < NFILTERS; f++) {
         for (j = 0; j < 3; j++) {
-            if (s->have[f][j] && (s->b[f][j].filter != want[f] ||
-                                  s->b[f][j].status != 0)) {
+            if (s->have[f][j] &&
+                (s->b[f][j].filter != want[f] || s->b[f][j].status != 0)) {
                 printf("  track %ld belief %d: filter %d status %d, want "
-                       "%s and 0\n", (long)s->track[f], j,
-                       s->b[f][j].filter, s->b[f][j].status, names[f]);
+                       "%s and 0\n",
+                       (long)s->track[f], j, s->b[f][j].filter,
+                       s->b[f][j].status, names[f]);
                 fails++;
             }
         }
@@ -120,26 +121,30 @@ static int check(const state *s)
     printf("exercise 4 three ways, from the wire (tracks %ld, %ld, %ld):\n",
            (long)s->track[EKF], (long)s->track[UKF], (long)s->track[PF]);
     fails += gf_ex4_check_ekf_post(s->b[EKF][2].mean, TOL);
-    fails += gf_ex4_check_ukf_pred(s->b[UKF][1].mean[0],
-                                   s->b[UKF][1].mean[1]);
+    fails += gf_ex4_check_ukf_pred(s->b[UKF][1].mean[0], s->b[UKF][1].mean[1]);
     printf("  UKF corrected mean (%.4f, %.4f): one Gaussian, on neither "
-           "point\n", s->b[UKF][2].mean[0], s->b[UKF][2].mean[1]);
+           "point\n",
+           s->b[UKF][2].mean[0], s->b[UKF][2].mean[1]);
     printf("  PF belief (summary) mean (%.4f, %.4f), cloud of %d of %d "
            "particles, neff %.0f before resampling (resampled %d)\n",
-           pf->mean[0], pf->mean[1], s->count, s->cloud.n_filter,
-           s->cloud.neff, s->cloud.resampled);
+           pf->mean[0], pf->mean[1], s->count, s->cloud.n_filter, s->cloud.neff,
+           s->cloud.resampled);
     fails += gf_ex4_check_modes(s->x, s->y, s->w, s->count);
     return fails;
 }
 
 static const char help_text[] =
     "gf_ex4check: exercise 4 three ways from the wire: the beliefs of an EKF,\n"
-    "a UKF and a PF node (gf_node --filter) each fed gf_sim --exercise 4; exit\n"
-    "0 if the EKF is at (0.15, 0), the UKF's prediction inside the unit circle\n"
+    "a UKF and a PF node (gf_node --filter) each fed gf_sim --exercise 4; "
+    "exit\n"
+    "0 if the EKF is at (0.15, 0), the UKF's prediction inside the unit "
+    "circle\n"
     "and the PF's cloud shows the two modes.\n\n"
-    "usage: gf_ex4check --ekf N --ukf N --pf N [--url URL] [--timeout-ms MS]\n\n"
+    "usage: gf_ex4check --ekf N --ukf N --pf N [--url URL] [--timeout-ms "
+    "MS]\n\n"
     "example:\n"
-    "  gf_ex4check --ekf 41 --ukf 42 --pf 43 --url 'udpm://239.255.76.67:7667?ttl=0'\n";
+    "  gf_ex4check --ekf 41 --ukf 42 --pf 43 --url "
+    "'udpm://239.255.76.67:7667?ttl=0'\n";
 
 int main(int argc, char **argv)
 {
@@ -177,12 +182,10 @@ int main(int argc, char **argv)
         return 1;
     }
     for (f = 0; f < NFILTERS; f++) {
-        snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_BELIEF,
-                 (long)s.track[f]);
+        snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_BELIEF, (long)s.track[f]);
         lcm_subscribe(lcm, ch, on_belief, &s);
     }
-    snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_PARTICLES,
-             (long)s.track[PF]);
+    snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_PARTICLES, (long)s.track[PF]);
     lcm_subscribe(lcm, ch, on_particles, &s);
     printf("gf_ex4check: ready\n");
     fflush(stdout);
@@ -193,11 +196,12 @@ int main(int argc, char **argv)
     }
     lcm_destroy(lcm);
     if (!complete(&s)) {
-        fprintf(stderr, "gf_ex4check: timed out: EKF %d/%d/%d UKF %d/%d/%d "
-                        "PF %d/%d/%d cloud %d (undecodable %d)\n",
-                s.have[EKF][0], s.have[EKF][1], s.have[EKF][2],
-                s.have[UKF][0], s.have[UKF][1], s.have[UKF][2], s.have[PF][0],
-                s.have[PF][1], s.have[PF][2], s.have_cloud, s.bad);
+        fprintf(stderr,
+                "gf_ex4check: timed out: EKF %d/%d/%d UKF %d/%d/%d "
+                "PF %d/%d/%d cloud %d (undecodable %d)\n",
+                s.have[EKF][0], s.have[EKF][1], s.have[EKF][2], s.have[UKF][0],
+                s.have[UKF][1], s.have[UKF][2], s.have[PF][0], s.have[PF][1],
+                s.have[PF][2], s.have_cloud, s.bad);
         return 1;
     }
     fails = check(&s);

@@ -107,9 +107,8 @@ static inline uint8_t *gf_inq_room(gf_inq *q, size_t s)
 }
 
 // Copies one message in; returns 0, or -1 if it was dropped (counted).
-static inline int gf_inq_push(gf_inq *q, const char *channel,
-                              const void *data, uint32_t len,
-                              int64_t recv_utime)
+static inline int gf_inq_push(gf_inq *q, const char *channel, const void *data,
+                              uint32_t len, int64_t recv_utime)
 {
     size_t chlen = strlen(channel), s;
     int keep = len <= GF_INQ_MAX_DATA;

@@ -29,7 +29,8 @@ static lcm_eventlog_event_t *next(lcm_eventlog_t *log, const char *prefix)
 
 static const char help_text[] =
     "gf_logcmp: counts the events of an LCM log whose channel starts with a\n"
-    "prefix, or compares two logs event by event (channel and payload bytes).\n\n"
+    "prefix, or compares two logs event by event (channel and payload "
+    "bytes).\n\n"
     "usage: gf_logcmp [--prefix P] [--expect N] LOG [LOG2]\n\n"
     "  --prefix P      only channels starting with P (default: all)\n"
     "  --expect N      the count must be exactly N\n"

@@ -176,23 +176,27 @@ static void help(void)
           "(SIGINT, SIGTERM, end of a log) one summary line of counters.\n\n",
           stdout);
     fputs(usage_text, stdout);
-    fputs("\n"
-          "  --config FILE   models for channel patterns (docs/node.md); other\n"
-          "                  tracks run the book's presets book-car, book-robot\n"
-          "  --url URL       where to listen (default $LCM_DEFAULT_URL or LCM's\n"
-          "                  udpm default); file:///x.lcmlog?speed=0 replays a log\n"
-          "  --out-url URL   publish beliefs there instead (needed with file://)\n"
-          "  --channels RE   channels to take (default "
-          GF_CHANNEL_NODE_DEFAULT ")\n"
-          "  --queue N       messages LCM may hold for the node (default 65536)\n"
-          "  --filter F      robot filter: ekf (default), ukf or pf\n"
-          "  --seed S        PF tracks' generator seed, plus the track id (1)\n"
-          "  --cpu N, --rx-cpu M, --rt PRIO   thread placement, SCHED_FIFO\n"
-          "  --timing        per-message time in the node, p50/p99/max at exit\n"
-          "  --help          this text\n\n"
-          "example:\n"
-          "  gf_node --config car100.conf --url 'udpm://239.255.76.67:7667?ttl=0'\n",
-          stdout);
+    fputs(
+        "\n"
+        "  --config FILE   models for channel patterns (docs/node.md); other\n"
+        "                  tracks run the book's presets book-car, book-robot\n"
+        "  --url URL       where to listen (default $LCM_DEFAULT_URL or LCM's\n"
+        "                  udpm default); file:///x.lcmlog?speed=0 replays a "
+        "log\n"
+        "  --out-url URL   publish beliefs there instead (needed with "
+        "file://)\n"
+        "  --channels RE   channels to take (default " GF_CHANNEL_NODE_DEFAULT
+        ")\n"
+        "  --queue N       messages LCM may hold for the node (default 65536)\n"
+        "  --filter F      robot filter: ekf (default), ukf or pf\n"
+        "  --seed S        PF tracks' generator seed, plus the track id (1)\n"
+        "  --cpu N, --rx-cpu M, --rt PRIO   thread placement, SCHED_FIFO\n"
+        "  --timing        per-message time in the node, p50/p99/max at exit\n"
+        "  --help          this text\n\n"
+        "example:\n"
+        "  gf_node --config car100.conf --url "
+        "'udpm://239.255.76.67:7667?ttl=0'\n",
+        stdout);
 }
 
 // The node's model lookup: the configuration's (node_model.h).
@@ -208,7 +212,7 @@ int main(int argc, char **argv)
     static gf_node_config config;
     char err[256];
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
-    static gf_node node; // ~15 kB: keep it off the stack
+    static gf_node node;         // ~15 kB: keep it off the stack
     static gf_node_pf_pool pool; // ~516 kB, used with --filter pf only
     static node_ctx ctx;         // ~40 kB: the --timing histogram
     gf_rt rt = {-1, -1, 0, 0, 0, 0, 0};

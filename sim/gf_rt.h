@@ -75,29 +75,35 @@ static inline int gf_rt_setup(gf_rt *rt, const char *who)
         sp.sched_priority = rt->prio;
         rt->fifo_ok = sched_setscheduler(0, SCHED_FIFO, &sp) == 0;
         if (!rt->fifo_ok) {
-            fprintf(stderr, "%s: SCHED_FIFO priority %d not permitted (%s; "
-                            "needs root or CAP_SYS_NICE): running "
-                            "SCHED_OTHER\n", who, rt->prio, strerror(errno));
+            fprintf(stderr,
+                    "%s: SCHED_FIFO priority %d not permitted (%s; "
+                    "needs root or CAP_SYS_NICE): running "
+                    "SCHED_OTHER\n",
+                    who, rt->prio, strerror(errno));
             missed++;
         }
         // Locked memory only when nothing caps it: under a finite
         // RLIMIT_MEMLOCK, MCL_FUTURE would make later allocations fail.
         struct rlimit lim;
-        if (rt->fifo_ok && (geteuid() == 0 ||
-                            (getrlimit(RLIMIT_MEMLOCK, &lim) == 0 &&
-                             lim.rlim_cur == RLIM_INFINITY))) {
+        if (rt->fifo_ok &&
+            (geteuid() == 0 || (getrlimit(RLIMIT_MEMLOCK, &lim) == 0 &&
+                                lim.rlim_cur == RLIM_INFINITY))) {
             rt->mlock_ok = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
             if (!rt->mlock_ok) {
-                fprintf(stderr, "%s: mlockall failed (%s): memory not "
-                                "locked\n", who, strerror(errno));
+                fprintf(stderr,
+                        "%s: mlockall failed (%s): memory not "
+                        "locked\n",
+                        who, strerror(errno));
                 missed++;
             }
         }
     }
 #else
     if (rt->cpu >= 0 || rt->rx_cpu >= 0 || rt->prio > 0) {
-        fprintf(stderr, "%s: CPU pinning and SCHED_FIFO need Linux: "
-                        "ignored\n", who);
+        fprintf(stderr,
+                "%s: CPU pinning and SCHED_FIFO need Linux: "
+                "ignored\n",
+                who);
         missed++;
     }
 #endif

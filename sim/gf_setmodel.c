@@ -40,7 +40,8 @@ int main(int argc, char **argv)
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--help") == 0) {
             fputs("gf_setmodel: sets one track's model in a running gf_node "
-                  "(model_t on GF_MODEL_<track>).\n\n", stdout);
+                  "(model_t on GF_MODEL_<track>).\n\n",
+                  stdout);
             fputs(usage_text, stdout);
             fputs("\n  --model NAME   a model of --config, or book-car / "
                   "book-robot\n"

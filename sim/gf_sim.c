@@ -123,7 +123,7 @@ typedef struct sim {
     lcm_t *lcm;
     int32_t track;
     int8_t model;
-    int64_t seq;     // last seq used on the track
+    int64_t seq; // last seq used on the track
     int64_t session;
     int64_t step_us; // utime per step
     char ch_ctrl[GF_CHANNEL_MAX], ch_meas[GF_CHANNEL_MAX],
@@ -197,9 +197,9 @@ static void send_truth(sim *s, long t, int n, const double *x)
     g.n = (int8_t)n;
     for (i = 0; i < n; i++)
         g.state[i] = x[i];
-    send(s, s->ch_truth,
-         gaussfilt_lcm_groundtruth_t_encode(s->buf, 0, (int)sizeof(s->buf),
-                                            &g));
+    send(
+        s, s->ch_truth,
+        gaussfilt_lcm_groundtruth_t_encode(s->buf, 0, (int)sizeof(s->buf), &g));
     s->sent_truth++;
 }
 
@@ -219,8 +219,8 @@ static void pace(struct timespec *next, long period_ns)
 }
 
 // x = mean + L w, L L^T = cov (n x n PSD; a zero pivot adds nothing).
-static void draw(rng *r, unsigned n, const double *mean,
-                 const double cov[3][3], double *x)
+static void draw(rng *r, unsigned n, const double *mean, const double cov[3][3],
+                 double *x)
 {
     double l[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, w[3];
     unsigned i, j, k;
@@ -255,8 +255,7 @@ typedef struct run {
 } run;
 
 // The measurement of truth x under model mdl, noise included.
-static int measure(const gf_node_model *mdl, rng *r, const double *x,
-                   double *z)
+static int measure(const gf_node_model *mdl, rng *r, const double *x, double *z)
 {
     static const double zero[3] = {0, 0, 0};
     double noise[3] = {0, 0, 0};
@@ -268,10 +267,17 @@ static int measure(const gf_node_model *mdl, rng *r, const double *x,
     draw(r, m, zero, mdl->meas_cov, noise);
     z[1] = 0.0;
     switch (measure) {
-    case GF_NODE_MEASURE_X: z[0] = x[0]; break;
-    case GF_NODE_MEASURE_V: z[0] = x[1]; break;
+    case GF_NODE_MEASURE_X:
+        z[0] = x[0];
+        break;
+    case GF_NODE_MEASURE_V:
+        z[0] = x[1];
+        break;
     case GF_NODE_MEASURE_XV:
-    case GF_NODE_MEASURE_XY: z[0] = x[0]; z[1] = x[1]; break;
+    case GF_NODE_MEASURE_XY:
+        z[0] = x[0];
+        z[1] = x[1];
+        break;
     default: {
         double dx = mdl->landmark[0] - x[0], dy = mdl->landmark[1] - x[1];
         z[0] = sqrt(dx * dx + dy * dy);
@@ -316,19 +322,23 @@ static const char help_text[] =
     "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
     "       gf_sim --config FILE --model NAME [--runs M] [--track N]\n"
     "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n\n"
-    "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 exactly;\n"
+    "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 "
+    "exactly;\n"
     "                  exercise 2 with --steps N, --z Z, --meas-var V changed\n"
     "  --model car|robot  the exercises' car or robot with random motion\n"
     "  --config FILE --model NAME  a model of a gf_node configuration (or\n"
     "                  book-car, book-robot): truth from its prior, its noise\n"
     "  --runs M        M independent runs on tracks N..N+M-1 (seed S+k)\n"
     "  --track N       track id (default 1); --steps N; --seed S (default 1)\n"
-    "  --rate HZ       steps per second of wall-clock time (default: flat out)\n"
+    "  --rate HZ       steps per second of wall-clock time (default: flat "
+    "out)\n"
     "  --meas-every K, --meas-var V, --turn PHI  (car/robot without --config)\n"
     "  --session S     the run's session (default: the start time in us)\n"
-    "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w writes\n\n"
+    "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w "
+    "writes\n\n"
     "example:\n"
-    "  gf_sim --config examples/node.conf --model car100 --track 100 --rate 100\n";
+    "  gf_sim --config examples/node.conf --model car100 --track 100 --rate "
+    "100\n";
 
 int main(int argc, char **argv)
 {
@@ -369,8 +379,7 @@ int main(int argc, char **argv)
             int k = i - 1;
             if (gf_book_option(&book, argc, argv, &k) != 1)
                 return 2;
-        }
-        else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0)
+        } else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0)
             s.model = MODEL_CAR;
         else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0)
             s.model = MODEL_ROBOT;
@@ -399,8 +408,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--session") == 0) {
             s.session = strtoll(v, NULL, 0);
             have_session = 1;
-        }
-        else {
+        } else {
             usage();
             return 2;
         }
@@ -515,8 +523,8 @@ int main(int argc, char **argv)
                                           rng_normal(&q->r);
                     q->x[0] += dd * cos(q->x[2]);
                     q->x[1] += dd * sin(q->x[2]);
-                    q->x[2] = remainder(q->x[2] + dp,
-                                        2.0 * 3.14159265358979323846);
+                    q->x[2] =
+                        remainder(q->x[2] + dp, 2.0 * 3.14159265358979323846);
                     send_ctrl(&q->s, t, 2, d, phi);
                 }
                 send_truth(&q->s, t, (int)n, q->x);

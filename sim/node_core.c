@@ -29,19 +29,32 @@
 const char *gf_node_result_str(gf_node_result r)
 {
     switch (r) {
-    case GF_NODE_APPLIED: return "applied";
-    case GF_NODE_DUPLICATE: return "duplicate";
-    case GF_NODE_OUT_OF_ORDER: return "out_of_order";
-    case GF_NODE_MALFORMED: return "malformed";
-    case GF_NODE_TYPE_MISMATCH: return "type_mismatch";
-    case GF_NODE_BAD_FIELD: return "bad_field";
-    case GF_NODE_UNKNOWN_CHANNEL: return "unknown_channel";
-    case GF_NODE_TRACK_LIMIT: return "track_limit";
-    case GF_NODE_NONFINITE: return "nonfinite";
-    case GF_NODE_FILTER_ERROR: return "filter_error";
-    case GF_NODE_STALE_SESSION: return "stale_session";
-    case GF_NODE_NO_SUMMARY: return "no_summary";
-    case GF_NODE_RESULT_COUNT: break;
+    case GF_NODE_APPLIED:
+        return "applied";
+    case GF_NODE_DUPLICATE:
+        return "duplicate";
+    case GF_NODE_OUT_OF_ORDER:
+        return "out_of_order";
+    case GF_NODE_MALFORMED:
+        return "malformed";
+    case GF_NODE_TYPE_MISMATCH:
+        return "type_mismatch";
+    case GF_NODE_BAD_FIELD:
+        return "bad_field";
+    case GF_NODE_UNKNOWN_CHANNEL:
+        return "unknown_channel";
+    case GF_NODE_TRACK_LIMIT:
+        return "track_limit";
+    case GF_NODE_NONFINITE:
+        return "nonfinite";
+    case GF_NODE_FILTER_ERROR:
+        return "filter_error";
+    case GF_NODE_STALE_SESSION:
+        return "stale_session";
+    case GF_NODE_NO_SUMMARY:
+        return "no_summary";
+    case GF_NODE_RESULT_COUNT:
+        break;
     }
     return "unknown";
 }
@@ -59,9 +72,9 @@ int gf_node_init(gf_node *node, gf_node_publish_fn publish, void *ctx)
 int gf_node_set_filter(gf_node *node, gf_node_filter filter,
                        gf_node_pf_pool *pool, uint32_t seed)
 {
-    if (node == NULL || (filter != GF_NODE_FILTER_EKF &&
-                         filter != GF_NODE_FILTER_UKF &&
-                         filter != GF_NODE_FILTER_PF))
+    if (node == NULL ||
+        (filter != GF_NODE_FILTER_EKF && filter != GF_NODE_FILTER_UKF &&
+         filter != GF_NODE_FILTER_PF))
         return -1;
     if (filter == GF_NODE_FILTER_PF && pool == NULL)
         return -1;
@@ -201,8 +214,7 @@ static const gf_ukf3_params ukf_params = {GF_R(1.0), GF_R(2.0), GF_R(0.0)};
 // The robot's moments as the belief carries them: the filter's own (the
 // EKF's Sigma read from its factors), or the particles' last weighted
 // summary.
-static void robot_moments(const gf_node_track *t, gf_vec3 *mu,
-                          gf_mat3 *sigma)
+static void robot_moments(const gf_node_track *t, gf_vec3 *mu, gf_mat3 *sigma)
 {
     if (t->filter == FILTER_UKF3) {
         *mu = t->f.ukf3.mu;
@@ -247,8 +259,7 @@ static gf_node_result pf_summary(gf_node_track *t)
     gf_real neff = GF_R(0.0);
     gf_status s = gf_pf3_estimate(&t->f.pf3.pf, &mu, &sigma);
     if (s == GF_OK && finite3(&mu, &sigma) &&
-        gf_pf3_neff(&t->f.pf3.pf, &neff) == GF_OK &&
-        isfinite((double)neff)) {
+        gf_pf3_neff(&t->f.pf3.pf, &neff) == GF_OK && isfinite((double)neff)) {
         t->f.pf3.mu = mu;
         t->f.pf3.sigma = sigma;
         t->f.pf3.neff = neff;
@@ -311,8 +322,8 @@ static void track_prior(gf_node *node, gf_node_track *t)
             t->f.pf3.slot = node->pf_pool->used++;
         t->filter = FILTER_PF3;
         (void)gf_pf3_init(&t->f.pf3.pf, node->pf_pool->p[t->f.pf3.slot],
-                          GF_NODE_PF_PARTICLES,
-                          node->pf_seed + (uint32_t)t->id, &mu0, &sigma0);
+                          GF_NODE_PF_PARTICLES, node->pf_seed + (uint32_t)t->id,
+                          &mu0, &sigma0);
         (void)pf_summary(t);
     } else {
         t->filter = FILTER_EKF3;
@@ -351,14 +362,13 @@ static void publish_belief(gf_node *node, gf_node_track *t,
     char channel[GF_CHANNEL_MAX];
     int len;
     b->seq = t->belief_seq;
-    len = gaussfilt_lcm_belief_t_encode(node->buf, 0, (int)sizeof(node->buf),
-                                        b);
+    len =
+        gaussfilt_lcm_belief_t_encode(node->buf, 0, (int)sizeof(node->buf), b);
     if (len < 0) {
         node->counts.publish_failed++;
         return;
     }
-    snprintf(channel, sizeof(channel), "%s%ld", GF_CHANNEL_BELIEF,
-             (long)t->id);
+    snprintf(channel, sizeof(channel), "%s%ld", GF_CHANNEL_BELIEF, (long)t->id);
     node->counts.published++;
     if (node->publish != NULL &&
         node->publish(node->ctx, channel, node->buf, (size_t)len) != 0)
@@ -408,8 +418,8 @@ static void publish_particles(gf_node *node, gf_node_track *t,
     m.y = pool->y;
     m.theta = pool->theta;
     m.w = pool->w;
-    len = gaussfilt_lcm_particles_t_encode(pool->buf, 0,
-                                           (int)sizeof(pool->buf), &m);
+    len = gaussfilt_lcm_particles_t_encode(pool->buf, 0, (int)sizeof(pool->buf),
+                                           &m);
     if (len < 0) {
         node->counts.publish_failed++;
         return;
@@ -504,8 +514,8 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
 // lower = out of order), utime never decreasing; after
 // GF_NODE_RESYNC_AFTER out_of_order in a row the next input is the new
 // reference (node_core.h).
-static gf_node_result check_order(gf_node *node, gf_node_track *t,
-                                  int64_t seq, int64_t utime)
+static gf_node_result check_order(gf_node *node, gf_node_track *t, int64_t seq,
+                                  int64_t utime)
 {
     if (!t->has_input)
         return GF_NODE_APPLIED;
@@ -575,8 +585,8 @@ static gf_node_result from_status(int s)
 // resampling once fewer than GF_NODE_PF_RESAMPLE_FRACTION of the particles
 // are effective. The summary is taken after resampling; the neff the
 // cloud reports is the one that decided it.
-static int pf_correct(gf_node *node, gf_node_track *t,
-                      const gf_ekf3_meas *mm, const gf_vec3 *z)
+static int pf_correct(gf_node *node, gf_node_track *t, const gf_ekf3_meas *mm,
+                      const gf_vec3 *z)
 {
     gf_pf3 *pf = track_pf(node, t);
     gf_real neff = GF_R(0.0);
@@ -598,8 +608,7 @@ static int pf_correct(gf_node *node, gf_node_track *t,
 }
 
 static gf_node_result handle_ctrl(gf_node *node, int32_t id,
-                                  const gaussfilt_lcm_control_t *c,
-                                  int64_t now)
+                                  const gaussfilt_lcm_control_t *c, int64_t now)
 {
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
@@ -632,9 +641,8 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
         u[0] = (gf_real)c->u[0];
         u[1] = (gf_real)c->u[1];
         // R at the mean's heading (a PF with no summary: heading 0)
-        gf_node_model_robot(&t->mdl,
-                            isfinite((double)mu.v[2]) ? mu.v[2] : GF_R(0.0),
-                            u, &mot);
+        gf_node_model_robot(
+            &t->mdl, isfinite((double)mu.v[2]) ? mu.v[2] : GF_R(0.0), u, &mot);
         if (t->filter == FILTER_UKF3) {
             s = gf_ukf3_predict(&t->f.ukf3, &mot, u);
         } else if (t->filter == FILTER_PF3) {
@@ -839,19 +847,17 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
     unsigned r;
     if (out == NULL || size == 0)
         return -1;
-    n = snprintf(out, size,
-                 "received=%llu applied=%llu published=%llu "
-                 "publish_failed=%llu gaps=%llu dropped=%llu tracks=%u "
-                 "resyncs=%llu seq_resyncs=%llu models=%llu",
-                 (unsigned long long)c->received,
-                 (unsigned long long)c->by_result[GF_NODE_APPLIED],
-                 (unsigned long long)c->published,
-                 (unsigned long long)c->publish_failed,
-                 (unsigned long long)c->gaps,
-                 (unsigned long long)c->dropped, node->ntracks,
-                 (unsigned long long)c->resyncs,
-                 (unsigned long long)c->seq_resyncs,
-                 (unsigned long long)c->models);
+    n = snprintf(
+        out, size,
+        "received=%llu applied=%llu published=%llu "
+        "publish_failed=%llu gaps=%llu dropped=%llu tracks=%u "
+        "resyncs=%llu seq_resyncs=%llu models=%llu",
+        (unsigned long long)c->received,
+        (unsigned long long)c->by_result[GF_NODE_APPLIED],
+        (unsigned long long)c->published, (unsigned long long)c->publish_failed,
+        (unsigned long long)c->gaps, (unsigned long long)c->dropped,
+        node->ntracks, (unsigned long long)c->resyncs,
+        (unsigned long long)c->seq_resyncs, (unsigned long long)c->models);
     for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),

@@ -105,22 +105,22 @@ typedef struct gf_node_pf_pool {
 // What became of one message. Everything but GF_NODE_APPLIED is a
 // rejection: the belief of the track is unchanged.
 typedef enum gf_node_result {
-    GF_NODE_APPLIED = 0,   // filter step ran, belief published
-    GF_NODE_DUPLICATE,     // seq equal to the last one seen on its track
-    GF_NODE_OUT_OF_ORDER,  // seq or utime older than the last one seen
-    GF_NODE_MALFORMED,     // truncated, trailing bytes, unknown fingerprint
-    GF_NODE_TYPE_MISMATCH, // another gaussfilt_lcm type on this channel
-    GF_NODE_BAD_FIELD,     // decodes, but track/model/size makes no sense
+    GF_NODE_APPLIED = 0,     // filter step ran, belief published
+    GF_NODE_DUPLICATE,       // seq equal to the last one seen on its track
+    GF_NODE_OUT_OF_ORDER,    // seq or utime older than the last one seen
+    GF_NODE_MALFORMED,       // truncated, trailing bytes, unknown fingerprint
+    GF_NODE_TYPE_MISMATCH,   // another gaussfilt_lcm type on this channel
+    GF_NODE_BAD_FIELD,       // decodes, but track/model/size makes no sense
     GF_NODE_UNKNOWN_CHANNEL, // not GF_MEAS_<n>, GF_CTRL_<n>, GF_MODEL_<n>
                              // with n in its one decimal spelling
-    GF_NODE_TRACK_LIMIT,   // a new track with GF_NODE_MAX_TRACKS in use
-    GF_NODE_NONFINITE,     // the core said GF_ERR_NONFINITE: published with
-                           // that status, belief unchanged
-    GF_NODE_FILTER_ERROR,  // any other core failure (gated, not PSD,
-                           // singular): published with its status
-    GF_NODE_STALE_SESSION, // from a simulator run older than the track's
-    GF_NODE_NO_SUMMARY,    // PF step done, its summary overflowed: published
-                           // as STATUS_NO_SUMMARY (see the top)
+    GF_NODE_TRACK_LIMIT,     // a new track with GF_NODE_MAX_TRACKS in use
+    GF_NODE_NONFINITE,       // the core said GF_ERR_NONFINITE: published with
+                             // that status, belief unchanged
+    GF_NODE_FILTER_ERROR,    // any other core failure (gated, not PSD,
+                             // singular): published with its status
+    GF_NODE_STALE_SESSION,   // from a simulator run older than the track's
+    GF_NODE_NO_SUMMARY,      // PF step done, its summary overflowed: published
+                             // as STATUS_NO_SUMMARY (see the top)
     GF_NODE_RESULT_COUNT
 } gf_node_result;
 
@@ -134,13 +134,13 @@ const char *gf_node_result_str(gf_node_result r);
 typedef struct gf_node_counts {
     uint64_t received;
     uint64_t by_result[GF_NODE_RESULT_COUNT];
-    uint64_t published; // beliefs handed to the publish callback
+    uint64_t published;      // beliefs handed to the publish callback
     uint64_t publish_failed; // of those, the callback returned non-zero
     uint64_t gaps;
     uint64_t tracks_created;
-    uint64_t resyncs; // tracks re-initialised by a newer simulator session
+    uint64_t resyncs;     // tracks re-initialised by a newer simulator session
     uint64_t seq_resyncs; // sequence references reset (see the top)
-    uint64_t models;  // model_t messages applied
+    uint64_t models;      // model_t messages applied
     // messages that reached the process and were dropped before
     // gf_node_handle saw them (set by the caller: gf_node_add_dropped)
     uint64_t dropped;
@@ -167,8 +167,8 @@ typedef struct gf_node_track {
     int32_t id;
     int8_t model; // gaussfilt_lcm MODEL_CAR or MODEL_ROBOT
     int has_input;
-    int64_t session;    // of the last input consumed
-    int64_t last_seq;   // of the last input consumed (applied or failed)
+    int64_t session;  // of the last input consumed
+    int64_t last_seq; // of the last input consumed (applied or failed)
     int64_t last_utime;
     int64_t belief_seq; // of the last belief published
     int64_t last_rx;    // `now` of the last input consumed
@@ -184,7 +184,7 @@ typedef struct gf_node_track {
             gf_mat3 sigma; // what the belief carries
             unsigned slot; // in gf_node_pf_pool.p
             gf_real neff;
-            int resampled; // the last step resampled
+            int resampled;  // the last step resampled
             int no_summary; // mu, sigma are NaN: no summary (see the top)
         } pf3;
     } f;
@@ -202,7 +202,7 @@ typedef struct gf_node {
     unsigned ntracks;
     gf_node_track tracks[GF_NODE_MAX_TRACKS];
     gf_node_counts counts;
-    uint8_t buf[256]; // one encoded belief (belief_t is 170 bytes)
+    uint8_t buf[256];            // one encoded belief (belief_t is 170 bytes)
     gf_node_filter robot_filter; // for new robot tracks (default EKF)
     gf_node_pf_pool *pf_pool;    // the particles of PF tracks, or NULL
     uint32_t pf_seed;            // a PF track's generator: pf_seed + id

@@ -19,28 +19,43 @@
 
 // The book's numbers come from examples/book.h.
 static const gf_node_model book_car = {
-    "book-car", GF_NODE_KIND_CAR, GF_NODE_MEASURE_AUTO,
-    GF_BOOK_CAR_DT, GF_BOOK_CAR_ACCEL_VAR, // R = ((0.25, 0.5), (0.5, 1))
-    {0, 0, 0, 0}, {0, 0}, 0.0,
+    "book-car",
+    GF_NODE_KIND_CAR,
+    GF_NODE_MEASURE_AUTO,
+    GF_BOOK_CAR_DT,
+    GF_BOOK_CAR_ACCEL_VAR, // R = ((0.25, 0.5), (0.5, 1))
+    {0, 0, 0, 0},
+    {0, 0},
+    0.0,
     {0, 0, 0}, // at rest at 0, known exactly (exercise 1)
     {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
     {{GF_BOOK_EX2_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
 };
 
 static const gf_node_model book_robot = {
-    "book-robot", GF_NODE_KIND_ROBOT, GF_NODE_MEASURE_AUTO,
-    0.0, 0.0,
+    "book-robot",
+    GF_NODE_KIND_ROBOT,
+    GF_NODE_MEASURE_AUTO,
+    0.0,
+    0.0,
     {0, 0, 0, 0}, // R = 0 (exercise 4)
-    {0, 0}, 0.0,
-    {0, 0, 0},    // at the origin, heading unknown
+    {0, 0},
+    0.0,
+    {0, 0, 0}, // at the origin, heading unknown
     {{GF_BOOK_EX4_XY_VAR, 0, 0},
      {0, GF_BOOK_EX4_XY_VAR, 0},
      {0, 0, GF_BOOK_EX4_HEADING_VAR}},
     {{GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
 };
 
-const gf_node_model *gf_node_model_book_car(void) { return &book_car; }
-const gf_node_model *gf_node_model_book_robot(void) { return &book_robot; }
+const gf_node_model *gf_node_model_book_car(void)
+{
+    return &book_car;
+}
+const gf_node_model *gf_node_model_book_robot(void)
+{
+    return &book_robot;
+}
 
 unsigned gf_node_measure_m(int8_t kind, int8_t measure)
 {
@@ -63,8 +78,8 @@ int gf_node_model_measure(const gf_node_model *mdl, unsigned m)
 {
     int measure = mdl->measure;
     if (measure == GF_NODE_MEASURE_AUTO)
-        measure = m == 1   ? GF_NODE_MEASURE_X
-                  : m != 2 ? -1
+        measure = m == 1                          ? GF_NODE_MEASURE_X
+                  : m != 2                        ? -1
                   : mdl->kind == GF_NODE_KIND_CAR ? GF_NODE_MEASURE_XV
                                                   : GF_NODE_MEASURE_XY;
     if (measure < 0 || gf_node_measure_m(mdl->kind, (int8_t)measure) != m)
@@ -270,7 +285,7 @@ void gf_node_model_robot_meas(const gf_node_model *mdl, int measure,
     if (measure == GF_NODE_MEASURE_RANGE_BEARING) {
         out->h = gf_node_meas_range_bearing;
         out->ctx = (void *)(uintptr_t)mdl; // read only, see the callback
-        out->angle_mask = 2u; // the bearing
+        out->angle_mask = 2u;              // the bearing
     } else {
         out->h = m == 1 ? gf_ekf3_meas_x : gf_ekf3_meas_xy;
     }
@@ -374,8 +389,7 @@ static int measure_parse(const char *v, int8_t kind, int8_t *out)
     };
     for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++) {
         const int car = kind == GF_NODE_KIND_CAR;
-        if ((names[i].kind < 0 ||
-             (names[i].kind == GF_NODE_KIND_CAR) == car) &&
+        if ((names[i].kind < 0 || (names[i].kind == GF_NODE_KIND_CAR) == car) &&
             words_are(v, names[i].words)) {
             *out = names[i].measure;
             return 0;
@@ -462,7 +476,8 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 strlen(name) >= GF_NODE_MODEL_NAME)
                 return fail(err, err_size, line,
                             "expected [model NAME] (a name of at most %d "
-                            "characters)", GF_NODE_MODEL_NAME - 1);
+                            "characters)",
+                            GF_NODE_MODEL_NAME - 1);
             if (mdl != NULL && finish(cfg, start, err, err_size) != 0)
                 return -1;
             if (gf_node_config_find(cfg, name) != NULL)
@@ -544,8 +559,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 if (!(mdl->kind == GF_NODE_KIND_CAR ? one[k].car
                                                     : one[k].robot))
                     return fail(err, err_size, line, "a %s has no %s",
-                                mdl->kind == GF_NODE_KIND_CAR ? "car"
-                                                              : "robot",
+                                mdl->kind == GF_NODE_KIND_CAR ? "car" : "robot",
                                 key);
                 want = one[k].v == mdl->prior_mean ? (int)n : one[k].n;
                 if (numbers(val, one[k].v, want) != want)
@@ -564,7 +578,8 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 if (m == 0 || matrix(val, mdl->meas_cov, m) != 0)
                     return fail(err, err_size, line,
                                 "meas_cov takes %u or %u numbers (after "
-                                "measure)", m, m * m);
+                                "measure)",
+                                m, m * m);
                 done = 1;
             }
             if (!done)

@@ -11,20 +11,20 @@
 #include "gaussfilt/mat.h"
 
 #ifdef GF_SINGLE_PRECISION
-#define MAGIC GF_R(12582912.0)      // 1.5 * 2^23
-#define TURNS_MAX GF_R(4194304.0)   // 2^22
-#define TWO_PI_HI GF_R(6.28125)     // 201 / 32
+#define MAGIC GF_R(12582912.0)    // 1.5 * 2^23
+#define TURNS_MAX GF_R(4194304.0) // 2^22
+#define TWO_PI_HI GF_R(6.28125)   // 201 / 32
 #define TWO_PI_LO GF_R(1.9353071795864769e-3)
-#define PIO2_HI GF_R(1.5703125)     // 201 / 128
+#define PIO2_HI GF_R(1.5703125) // 201 / 128
 #define PIO2_LO GF_R(4.83826792333275079727e-4)
 #define PIO2_LO2 GF_R(2.56334415159451890170e-12)
 #else
-#define MAGIC 6755399441055744.0    // 1.5 * 2^52
-#define TURNS_MAX 2251799813685248.0 // 2^51
+#define MAGIC 6755399441055744.0             // 1.5 * 2^52
+#define TURNS_MAX 2251799813685248.0         // 2^51
 #define TWO_PI_HI 6.28318530693650245668e+00 // 4 * fdlibm's pio2_1
 #define TWO_PI_LO 2.43084020260247689973e-10
-#define PIO2_HI 1.57079632673412561417e+00   // fdlibm's pio2_1 (33 bits)
-#define PIO2_LO 6.07710050650619224932e-11   // fdlibm's pio2_1t
+#define PIO2_HI 1.57079632673412561417e+00 // fdlibm's pio2_1 (33 bits)
+#define PIO2_LO 6.07710050650619224932e-11 // fdlibm's pio2_1t
 #define PIO2_LO2 3.52155986518320018165e-27
 #endif
 #define INV_TWO_PI GF_R(0.15915494309189533577)
@@ -63,6 +63,8 @@ gf_real gf_angle_wrap(gf_real a)
 static gf_real sin_kernel(gf_real x)
 {
     const gf_real z = x * x;
+    // Horner's scheme, a term per line
+    // clang-format off
 #ifdef GF_SINGLE_PRECISION
     const gf_real p = GF_R(-1.66666666666666324348e-01) +
         z * (GF_R(8.33333333332248946124e-03) +
@@ -76,12 +78,15 @@ static gf_real sin_kernel(gf_real x)
         z * (-2.50507602534068634195e-08 +
         z * 1.58969099521155010221e-10))));
 #endif
+    // clang-format on
     return x + x * z * p;
 }
 
 static gf_real cos_kernel(gf_real x)
 {
     const gf_real z = x * x;
+    // Horner's scheme, a term per line
+    // clang-format off
 #ifdef GF_SINGLE_PRECISION
     const gf_real p = GF_R(4.16666666666666019037e-02) +
         z * (GF_R(-1.38888888888741095749e-03) +
@@ -94,6 +99,7 @@ static gf_real cos_kernel(gf_real x)
         z * (2.08757232129817482790e-09 +
         z * -1.13596475577881948265e-11))));
 #endif
+    // clang-format on
     return GF_R(1.0) - GF_R(0.5) * z + z * z * p;
 }
 
@@ -114,9 +120,21 @@ void gf_sincos(gf_real a, gf_real *s, gf_real *c)
     // (int)k is exact: k is a small whole number (or NaN, handled below).
     const int quadrant = GF_ISFINITE(k) ? ((int)k & 3) : 0;
     switch (quadrant) {
-    case 0:  *s = sr;  *c = cr;  break;
-    case 1:  *s = cr;  *c = -sr; break;
-    case 2:  *s = -sr; *c = -cr; break;
-    default: *s = -cr; *c = sr;  break;
+    case 0:
+        *s = sr;
+        *c = cr;
+        break;
+    case 1:
+        *s = cr;
+        *c = -sr;
+        break;
+    case 2:
+        *s = -sr;
+        *c = -cr;
+        break;
+    default:
+        *s = -cr;
+        *c = sr;
+        break;
     }
 }

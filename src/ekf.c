@@ -8,15 +8,14 @@
 #include "kf_core.h"
 
 gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
-                      const gf_real *sigma, unsigned angles,
-                      gf_kf_work *work)
+                      const gf_real *sigma, unsigned angles, gf_kf_work *work)
 {
     return gf_kfc_init(ekf, n, mu, sigma, angles, work);
 }
 
 // R's verdict and factors (into Rf, Rd).
 static gf_status ekf_motion_check(unsigned n, const gf_ekf_motion *motion,
-                              gf_real *Rf, gf_real *Rd, gf_kf_work *work)
+                                  gf_real *Rf, gf_real *Rd, gf_kf_work *work)
 {
     if (!motion->g || !motion->R || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
@@ -27,8 +26,8 @@ static gf_status ekf_motion_check(unsigned n, const gf_ekf_motion *motion,
 // mu_bar = g(u, mu) and G from the callback (mu_bar preset to mu, G to the
 // identity), then the factored prediction.
 static gf_status ekf_predict_step(gf_kf *ekf, const gf_ekf_motion *motion,
-                         const gf_real *u, const gf_real *Rf,
-                         const gf_real *Rd, gf_kf_work *work)
+                                  const gf_real *u, const gf_real *Rf,
+                                  const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = ekf->n;
     gf_real *mu_bar = GF_KFC_S(work, 4);
@@ -62,8 +61,7 @@ gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
 }
 
 gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
-                                const gf_ekf_motion *motion,
-                                gf_kf_work *work)
+                                const gf_ekf_motion *motion, gf_kf_work *work)
 {
     if (!pm || !motion || !work) {
         return GF_ERR_ARG;
@@ -91,10 +89,9 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
 // (angle residuals wrapped), then the factored correction, H whitened.
 static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
-                                 const gf_real *z,
-                        const gf_real *Qf, const gf_real *Qe,
-                        const unsigned *Qorder, gf_kf_innovation *info,
-                        gf_kf_work *work)
+                                 const gf_real *z, const gf_real *Qf,
+                                 const gf_real *Qe, const unsigned *Qorder,
+                                 gf_kf_innovation *info, gf_kf_work *work)
 {
     const unsigned n = ekf->n, m = meas->m;
     gf_real *zh = GF_KFC_S(work, 4);
@@ -133,13 +130,11 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         return GF_ERR_ARG;
     }
     gf_real *Qe = GF_KFC_D(work);
-    const gf_status st = gf_kfc_meas_check(ekf->n, meas->m, meas->Q,
-                                           meas->gate, z, work->v, Qe,
-                                           work->k, work);
-    return st != GF_OK
-               ? st
-               : ekf_update_step(ekf, meas, z, work->v, Qe, work->k, info,
-                                 work);
+    const gf_status st = gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate,
+                                           z, work->v, Qe, work->k, work);
+    return st != GF_OK ? st
+                       : ekf_update_step(ekf, meas, z, work->v, Qe, work->k,
+                                         info, work);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -171,6 +166,6 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder,
-                           info, work);
+    return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info,
+                           work);
 }

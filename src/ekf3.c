@@ -24,9 +24,15 @@ gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
     mu_bar->v[1] = mu->v[1] + d * s;
     mu_bar->v[2] = th + phi;
     // G = dg/dx, equation 4.1 (with d = 1 there)
-    G->m[0][0] = 1; G->m[0][1] = 0; G->m[0][2] = -d * s;
-    G->m[1][0] = 0; G->m[1][1] = 1; G->m[1][2] = d * c;
-    G->m[2][0] = 0; G->m[2][1] = 0; G->m[2][2] = 1;
+    G->m[0][0] = 1;
+    G->m[0][1] = 0;
+    G->m[0][2] = -d * s;
+    G->m[1][0] = 0;
+    G->m[1][1] = 1;
+    G->m[1][2] = d * c;
+    G->m[2][0] = 0;
+    G->m[2][1] = 0;
+    G->m[2][2] = 1;
     return GF_OK;
 }
 
@@ -39,7 +45,9 @@ gf_status gf_ekf3_meas_x(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
     }
     // h(x) = x, H = (1 0 0)
     z_hat->v[0] = mu_bar->v[0];
-    H->m[0][0] = 1; H->m[0][1] = 0; H->m[0][2] = 0;
+    H->m[0][0] = 1;
+    H->m[0][1] = 0;
+    H->m[0][2] = 0;
     return GF_OK;
 }
 
@@ -53,8 +61,12 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
     // h(x) = (x, y), H = ((1 0 0), (0 1 0))
     z_hat->v[0] = mu_bar->v[0];
     z_hat->v[1] = mu_bar->v[1];
-    H->m[0][0] = 1; H->m[0][1] = 0; H->m[0][2] = 0;
-    H->m[1][0] = 0; H->m[1][1] = 1; H->m[1][2] = 0;
+    H->m[0][0] = 1;
+    H->m[0][1] = 0;
+    H->m[0][2] = 0;
+    H->m[1][0] = 0;
+    H->m[1][1] = 1;
+    H->m[1][2] = 0;
     return GF_OK;
 }
 
@@ -64,7 +76,7 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 // (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, pq holds Q's factors
 // (pq->meas is not written).
 static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
-                            gf_ekf3_pmeas *pq)
+                                 gf_ekf3_pmeas *pq)
 {
     const unsigned m = meas->m;
     if (!meas->h || m < 1 || m > 3) {
@@ -90,7 +102,7 @@ static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
 // The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
 // R's verdict; on GF_OK, rf and rd hold R's factors.
 static gf_status ekf3_motion_check(const gf_ekf3_motion *motion, gf_real rf[9],
-                              gf_real rd[3])
+                                   gf_real rd[3])
 {
     if (!motion->g) {
         return GF_ERR_ARG;
@@ -136,8 +148,8 @@ gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma)
 // the covariance on its factors (gf_udu_predict); the belief is written
 // only if all is finite.
 static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
-                         const gf_real rf[9], const gf_real rd[3],
-                         const gf_real *u)
+                                   const gf_real rf[9], const gf_real rd[3],
+                                   const gf_real *u)
 {
     gf_ekf3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
@@ -166,8 +178,8 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 // total NIS, and the belief written only if every quantity passed and all
 // is finite.
 static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                        const gf_ekf3_pmeas *pq, const gf_vec3 *z,
-                        gf_innovation *info)
+                                  const gf_ekf3_pmeas *pq, const gf_vec3 *z,
+                                  gf_innovation *info)
 {
     const unsigned m = meas->m;
     // z_hat and the rows of H the callback fills arrive as zeros
@@ -306,8 +318,7 @@ gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
 gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
                                   const gf_vec3 *z, gf_innovation *info)
 {
-    if (!ekf || !pq || !z || !pq->meas.h || pq->meas.m < 1 ||
-        pq->meas.m > 3) {
+    if (!ekf || !pq || !z || !pq->meas.h || pq->meas.m < 1 || pq->meas.m > 3) {
         return GF_ERR_ARG;
     }
     if (!gf_all_finite(z->v, pq->meas.m)) {

@@ -79,7 +79,8 @@ gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n);
 static inline gf_status gf_callback_status(gf_status st)
 {
     return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
-               ? GF_ERR_MODEL : st;
+               ? GF_ERR_MODEL
+               : st;
 }
 
 // *info = *in field by field: a struct copy may carry the padding bytes
@@ -171,7 +172,7 @@ static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
 // PF3 keep it packed (no 3x3 temporary). Entries of l beyond the block
 // are zeroed.
 GF_ALWAYS_INLINE void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
-                                     gf_real l[6])
+                                         gf_real l[6])
 {
     for (unsigned k = 0; k < 6u; k++) {
         l[k] = 0;
@@ -229,8 +230,8 @@ static inline void gf_sandwich_upper(const gf_mat3 *a, const gf_mat3 *s,
                    a->m[i][2] * s->m[2][k];
         }
         for (unsigned j = i; j < 3; j++) {
-            o->m[i][j] = t[0] * a->m[j][0] + t[1] * a->m[j][1] +
-                         t[2] * a->m[j][2];
+            o->m[i][j] =
+                t[0] * a->m[j][0] + t[1] * a->m[j][1] + t[2] * a->m[j][2];
         }
     }
 }

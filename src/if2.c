@@ -196,8 +196,8 @@ static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
     return GF_ISFINITE(out->nis) ? GF_OK : GF_ERR_NONFINITE;
 }
 
-gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
-                        const gf_vec2 *z, gf_innovation *info)
+gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
+                        gf_innovation *info)
 {
     if (!inf || !meas || !z || meas->m < 1 || meas->m > 2) {
         return GF_ERR_ARG;

@@ -25,8 +25,7 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
 }
 
 gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
-                      const gf_real *sigma, unsigned angles,
-                      gf_kf_work *work)
+                      const gf_real *sigma, unsigned angles, gf_kf_work *work)
 {
     if (!kf || !mu || !sigma || !work || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
@@ -59,19 +58,17 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
 }
 
 gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
-                         const gf_real *Rf, const gf_real *Rd,
-                         gf_kf_work *work)
+                         const gf_real *Rf, const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = kf->n;
     gf_kf *nb = &work->b;
     *nb = *kf;
     for (unsigned i = 0; i < n; i++) {
-        nb->mu[i] = ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i])
-                                              : mu_bar[i];
+        nb->mu[i] =
+            ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i]) : mu_bar[i];
     }
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
-    gf_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work->w,
-                   GF_KFC_S(work, 2));
+    gf_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work->w, GF_KFC_S(work, 2));
     if (!gf_sum_finite(
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
@@ -81,10 +78,9 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
 }
 
 gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
-                        const gf_real *H, const gf_real *Qf,
-                        const gf_real *Qe, const unsigned *Qorder,
-                        int whiten_h, gf_real gate, gf_kf_innovation *info,
-                        gf_kf_work *work)
+                        const gf_real *H, const gf_real *Qf, const gf_real *Qe,
+                        const unsigned *Qorder, int whiten_h, gf_real gate,
+                        gf_kf_innovation *info, gf_kf_work *work)
 {
     const unsigned n = kf->n;
     gf_kf_innovation in;
@@ -114,9 +110,8 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
     }
     gf_kf *nb = &work->b;
     *nb = *kf;
-    const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw,
-                                        dx, &in.nis, work->w,
-                                        GF_KFC_S(work, 2));
+    const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx,
+                                        &in.nis, work->w, GF_KFC_S(work, 2));
     if (st != GF_OK) {
         return st;
     }
@@ -201,11 +196,11 @@ gf_status gf_kf_cov(const gf_kf *kf, gf_real *sigma)
 // the order of gf_kf_predict's statuses; on GF_OK, Rf and Rd hold R's
 // factors.
 static gf_status kf_model_check(unsigned n, const gf_kf_model *model,
-                             const gf_real *u, gf_real *Rf, gf_real *Rd,
-                             gf_kf_work *work)
+                                const gf_real *u, gf_real *Rf, gf_real *Rd,
+                                gf_kf_work *work)
 {
-    if (!model->A || !model->R || (model->nu > 0u && !model->B) ||
-        n < 1u || n > GF_KF_NMAX) {
+    if (!model->A || !model->R || (model->nu > 0u && !model->B) || n < 1u ||
+        n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
     gf_real z = gf_nan_sum(GF_R(0.0), model->A, n * n);
@@ -226,8 +221,8 @@ static gf_status kf_model_check(unsigned n, const gf_kf_model *model,
 
 // mu_bar = A mu + B u + c, into work->s, then the factored prediction.
 static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
-                         const gf_real *u, const gf_real *Rf,
-                         const gf_real *Rd, gf_kf_work *work)
+                                 const gf_real *u, const gf_real *Rf,
+                                 const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = kf->n;
     gf_real *mu_bar = GF_KFC_S(work, 4);
@@ -250,17 +245,17 @@ static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
     return gf_kfc_predict(kf, mu_bar, model->A, Rf, Rd, work);
 }
 
-gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model,
-                        const gf_real *u, gf_kf_work *work)
+gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model, const gf_real *u,
+                        gf_kf_work *work)
 {
     if (!kf || !model || !work) {
         return GF_ERR_ARG;
     }
     const gf_status st =
         kf_model_check(kf->n, model, u, work->v, GF_KFC_D(work), work);
-    return st != GF_OK ? st
-                       : kf_predict_step(kf, model, u, work->v,
-                                 GF_KFC_D(work), work);
+    return st != GF_OK
+               ? st
+               : kf_predict_step(kf, model, u, work->v, GF_KFC_D(work), work);
 }
 
 gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
@@ -297,8 +292,8 @@ gf_status gf_kf_predict_prepared(gf_kf *kf, const gf_kf_pmodel *pm,
 // in the order of gf_kf_update's statuses; on GF_OK, Q's factors are in
 // Qf, Qe, Qorder and F_Q^-1 C in Cw.
 static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
-                            const gf_real *z, gf_real *Qf, gf_real *Qe,
-                            unsigned *Qorder, gf_real *Cw, gf_kf_work *work)
+                               const gf_real *z, gf_real *Qf, gf_real *Qe,
+                               unsigned *Qorder, gf_real *Cw, gf_kf_work *work)
 {
     const unsigned m = meas->m;
     if (!meas->C || m < 1u || m > n) {
@@ -311,8 +306,8 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
     if (!gf_sum_finite(f)) {
         return GF_ERR_NONFINITE;
     }
-    const gf_status st = gf_kfc_meas_check(n, m, meas->Q, meas->gate, z, Qf,
-                                           Qe, Qorder, work);
+    const gf_status st =
+        gf_kfc_meas_check(n, m, meas->Q, meas->gate, z, Qf, Qe, Qorder, work);
     if (st != GF_OK) {
         return st;
     }
@@ -330,10 +325,10 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
 
 // y = z - c - C mu_bar, then the factored correction on the whitened rows.
 static gf_status kf_update_step(gf_kf *kf, const gf_kf_meas *meas,
-                                const gf_real *z,
-                        const gf_real *Qf, const gf_real *Qe,
-                        const unsigned *Qorder, const gf_real *Cw,
-                        gf_kf_innovation *info, gf_kf_work *work)
+                                const gf_real *z, const gf_real *Qf,
+                                const gf_real *Qe, const unsigned *Qorder,
+                                const gf_real *Cw, gf_kf_innovation *info,
+                                gf_kf_work *work)
 {
     const unsigned n = kf->n, m = meas->m;
     gf_real *y = GF_KFC_S(work, 6);
@@ -399,7 +394,6 @@ gf_status gf_kf_update_prepared(gf_kf *kf, const gf_kf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return kf_update_step(kf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder,
-                          pq->Cw, info,
-                  work);
+    return kf_update_step(kf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, pq->Cw,
+                          info, work);
 }

@@ -8,7 +8,7 @@
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
 static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
-                             gf_real rf[4], gf_real rd[2])
+                                 gf_real rf[4], gf_real rd[2])
 {
     gf_real z = gf_nan_sum(GF_R(0.0), model->A.m[0], 4);
     z = gf_nan_sum(z, model->B.m[0], 4);
@@ -28,7 +28,7 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
 // of gf_kf2_update's statuses; on GF_OK, pq holds Q's factors and the
 // whitened rows F^-1 C (pq->meas is not written).
 static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
-                            gf_kf2_pmeas *pq)
+                                gf_kf2_pmeas *pq)
 {
     const unsigned m = meas->m;
     if (m < 1 || m > 2) {
@@ -93,15 +93,15 @@ gf_status gf_kf2_cov(const gf_kf2 *kf, gf_mat2 *sigma)
 //   mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R.
 // The belief is written only if all of it is finite.
 static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
-                         const gf_real rf[4], const gf_real rd[2],
-                         const gf_vec2 *u)
+                                  const gf_real rf[4], const gf_real rd[2],
+                                  const gf_vec2 *u)
 {
     gf_kf2 nb = *kf;
     const gf_real *mu = kf->mu.v;
     GF_UNROLL
     for (unsigned i = 0; i < 2u; i++) {
-        gf_real acc = model->A.m[i][0] * mu[0] + model->A.m[i][1] * mu[1] +
-                      model->c.v[i];
+        gf_real acc =
+            model->A.m[i][0] * mu[0] + model->A.m[i][1] * mu[1] + model->c.v[i];
         if (u) {
             acc += model->B.m[i][0] * u->v[0] + model->B.m[i][1] * u->v[1];
         }
@@ -123,8 +123,8 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
 static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
-                        const gf_kf2_pmeas *pq, const gf_vec2 *z,
-                        gf_innovation *info)
+                                 const gf_kf2_pmeas *pq, const gf_vec2 *z,
+                                 gf_innovation *info)
 {
     const unsigned m = meas->m;
     gf_innovation in;
@@ -135,9 +135,9 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
     for (unsigned i = 0; i < 2u; i++) {
         in.y[i] = 0;
         if (i < m) {
-            in.y[i] = z->v[i] - meas->c.v[i] -
-                      (meas->C.m[i][0] * kf->mu.v[0] +
-                       meas->C.m[i][1] * kf->mu.v[1]);
+            in.y[i] =
+                z->v[i] - meas->c.v[i] -
+                (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
         }
         yw[i] = in.y[i];
     }
@@ -146,8 +146,8 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     gf_kf2 nb = *kf;
     gf_real dx[2] = {0, 0}, w[2 * 4], wd[4];
-    gf_status st = gf_udu_correct(2, nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe,
-                                  yw, dx, &in.nis, w, wd);
+    gf_status st = gf_udu_correct(2, nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe, yw,
+                                  dx, &in.nis, w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -181,8 +181,8 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
     return st != GF_OK ? st : kf2_predict_step(kf, model, rf, rd, u);
 }
 
-gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
-                        const gf_vec2 *z, gf_innovation *info)
+gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
+                        gf_innovation *info)
 {
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;

@@ -23,8 +23,7 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
 // Checks n and mu, judges sigma, and sets *kf to N(mu, sigma) factored,
 // the states in `angles` wrapped; kf untouched on failure.
 gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
-                      const gf_real *sigma, unsigned angles,
-                      gf_kf_work *work);
+                      const gf_real *sigma, unsigned angles, gf_kf_work *work);
 
 // The prediction once the model is checked: mu_bar (n, the angle states
 // wrapped here), Sigma_bar = G Sigma G^T + R with R's factors (Rf, Rd); the
@@ -44,17 +43,16 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
 // factors; the gate on the total NIS, the belief and info written only if
 // every quantity passed.
 gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
-                        const gf_real *H, const gf_real *Qf,
-                        const gf_real *Qe, const unsigned *Qorder,
-                        int whiten_h, gf_real gate, gf_kf_innovation *info,
-                        gf_kf_work *work);
+                        const gf_real *H, const gf_real *Qf, const gf_real *Qe,
+                        const unsigned *Qorder, int whiten_h, gf_real gate,
+                        gf_kf_innovation *info, gf_kf_work *work);
 
 // Where a check leaves a noise's factors in work: F (m x m) in work->v, d
 // in work->s from GF_KF_NMAX * 5, the pivot order in work->k.
 #define GF_KFC_D(work) GF_KFC_S(work, 5)
 
 // The vector k (0..7) of n entries in work->s.
-#define GF_KFC_S(work, k) (&(work)->s[(size_t)(k) * GF_KF_NMAX])
+#define GF_KFC_S(work, k) (&(work)->s[(size_t)(k)*GF_KF_NMAX])
 
 // Copies them into a prepared model's arrays (order may be NULL).
 void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,

@@ -286,8 +286,8 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
     // The smaller eigenvalue from the determinant when that avoids
     // cancellation (l1 far from zero), else by difference; the
     // determinant divided through by l1 first, so it cannot overflow.
-    gf_real l2 = (GF_FABS(l1) > GF_FABS(mean - d))
-                     ? (a / l1) * c - (b / l1) * b : mean - d;
+    gf_real l2 = (GF_FABS(l1) > GF_FABS(mean - d)) ? (a / l1) * c - (b / l1) * b
+                                                   : mean - d;
     gf_real th = GF_R(0.5) * GF_ATAN2(b, half);
     if (th <= -GF_R(0.5) * GF_PI) {
         th += GF_PI;
@@ -326,8 +326,8 @@ gf_status gf_mat3_mulv(const gf_mat3 *a, const gf_vec3 *x, gf_vec3 *out)
     }
     gf_vec3 r;
     for (int i = 0; i < 3; i++) {
-        r.v[i] = a->m[i][0] * x->v[0] + a->m[i][1] * x->v[1] +
-                 a->m[i][2] * x->v[2];
+        r.v[i] =
+            a->m[i][0] * x->v[0] + a->m[i][1] * x->v[1] + a->m[i][2] * x->v[2];
     }
     *out = r;
     return GF_OK;
@@ -401,7 +401,7 @@ gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)
 }
 
 gf_status gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
-                        gf_vec3 *x)
+                             gf_vec3 *x)
 {
     if (!l || !b || !x || n < 1 || n > 3) {
         return GF_ERR_ARG;

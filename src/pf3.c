@@ -43,15 +43,15 @@ static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static void sqrt_psd(const gf_mat3 *s, gf_real l[6])
+static void
+sqrt_psd(const gf_mat3 *s, gf_real l[6])
 {
     gf_sqrt_psd_packed(s, 3, l);
 }
 
 // x = mu + L n, n ~ N(0, I), L packed (GF_TRI): gf_rng_mvn3's arithmetic,
 // the zero entries of L included, with no 3x3 matrix. x may be mu.
-static void draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6],
-                 gf_vec3 *x)
+static void draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6], gf_vec3 *x)
 {
     gf_real nv[3];
     for (unsigned i = 0; i < 3u; i++) {
@@ -64,8 +64,7 @@ static void draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6],
 }
 
 gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
-                      uint32_t seed, const gf_vec3 *mu,
-                      const gf_mat3 *sigma)
+                      uint32_t seed, const gf_vec3 *mu, const gf_mat3 *sigma)
 {
     if (!pf || !particles || !mu || !sigma || n < 1 || n > GF_PF3_MAX_N) {
         return GF_ERR_ARG;
@@ -115,15 +114,16 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
 #if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
 __attribute__((noinline))
 #endif
-static gf_status propagate(const gf_ekf3_motion *motion, const gf_vec3 *p,
-                           const gf_real *u, gf_vec3 *x)
+static gf_status
+propagate(const gf_ekf3_motion *motion, const gf_vec3 *p, const gf_real *u,
+          gf_vec3 *x)
 {
     // G is not used, but it arrives as the identity (ekf3.h's promise to
     // every motion callback).
     gf_mat3 G_unused = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     *x = *p;
-    gf_status st = gf_callback_status(
-        motion->g(motion->ctx, p, u, x, &G_unused));
+    gf_status st =
+        gf_callback_status(motion->g(motion->ctx, p, u, x, &G_unused));
     if (st == GF_OK && !gf_vec3_is_finite_n(x, 3)) {
         st = GF_ERR_NONFINITE;
     }
@@ -209,8 +209,7 @@ static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_real l[6],
     return GF_OK;
 }
 
-gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
-                        const gf_vec3 *z)
+gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
 {
     if (!pf || !pf->p) {
         return GF_ERR_ARG;

@@ -93,8 +93,7 @@ gf_real gf_rng_normal(gf_rng *rng)
     return r * c;
 }
 
-void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l,
-                 gf_vec3 *x)
+void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l, gf_vec3 *x)
 {
     if (!rng || !mu || !l || !x) {
         return;

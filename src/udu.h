@@ -37,7 +37,6 @@
 #define GF_UD(i, j) ((j) * ((j) + 1u) / 2u + (i))
 #define GF_UD_SIZE(n) ((n) * ((n) + 1u) / 2u)
 
-
 // A correction makes the state its quantity measures most the root of the
 // factors when the quantity tells more than this (sum_s h_s^2 Sigma_ss /
 // e_i: by how much it can shrink a variance); below, Bierman's update
@@ -175,8 +174,8 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
 // exactly because its variance is at the rounding level of the others
 // would make the filter overconfident there); one below GF_REAL_MIN is
 // zero, with a zero column of U. s's upper triangle is read.
-static inline void gf_udu_factor(const gf_real *s, unsigned stride,
-                                 unsigned n, gf_real *ud, unsigned char *perm)
+static inline void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
+                                 gf_real *ud, unsigned char *perm)
 {
     for (unsigned k = 0; k < n; k++) {
         perm[k] = (unsigned char)(n - 1u - k);
@@ -265,7 +264,7 @@ GF_ALWAYS_INLINE gf_real gf_udu_nan_sum(gf_real z, unsigned n,
 // zero, with a zero column of U: that state is known exactly once the
 // later ones are. w is overwritten.
 GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
-                           const gf_real *wd, gf_real *ud)
+                              const gf_real *wd, gf_real *ud)
 {
     const unsigned stride = 2u * n;
     GF_UNROLL
@@ -308,9 +307,9 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 // gf_mwgs. a: n x n, rows of n, by state. w: scratch of n rows of 2n, wd:
 // scratch of 2n (caller-owned).
 static inline void gf_udu_predict(unsigned n, gf_real *ud,
-                                  const unsigned char *perm,
-                                  const gf_real *a, const gf_real *fr,
-                                  const gf_real *dr, gf_real *w, gf_real *wd)
+                                  const unsigned char *perm, const gf_real *a,
+                                  const gf_real *fr, const gf_real *dr,
+                                  gf_real *w, gf_real *wd)
 {
     const unsigned stride = 2u * n;
     // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj
@@ -337,8 +336,8 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud,
 // h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal (by
 // state), sum_(k >= i) U_ik^2 d_k for the state perm[i].
 GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
-                                         const unsigned char *perm,
-                                         const gf_real *h, gf_real *sigma_d)
+                                            const unsigned char *perm,
+                                            const gf_real *h, gf_real *sigma_d)
 {
     unsigned best = 0;
     gf_real most = -1;
@@ -364,9 +363,8 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
 // states in their order: W's row i is the old factor's row of the state
 // newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
 // factors. w, wd: scratch as gf_udu_predict's.
-static inline void gf_udu_reorder(unsigned n, gf_real *ud,
-                                  unsigned char *perm, unsigned root,
-                                  gf_real *w, gf_real *wd)
+static inline void gf_udu_reorder(unsigned n, gf_real *ud, unsigned char *perm,
+                                  unsigned root, gf_real *w, gf_real *wd)
 {
     const unsigned stride = 2u * n;
     unsigned char np[GF_UDU_NMAX];
@@ -420,8 +418,8 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
 // ud and dx are partly written then.
 static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
-                                      const gf_real *hp, gf_real r,
-                                      gf_real y, gf_real *dx, gf_real *nis)
+                                      const gf_real *hp, gf_real r, gf_real y,
+                                      gf_real *dx, gf_real *nis)
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
     // f = U^T hp

@@ -32,8 +32,8 @@
 // its large frame would have to save; an argument more would go on the
 // stack on Arm).
 #define WEIGHTED 4u
-static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6],
-                             unsigned j, unsigned k)
+static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
+                             unsigned k)
 {
     const unsigned i = (j - 1u) % N_STATE;
     const unsigned e = k % WEIGHTED;
@@ -75,8 +75,7 @@ GF_ALWAYS_INLINE void wrap_entry(gf_real *e, unsigned b)
 // the large frames above it need not; entry by entry, so that only d and
 // the bits (k: entry k kept, 3 + k: entry k wrapped) are kept across the
 // calls.
-UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n,
-                                  unsigned angle_mask)
+UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_mask)
 {
     const unsigned keep = (1u << n) - 1u;
     const unsigned bits = keep | ((angle_mask & keep) << N_STATE);
@@ -87,8 +86,8 @@ UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n,
 
 // d = p - ref on the first n entries, those flagged in angle_mask wrapped,
 // the rest zero; d may be p or ref.
-GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref,
-                               unsigned n, unsigned angle_mask, gf_vec3 *d)
+GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref, unsigned n,
+                               unsigned angle_mask, gf_vec3 *d)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
         d->v[k] = p->v[k] - ref->v[k];
@@ -102,7 +101,7 @@ GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref,
 //   b_k = eps w_i sum_{j>0, e_j,k != 0} (|Z_0,k| + |Z_j,k|),
 // |Z_j,k| <= |Z_0,k| + |e_j,k|. The moments are taken as resolved while
 // b_k is at most a quarter of the entry's predicted sigma: b_k^2 <= v / 16.
-#define UNRESOLVED(b2, v) ((b2) * GF_R(16.0) > (v))
+#define UNRESOLVED(b2, v) ((b2)*GF_R(16.0) > (v))
 
 // Entry k of the prediction: y[0] the centre's image, y[j > 0] the
 // residuals e_j about it, v = Sigma_bar_kk.
@@ -240,8 +239,7 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
             mu.v[a] = y[0].v[a] + mu.v[a];
         }
         wrap_flagged(&mu, N_STATE, HEADING_MASK);
-        if (!gf_vec3_is_finite_n(&mu, N_STATE) ||
-            !gf_mat3_is_finite(&sigma)) {
+        if (!gf_vec3_is_finite_n(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
             return GF_ERR_NONFINITE;
         }
         for (unsigned k = 0; k < N_STATE; k++) {
@@ -269,9 +267,8 @@ typedef struct ukf3_point {
 } ukf3_point;
 
 // Z = h(chi_bar_j) (first m entries, the rest zero), checked finite.
-GF_ALWAYS_INLINE gf_status measure(const gf_ukf3 *ukf,
-                                   const gf_ekf3_meas *meas, unsigned j,
-                                   ukf3_point *p)
+GF_ALWAYS_INLINE gf_status measure(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+                                   unsigned j, ukf3_point *p)
 {
     sigma_point(ukf, p->l, j, &p->chi);
     p->Z.v[0] = p->Z.v[1] = p->Z.v[2] = 0;
@@ -284,8 +281,7 @@ GF_ALWAYS_INLINE gf_status measure(const gf_ukf3 *ukf,
 
 // S = Q (m x m, symmetrized; lower triangle packed, zero past the m x m
 // block) and Sigma^xz = 0, before the sums over the points.
-static void moments_init(const gf_ekf3_meas *meas, gf_real s[6],
-                         gf_mat3 *pxz)
+static void moments_init(const gf_ekf3_meas *meas, gf_real s[6], gf_mat3 *pxz)
 {
     static const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     for (unsigned a = 0; a < N_STATE; a++) {
@@ -334,8 +330,8 @@ static gf_status update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         const gf_real raw = v - meas->Q.m[k][k];
         if (raw > 0) { // s_kk >= Q_kk: only nonnegative terms were added
             const gf_real b2 = ew * ew *
-                (GF_R(288.0) * z0->v[k] * z0->v[k] +
-                 GF_R(12.0) * raw / ukf->wi);
+                               (GF_R(288.0) * z0->v[k] * z0->v[k] +
+                                GF_R(12.0) * raw / ukf->wi);
             if (UNRESOLVED(b2, v)) {
                 return GF_ERR_UNDEFINED;
             }
@@ -359,8 +355,8 @@ typedef struct ukf3_post {
 // gives
 //   mu = mu_bar + K y = mu_bar + W^T u  (heading wrapped),
 //   Sigma = Sigma_bar - K S K^T = Sigma_bar - W^T W  (symmetric as built).
-static gf_status posterior(gf_ukf3 *ukf, const gf_real l_s[6],
-                           gf_mat3 *pxz, ukf3_post *q)
+static gf_status posterior(gf_ukf3 *ukf, const gf_real l_s[6], gf_mat3 *pxz,
+                           ukf3_post *q)
 {
     const unsigned m = q->in.m;
     for (unsigned a = 0; a < N_STATE; a++) { // row a of Sigma^xz: L_S w = p_a

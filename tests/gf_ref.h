@@ -135,8 +135,8 @@ static inline unsigned gr_below(gr_rng *r, unsigned n)
 
 typedef double gr_m3[3][3];
 
-static inline void gr_mmul(int n, int k, int p, double a[3][3],
-                           double b[3][3], double out[3][3])
+static inline void gr_mmul(int n, int k, int p, double a[3][3], double b[3][3],
+                           double out[3][3])
 {
     double r[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (int i = 0; i < n; i++) {
@@ -302,7 +302,8 @@ static inline void gr_scen_make(gr_scen *sc, int kind, uint64_t seed,
         }
         sc->u[0] = (gf_real)(gr_unif(r) < 0.5 ? -d : d);
         sc->u[1] = (gf_real)(0.3 * gr_normal(r));
-        if (gr_below(r, 6) == 0) { // diffuse heading: a prior that refused float updates
+        if (gr_below(r, 6) ==
+            0) { // diffuse heading: a prior that refused float updates
             sd[0] = sd[1] = unit[0] * gr_logu(r, 1e-2, 1.0);
             sd[2] = gr_logu(r, 1.0, 316.0);
             sc->u[0] = (gf_real)(unit[0] * gr_logu(r, 0.1, 10.0));
@@ -405,8 +406,7 @@ static inline void gr_scen_make(gr_scen *sc, int kind, uint64_t seed,
     int perm = (int)gr_below(r, 3);
     for (int i = 0; i < m; i++) {
         for (int j = 0; j < n; j++) {
-            h0[i][j] = ident ? (j == (i + perm) % n ? 1.0 : 0.0)
-                             : gr_normal(r);
+            h0[i][j] = ident ? (j == (i + perm) % n ? 1.0 : 0.0) : gr_normal(r);
         }
     }
     if (turn) { // x, y and the heading
@@ -605,8 +605,7 @@ static inline void gr_pert_cov(gr_filt *f, int n, gr_real P[3][3])
 }
 
 // The belief stored after a step.
-static inline void gr_store(gr_filt *f, const gr_real mu[3],
-                            gr_real P[3][3])
+static inline void gr_store(gr_filt *f, const gr_real mu[3], gr_real P[3][3])
 {
     for (int i = 0; i < f->n; i++) {
         f->mu[i] = gr_pert(f, mu[i]);
@@ -665,8 +664,7 @@ static inline void gr_predict_turn(gr_filt *f, const gf_real uu[2],
     gr_sincos(th, &sd, &cd);
     gr_real s = (gr_real)sd, co = (gr_real)cd;
     gr_real g[3][3] = {{1, 0, -dist * s}, {0, 1, dist * co}, {0, 0, 1}};
-    gr_real mu[3] = {f->mu[0] + dist * co, f->mu[1] + dist * s,
-                     f->mu[2] + phi};
+    gr_real mu[3] = {f->mu[0] + dist * co, f->mu[1] + dist * s, f->mu[2] + phi};
     gr_real GP[3][3], P[3][3];
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 3; j++) {
@@ -692,8 +690,8 @@ static inline void gr_predict_turn(gr_filt *f, const gf_real uu[2],
 // double: s = L D L^T, L unit lower triangular. A pivot that is not
 // positive stops it (returns 0) unless allow_zero, where a zero pivot
 // with a zero column below it is kept as d_k = 0 (semidefinite s).
-static inline int gr_ldl(int m, gr_real s[3][3], gr_real L[3][3],
-                         gr_real D[3], int allow_zero)
+static inline int gr_ldl(int m, gr_real s[3][3], gr_real L[3][3], gr_real D[3],
+                         int allow_zero)
 {
     gr_real a[3][3];
     memcpy(a, s, sizeof a);
@@ -757,8 +755,7 @@ static inline void gr_ldl_inverse(int m, gr_real L[3][3], const gr_real D[3],
 
 // Pn = M P M^T + K Q K^T.
 static inline void gr_joseph(int n, int m, gr_real P[3][3], gr_real M[3][3],
-                             gr_real K[3][3], gr_real Q[3][3],
-                             gr_real Pn[3][3])
+                             gr_real K[3][3], gr_real Q[3][3], gr_real Pn[3][3])
 {
     gr_real MP[3][3];
     for (int i = 0; i < n; i++) {
@@ -1040,22 +1037,21 @@ static inline gr_real gr_angle_diff(gr_real a, gr_real b)
 // ref_i| / sqrt(ref_ii), the heading's difference taken on the circle when
 // `angle` (EKF3). A zero reference variance with any difference: +inf.
 static inline void gr_errors(const gr_filt *f, const gr_real mu[3],
-                             gr_real P[3][3], int angle, double *es,
-                             double *em)
+                             gr_real P[3][3], int angle, double *es, double *em)
 {
     double s = 0, m = 0;
     for (int i = 0; i < f->n; i++) {
         for (int j = 0; j < f->n; j++) {
             gr_real dd = P[i][j] - f->P[i][j];
             gr_real den = f->P[i][i] * f->P[j][j];
-            double e = dd == 0 ? 0.0
+            double e = dd == 0   ? 0.0
                        : den > 0 ? sqrt((double)(dd * dd / den))
                                  : (double)INFINITY;
             s = e > s ? e : s;
         }
         gr_real dm = (angle && i == 2) ? gr_angle_diff(mu[i], f->mu[i])
                                        : mu[i] - f->mu[i];
-        double e = dm == 0 ? 0.0
+        double e = dm == 0          ? 0.0
                    : f->P[i][i] > 0 ? sqrt((double)(dm * dm / f->P[i][i]))
                                     : (double)INFINITY;
         m = e > m ? e : m;
@@ -1099,8 +1095,8 @@ static inline int gr_psd(int n, gr_real M[3][3], double tol)
     for (int i = 0; i < k; i++) {
         for (int j = 0; j < k; j++) {
             gr_real asym = M[idx[i]][idx[j]] - M[idx[j]][idx[i]];
-            if (asym * asym > (gr_real)(tol * tol) * M[idx[i]][idx[i]] *
-                                  M[idx[j]][idx[j]]) {
+            if (asym * asym >
+                (gr_real)(tol * tol) * M[idx[i]][idx[i]] * M[idx[j]][idx[j]]) {
                 return 0;
             }
         }
@@ -1137,8 +1133,8 @@ static inline void gr_tb_predict(gr_tb *t, const gr_scen *sc)
     if (sc->kind == GR_EKF3_TURN) {
         gf_real s, c;
         gf_sincos(t->mu[2], &s, &c);
-        gf_real g[3][3] = {{1, 0, -sc->u[0] * s}, {0, 1, sc->u[0] * c},
-                           {0, 0, 1}};
+        gf_real g[3][3] = {
+            {1, 0, -sc->u[0] * s}, {0, 1, sc->u[0] * c}, {0, 0, 1}};
         memcpy(G, g, sizeof G);
         mu[0] = t->mu[0] + sc->u[0] * c;
         mu[1] = t->mu[1] + sc->u[0] * s;

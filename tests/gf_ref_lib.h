@@ -35,8 +35,8 @@ static inline gf_real unwrap(gf_real th, const lin_ctx *c)
 }
 
 static inline gf_status lin_motion(void *ctx, const gf_vec3 *mu,
-                                   const gf_real *u,
-                            gf_vec3 *mu_bar, gf_mat3 *G)
+                                   const gf_real *u, gf_vec3 *mu_bar,
+                                   gf_mat3 *G)
 {
     lin_ctx *c = ctx;
     (void)u;
@@ -54,7 +54,7 @@ static inline gf_status lin_motion(void *ctx, const gf_vec3 *mu,
 }
 
 static inline gf_status lin_meas(void *ctx, const gf_vec3 *mu, gf_vec3 *z_hat,
-                          gf_mat3 *H)
+                                 gf_mat3 *H)
 {
     const lin_ctx *c = ctx;
     // forward_turn's heading is an angle: measured as it is, its residual
@@ -91,8 +91,8 @@ static inline gf_status lib_init(lib *l, const gr_scen *sc)
     l->ctx.theta = (gr_real)sc->mu0[2];
     if (sc->kind == GR_KF2) {
         gf_vec2 mu = {{sc->mu0[0], sc->mu0[1]}};
-        gf_mat2 s = {{{sc->S0[0][0], sc->S0[0][1]},
-                      {sc->S0[1][0], sc->S0[1][1]}}};
+        gf_mat2 s = {
+            {{sc->S0[0][0], sc->S0[0][1]}, {sc->S0[1][0], sc->S0[1][1]}}};
         return gf_kf2_init(&l->kf, &mu, &s);
     }
     gf_vec3 mu = {{sc->mu0[0], sc->mu0[1], sc->mu0[2]}};
@@ -141,8 +141,8 @@ static inline gf_status lib_predict(lib *l, const gr_scen *sc)
 }
 
 static inline gf_status lib_update(lib *l, const gr_scen *sc,
-                                   const gf_real z[3],
-                            gf_real gate, gf_innovation *info)
+                                   const gf_real z[3], gf_real gate,
+                                   gf_innovation *info)
 {
     if (sc->kind == GR_KF2) {
         gf_kf2_meas me;
@@ -161,9 +161,8 @@ static inline gf_status lib_update(lib *l, const gr_scen *sc,
         if (l->prepared) {
             gf_kf2_pmeas pq;
             const gf_status st = gf_kf2_prepare_meas(&pq, &me);
-            return st != GF_OK
-                       ? st
-                       : gf_kf2_update_prepared(&l->kf, &pq, &zz, info);
+            return st != GF_OK ? st
+                               : gf_kf2_update_prepared(&l->kf, &pq, &zz, info);
         }
         return gf_kf2_update(&l->kf, &me, &zz, info);
     }
@@ -192,9 +191,8 @@ static inline gf_status lib_update(lib *l, const gr_scen *sc,
 // Bit for bit the same belief.
 static inline int same_belief(const lib *a, const lib *b)
 {
-    return a->kind == GR_KF2
-               ? memcmp(&a->kf, &b->kf, sizeof a->kf) == 0
-               : memcmp(&a->ekf, &b->ekf, sizeof a->ekf) == 0;
+    return a->kind == GR_KF2 ? memcmp(&a->kf, &b->kf, sizeof a->kf) == 0
+                             : memcmp(&a->ekf, &b->ekf, sizeof a->ekf) == 0;
 }
 
 // The belief in long double; 1 if it is accepted back by init.

@@ -30,8 +30,7 @@
 #define GF_PRINTED_TOL 0.005
 
 static inline void gf_check_close_(double got, double want, double tol,
-                                   const char *what, const char *file,
-                                   int line)
+                                   const char *what, const char *file, int line)
 {
     double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
     if (!(fabs(got - want) <= tol * scale)) {
@@ -42,27 +41,26 @@ static inline void gf_check_close_(double got, double want, double tol,
 }
 
 // got equals want within the golden tolerance.
-#define CHECK_CLOSE(got, want)                                             \
-    gf_check_close_((double)(got), (double)(want), GF_TEST_TOL, #got,      \
+#define CHECK_CLOSE(got, want)                                                 \
+    gf_check_close_((double)(got), (double)(want), GF_TEST_TOL, #got,          \
                     __FILE__, __LINE__)
 // got agrees with the seed's printed (rounded) value.
-#define CHECK_PRINTED(got, printed)                                        \
-    do {                                                                   \
-        double g_ = (double)(got), p_ = (double)(printed);                 \
-        if (!(fabs(g_ - p_) <= GF_PRINTED_TOL)) {                          \
-            print_error("%s: got %.6f, the seed prints %.2f\n", #got, g_,  \
-                        p_);                                               \
-            _fail(__FILE__, __LINE__);                                     \
-        }                                                                  \
+#define CHECK_PRINTED(got, printed)                                            \
+    do {                                                                       \
+        double g_ = (double)(got), p_ = (double)(printed);                     \
+        if (!(fabs(g_ - p_) <= GF_PRINTED_TOL)) {                              \
+            print_error("%s: got %.6f, the seed prints %.2f\n", #got, g_, p_); \
+            _fail(__FILE__, __LINE__);                                         \
+        }                                                                      \
     } while (0)
 
 // A call that must fail with `status` and leave *obj bit-for-bit as it was.
-#define CHECK_FAILS_UNCHANGED(status, obj, call)                           \
-    do {                                                                   \
-        unsigned char before_[sizeof(*(obj))];                             \
-        memcpy(before_, (obj), sizeof(*(obj)));                            \
-        assert_int_equal((call), (status));                                \
-        assert_memory_equal(before_, (obj), sizeof(*(obj)));               \
+#define CHECK_FAILS_UNCHANGED(status, obj, call)                               \
+    do {                                                                       \
+        unsigned char before_[sizeof(*(obj))];                                 \
+        memcpy(before_, (obj), sizeof(*(obj)));                                \
+        assert_int_equal((call), (status));                                    \
+        assert_memory_equal(before_, (obj), sizeof(*(obj)));                   \
     } while (0)
 
 // The covariance of a belief, read through its accessor, which must
@@ -85,11 +83,9 @@ static inline gf_mat3 gf_test_ekf3_sigma(const gf_ekf3 *ekf)
 // mu_bar arrives as a copy of mu and G as the identity. This model counts
 // the calls that broke it in *(unsigned *)ctx, then moves like the
 // built-in (which it calls with ctx NULL).
-static inline gf_status gf_test_motion_checks_args(void *ctx,
-                                                   const gf_vec3 *mu,
+static inline gf_status gf_test_motion_checks_args(void *ctx, const gf_vec3 *mu,
                                                    const gf_real *u,
-                                                   gf_vec3 *mu_bar,
-                                                   gf_mat3 *G)
+                                                   gf_vec3 *mu_bar, gf_mat3 *G)
 {
     static const gf_mat3 eye = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     if (memcmp(mu_bar, mu, sizeof *mu) != 0 ||
@@ -112,7 +108,8 @@ typedef struct gf_test_args {
 static inline gf_test_args gf_test_args_make(unsigned *broken)
 {
     const gf_test_args a = {
-        {gf_test_motion_checks_args, broken,
+        {gf_test_motion_checks_args,
+         broken,
          {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, GF_R(0.01)}}}},
         {{1, 2, GF_R(0.5)}},
         {{{1, GF_R(0.1), 0}, {GF_R(0.1), 1, 0}, {0, 0, 1}}},

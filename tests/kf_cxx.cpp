@@ -9,11 +9,12 @@
 #include "gaussfilt/ekf.h"
 #include "gaussfilt/kf.h"
 
-namespace {
+namespace
+{
 
 const gf_real A[16] = {1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, 1};
-const gf_real R[16] = {GF_R(0.25), GF_R(0.5), 0, 0, GF_R(0.5), 1, 0, 0,
-                       0, 0, GF_R(0.25), GF_R(0.5), 0, 0, GF_R(0.5), 1};
+const gf_real R[16] = {GF_R(0.25), GF_R(0.5), 0, 0, GF_R(0.5), 1, 0, 0, 0, 0,
+                       GF_R(0.25), GF_R(0.5), 0, 0, GF_R(0.5), 1};
 const gf_real C[8] = {1, 0, 0, 0, 0, 0, 1, 0};
 const gf_real Q[4] = {4, 1, 1, 4};
 
@@ -30,8 +31,8 @@ extern "C" gf_status motion(void *, unsigned n, const gf_real *mu,
     return GF_OK;
 }
 
-extern "C" gf_status meas(void *, unsigned n, unsigned m,
-                          const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
+extern "C" gf_status meas(void *, unsigned n, unsigned m, const gf_real *mu_bar,
+                          gf_real *z_hat, gf_real *H)
 {
     for (unsigned i = 0; i < m; i++) {
         for (unsigned j = 0; j < n; j++) {
@@ -50,8 +51,8 @@ gf_kf kf, ekf;
 int main()
 {
     const gf_real mu[4] = {0, 1, 0, -1};
-    const gf_real sigma[16] = {10, 0, 0, 0, 0, 1, 0, 0,
-                               0, 0, 10, 0, 0, 0, 0, 1};
+    const gf_real sigma[16] = {10, 0, 0,  0, 0, 1, 0, 0,
+                               0,  0, 10, 0, 0, 0, 0, 1};
     const gf_real z[2] = {GF_R(1.5), GF_R(-0.5)};
     const gf_kf_model model = {0, A, nullptr, R, nullptr};
     const gf_kf_meas me = {2, C, Q, nullptr, 0};
@@ -73,8 +74,8 @@ int main()
     }
     for (int i = 0; i < 4; i++) {
         const double d = static_cast<double>(kf.mu[i] - ekf.mu[i]);
-        if (!(std::fabs(d) <= 1e-5 * (1.0 + std::fabs(static_cast<double>(
-                                                kf.mu[i]))))) {
+        if (!(std::fabs(d) <=
+              1e-5 * (1.0 + std::fabs(static_cast<double>(kf.mu[i]))))) {
             std::printf("kf_cxx: mu[%d] %g against %g\n", i,
                         static_cast<double>(kf.mu[i]),
                         static_cast<double>(ekf.mu[i]));

@@ -44,8 +44,9 @@ static void measure(worst *w, gf_real a)
     const long double ts = sinl((long double)a), tc = cosl((long double)a);
     const long double es = fabsl((long double)s - ts);
     const long double ec = fabsl((long double)c - tc);
-    const double u = (double)(es / ulp_of(ts) > ec / ulp_of(tc)
-                                  ? es / ulp_of(ts) : ec / ulp_of(tc));
+    const double u =
+        (double)(es / ulp_of(ts) > ec / ulp_of(tc) ? es / ulp_of(ts)
+                                                   : ec / ulp_of(tc));
     const double ab = (double)(es > ec ? es : ec);
     if (u > w->ulp) {
         w->ulp = u;
@@ -89,8 +90,8 @@ static void test_sincos_error(void **state)
     worst w = {0, 0, 0, 0, 0};
     const int steps = 50000;
     for (int i = -steps + 1; i <= steps; i++) { // -GF_PI is not in range
-        measure(&w, (gf_real)((long double)i * 3.14159265358979323846L /
-                              steps));
+        measure(&w,
+                (gf_real)((long double)i * 3.14159265358979323846L / steps));
     }
     for (int q = -4; q <= 4; q++) {
         around(&w, (gf_real)(q * 0.78539816339744830962L), 300, 1);
@@ -128,15 +129,15 @@ static void test_sincos_beyond(void **state)
     const int steps = 50000;
     const long double turns = 1000;
     for (int i = -steps; i <= steps; i++) {
-        measure(&w, (gf_real)((long double)i * 6.28318530717958647692L *
-                              turns / steps));
+        measure(&w, (gf_real)((long double)i * 6.28318530717958647692L * turns /
+                              steps));
     }
     for (int k = -8; k <= 8; k++) { // the multiples of pi themselves
         around(&w, (gf_real)((long double)k * 3.14159265358979323846L), 8, 0);
     }
     print_message("  gf_sincos within %.0Lf turns: worst absolute %.3g "
-                  "(at %.17g), %.3g ulp (at %.17g)\n", turns, w.abs,
-                  w.at_abs, w.ulp, w.at_ulp);
+                  "(at %.17g), %.3g ulp (at %.17g)\n",
+                  turns, w.abs, w.at_abs, w.ulp, w.at_ulp);
     assert_true(w.abs <= BEYOND_TOL);
 }
 

@@ -35,10 +35,14 @@ static void correlation(void **state)
     const gf_mat2 negvar = {{{-1, 0}, {0, 1}}};
     const gf_mat2 nan = {{{1, (gf_real)NAN}, {(gf_real)NAN, 1}}};
     gf_real keep = GF_R(7.0);
-    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep, gf_cov2_correlation(&zero, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep, gf_cov2_correlation(&one_zero, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep, gf_cov2_correlation(&negvar, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep, gf_cov2_correlation(&nan, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep,
+                          gf_cov2_correlation(&zero, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep,
+                          gf_cov2_correlation(&one_zero, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_UNDEFINED, &keep,
+                          gf_cov2_correlation(&negvar, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep,
+                          gf_cov2_correlation(&nan, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_correlation(NULL, &keep));
     assert_int_equal(gf_cov2_correlation(&t2, NULL), GF_ERR_ARG);
 }
@@ -68,7 +72,8 @@ static void ellipse(void **state)
 
     // Table 4.1, (x, y) marginal of the predicted belief: the heading's
     // uncertainty went to y alone, so the major axis is vertical.
-    const gf_mat3 pred = {{{0.01, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}}};
+    const gf_mat3 pred = {
+        {{0.01, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}}};
     gf_mat2 xy;
     assert_int_equal(gf_cov2_marginal(&pred, 0, 1, &xy), GF_OK);
     CHECK_CLOSE(xy.m[1][1], 10000.01);
@@ -88,10 +93,14 @@ static void ellipse(void **state)
     const gf_mat2 nan = {{{(gf_real)NAN, 0}, {0, 1}}};
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(&s, 0, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(&s, 1, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(&s, (gf_real)NAN, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_ellipse(NULL, GF_R(0.5), &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &keep, gf_cov2_ellipse(&indef, GF_R(0.5), &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep, gf_cov2_ellipse(&nan, GF_R(0.5), &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep,
+                          gf_cov2_ellipse(&s, (gf_real)NAN, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep,
+                          gf_cov2_ellipse(NULL, GF_R(0.5), &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &keep,
+                          gf_cov2_ellipse(&indef, GF_R(0.5), &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep,
+                          gf_cov2_ellipse(&nan, GF_R(0.5), &keep));
     assert_int_equal(gf_cov2_ellipse(&s, GF_R(0.5), NULL), GF_ERR_ARG);
 }
 
@@ -108,7 +117,8 @@ static void marginal(void **state)
     gf_mat2 keep = m;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_marginal(&s, 3, 0, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_marginal(&s, 0, 3, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep, gf_cov2_marginal(NULL, 0, 1, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &keep,
+                          gf_cov2_marginal(NULL, 0, 1, &keep));
     assert_int_equal(gf_cov2_marginal(&s, 0, 1, NULL), GF_ERR_ARG);
 }
 

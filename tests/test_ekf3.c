@@ -64,7 +64,8 @@ static void table_4_1(void **state)
                             {0, 10000, 10000}}};
     check_belief(&ekf, &mu, &sigma);
     const gf_real pmu[3] = {1, 0, 0};
-    const gf_real psig[3][3] = {{0.01, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}};
+    const gf_real psig[3][3] = {
+        {0.01, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}};
     check_printed(&ekf, pmu, psig);
 }
 
@@ -87,7 +88,8 @@ static void table_4_2(void **state)
     sigma.m[0][0] = GF_R(0.005);
     check_belief(&ekf, &mu, &sigma);
     const gf_real pmu[3] = {0.15, 0, 0};
-    const gf_real psig[3][3] = {{0.005, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}};
+    const gf_real psig[3][3] = {
+        {0.005, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}};
     check_printed(&ekf, pmu, psig);
     const gf_mat3 got = gf_test_ekf3_sigma(&ekf);
     assert_true(fabs((double)got.m[0][0] - 0.005) < 0.0005); // 3 decimals
@@ -105,7 +107,8 @@ static void motion_jacobian(void **state)
     for (int k = -6; k <= 6; k++) {
         gf_vec3 x = {{GF_R(0.2), GF_R(-0.4), (gf_real)k * GF_R(0.5)}}, fx;
         gf_mat3 G;
-        assert_int_equal(gf_ekf3_motion_forward_turn(NULL, &x, u, &fx, &G), GF_OK);
+        assert_int_equal(gf_ekf3_motion_forward_turn(NULL, &x, u, &fx, &G),
+                         GF_OK);
         CHECK_CLOSE(fx.v[0], 0.2 + 1.5 * cos((double)x.v[2]));
         for (int j = 0; j < 3; j++) {
             const gf_real h = GF_R(1e-3);
@@ -116,7 +119,8 @@ static void motion_jacobian(void **state)
             gf_ekf3_motion_forward_turn(NULL, &xp, u, &fp, &dummy);
             gf_ekf3_motion_forward_turn(NULL, &xm, u, &fm, &dummy);
             for (int i = 0; i < 3; i++) {
-                double fd = ((double)fp.v[i] - (double)fm.v[i]) / (2 * (double)h);
+                double fd =
+                    ((double)fp.v[i] - (double)fm.v[i]) / (2 * (double)h);
                 assert_true(fabs(fd - (double)G.m[i][j]) < 1e-3);
             }
         }
@@ -152,9 +156,12 @@ static void angle_wrapping(void **state)
     // 3.0 - (3.5 - 2 pi) - 2 pi = -0.5, not 5.78.
     int calls = 0;
     gf_ekf3_meas head = {
-        .m = 1, .h = meas_heading, .ctx = &calls,
+        .m = 1,
+        .h = meas_heading,
+        .ctx = &calls,
         .Q = {{{0.1, 0, 0}, {0, 0, 0}, {0, 0, 0}}},
-        .angle_mask = 1u, .gate = 0,
+        .angle_mask = 1u,
+        .gate = 0,
     };
     const gf_vec3 z = {{3.0, 0, 0}};
     gf_innovation info;
@@ -186,9 +193,12 @@ static void xy_measurement(void **state)
     const gf_mat3 s0 = {{{4, 2, 0}, {2, 5, 1}, {0, 1, 3}}};
     assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
     gf_ekf3_meas xy = {
-        .m = 2, .h = gf_ekf3_meas_xy, .ctx = NULL,
+        .m = 2,
+        .h = gf_ekf3_meas_xy,
+        .ctx = NULL,
         .Q = {{{1, 0.5, 0}, {0.5, 2, 0}, {0, 0, 0}}},
-        .angle_mask = 0, .gate = 0,
+        .angle_mask = 0,
+        .gate = 0,
     };
     const gf_vec3 z = {{2, 1, 0}};
     gf_innovation info;
@@ -198,7 +208,8 @@ static void xy_measurement(void **state)
     const double P[3][3] = {{4, 2, 0}, {2, 5, 1}, {0, 1, 3}};
     const double S[2][2] = {{5, 2.5}, {2.5, 7}};
     double ds = S[0][0] * S[1][1] - S[0][1] * S[1][0];
-    double Si[2][2] = {{S[1][1] / ds, -S[0][1] / ds}, {-S[1][0] / ds, S[0][0] / ds}};
+    double Si[2][2] = {{S[1][1] / ds, -S[0][1] / ds},
+                       {-S[1][0] / ds, S[0][0] / ds}};
     double K[3][2], y[2] = {1, -1}, mu[3], post[3][3];
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 2; j++) {
@@ -260,9 +271,12 @@ static void full_state_measurement(void **state)
     const gf_mat3 s0 = {{{4, 2, 0}, {2, 5, 1}, {0, 1, 3}}};
     assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
     const gf_ekf3_meas all = {
-        .m = 3, .h = meas_full, .ctx = NULL,
+        .m = 3,
+        .h = meas_full,
+        .ctx = NULL,
         .Q = {{{1, 0.5, 0}, {0.5, 2, 0.2}, {0, 0.2, 0.5}}},
-        .angle_mask = 4u, .gate = 0,
+        .angle_mask = 4u,
+        .gate = 0,
     };
     const gf_vec3 z = {{2, 1, 0.25}};
     gf_innovation info;
@@ -351,7 +365,8 @@ static void gate(void **state)
     gated.gate = GF_R(6.63);
     const gf_vec3 z = {{-0.7, 0, 0}};
     gf_innovation info;
-    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &ekf, gf_ekf3_update(&ekf, &gated, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &ekf,
+                          gf_ekf3_update(&ekf, &gated, &z, &info));
     CHECK_CLOSE(info.nis, 144.5);
     const gf_vec3 near = {{1.1, 0, 0}};
     assert_int_equal(gf_ekf3_update(&ekf, &gated, &near, &info), GF_OK);
@@ -370,80 +385,107 @@ static void bad_input(void **state)
     // init
     const gf_vec3 nan_mu = {{0, (gf_real)NAN, 0}};
     gf_mat3 bad = INIT_SIGMA;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(NULL, &INIT_MU, &INIT_SIGMA));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(&ekf, NULL, &INIT_SIGMA));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_init(NULL, &INIT_MU, &INIT_SIGMA));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_init(&ekf, NULL, &INIT_SIGMA));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_init(&ekf, &INIT_MU, NULL));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_init(&ekf, &nan_mu, &INIT_SIGMA));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_init(&ekf, &nan_mu, &INIT_SIGMA));
     bad.m[2][2] = GF_R(-1.0);
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf, gf_ekf3_init(&ekf, &INIT_MU, &bad));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf,
+                          gf_ekf3_init(&ekf, &INIT_MU, &bad));
     bad = INIT_SIGMA;
     bad.m[0][1] = GF_R(1.0); // asymmetric (and indefinite)
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf, gf_ekf3_init(&ekf, &INIT_MU, &bad));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf,
+                          gf_ekf3_init(&ekf, &INIT_MU, &bad));
 
     // predict
     gf_ekf3_motion mo = FORWARD;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(NULL, &FORWARD, MOVE_1));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(&ekf, NULL, MOVE_1));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(&ekf, &FORWARD, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_predict(NULL, &FORWARD, MOVE_1));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_predict(&ekf, NULL, MOVE_1));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_predict(&ekf, &FORWARD, NULL));
     mo.g = NULL;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(&ekf, &mo, MOVE_1));
     mo = FORWARD;
     mo.R.m[1][1] = GF_R(-0.1);
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf, gf_ekf3_predict(&ekf, &mo, MOVE_1));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf,
+                          gf_ekf3_predict(&ekf, &mo, MOVE_1));
     mo = FORWARD;
     mo.R.m[2][0] = (gf_real)INFINITY;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_predict(&ekf, &mo, MOVE_1));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_predict(&ekf, &mo, MOVE_1));
     const gf_real u_nan[2] = {(gf_real)NAN, 0};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_predict(&ekf, &FORWARD, u_nan));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_predict(&ekf, &FORWARD, u_nan));
     mo = FORWARD;
     mo.g = motion_nan;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_predict(&ekf, &mo, MOVE_1));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_predict(&ekf, &mo, MOVE_1));
     mo.ctx = &flag; // the callback's own error is passed on
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_predict(&ekf, &mo, MOVE_1));
 
     // update
     gf_ekf3_meas q = SEE_X;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(NULL, &SEE_X, &z, &info));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, NULL, &z, &info));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, &SEE_X, NULL, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(NULL, &SEE_X, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, NULL, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &SEE_X, NULL, &info));
     q.h = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q = SEE_X;
     q.m = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q.m = 4;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q = SEE_X;
     q.Q.m[0][0] = GF_R(-0.01);
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q = SEE_X;
     q.gate = GF_R(-2.0);
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q.gate = (gf_real)INFINITY;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     const gf_vec3 z_nan = {{(gf_real)NAN, 0, 0}};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &SEE_X, &z_nan, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_update(&ekf, &SEE_X, &z_nan, &info));
     q = SEE_X;
     q.h = meas_fails;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q.ctx = &flag; // an unknown status from a callback becomes GF_ERR_MODEL
-    CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     q.h = meas_gated; // and so does GF_ERR_GATED, which only the gate reports
-    CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     // Singular innovation: known x and a noiseless x sensor.
     gf_ekf3 known;
     const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     assert_int_equal(gf_ekf3_init(&known, &INIT_MU, &zero), GF_OK);
     q = SEE_X;
     q.Q.m[0][0] = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known, gf_ekf3_update(&known, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known,
+                          gf_ekf3_update(&known, &q, &z, &info));
     // Overflow in the result.
     gf_ekf3 big;
     const gf_real huge = (gf_real)(sizeof(gf_real) == 4 ? 1e30 : 1e200);
     const gf_mat3 hs = {{{huge, 0, 0}, {0, huge, 0}, {0, 0, huge}}};
     assert_int_equal(gf_ekf3_init(&big, &INIT_MU, &hs), GF_OK);
     const gf_real far[2] = {huge, 0};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &big, gf_ekf3_predict(&big, &FORWARD, far));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &big,
+                          gf_ekf3_predict(&big, &FORWARD, far));
     assert_int_equal(info.m, 0);
 }
 
@@ -471,8 +513,8 @@ static double lin_rand(double lo, double hi)
     lin_rng ^= lin_rng >> 12;
     lin_rng ^= lin_rng << 25;
     lin_rng ^= lin_rng >> 27;
-    double u = (double)((lin_rng * 2685821657736338717ull) >> 11) /
-               9007199254740992.0;
+    double u =
+        (double)((lin_rng * 2685821657736338717ull) >> 11) / 9007199254740992.0;
     return lo + (hi - lo) * u;
 }
 
@@ -523,8 +565,11 @@ static void general_random(void **state)
         gf_vec3 mu0;
         gf_mat3 s0;
         gf_ekf3_meas meas = {
-            .m = (unsigned)m, .h = meas_linear, .ctx = &hm,
-            .Q = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}, .angle_mask = 0,
+            .m = (unsigned)m,
+            .h = meas_linear,
+            .ctx = &hm,
+            .Q = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+            .angle_mask = 0,
             .gate = 0,
         };
         gf_vec3 zv = {{0, 0, 0}};
@@ -576,8 +621,8 @@ static void general_random(void **state)
         }
         inv3(S, Si);
         for (int i = 0; i < m; i++) {
-            y[i] = z[i] - (Hd[i][0] * mu[0] + Hd[i][1] * mu[1] +
-                           Hd[i][2] * mu[2]);
+            y[i] =
+                z[i] - (Hd[i][0] * mu[0] + Hd[i][1] * mu[1] + Hd[i][2] * mu[2]);
         }
         for (int i = 0; i < 3; i++) {
             for (int j = 0; j < m; j++) {
@@ -653,9 +698,12 @@ static void general_fails_unchanged(void **state)
     const gf_mat3 s0 = {{{4, 2, 0}, {2, 5, 1}, {0, 1, 3}}};
     assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
     gf_ekf3_meas xy = {
-        .m = 2, .h = gf_ekf3_meas_xy, .ctx = NULL,
+        .m = 2,
+        .h = gf_ekf3_meas_xy,
+        .ctx = NULL,
         .Q = {{{1, 0.5, 0}, {0.5, 2, 0}, {0, 0, 0}}},
-        .angle_mask = 0, .gate = 0,
+        .angle_mask = 0,
+        .gate = 0,
     };
     const gf_vec3 z = {{2, 1, 0}};
     gf_innovation info = {0, {0, 0, 0}, 0};
@@ -663,7 +711,8 @@ static void general_fails_unchanged(void **state)
     // Gated: the innovation is written, the belief is not.
     gf_ekf3_meas q = xy;
     q.gate = GF_R(0.01);
-    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     assert_int_equal(info.m, 2);
     CHECK_CLOSE(info.y[0], 1);
     CHECK_CLOSE(info.y[1], -1);
@@ -671,14 +720,17 @@ static void general_fails_unchanged(void **state)
     gf_innovation keep = info;
     q = xy;
     q.Q.m[1][1] = GF_R(-2.0);
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     const gf_vec3 z_nan = {{2, (gf_real)NAN, 0}};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &xy, &z_nan, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_update(&ekf, &xy, &z_nan, &info));
     gf_mat3 hn = {{{1, 0, 0}, {0, (gf_real)NAN, 0}, {0, 0, 0}}};
     q = xy;
     q.h = meas_linear;
     q.ctx = &hn;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     // S singular: a state known exactly, a noiseless sensor; and S with an
     // infinite entry (a huge H row squared).
     gf_ekf3 known;
@@ -686,13 +738,15 @@ static void general_fails_unchanged(void **state)
     assert_int_equal(gf_ekf3_init(&known, &mu0, &zero), GF_OK);
     q = xy;
     q.Q = zero;
-    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known, gf_ekf3_update(&known, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known,
+                          gf_ekf3_update(&known, &q, &z, &info));
     const gf_real big = (gf_real)(sizeof(gf_real) == 4 ? 1e30 : 1e200);
     gf_mat3 hb = {{{big, 0, 0}, {0, 1, 0}, {0, 0, 0}}};
     q = xy;
     q.h = meas_linear;
     q.ctx = &hb;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf, gf_ekf3_update(&ekf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ekf,
+                          gf_ekf3_update(&ekf, &q, &z, &info));
     assert_memory_equal(&keep, &info, sizeof info);
 }
 

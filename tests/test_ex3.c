@@ -36,9 +36,11 @@ static void sample_moments(const gf_kf2_model *model, const gf_vec2 *mu,
     // library's semidefinite square root (R is rank one).
     const gf_vec3 mu3 = {{mu->v[0], mu->v[1], 0}}, zero3 = {{0, 0, 0}};
     const gf_mat3 s3 = {{{sigma->m[0][0], sigma->m[0][1], 0},
-                         {sigma->m[1][0], sigma->m[1][1], 0}, {0, 0, 0}}};
+                         {sigma->m[1][0], sigma->m[1][1], 0},
+                         {0, 0, 0}}};
     const gf_mat3 r3 = {{{model->R.m[0][0], model->R.m[0][1], 0},
-                         {model->R.m[1][0], model->R.m[1][1], 0}, {0, 0, 0}}};
+                         {model->R.m[1][0], model->R.m[1][1], 0},
+                         {0, 0, 0}}};
     gf_mat3 ls, lr;
     gf_rng rng;
     assert_int_equal(gf_mat3_sqrt_psd(&s3, 3, &ls), GF_OK);
@@ -71,16 +73,16 @@ static void sample_moments(const gf_kf2_model *model, const gf_vec2 *mu,
     }
     for (int i = 0; i < 2; i++) {
         for (int j = 0; j < 2; j++) {
-            cov[i][j] = (sq[i][j] - N_SAMPLES * mean[i] * mean[j]) /
-                        (N_SAMPLES - 1);
+            cov[i][j] =
+                (sq[i][j] - N_SAMPLES * mean[i] * mean[j]) / (N_SAMPLES - 1);
         }
     }
 }
 
 // How many standard errors the sample moments are from (m, S); the
 // largest over the two mean entries and three covariance entries.
-static double worst_z(const double mean[2], double cov[2][2],
-                      const gf_vec2 *m, const gf_mat2 *S)
+static double worst_z(const double mean[2], double cov[2][2], const gf_vec2 *m,
+                      const gf_mat2 *S)
 {
     double worst = 0;
     for (int i = 0; i < 2; i++) {
@@ -119,7 +121,8 @@ static void test_prediction_matches_samples(void **state)
     sample_moments(&ex1, &mu, &sigma, &u, mean, cov);
     double z = worst_z(mean, cov, &kf.mu, &sigma_bar);
     print_message("  exercise 3: worst deviation %.2f standard errors "
-                  "(bound %.1f, N = %d)\n", z, SAMPLING_K, N_SAMPLES);
+                  "(bound %.1f, N = %d)\n",
+                  z, SAMPLING_K, N_SAMPLES);
     assert_true(z <= SAMPLING_K);
 }
 

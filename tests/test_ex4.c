@@ -17,13 +17,13 @@
 static gf_pf3_particle particles[N_PARTICLES];
 
 static const gf_vec3 mu0 = {{0, 0, 0}};
-static const gf_mat3 sigma0 = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                                {0, 0, 10000}}};
+static const gf_mat3 sigma0 = {
+    {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 10000}}};
 static const gf_ekf3_motion move = {
     gf_ekf3_motion_forward_turn, NULL, {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
 static const gf_ekf3_meas observe_x = {
-    1, gf_ekf3_meas_x, NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
-    0, 0};
+    1, gf_ekf3_meas_x, NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0,
+    0};
 static const gf_real u[2] = {1, 0}; // 1 forward, no turn
 static const gf_vec3 z = {{GF_R(-0.7), 0, 0}};
 
@@ -66,7 +66,8 @@ static void test_ukf(void **state)
     CHECK_CLOSE(ukf.mu.v[2], 0.0);
     const double r = hypot((double)ukf.mu.v[0], (double)ukf.mu.v[1]);
     print_message("  UKF predicted mean (%.4f, %.4f), %.3f from the "
-                  "origin\n", (double)ukf.mu.v[0], (double)ukf.mu.v[1], r);
+                  "origin\n",
+                  (double)ukf.mu.v[0], (double)ukf.mu.v[1], r);
     assert_true(r < 0.5);                             // inside the circle
     assert_true(fabs((double)ukf.mu.v[0] - 1) > 0.5); // not the EKF's (1, 0)
     // and the position spread is not all in y, as the EKF's is
@@ -172,8 +173,8 @@ static void check_two_modes(const gf_pf3 *pf, const char *when)
     mode(1, &xp, &yp);
     mode(-1, &xn, &yn);
     print_message("  PF %s: modes (%.2f, %.2f) and (%.2f, %.2f), masses "
-                  "%.3f and %.3f\n", when, xp, yp, xn, yn, mass(pf, 1),
-                  mass(pf, -1));
+                  "%.3f and %.3f\n",
+                  when, xp, yp, xn, yn, mass(pf, 1), mass(pf, -1));
     // Each mode within 0.1 of its place (the density's cells are 0.01, its
     // kernel 0.05; the ring the particles lie on is 0.1 wide).
     assert_true(hypot(xp - MODE_X, yp - MODE_Y) < 0.1);
@@ -191,14 +192,15 @@ static void test_pf(void **state)
 {
     (void)state;
     gf_pf3 pf;
-    assert_int_equal(gf_pf3_init(&pf, particles, N_PARTICLES, SEED, &mu0,
-                                 &sigma0), GF_OK);
+    assert_int_equal(
+        gf_pf3_init(&pf, particles, N_PARTICLES, SEED, &mu0, &sigma0), GF_OK);
     assert_int_equal(gf_pf3_predict(&pf, &move, u), GF_OK);
     // Predicted: a ring, every particle about 1 from the origin.
     double r_mean = 0;
     for (unsigned k = 0; k < pf.n; k++) {
-        r_mean += hypot((double)particles[k].x.v[0],
-                        (double)particles[k].x.v[1]) / N_PARTICLES;
+        r_mean +=
+            hypot((double)particles[k].x.v[0], (double)particles[k].x.v[1]) /
+            N_PARTICLES;
     }
     assert_true(fabs(r_mean - 1) < 0.02);
 

@@ -25,8 +25,8 @@ static double urand(double lo, double hi)
     rng ^= rng >> 12;
     rng ^= rng << 25;
     rng ^= rng >> 27;
-    double u = (double)((rng * 2685821657736338717ull) >> 11) /
-               9007199254740992.0;
+    double u =
+        (double)((rng * 2685821657736338717ull) >> 11) / 9007199254740992.0;
     return lo + (hi - lo) * u;
 }
 
@@ -46,8 +46,7 @@ typedef struct ref_belief {
 } ref_belief;
 
 // S = F S F^T + R, full products.
-static void ref_sandwich(int n, double F[3][3], double S[3][3],
-                         double R[3][3])
+static void ref_sandwich(int n, double F[3][3], double S[3][3], double R[3][3])
 {
     double T[3][3] = {{0}}, O[3][3] = {{0}};
     for (int i = 0; i < n; i++)
@@ -188,11 +187,12 @@ static void kf2_random(void **state)
 static void kf2_slow_paths(void **state)
 {
     (void)state;
-    const gf_kf2_model car = {{{{1, 1}, {0, 1}}}, {{{0, 0}, {0, 0}}},
+    const gf_kf2_model car = {{{{1, 1}, {0, 1}}},
+                              {{{0, 0}, {0, 0}}},
                               {{{GF_R(0.25), GF_R(0.5)}, {GF_R(0.5), 1}}},
                               {{0, 0}}};
-    const gf_kf2_meas gps = {1, {{{1, 0}, {0, 0}}}, {{{10, 0}, {0, 0}}},
-                             {{0, 0}}, 0};
+    const gf_kf2_meas gps = {
+        1, {{{1, 0}, {0, 0}}}, {{{10, 0}, {0, 0}}}, {{0, 0}}, 0};
     gf_vec2 mu = {{1, 2}};
     gf_mat2 s = {{{3, 1}, {1, 2}}};
     gf_kf2 a, b;
@@ -254,9 +254,8 @@ static void kf2_slow_paths(void **state)
 
 // A motion whose Jacobian is not of the built-in shape: a heading-dependent
 // drift that also scales x. ctx unused.
-static gf_status motion_general(void *ctx, const gf_vec3 *mu,
-                                const gf_real *u, gf_vec3 *mu_bar,
-                                gf_mat3 *G)
+static gf_status motion_general(void *ctx, const gf_vec3 *mu, const gf_real *u,
+                                gf_vec3 *mu_bar, gf_mat3 *G)
 {
     (void)ctx;
     const gf_real th = mu->v[2];
@@ -265,9 +264,15 @@ static gf_status motion_general(void *ctx, const gf_vec3 *mu,
     mu_bar->v[0] = GF_R(0.9) * mu->v[0] + u[0] * c;
     mu_bar->v[1] = mu->v[1] + u[0] * s + GF_R(0.1) * mu->v[0];
     mu_bar->v[2] = th + u[1];
-    G->m[0][0] = GF_R(0.9); G->m[0][1] = 0; G->m[0][2] = -u[0] * s;
-    G->m[1][0] = GF_R(0.1); G->m[1][1] = 1; G->m[1][2] = u[0] * c;
-    G->m[2][0] = 0; G->m[2][1] = 0; G->m[2][2] = 1;
+    G->m[0][0] = GF_R(0.9);
+    G->m[0][1] = 0;
+    G->m[0][2] = -u[0] * s;
+    G->m[1][0] = GF_R(0.1);
+    G->m[1][1] = 1;
+    G->m[1][2] = u[0] * c;
+    G->m[2][0] = 0;
+    G->m[2][1] = 0;
+    G->m[2][2] = 1;
     return GF_OK;
 }
 
@@ -287,8 +292,10 @@ static gf_status meas_row(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 static double wrapd(double a)
 {
     const double pi = 3.14159265358979323846;
-    while (a > pi) a -= 2 * pi;
-    while (a <= -pi) a += 2 * pi;
+    while (a > pi)
+        a -= 2 * pi;
+    while (a <= -pi)
+        a += 2 * pi;
     return a;
 }
 
@@ -393,7 +400,11 @@ static void ekf3_random(void **state)
 static gf_status motion_fails(void *ctx, const gf_vec3 *mu, const gf_real *u,
                               gf_vec3 *mu_bar, gf_mat3 *G)
 {
-    (void)ctx; (void)mu; (void)u; (void)mu_bar; (void)G;
+    (void)ctx;
+    (void)mu;
+    (void)u;
+    (void)mu_bar;
+    (void)G;
     return GF_ERR_MODEL;
 }
 

@@ -12,8 +12,8 @@
 #else
 #define IF_TOL 1e-9
 #endif
-#define CHECK_IF(got, want)                                               \
-    gf_check_close_((double)(got), (double)(want), IF_TOL, #got, __FILE__, \
+#define CHECK_IF(got, want)                                                    \
+    gf_check_close_((double)(got), (double)(want), IF_TOL, #got, __FILE__,     \
                     __LINE__)
 
 // Exercise 1: x = (position, velocity), A = ((1 1) (0 1)), no control,
@@ -68,7 +68,8 @@ static void test_ex1_first_comparable_step(void **state)
                 first = t;
             } else {
                 // Sigma_0 = 0 and Sigma_1 = R: a clear status, inf untouched.
-                CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &inf,
+                CHECK_FAILS_UNCHANGED(
+                    GF_ERR_SINGULAR, &inf,
                     gf_if2_from_moments(&inf, &kf.mu, &sigma));
             }
         } else {
@@ -110,8 +111,7 @@ static void test_ex2_update(void **state)
         assert_int_equal(gf_kf2_predict(&kf, &ex1, NULL), GF_OK);
         if (t == 2) {
             const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
-            assert_int_equal(gf_if2_from_moments(&inf, &kf.mu, &sigma),
-                             GF_OK);
+            assert_int_equal(gf_if2_from_moments(&inf, &kf.mu, &sigma), GF_OK);
         } else if (t > 2) {
             assert_int_equal(gf_if2_predict(&inf, &ex1, NULL), GF_OK);
         }
@@ -148,11 +148,13 @@ static void test_updates_commute(void **state)
     (void)state;
     const gf_vec2 mu = {{1, -2}};
     const gf_mat2 s = {{{4, 1}, {1, 3}}};
-    const gf_kf2_meas pos = {1, {{{1, 0}, {0, 0}}}, {{{2, 0}, {0, 0}}},
-                             {{0, 0}}, 0};
-    const gf_kf2_meas both = {2, {{{1, 1}, {0, 1}}},
+    const gf_kf2_meas pos = {
+        1, {{{1, 0}, {0, 0}}}, {{{2, 0}, {0, 0}}}, {{0, 0}}, 0};
+    const gf_kf2_meas both = {2,
+                              {{{1, 1}, {0, 1}}},
                               {{{GF_R(0.5), GF_R(0.1)}, {GF_R(0.1), 1}}},
-                              {{0, 0}}, 0};
+                              {{0, 0}},
+                              0};
     const gf_vec2 zp = {{GF_R(1.5), 0}}, zb = {{GF_R(-0.5), GF_R(-1.0)}};
     gf_if2 a, b;
     gf_kf2 kf;
@@ -182,10 +184,10 @@ static void test_no_information_prior(void **state)
     (void)state;
     const gf_mat2 zero = {{{0, 0}, {0, 0}}};
     const gf_vec2 zv = {{0, 0}};
-    const gf_kf2_meas pos = {1, {{{1, 0}, {0, 0}}}, {{{4, 0}, {0, 0}}},
-                             {{0, 0}}, 0};
-    const gf_kf2_meas vel = {1, {{{0, 1}, {0, 0}}}, {{{GF_R(0.25), 0},
-                             {0, 0}}}, {{0, 0}}, 0};
+    const gf_kf2_meas pos = {
+        1, {{{1, 0}, {0, 0}}}, {{{4, 0}, {0, 0}}}, {{0, 0}}, 0};
+    const gf_kf2_meas vel = {
+        1, {{{0, 1}, {0, 0}}}, {{{GF_R(0.25), 0}, {0, 0}}}, {{0, 0}}, 0};
     const gf_vec2 zp = {{3, 0}}, zvel = {{GF_R(-1.5), 0}};
     gf_if2 inf;
     gf_vec2 mu = {{7, 7}};
@@ -196,7 +198,8 @@ static void test_no_information_prior(void **state)
                           gf_if2_predict(&inf, &ex1, NULL));
     assert_int_equal(gf_if2_update(&inf, &pos, &zp, NULL), GF_OK);
     assert_int_equal(gf_if2_to_moments(&inf, &mu, &s), GF_ERR_SINGULAR);
-    assert_true(mu.v[0] > GF_R(6.5) && s.m[1][1] > GF_R(6.5)); // outputs untouched
+    assert_true(mu.v[0] > GF_R(6.5) &&
+                s.m[1][1] > GF_R(6.5)); // outputs untouched
     assert_int_equal(gf_if2_update(&inf, &vel, &zvel, NULL), GF_OK);
     assert_int_equal(gf_if2_to_moments(&inf, &mu, &s), GF_OK);
     CHECK_IF(mu.v[0], 3.0);
@@ -283,12 +286,10 @@ static void test_bad_inputs(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &inf, gf_if2_init(&inf, NULL, &mu));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &inf, gf_if2_init(&inf, &s, NULL));
     assert_int_equal(gf_if2_init(NULL, &s, &mu), GF_ERR_ARG);
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &inf,
-                          gf_if2_init(&inf, &s, &nan2));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &inf, gf_if2_init(&inf, &s, &nan2));
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &inf,
                           gf_if2_init(&inf, &notpsd, &mu));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &inf,
-                          gf_if2_init(&inf, &asym, &mu));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &inf, gf_if2_init(&inf, &asym, &mu));
 
     // from_moments
     assert_int_equal(gf_if2_from_moments(NULL, &mu, &s), GF_ERR_ARG);

@@ -85,8 +85,8 @@
 // factor of 4 for the copies' two signs missing the worst direction:
 // 8 (n + m), and never below test_random's 64. A bound of 1 or more leaves
 // no digit to check: such steps are counted as vacuous, not compared.
-#define BOUND_C(n, m) (8.0 * (double)((n) + (m)) > 64.0 ? \
-                       8.0 * (double)((n) + (m)) : 64.0)
+#define BOUND_C(n, m)                                                          \
+    (8.0 * (double)((n) + (m)) > 64.0 ? 8.0 * (double)((n) + (m)) : 64.0)
 // The share of compared steps that may exceed the bound (as test_random).
 #define OVER_MAX 0.02
 // The bound beside the textbook Joseph filter in gf_real (tb_*) on the
@@ -356,13 +356,13 @@ static void scen_make(scen *sc, int kind, int n, unsigned index)
     memset(hd, 0, sizeof gs.hd);
     for (int i = 0; i < m; i++) {
         for (int j = 0; j < n; j++) {
-            double h0 = ident ? (j == (i + shift) % n ? 1.0 : 0.0)
-                              : gr_normal(r);
+            double h0 =
+                ident ? (j == (i + shift) % n ? 1.0 : 0.0) : gr_normal(r);
             AT(sc->H, n, i, j) = (gf_real)(zunit[i] * h0 / unit[j]);
             hd[i][j] = (double)AT(sc->H, n, i, j);
         }
-        sc->d[i] = sc->has_d ? (gf_real)(0.1 * zunit[i] * gr_normal(r))
-                             : GF_R(0.0);
+        sc->d[i] =
+            sc->has_d ? (gf_real)(0.1 * zunit[i] * gr_normal(r)) : GF_R(0.0);
     }
 
     // Q: correlated (condition up to GR_QCOND), Q_ii = (H S0 H^T)_ii /
@@ -520,8 +520,7 @@ typedef struct ref {
     gr_rng rng;
 } ref;
 
-static void ref_init(ref *f, const scen *sc, double eps, uint64_t seed,
-                     int bug)
+static void ref_init(ref *f, const scen *sc, double eps, uint64_t seed, int bug)
 {
     memset(f, 0, sizeof *f);
     f->n = sc->n;
@@ -576,8 +575,8 @@ static void ref_predict(ref *f, const scen *sc)
     for (int i = 0; i < n; i++) {
         mu[i] = pert(f, (gr_real)sc->c[i]);
         for (int k = 0; k < sc->nu; k++) {
-            mu[i] += pert(f, (gr_real)AT(sc->B, sc->nu, i, k)) *
-                     (gr_real)sc->u[k];
+            mu[i] +=
+                pert(f, (gr_real)AT(sc->B, sc->nu, i, k)) * (gr_real)sc->u[k];
         }
         for (int j = 0; j < n; j++) {
             mu[i] += a[i][j] * f->mu[j];
@@ -589,9 +588,8 @@ static void ref_predict(ref *f, const scen *sc)
     }
     for (int i = 0; i < n; i++) {
         for (int j = 0; j <= i; j++) {
-            P[i][j] = f->bug == BUG_NO_R
-                          ? 0.0L
-                          : pert(f, (gr_real)AT(sc->R, n, i, j));
+            P[i][j] = f->bug == BUG_NO_R ? 0.0L
+                                         : pert(f, (gr_real)AT(sc->R, n, i, j));
             for (int k = 0; k < n; k++) {
                 P[i][j] += AP[i][k] * a[j][k];
             }
@@ -795,13 +793,13 @@ static void errors(const ref *f, const gr_real mu[TN], lmat P, double *es,
         for (int j = 0; j < f->n; j++) {
             gr_real dd = P[i][j] - f->P[i][j];
             gr_real den = f->P[i][i] * f->P[j][j];
-            double e = dd == 0 ? 0.0
+            double e = dd == 0   ? 0.0
                        : den > 0 ? sqrt((double)(dd * dd / den))
                                  : (double)INFINITY;
             s = e > s ? e : s;
         }
         gr_real dm = mu[i] - f->mu[i];
-        double e = dm == 0 ? 0.0
+        double e = dm == 0          ? 0.0
                    : f->P[i][i] > 0 ? sqrt((double)(dm * dm / f->P[i][i]))
                                     : (double)INFINITY;
         m = e > m ? e : m;
@@ -1089,8 +1087,7 @@ static gf_status lib_init(lib *l, const scen *sc, int ekf, int prepared)
     memset(l, 0, sizeof *l);
     l->ekf = ekf;
     l->prepared = prepared;
-    return ekf ? gf_ekf_init(&l->kf, (unsigned)sc->n, sc->mu0, sc->S0, 0,
-                             &work)
+    return ekf ? gf_ekf_init(&l->kf, (unsigned)sc->n, sc->mu0, sc->S0, 0, &work)
                : gf_kf_init(&l->kf, (unsigned)sc->n, sc->mu0, sc->S0, &work);
 }
 
@@ -1131,9 +1128,9 @@ static gf_status lib_predict(lib *l, const scen *sc)
         gf_ekf_motion mo = {lin_motion, (void *)(uintptr_t)sc, sc->R};
         if (l->prepared) {
             gf_status st = gf_ekf_prepare_motion(&epmotion, n, &mo, &work);
-            return st != GF_OK ? st
-                               : gf_ekf_predict_prepared(&l->kf, &epmotion,
-                                                         u, &work);
+            return st != GF_OK
+                       ? st
+                       : gf_ekf_predict_prepared(&l->kf, &epmotion, u, &work);
         }
         return gf_ekf_predict(&l->kf, &mo, u, &work);
     }
@@ -1141,8 +1138,7 @@ static gf_status lib_predict(lib *l, const scen *sc)
     if (l->prepared) {
         gf_status st = gf_kf_prepare_model(&pmodel, n, &mo, &work);
         return st != GF_OK ? st
-                           : gf_kf_predict_prepared(&l->kf, &pmodel, u,
-                                                    &work);
+                           : gf_kf_predict_prepared(&l->kf, &pmodel, u, &work);
     }
     return gf_kf_predict(&l->kf, &mo, u, &work);
 }
@@ -1170,9 +1166,9 @@ static gf_status lib_update(lib *l, const scen *sc, const gf_real z[TN],
     gf_kf_meas me = kf_meas(sc, gate);
     if (l->prepared) {
         gf_status st = gf_kf_prepare_meas(&pmeas, n, &me, &work);
-        return st != GF_OK ? st
-                           : gf_kf_update_prepared(&l->kf, &pmeas, z, info,
-                                                   &work);
+        return st != GF_OK
+                   ? st
+                   : gf_kf_update_prepared(&l->kf, &pmeas, z, info, &work);
     }
     return gf_kf_update(&l->kf, &me, z, info, &work);
 }
@@ -1199,8 +1195,7 @@ static int lib_belief(const lib *l, gr_real mu[TN], lmat P)
             P[i][j] = (gr_real)AT(sigma, n, i, j);
         }
     }
-    return gf_kf_init(&kf_back, (unsigned)n, l->kf.mu, sigma, &work) ==
-           GF_OK;
+    return gf_kf_init(&kf_back, (unsigned)n, l->kf.mu, sigma, &work) == GF_OK;
 }
 
 // ---- the random scenarios ---------------------------------------------
@@ -1225,8 +1220,8 @@ static void fail_note(unsigned *counter, const char *what, const scen *sc,
     if (++*counter <= 3 || getenv("GR_ALL")) {
         print_message("  %s: %s n %d scenario %u step %d m %d: %.3g "
                       "(bound %.3g)\n",
-                      what, ekf ? "gf_ekf" : "gf_kf", sc->n, index, step,
-                      sc->m, got, bound);
+                      what, ekf ? "gf_ekf" : "gf_kf", sc->n, index, step, sc->m,
+                      got, bound);
     }
 }
 
@@ -1321,10 +1316,9 @@ static void run_n(int n, int ekf, tally *t)
             int ref_ok = ref_update(&nx->ref, sc, z, &ref_nis);
             int pa_ok = ref_update(&nx->pa, sc, z, &na);
             int pb_ok = ref_update(&nx->pb, sc, z, &nb);
-            double nis_bound =
-                bc * fmax(fmax(fabs((double)(na - ref_nis)),
-                               fabs((double)(nb - ref_nis))),
-                          GR_U * (double)ref_nis);
+            double nis_bound = bc * fmax(fmax(fabs((double)(na - ref_nis)),
+                                              fabs((double)(nb - ref_nis))),
+                                         GR_U * (double)ref_nis);
             if (!pa_ok || !pb_ok) {
                 nis_bound = (double)INFINITY;
             }
@@ -1333,8 +1327,8 @@ static void run_n(int n, int ekf, tally *t)
             gf_real gate = 0;
             int gmode = 0;
             const double nr = (double)ref_nis;
-            if (compare && ref_ok && (step & 3) == 3 &&
-                nis_bound < 0.25 * nr && nr > 1e-6) {
+            if (compare && ref_ok && (step & 3) == 3 && nis_bound < 0.25 * nr &&
+                nr > 1e-6) {
                 gmode = ((index + (unsigned)step) & 1) ? 1 : 2;
                 gate = (gf_real)(gmode == 1 ? 2.0 * nr : 0.5 * nr);
             }
@@ -1344,14 +1338,13 @@ static void run_n(int n, int ekf, tally *t)
             l_before = *l;
             st = lib_update(l, sc, z, gate, &info);
             if (trace) {
-                print_message("  trace n %d scenario %u step %d m %d q_pd %d: "
-                              "status %d, NIS %.17g, reference %.17g "
-                              "(bound %.3g, ok %d), gate %.17g\n",
-                              n, index, step, sc->m, sc->q_pd, (int)st,
-                              st == GF_OK || st == GF_ERR_GATED
-                                  ? (double)info.nis : -1.0,
-                              (double)ref_nis, nis_bound, ref_ok,
-                              (double)gate);
+                print_message(
+                    "  trace n %d scenario %u step %d m %d q_pd %d: "
+                    "status %d, NIS %.17g, reference %.17g "
+                    "(bound %.3g, ok %d), gate %.17g\n",
+                    n, index, step, sc->m, sc->q_pd, (int)st,
+                    st == GF_OK || st == GF_ERR_GATED ? (double)info.nis : -1.0,
+                    (double)ref_nis, nis_bound, ref_ok, (double)gate);
             }
             if (gmode == 2 && (st == GF_OK || st == GF_ERR_GATED)) {
                 if (st != GF_ERR_GATED) {
@@ -1359,8 +1352,8 @@ static void run_n(int n, int ekf, tally *t)
                               ekf, index, step, (double)st, 0);
                 }
                 if (!same_belief(&l_before, l)) {
-                    fail_note(&t->changed, "gated call changed belief", sc,
-                              ekf, index, step, 0, 0);
+                    fail_note(&t->changed, "gated call changed belief", sc, ekf,
+                              index, step, 0, 0);
                 }
                 continue; // the belief stays the prior: so do the refs
             }
@@ -1371,16 +1364,16 @@ static void run_n(int n, int ekf, tally *t)
                 t->tb_refused_wp_scen += (unsigned)sc->q_pd;
             }
             if (st == GF_ERR_GATED) { // gmode 1: the gate at twice the NIS
-                fail_note(&t->gate_wrong, "gate above the NIS refused", sc,
-                          ekf, index, step, (double)info.nis, (double)gate);
+                fail_note(&t->gate_wrong, "gate above the NIS refused", sc, ekf,
+                          index, step, (double)info.nis, (double)gate);
             }
             if (st != GF_OK) {
                 tb_cmp = 0;
                 if (!same_belief(&l_before, l) ||
                     (st != GF_ERR_GATED &&
                      memcmp(&info, &info_before, sizeof info) != 0)) {
-                    fail_note(&t->changed, "refusal changed belief or info",
-                              sc, ekf, index, step, (double)st, 0);
+                    fail_note(&t->changed, "refusal changed belief or info", sc,
+                              ekf, index, step, (double)st, 0);
                 }
                 if (sc->q_pd) {
                     fail_note(&t->refused_wp, "well-posed update refused", sc,
@@ -1412,8 +1405,8 @@ static void run_n(int n, int ekf, tally *t)
                           0, 0);
             }
             if (!back) {
-                fail_note(&t->not_taken_back, "belief refused by init", sc,
-                          ekf, index, step, 0, 0);
+                fail_note(&t->not_taken_back, "belief refused by init", sc, ekf,
+                          index, step, 0, 0);
             }
             if (!cmp_step) {
                 continue;
@@ -1436,9 +1429,9 @@ static void run_n(int n, int ekf, tally *t)
                         AT(sig, n, i, j) = (gf_real)P[i][j];
                     }
                 }
-                assert_int_equal(gf_kf_init(&kf_back, (unsigned)n, l->kf.mu,
-                                            sig, &work),
-                                 GF_OK);
+                assert_int_equal(
+                    gf_kf_init(&kf_back, (unsigned)n, l->kf.mu, sig, &work),
+                    GF_OK);
                 l->kf = kf_back;
                 tb_cmp = 1;
                 continue;
@@ -1460,7 +1453,8 @@ static void run_n(int n, int ekf, tally *t)
                 t->tb_over += tes > b.s || tem > b.m;
                 if (trace) {
                     print_message("  trace: textbook errors Sigma %.3g mu "
-                                  "%.3g\n", tes, tem);
+                                  "%.3g\n",
+                                  tes, tem);
                 }
                 b.s = fmax(b.s, TB_C * tes);
                 b.m = fmax(b.m, TB_C * tem);
@@ -1469,7 +1463,8 @@ static void run_n(int n, int ekf, tally *t)
             errors(&r->ref, mu, P, &es, &em);
             if (trace) {
                 print_message("  trace: errors Sigma %.3g mu %.3g, bound "
-                              "%.3g %.3g\n", es, em, b.s, b.m);
+                              "%.3g %.3g\n",
+                              es, em, b.s, b.m);
             }
             t->compared++;
             t->worst_s = fmax(es, t->worst_s);
@@ -1717,7 +1712,8 @@ static void prepared_same_as_plain(void **state)
         }
     }
     print_message("prepared and plain paths: %u calls the same bit for bit "
-                  "(%u gated, %u refused)\n", calls, gated, refused);
+                  "(%u gated, %u refused)\n",
+                  calls, gated, refused);
     assert_true(gated > 0u);
 }
 
@@ -1735,8 +1731,7 @@ static void check_same_as_fixed(const gf_kf *kf, const gf_real *mu,
     assert_int_equal(gf_kf_cov(kf, s), GF_OK);
     if (memcmp(kf->mu, mu, n * sizeof *mu) != 0 ||
         memcmp(s, sigma, n * n * sizeof *s) != 0) {
-        print_message("  after %s, scenario %u step %d:\n", what, index,
-                      step);
+        print_message("  after %s, scenario %u step %d:\n", what, index, step);
         for (unsigned i = 0; i < n; i++) {
             print_message("  mu %a against %a; Sigma row", (double)kf->mu[i],
                           (double)mu[i]);
@@ -1751,8 +1746,7 @@ static void check_same_as_fixed(const gf_kf *kf, const gf_real *mu,
     assert_memory_equal(s, sigma, n * n * sizeof *s);
 }
 
-static void check_same_info(const gf_kf_innovation *a,
-                            const gf_innovation *b)
+static void check_same_info(const gf_kf_innovation *a, const gf_innovation *b)
 {
     assert_int_equal(a->m, b->m);
     assert_memory_equal(a->y, b->y, a->m * sizeof a->y[0]);
@@ -1802,8 +1796,7 @@ static void same_as_kf2(void **state)
         gf_real last_nis = 0;
         for (int step = 0; step < sc->steps; step++) {
             gf_status s2 = gf_kf2_predict(&k2, &mo2, sc->nu ? &u2 : NULL);
-            gf_status sn = gf_kf_predict(kn, &mo, sc->nu ? sc->u : NULL,
-                                         &work);
+            gf_status sn = gf_kf_predict(kn, &mo, sc->nu ? sc->u : NULL, &work);
             calls++;
             assert_int_equal(sn, s2);
             sig = gf_test_kf2_sigma(&k2);
@@ -1837,7 +1830,8 @@ static void same_as_kf2(void **state)
         }
     }
     print_message("gf_kf and gf_kf2: %u calls the same bit for bit (%u "
-                  "gated, %u refused)\n", calls, gated, refused);
+                  "gated, %u refused)\n",
+                  calls, gated, refused);
 }
 
 // EKF3's models as gf_ekf callbacks: the built-ins called through
@@ -1859,8 +1853,8 @@ static gf_status turn_motion(void *ctx, unsigned n, const gf_real *mu,
 }
 
 // (x, y, heading) measured: EKF3 has no built-in for m = 3.
-static gf_status ekf3_meas_xyt(void *ctx, const gf_vec3 *mu_bar,
-                               gf_vec3 *z_hat, gf_mat3 *H)
+static gf_status ekf3_meas_xyt(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                               gf_mat3 *H)
 {
     (void)ctx;
     for (int i = 0; i < 3; i++) {
@@ -1875,8 +1869,7 @@ static gf_status ekf3_meas_xyt(void *ctx, const gf_vec3 *mu_bar,
 // x, (x, y) or (x, y, heading) as gf_ekf callbacks through the same
 // functions EKF3 calls.
 static gf_status turn_meas(void *ctx, unsigned n, unsigned m,
-                           const gf_real *mu_bar, gf_real *z_hat,
-                           gf_real *H)
+                           const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
 {
     (void)ctx;
     assert_int_equal(n, 3);
@@ -1905,8 +1898,7 @@ static gf_status lin_meas3(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
                            gf_mat3 *H)
 {
     const scen *sc = ctx;
-    return lin_meas(ctx, 3, (unsigned)sc->m, mu_bar->v, z_hat->v,
-                    &H->m[0][0]);
+    return lin_meas(ctx, 3, (unsigned)sc->m, mu_bar->v, z_hat->v, &H->m[0][0]);
 }
 
 // gf_ekf at n = 3, the heading an angle (bit 2), against gf_ekf3 on the
@@ -1928,9 +1920,8 @@ static void same_as_ekf3(void **state)
             memcpy(mu0.v, sc->mu0, sizeof mu0.v);
             memcpy(s0.m, sc->S0, sizeof s0.m);
             assert_int_equal(gf_ekf3_init(&e3, &mu0, &s0), GF_OK);
-            assert_int_equal(gf_ekf_init(en, 3, sc->mu0, sc->S0, 1u << 2,
-                                         &work),
-                             GF_OK);
+            assert_int_equal(
+                gf_ekf_init(en, 3, sc->mu0, sc->S0, 1u << 2, &work), GF_OK);
             gf_mat3 sig = gf_test_ekf3_sigma(&e3);
             check_same_as_fixed(en, e3.mu.v, &sig.m[0][0], "init", index, -1);
             gf_ekf3_motion mo3;
@@ -1976,8 +1967,8 @@ static void same_as_ekf3(void **state)
                 calls++;
                 assert_int_equal(sn, s3);
                 sig = gf_test_ekf3_sigma(&e3);
-                check_same_as_fixed(en, e3.mu.v, &sig.m[0][0], "predict",
-                                    index, step);
+                check_same_as_fixed(en, e3.mu.v, &sig.m[0][0], "predict", index,
+                                    step);
                 scen_move(sc);
                 gf_real z[TN];
                 scen_measure(sc, z);
@@ -1994,8 +1985,8 @@ static void same_as_ekf3(void **state)
                 calls++;
                 assert_int_equal(sn, s3);
                 sig = gf_test_ekf3_sigma(&e3);
-                check_same_as_fixed(en, e3.mu.v, &sig.m[0][0], "update",
-                                    index, step);
+                check_same_as_fixed(en, e3.mu.v, &sig.m[0][0], "update", index,
+                                    step);
                 if (s3 == GF_OK || s3 == GF_ERR_GATED) {
                     check_same_info(&in, &i3);
                 }
@@ -2008,7 +1999,8 @@ static void same_as_ekf3(void **state)
         }
     }
     print_message("gf_ekf and gf_ekf3: %u calls the same bit for bit (%u "
-                  "gated, %u refused)\n", calls, gated, refused);
+                  "gated, %u refused)\n",
+                  calls, gated, refused);
     assert_int_equal(promise_broken, 0);
 }
 
@@ -2019,13 +2011,13 @@ static void same_as_ekf3(void **state)
 static const gf_real cv_A[16] = {1, 1, 0, 0, 0, 1, 0, 0,
                                  0, 0, 1, 1, 0, 0, 0, 1};
 static const gf_real cv_R[16] = {
-    GF_R(0.25), GF_R(0.5), 0, 0, GF_R(0.5), 1, 0, 0,
-    0, 0, GF_R(0.25), GF_R(0.5), 0, 0, GF_R(0.5), 1};
+    GF_R(0.25), GF_R(0.5), 0,          0,         GF_R(0.5), 1, 0,         0,
+    0,          0,         GF_R(0.25), GF_R(0.5), 0,         0, GF_R(0.5), 1};
 static const gf_real cv_C[8] = {1, 0, 0, 0, 0, 0, 1, 0};
 static const gf_real cv_Q[4] = {4, 1, 1, 4};
 static const gf_real cv_mu[4] = {1, 2, 3, 4};
-static const gf_real cv_S[16] = {10, 1, 0, 0, 1, 5, 0, 0,
-                                 0, 0, 10, 1, 0, 0, 1, 5};
+static const gf_real cv_S[16] = {10, 1, 0,  0, 1, 5, 0, 0,
+                                 0,  0, 10, 1, 0, 0, 1, 5};
 static const gf_real cv_z[4] = {2, 5, 0, 0};
 // Models of 3 and 5 states, for the calls given another n than the
 // belief's.
@@ -2090,40 +2082,36 @@ static void sizes_and_nulls(void **state)
     assert_int_equal(gf_kf_init(kf, 4, cv_mu, cv_S, &work), GF_OK);
 
     // init: n out of 1..GF_KF_NMAX, NULLs; the belief untouched.
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, 0, cv_mu, cv_S,
-                                                     &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, GF_KF_NMAX + 1,
-                                                     cv_mu, cv_S, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, 4, NULL, cv_S,
-                                                     &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, 4, cv_mu, NULL,
-                                                     &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, 4, cv_mu, cv_S,
-                                                     NULL));
-    assert_int_equal(gf_kf_init(NULL, 4, cv_mu, cv_S, &work), GF_ERR_ARG);
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_ekf_init(kf, 0, cv_mu, cv_S, 0,
-                                                      &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
-                          gf_ekf_init(kf, GF_KF_NMAX + 1, cv_mu, cv_S, 0,
-                                      &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_ekf_init(kf, 4, NULL, cv_S, 0,
-                                                      &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_ekf_init(kf, 4, cv_mu, NULL, 0,
-                                                      &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_ekf_init(kf, 4, cv_mu, cv_S, 0,
-                                                      NULL));
-    assert_int_equal(gf_ekf_init(NULL, 4, cv_mu, cv_S, 0, &work),
-                     GF_ERR_ARG);
+                          gf_kf_init(kf, 0, cv_mu, cv_S, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_init(kf, GF_KF_NMAX + 1, cv_mu, cv_S, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, 4, NULL, cv_S, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_init(kf, 4, cv_mu, NULL, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_init(kf, 4, cv_mu, cv_S, NULL));
+    assert_int_equal(gf_kf_init(NULL, 4, cv_mu, cv_S, &work), GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_ekf_init(kf, 0, cv_mu, cv_S, 0, &work));
+    CHECK_FAILS_UNCHANGED(
+        GF_ERR_ARG, kf, gf_ekf_init(kf, GF_KF_NMAX + 1, cv_mu, cv_S, 0, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_ekf_init(kf, 4, NULL, cv_S, 0, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_ekf_init(kf, 4, cv_mu, NULL, 0, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_ekf_init(kf, 4, cv_mu, cv_S, 0, NULL));
+    assert_int_equal(gf_ekf_init(NULL, 4, cv_mu, cv_S, 0, &work), GF_ERR_ARG);
     // A non-PSD and a non-finite prior.
     gf_real bad[16];
     memcpy(bad, cv_S, sizeof bad);
     bad[1] = bad[4] = 100;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, kf, gf_kf_init(kf, 4, cv_mu, bad,
-                                                         &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, kf,
+                          gf_kf_init(kf, 4, cv_mu, bad, &work));
     memcpy(bad, cv_mu, 4 * sizeof *bad);
     bad[2] = (gf_real)NAN;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, kf, gf_kf_init(kf, 4, bad, cv_S,
-                                                           &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, kf,
+                          gf_kf_init(kf, 4, bad, cv_S, &work));
 
     // cov.
     assert_int_equal(gf_kf_cov(NULL, sigma), GF_ERR_ARG);
@@ -2131,39 +2119,36 @@ static void sizes_and_nulls(void **state)
 
     // predict.
     gf_kf_model mo = {0, cv_A, NULL, cv_R, NULL};
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, NULL, NULL,
-                                                        &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, &mo, NULL,
-                                                        NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, NULL, NULL, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, &mo, NULL, NULL));
     assert_int_equal(gf_kf_predict(NULL, &mo, NULL, &work), GF_ERR_ARG);
     gf_kf_model mbad = mo;
     mbad.A = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, &mbad, NULL,
-                                                        &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_predict(kf, &mbad, NULL, &work));
     mbad = mo;
     mbad.R = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, &mbad, NULL,
-                                                        &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_predict(kf, &mbad, NULL, &work));
     mbad = mo;
     mbad.nu = 1; // a control without B
     const gf_real u1[1] = {1};
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, &mbad, u1,
-                                                        &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_predict(kf, &mbad, u1, &work));
     // A belief whose n is out of range.
     kf_b = *kf;
     kf_b.n = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf_b, gf_kf_predict(&kf_b, &mo, NULL,
-                                                           &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf_b,
+                          gf_kf_predict(&kf_b, &mo, NULL, &work));
     kf_b.n = GF_KF_NMAX + 1;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf_b, gf_kf_predict(&kf_b, &mo, NULL,
-                                                           &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf_b,
+                          gf_kf_predict(&kf_b, &mo, NULL, &work));
     mbad = mo;
     gf_real rbad[16];
     memcpy(rbad, cv_R, sizeof rbad);
     rbad[0] = -1;
     mbad.R = rbad;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, kf, gf_kf_predict(kf, &mbad, NULL,
-                                                            &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, kf,
+                          gf_kf_predict(kf, &mbad, NULL, &work));
     rbad[0] = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, kf,
                           gf_kf_predict(kf, &mbad, NULL, &work));
@@ -2174,42 +2159,41 @@ static void sizes_and_nulls(void **state)
     memset(&info, 0x5a, sizeof info);
     gf_kf_meas mebad = me;
     mebad.m = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                       &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
     mebad.m = 5; // m > n
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                       &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
     mebad.m = GF_KF_NMAX + 1;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                       &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
     mebad = me;
     mebad.gate = -1;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                       &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
     mebad = me;
     mebad.C = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                       &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
     mebad = me;
     mebad.Q = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                       &info, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, NULL, cv_z,
-                                                       &info, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &me, NULL,
-                                                       &info, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf, gf_kf_update(kf, &me, cv_z,
-                                                       &info, NULL));
-    assert_int_equal(gf_kf_update(NULL, &me, cv_z, &info, &work),
-                     GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, NULL, cv_z, &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &me, NULL, &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
+                          gf_kf_update(kf, &me, cv_z, &info, NULL));
+    assert_int_equal(gf_kf_update(NULL, &me, cv_z, &info, &work), GF_ERR_ARG);
     gf_real zbad[4] = {1, (gf_real)NAN, 0, 0};
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, kf,
                           gf_kf_update(kf, &me, zbad, &info, &work));
     gf_real qbad[4] = {1, 2, 2, 1};
     mebad = me;
     mebad.Q = qbad;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, kf, gf_kf_update(kf, &mebad, cv_z,
-                                                           &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, kf,
+                          gf_kf_update(kf, &mebad, cv_z, &info, &work));
     for (size_t i = 0; i < sizeof info; i++) {
         assert_int_equal(((const unsigned char *)&info)[i], 0x5a);
     }
@@ -2217,8 +2201,8 @@ static void sizes_and_nulls(void **state)
     mebad = me;
     mebad.gate = GF_R(1e-9);
     const gf_real zfar[4] = {100, -100, 0, 0};
-    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, kf, gf_kf_update(kf, &mebad, zfar,
-                                                         &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_GATED, kf,
+                          gf_kf_update(kf, &mebad, zfar, &info, &work));
     assert_int_equal(info.m, 2);
     assert_true(info.nis > GF_R(1.0));
     // Zero noise on a state known exactly: S singular.
@@ -2236,9 +2220,9 @@ static void sizes_and_nulls(void **state)
     // Prepared: sizes, NULLs, and a model prepared for another n.
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pm_a,
                           gf_kf_prepare_model(&pm_a, 0, &mo, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pm_a,
-                          gf_kf_prepare_model(&pm_a, GF_KF_NMAX + 1, &mo,
-                                              &work));
+    CHECK_FAILS_UNCHANGED(
+        GF_ERR_ARG, &pm_a,
+        gf_kf_prepare_model(&pm_a, GF_KF_NMAX + 1, &mo, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pm_a,
                           gf_kf_prepare_model(&pm_a, 4, NULL, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &pm_a,
@@ -2257,8 +2241,7 @@ static void sizes_and_nulls(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
                           gf_kf_predict_prepared(kf, &pm_a, NULL, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
-                          gf_kf_update_prepared(kf, &pq_a, cv_z, &info,
-                                                &work));
+                          gf_kf_update_prepared(kf, &pq_a, cv_z, &info, &work));
     assert_int_equal(gf_kf_prepare_model(&pm_a, 4, &mo, &work), GF_OK);
     assert_int_equal(gf_kf_prepare_meas(&pq_a, 4, &me, &work), GF_OK);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
@@ -2266,14 +2249,11 @@ static void sizes_and_nulls(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
                           gf_kf_predict_prepared(kf, &pm_a, NULL, NULL));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
-                          gf_kf_update_prepared(kf, NULL, cv_z, &info,
-                                                &work));
+                          gf_kf_update_prepared(kf, NULL, cv_z, &info, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
-                          gf_kf_update_prepared(kf, &pq_a, NULL, &info,
-                                                &work));
+                          gf_kf_update_prepared(kf, &pq_a, NULL, &info, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, kf,
-                          gf_kf_update_prepared(kf, &pq_a, cv_z, &info,
-                                                NULL));
+                          gf_kf_update_prepared(kf, &pq_a, cv_z, &info, NULL));
     assert_int_equal(gf_kf_predict_prepared(NULL, &pm_a, NULL, &work),
                      GF_ERR_ARG);
     assert_int_equal(gf_kf_update_prepared(NULL, &pq_a, cv_z, &info, &work),
@@ -2294,57 +2274,53 @@ static void ekf_arguments_and_callbacks(void **state)
     gf_kf_innovation info;
     memset(&info, 0x5a, sizeof info);
 
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_predict(ekf, NULL, NULL,
-                                                          &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_predict(ekf, &mo, NULL,
-                                                          NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_predict(ekf, NULL, NULL, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_predict(ekf, &mo, NULL, NULL));
     assert_int_equal(gf_ekf_predict(NULL, &mo, NULL, &work), GF_ERR_ARG);
     gf_ekf_motion mobad = mo;
     mobad.g = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_predict(ekf, &mobad, NULL,
-                                                          &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_predict(ekf, &mobad, NULL, &work));
     mobad = mo;
     mobad.R = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_predict(ekf, &mobad, NULL,
-                                                          &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_predict(ekf, &mobad, NULL, &work));
     gf_ekf_meas mebad = me;
     mebad.m = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &mebad, cv_z,
-                                                         &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &mebad, cv_z, &info, &work));
     mebad.m = 5;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &mebad, cv_z,
-                                                         &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &mebad, cv_z, &info, &work));
     mebad = me;
     mebad.h = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &mebad, cv_z,
-                                                         &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &mebad, cv_z, &info, &work));
     mebad = me;
     mebad.Q = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &mebad, cv_z,
-                                                         &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &mebad, cv_z, &info, &work));
     mebad = me;
     mebad.gate = -1;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &mebad, cv_z,
-                                                         &info, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, NULL, cv_z,
-                                                         &info, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &me, NULL,
-                                                         &info, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf, gf_ekf_update(ekf, &me, cv_z,
-                                                         &info, NULL));
-    assert_int_equal(gf_ekf_update(NULL, &me, cv_z, &info, &work),
-                     GF_ERR_ARG);
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &mebad, cv_z, &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, NULL, cv_z, &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &me, NULL, &info, &work));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
+                          gf_ekf_update(ekf, &me, cv_z, &info, NULL));
+    assert_int_equal(gf_ekf_update(NULL, &me, cv_z, &info, &work), GF_ERR_ARG);
 
     // A callback's error is passed on (as EKF3's: GF_ERR_GATED, which only
     // the gate reports, and a status the enum lacks arrive as
     // GF_ERR_MODEL), the belief and info untouched.
     static const gf_status errs[][2] = {
-        {GF_ERR_MODEL, GF_ERR_MODEL},
-        {GF_ERR_UNDEFINED, GF_ERR_UNDEFINED},
-        {GF_ERR_ARG, GF_ERR_ARG},
-        {GF_ERR_SINGULAR, GF_ERR_SINGULAR},
-        {GF_ERR_GATED, GF_ERR_MODEL},
-        {(gf_status)-42, GF_ERR_MODEL},
+        {GF_ERR_MODEL, GF_ERR_MODEL}, {GF_ERR_UNDEFINED, GF_ERR_UNDEFINED},
+        {GF_ERR_ARG, GF_ERR_ARG},     {GF_ERR_SINGULAR, GF_ERR_SINGULAR},
+        {GF_ERR_GATED, GF_ERR_MODEL}, {(gf_status)-42, GF_ERR_MODEL},
         {(gf_status)3, GF_ERR_MODEL},
     };
     for (size_t k = 0; k < sizeof errs / sizeof errs[0]; k++) {
@@ -2356,18 +2332,15 @@ static void ekf_arguments_and_callbacks(void **state)
         mebad = me;
         mebad.ctx = &e;
         CHECK_FAILS_UNCHANGED(errs[k][1], ekf,
-                              gf_ekf_update(ekf, &mebad, cv_z, &info,
-                                            &work));
+                              gf_ekf_update(ekf, &mebad, cv_z, &info, &work));
         assert_int_equal(gf_ekf_prepare_motion(&epm_a, 4, &mobad, &work),
                          GF_OK);
-        assert_int_equal(gf_ekf_prepare_meas(&epq_a, 4, &mebad, &work),
-                         GF_OK);
-        CHECK_FAILS_UNCHANGED(errs[k][1], ekf,
-                              gf_ekf_predict_prepared(ekf, &epm_a, NULL,
-                                                      &work));
-        CHECK_FAILS_UNCHANGED(errs[k][1], ekf,
-                              gf_ekf_update_prepared(ekf, &epq_a, cv_z,
-                                                     &info, &work));
+        assert_int_equal(gf_ekf_prepare_meas(&epq_a, 4, &mebad, &work), GF_OK);
+        CHECK_FAILS_UNCHANGED(
+            errs[k][1], ekf, gf_ekf_predict_prepared(ekf, &epm_a, NULL, &work));
+        CHECK_FAILS_UNCHANGED(
+            errs[k][1], ekf,
+            gf_ekf_update_prepared(ekf, &epq_a, cv_z, &info, &work));
     }
     // A callback's NaN: GF_ERR_NONFINITE, the belief untouched.
     mobad = mo;
@@ -2381,9 +2354,9 @@ static void ekf_arguments_and_callbacks(void **state)
     // Prepared: sizes, NULLs, another n.
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &epm_a,
                           gf_ekf_prepare_motion(&epm_a, 0, &mo, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &epm_a,
-                          gf_ekf_prepare_motion(&epm_a, GF_KF_NMAX + 1, &mo,
-                                                &work));
+    CHECK_FAILS_UNCHANGED(
+        GF_ERR_ARG, &epm_a,
+        gf_ekf_prepare_motion(&epm_a, GF_KF_NMAX + 1, &mo, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &epm_a,
                           gf_ekf_prepare_motion(&epm_a, 4, NULL, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &epq_a,
@@ -2397,14 +2370,13 @@ static void ekf_arguments_and_callbacks(void **state)
     assert_int_equal(gf_ekf_prepare_meas(&epq_a, 5, &me, &work), GF_OK);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
                           gf_ekf_predict_prepared(ekf, &epm_a, NULL, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
-                          gf_ekf_update_prepared(ekf, &epq_a, cv_z, &info,
-                                                 &work));
+    CHECK_FAILS_UNCHANGED(
+        GF_ERR_ARG, ekf,
+        gf_ekf_update_prepared(ekf, &epq_a, cv_z, &info, &work));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
                           gf_ekf_predict_prepared(ekf, NULL, NULL, &work));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, ekf,
-                          gf_ekf_update_prepared(ekf, NULL, cv_z, &info,
-                                                 &work));
+    CHECK_FAILS_UNCHANGED(
+        GF_ERR_ARG, ekf, gf_ekf_update_prepared(ekf, NULL, cv_z, &info, &work));
 
     // And the callbacks work: the EKF equals the KF on the same linear
     // model to within rounding.
@@ -2434,8 +2406,7 @@ static gf_status spin_motion(void *ctx, unsigned n, const gf_real *mu,
 }
 
 static gf_status angle_meas(void *ctx, unsigned n, unsigned m,
-                            const gf_real *mu_bar, gf_real *z_hat,
-                            gf_real *H)
+                            const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
 {
     (void)ctx;
     (void)n;

@@ -29,12 +29,9 @@ static const gf_mat2 ZERO22 = {{{0, 0}, {0, 0}}};
 
 // Table 1.1: Sigma_t for t = 0..5 (every entry exact in binary).
 static const gf_mat2 TABLE_1_1[6] = {
-    {{{0, 0}, {0, 0}}},
-    {{{0.25, 0.5}, {0.5, 1}}},
-    {{{2.5, 2}, {2, 2}}},
-    {{{8.75, 4.5}, {4.5, 3}}},
-    {{{21, 8}, {8, 4}}},
-    {{{41.25, 12.5}, {12.5, 5}}},
+    {{{0, 0}, {0, 0}}},   {{{0.25, 0.5}, {0.5, 1}}},
+    {{{2.5, 2}, {2, 2}}}, {{{8.75, 4.5}, {4.5, 3}}},
+    {{{21, 8}, {8, 4}}},  {{{41.25, 12.5}, {12.5, 5}}},
 };
 
 static void check_belief(const gf_kf2 *kf, const gf_vec2 *mu,
@@ -142,9 +139,9 @@ static void table_2_1(void **state)
     // K = (41.25, 12.5) / 51.25.
     const double s = 51.25;
     const gf_vec2 mu = {{(gf_real)(5 * 41.25 / s), (gf_real)(5 * 12.5 / s)}};
-    const gf_mat2 sigma = {{{(gf_real)(41.25 * 10 / s), (gf_real)(12.5 * 10 / s)},
-                            {(gf_real)(12.5 * 10 / s),
-                             (gf_real)(5 - 12.5 * 12.5 / s)}}};
+    const gf_mat2 sigma = {
+        {{(gf_real)(41.25 * 10 / s), (gf_real)(12.5 * 10 / s)},
+         {(gf_real)(12.5 * 10 / s), (gf_real)(5 - 12.5 * 12.5 / s)}}};
     check_belief(&kf, &mu, &sigma);
     // ... and to the digits the seed prints.
     const gf_mat2 got = gf_test_kf2_sigma(&kf);
@@ -253,8 +250,10 @@ static void two_measurements(void **state)
     const double Q[2][2] = {{10, 1}, {1, 2}};
     double dp = P[0][0] * P[1][1] - P[0][1] * P[0][1];
     double dq = Q[0][0] * Q[1][1] - Q[0][1] * Q[0][1];
-    double Pi[2][2] = {{P[1][1] / dp, -P[0][1] / dp}, {-P[0][1] / dp, P[0][0] / dp}};
-    double Qi[2][2] = {{Q[1][1] / dq, -Q[0][1] / dq}, {-Q[0][1] / dq, Q[0][0] / dq}};
+    double Pi[2][2] = {{P[1][1] / dp, -P[0][1] / dp},
+                       {-P[0][1] / dp, P[0][0] / dp}};
+    double Qi[2][2] = {{Q[1][1] / dq, -Q[0][1] / dq},
+                       {-Q[0][1] / dq, Q[0][0] / dq}};
     double O[2][2], xi[2];
     for (int i = 0; i < 2; i++) {
         for (int j = 0; j < 2; j++) {
@@ -263,7 +262,8 @@ static void two_measurements(void **state)
         xi[i] = Qi[i][0] * 5 + Qi[i][1] * 1; // Pi mu_bar = 0
     }
     double d = O[0][0] * O[1][1] - O[0][1] * O[1][0];
-    double Sg[2][2] = {{O[1][1] / d, -O[0][1] / d}, {-O[1][0] / d, O[0][0] / d}};
+    double Sg[2][2] = {{O[1][1] / d, -O[0][1] / d},
+                       {-O[1][0] / d, O[0][0] / d}};
     const gf_mat2 got = gf_test_kf2_sigma(&kf);
     CHECK_CLOSE(got.m[0][0], Sg[0][0]);
     CHECK_CLOSE(got.m[0][1], Sg[0][1]);
@@ -315,8 +315,10 @@ static void bad_input(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(NULL, &ZERO2, &ZERO22));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(&kf, NULL, &ZERO22));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_init(&kf, &ZERO2, NULL));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_init(&kf, &nan_mu, &ZERO22));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_init(&kf, &ZERO2, &inf));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_init(&kf, &nan_mu, &ZERO22));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_init(&kf, &ZERO2, &inf));
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_init(&kf, &ZERO2, &neg));
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_init(&kf, &ZERO2, &asym));
 
@@ -339,7 +341,8 @@ static void bad_input(void **state)
     m.R.m[0][1] = GF_R(0.6); // asymmetric
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_predict(&kf, &m, NULL));
     const gf_vec2 u_nan = {{0, (gf_real)NAN}};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_predict(&kf, &CAR, &u_nan));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_predict(&kf, &CAR, &u_nan));
     // Overflow: a finite model whose result is not finite.
     m = CAR;
     const gf_real huge = (gf_real)(sizeof(gf_real) == 4 ? 1e30 : 1e200);
@@ -349,44 +352,58 @@ static void bad_input(void **state)
 
     // update
     gf_kf2_meas q = GPS;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(NULL, &GPS, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update(NULL, &GPS, &z, &info));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, NULL, &z, &info));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, &GPS, NULL, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
+                          gf_kf2_update(&kf, &GPS, NULL, &info));
     q.m = 0;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, &q, &z, &info));
     q.m = 3;
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, &q, &z, &info));
     q = GPS;
     q.Q.m[0][0] = GF_R(-10.0);
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_update(&kf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf,
+                          gf_kf2_update(&kf, &q, &z, &info));
     q = GPS;
     q.Q.m[0][0] = (gf_real)NAN;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_update(&kf, &q, &z, &info));
     q = GPS;
     q.C.m[0][1] = (gf_real)INFINITY;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_update(&kf, &q, &z, &info));
     q = GPS;
     q.c.v[0] = (gf_real)NAN;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_update(&kf, &q, &z, &info));
     q = GPS;
     q.gate = GF_R(-1.0);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, &q, &z, &info));
     q.gate = (gf_real)NAN;
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_update(&kf, &q, &z, &info));
     const gf_vec2 z_inf = {{(gf_real)INFINITY, 0}};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf, gf_kf2_update(&kf, &GPS, &z_inf, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &kf,
+                          gf_kf2_update(&kf, &GPS, &z_inf, &info));
     // m = 2: Q indefinite; S singular.
-    gf_kf2_meas two = {.m = 2, .C = {{{1, 0}, {1, 0}}}, .Q = {{{1, 2}, {2, 1}}},
-                       .c = {{0, 0}}, .gate = 0};
-    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_update(&kf, &two, &z, &info));
+    gf_kf2_meas two = {.m = 2,
+                       .C = {{{1, 0}, {1, 0}}},
+                       .Q = {{{1, 2}, {2, 1}}},
+                       .c = {{0, 0}},
+                       .gate = 0};
+    CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf,
+                          gf_kf2_update(&kf, &two, &z, &info));
     two.Q = ZERO22; // two copies of the position, no noise: S is singular
-    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &kf, gf_kf2_update(&kf, &two, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &kf,
+                          gf_kf2_update(&kf, &two, &z, &info));
     // m = 1: known state and noiseless sensor: S = 0.
     gf_kf2 known;
     assert_int_equal(gf_kf2_init(&known, &ZERO2, &ZERO22), GF_OK);
     q = GPS;
     q.Q.m[0][0] = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known, gf_kf2_update(&known, &q, &z, &info));
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &known,
+                          gf_kf2_update(&known, &q, &z, &info));
     // None of these touched the info either.
     assert_int_equal(info.m, 0);
 }
@@ -435,8 +452,10 @@ static void prepared_equals_plain(void **state)
     gf_kf2_meas gated = GPS;
     gated.gate = GF_R(3.84);
     gated.c.v[0] = GF_R(-0.5);
-    const gf_kf2_meas two = {.m = 2, .C = {{{1, 0}, {0, 1}}},
-                             .Q = {{{10, 1}, {1, 4}}}, .c = {{0, 0}},
+    const gf_kf2_meas two = {.m = 2,
+                             .C = {{{1, 0}, {0, 1}}},
+                             .Q = {{{10, 1}, {1, 4}}},
+                             .c = {{0, 0}},
                              .gate = 0};
     gf_kf2_pmodel pcar, pctl;
     gf_kf2_pmeas pgps, pgated, ptwo;
@@ -452,15 +471,14 @@ static void prepared_equals_plain(void **state)
     int gated_seen = 0;
     for (int t = 1; t <= 60; t++) {
         const gf_vec2 u = {{(gf_real)(t % 5) - 2, 0}};
-        const gf_vec2 z = {{(gf_real)(3 * t % 17) - GF_R(8.5),
-                            (gf_real)(t % 7) - 3}};
+        const gf_vec2 z = {
+            {(gf_real)(3 * t % 17) - GF_R(8.5), (gf_real)(t % 7) - 3}};
         gf_innovation ia, ib;
         const int k = t % 3;
         const gf_kf2_model *m = k ? &CAR : &ctl;
         const gf_kf2_pmodel *pm = k ? &pcar : &pctl;
         assert_int_equal(gf_kf2_predict(&a, m, k ? NULL : &u), GF_OK);
-        assert_int_equal(gf_kf2_predict_prepared(&b, pm, k ? NULL : &u),
-                         GF_OK);
+        assert_int_equal(gf_kf2_predict_prepared(&b, pm, k ? NULL : &u), GF_OK);
         assert_memory_equal(&a, &b, sizeof a);
         const gf_kf2_meas *q = k == 0 ? &GPS : k == 1 ? &gated : &two;
         const gf_kf2_pmeas *pq = k == 0 ? &pgps : k == 1 ? &pgated : &ptwo;
@@ -508,11 +526,11 @@ static void prepare_bad_input(void **state)
     bad[1].B.m[0][1] = (gf_real)INFINITY; // reaches no output without u
     bad[2].c.v[0] = (gf_real)-INFINITY;
     bad[3].R.m[0][0] = GF_R(-0.25);
-    bad[4].R.m[1][0] = GF_R(0.6); // asymmetric
+    bad[4].R.m[1][0] = GF_R(0.6);                     // asymmetric
     bad[5].R.m[0][1] = bad[5].R.m[1][0] = GF_R(0.75); // indefinite
     const gf_status want_model[6] = {GF_ERR_NONFINITE, GF_ERR_NONFINITE,
                                      GF_ERR_NONFINITE, GF_ERR_NOT_PSD,
-                                     GF_ERR_NOT_PSD, GF_ERR_NOT_PSD};
+                                     GF_ERR_NOT_PSD,   GF_ERR_NOT_PSD};
     for (int i = 0; i < 6; i++) {
         gf_kf2 k2 = kf;
         CHECK_FAILS_UNCHANGED(want_model[i], &k2,
@@ -541,9 +559,9 @@ static void prepare_bad_input(void **state)
     badq[8].Q.m[1][1] = 1;
     badq[9].C.m[0][0] = huge; // finite: prepares; S overflows in the step
     const gf_status want_meas[9] = {
-        GF_ERR_ARG, GF_ERR_ARG, GF_ERR_NONFINITE, GF_ERR_NONFINITE,
-        GF_ERR_NONFINITE, GF_ERR_ARG, GF_ERR_NONFINITE, GF_ERR_NOT_PSD,
-        GF_ERR_NOT_PSD};
+        GF_ERR_ARG,       GF_ERR_ARG,       GF_ERR_NONFINITE,
+        GF_ERR_NONFINITE, GF_ERR_NONFINITE, GF_ERR_ARG,
+        GF_ERR_NONFINITE, GF_ERR_NOT_PSD,   GF_ERR_NOT_PSD};
     for (int i = 0; i < 9; i++) {
         gf_kf2 k2 = kf;
         CHECK_FAILS_UNCHANGED(want_meas[i], &k2,
@@ -615,8 +633,11 @@ static void prepared_failures(void **state)
     const gf_vec2 z_huge = {{huge, 0}}; // y^2 overflows: NIS = inf
     assert_int_equal(same_update(&kf, &GPS, &z_huge), GF_ERR_NONFINITE);
     // m = 2 through the prepared update: S singular, z not finite
-    gf_kf2_meas two = {.m = 2, .C = {{{1, 0}, {1, 0}}}, .Q = {{{0, 0}, {0, 0}}},
-                       .c = {{0, 0}}, .gate = 0};
+    gf_kf2_meas two = {.m = 2,
+                       .C = {{{1, 0}, {1, 0}}},
+                       .Q = {{{0, 0}, {0, 0}}},
+                       .c = {{0, 0}},
+                       .gate = 0};
     assert_int_equal(same_update(&kf, &two, &z), GF_ERR_SINGULAR);
     two.Q.m[0][0] = two.Q.m[1][1] = 1;
     assert_int_equal(same_update(&kf, &two, &z_inf), GF_ERR_NONFINITE);

@@ -97,11 +97,13 @@ static void mat2_spd_inv(void **state)
     const gf_mat2 nan = {{{(gf_real)NAN, 0}, {0, 1}}};
     const gf_mat2 neg = {{{-1, 0}, {0, -1}}};
     gf_mat2 keep = {{{7, 7}, {7, 7}}};
-    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep, gf_mat2_spd_inv(&sing, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep,
+                          gf_mat2_spd_inv(&sing, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep,
                           gf_mat2_spd_inv(&sing_big, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep, gf_mat2_spd_inv(&neg, &keep));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep, gf_mat2_spd_inv(&nan, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &keep,
+                          gf_mat2_spd_inv(&nan, &keep));
     assert_int_equal(gf_mat2_spd_inv(&tiny, &inv), GF_OK);
     CHECK_CLOSE(inv.m[0][0] * GF_R(1e-18), 1);
 }
@@ -193,7 +195,7 @@ static void mat3_symmetrize_and_finite(void **state)
     CHECK_CLOSE(s.m[1][2], 3);
     CHECK_CLOSE(s.m[2][1], 3);
     assert_true(gf_mat3_is_finite(&s));
-    s.m[2][2] = (gf_real)-(gf_real)INFINITY;
+    s.m[2][2] = (gf_real) - (gf_real)INFINITY;
     assert_false(gf_mat3_is_finite(&s));
 }
 
@@ -201,7 +203,8 @@ static void mat3_check_psd(void **state)
 {
     (void)state;
     // Table 4.1's predicted covariance: PSD, nearly singular in (y, theta).
-    const gf_mat3 ex4 = {{{0.01, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}}};
+    const gf_mat3 ex4 = {
+        {{0.01, 0, 0}, {0, 10000.01, 10000}, {0, 10000, 10000}}};
     // Zero leading entry but an indefinite trailing block: only a test of
     // every principal minor sees it.
     const gf_mat3 trail = {{{0, 0, 0}, {0, 1, 2}, {0, 2, 1}}};
@@ -258,11 +261,13 @@ static void mat3_cholesky(void **state)
 
     // Singular (rank 2), scaled singular, NaN, bad n: l untouched.
     const gf_mat3 sing = {{{1, 1, 0}, {1, 1, 0}, {0, 0, 1}}};
-    const gf_mat3 sing_small = {{{1e-20, 1e-20, 0}, {1e-20, 1e-20, 0}, {0, 0, 1e-20}}};
+    const gf_mat3 sing_small = {
+        {{1e-20, 1e-20, 0}, {1e-20, 1e-20, 0}, {0, 0, 1e-20}}};
     gf_mat3 nan = S3;
     nan.m[2][2] = (gf_real)NAN;
     gf_mat3 keep = S3;
-    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep, gf_mat3_chol(&sing, 3, &keep));
+    CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep,
+                          gf_mat3_chol(&sing, 3, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep,
                           gf_mat3_chol(&sing_small, 2, &keep));
     CHECK_FAILS_UNCHANGED(GF_ERR_SINGULAR, &keep, gf_mat3_chol(&nan, 3, &keep));
@@ -279,8 +284,8 @@ static void angle_wrap(void **state)
     CHECK_CLOSE(gf_angle_wrap(0), 0);
     CHECK_CLOSE(gf_angle_wrap(GF_R(0.5)), 0.5);
     CHECK_CLOSE(gf_angle_wrap(GF_R(-0.5)), -0.5);
-    assert_true(gf_angle_wrap(GF_PI) == GF_PI);     // pi stays pi
-    assert_true(gf_angle_wrap(-GF_PI) == GF_PI);    // -pi is outside
+    assert_true(gf_angle_wrap(GF_PI) == GF_PI);  // pi stays pi
+    assert_true(gf_angle_wrap(-GF_PI) == GF_PI); // -pi is outside
     // +-3 pi in floating point lie a rounding error either side of the odd
     // multiple of pi: either end of the interval is right.
     CHECK_CLOSE(fabs((double)gf_angle_wrap(3 * GF_PI)), GF_PI);
@@ -323,7 +328,8 @@ static void sincos_accuracy(void **state)
         worst = es > worst ? es : worst;
         worst = ec > worst ? ec : worst;
         if (!(es <= tol && ec <= tol)) {
-            print_error("a = %.17g: sin err %g, cos err %g\n", (double)a, es, ec);
+            print_error("a = %.17g: sin err %g, cos err %g\n", (double)a, es,
+                        ec);
             fail();
         }
     }

@@ -59,8 +59,8 @@ static fixture before; // static: the emulated target's stack is small
 static void setup_fixture(void)
 {
     static const gf_mat2 spd2 = {{{2, GF_R(0.5)}, {GF_R(0.5), 1}}};
-    static const gf_mat3 spd3 = {{{2, GF_R(0.5), 0}, {GF_R(0.5), 1, 0},
-                                  {0, 0, GF_R(0.5)}}};
+    static const gf_mat3 spd3 = {
+        {{2, GF_R(0.5), 0}, {GF_R(0.5), 1, 0}, {0, 0, GF_R(0.5)}}};
     memset(&fx, 0, sizeof fx); // padding included: memcmp sees all of it
     fx.v2.v[0] = 1;
     fx.v2.v[1] = -1;
@@ -155,35 +155,35 @@ static void setup_kfn(void)
                      GF_OK);
     assert_int_equal(gf_kf_prepare_meas(&fx.kpq, 2, &fx.kmeas, &fx.work),
                      GF_OK);
-    assert_int_equal(
-        gf_ekf_prepare_motion(&fx.epmn, 2, &fx.emotion, &fx.work), GF_OK);
+    assert_int_equal(gf_ekf_prepare_motion(&fx.epmn, 2, &fx.emotion, &fx.work),
+                     GF_OK);
     assert_int_equal(gf_ekf_prepare_meas(&fx.epqn, 2, &fx.emeas, &fx.work),
                      GF_OK);
 }
 
 // The call, with a NULL in it, returns GF_ERR_ARG and changes nothing.
-#define NULL_FAILS(call)                                                   \
-    do {                                                                   \
-        memcpy(&before, &fx, sizeof fx);                                   \
-        assert_int_equal((call), GF_ERR_ARG);                              \
-        assert_memory_equal(&before, &fx, sizeof fx);                      \
+#define NULL_FAILS(call)                                                       \
+    do {                                                                       \
+        memcpy(&before, &fx, sizeof fx);                                       \
+        assert_int_equal((call), GF_ERR_ARG);                                  \
+        assert_memory_equal(&before, &fx, sizeof fx);                          \
     } while (0)
 
 // A void call, with a NULL in it, changes nothing.
-#define NULL_NOTHING(call)                                                 \
-    do {                                                                   \
-        memcpy(&before, &fx, sizeof fx);                                   \
-        call;                                                              \
-        assert_memory_equal(&before, &fx, sizeof fx);                      \
+#define NULL_NOTHING(call)                                                     \
+    do {                                                                       \
+        memcpy(&before, &fx, sizeof fx);                                       \
+        call;                                                                  \
+        assert_memory_equal(&before, &fx, sizeof fx);                          \
     } while (0)
 
 // A value-returning call, with a NULL in it, returns want and changes
 // nothing.
-#define NULL_RETURNS(call, want)                                           \
-    do {                                                                   \
-        memcpy(&before, &fx, sizeof fx);                                   \
-        assert_true((call) == (want));                                     \
-        assert_memory_equal(&before, &fx, sizeof fx);                      \
+#define NULL_RETURNS(call, want)                                               \
+    do {                                                                       \
+        memcpy(&before, &fx, sizeof fx);                                       \
+        assert_true((call) == (want));                                         \
+        assert_memory_equal(&before, &fx, sizeof fx);                          \
     } while (0)
 
 // The same call with nothing NULL succeeds (so the NULL is what fails).
@@ -419,8 +419,7 @@ static void test_kfn(void **state)
     VALID(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, &fx.kinfo, &fx.work));
     VALID(gf_kf_update(&fx.kfn, &fx.kmeas, fx.kz, NULL, &fx.work));
     VALID(gf_kf_predict_prepared(&fx.kfn, &fx.kpm, NULL, &fx.work));
-    VALID(gf_kf_update_prepared(&fx.kfn, &fx.kpq, fx.kz, &fx.kinfo,
-                                &fx.work));
+    VALID(gf_kf_update_prepared(&fx.kfn, &fx.kpq, fx.kz, &fx.kinfo, &fx.work));
     VALID(gf_ekf_init(&fx.kfn, 2, fx.v2.v, fx.a2.m[0], 1u, &fx.work));
     VALID(gf_ekf_predict(&fx.kfn, &fx.emotion, NULL, &fx.work));
     VALID(gf_ekf_update(&fx.kfn, &fx.emeas, fx.kz, &fx.kinfo, &fx.work));
@@ -507,14 +506,13 @@ static void test_kfn(void **state)
     NULL_FAILS(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, NULL));
     NULL_FAILS(gf_ekf_update_prepared(NULL, &fx.epqn, fx.kz, NULL, &fx.work));
     NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, NULL, fx.kz, NULL, &fx.work));
-    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, NULL, NULL,
-                                      &fx.work));
+    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, NULL, NULL, &fx.work));
     NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL, NULL));
     fx.epmn.motion.g = NULL;
     NULL_FAILS(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, &fx.work));
     fx.epqn.meas.h = NULL;
-    NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL,
-                                      &fx.work));
+    NULL_FAILS(
+        gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL, &fx.work));
 }
 
 static void test_if2(void **state)
@@ -624,8 +622,8 @@ int main(void)
         cmocka_unit_test(test_angle), cmocka_unit_test(test_rng),
         cmocka_unit_test(test_cov2),  cmocka_unit_test(test_kf2),
         cmocka_unit_test(test_ekf3),  cmocka_unit_test(test_kfn),
-        cmocka_unit_test(test_if2),
-        cmocka_unit_test(test_ukf3),  cmocka_unit_test(test_pf3),
+        cmocka_unit_test(test_if2),   cmocka_unit_test(test_ukf3),
+        cmocka_unit_test(test_pf3),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

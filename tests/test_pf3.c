@@ -15,8 +15,8 @@ static gf_pf3_particle big[N_BIG], big2[N_BIG];
 
 static const gf_vec3 origin = {{0, 0, 0}};
 static const gf_mat3 zero3 = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-static const gf_mat3 prior = {{{1, GF_R(0.2), 0}, {GF_R(0.2), 2, 0},
-                               {0, 0, GF_R(0.5)}}};
+static const gf_mat3 prior = {
+    {{1, GF_R(0.2), 0}, {GF_R(0.2), 2, 0}, {0, 0, GF_R(0.5)}}};
 
 // A 4-particle filter with particles at x = 0, 0.1, 0.3, 0.7, heading 0.
 static void four(gf_pf3 *pf)
@@ -59,8 +59,7 @@ static void test_init_deterministic(void **state)
     for (int k = 0; k < N_BIG; k++) {
         CHECK_CLOSE(big[k].w, 1.0 / N_BIG);
     }
-    assert_int_equal(gf_pf3_init(&b, big2, N_BIG, 100, &origin, &prior),
-                     GF_OK);
+    assert_int_equal(gf_pf3_init(&b, big2, N_BIG, 100, &origin, &prior), GF_OK);
     assert_true(memcmp(big, big2, sizeof big) != 0);
     // sigma = 0: n copies of mu
     const gf_vec3 mu = {{1, 2, 3}};
@@ -75,8 +74,8 @@ static void test_predict_noiseless(void **state)
 {
     (void)state;
     gf_pf3 pf;
-    const gf_ekf3_motion mo = {gf_ekf3_motion_forward_turn, NULL,
-                               {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
+    const gf_ekf3_motion mo = {
+        gf_ekf3_motion_forward_turn, NULL, {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
     const gf_real u[2] = {2, GF_R(0.5)};
     assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 3, &origin, &prior), GF_OK);
     memcpy(big2, big, sizeof big);
@@ -98,9 +97,10 @@ static void test_predict_noise(void **state)
 {
     (void)state;
     gf_pf3 pf;
-    const gf_ekf3_motion mo = {gf_ekf3_motion_forward_turn, NULL,
-                               {{{GF_R(0.04), 0, 0}, {0, GF_R(0.09), 0},
-                                 {0, 0, GF_R(0.01)}}}};
+    const gf_ekf3_motion mo = {
+        gf_ekf3_motion_forward_turn,
+        NULL,
+        {{{GF_R(0.04), 0, 0}, {0, GF_R(0.09), 0}, {0, 0, GF_R(0.01)}}}};
     const gf_real u[2] = {1, 0};
     assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 8, &origin, &zero3), GF_OK);
     assert_int_equal(gf_pf3_predict(&pf, &mo, u), GF_OK);
@@ -121,9 +121,9 @@ static void test_update_weights(void **state)
     (void)state;
     gf_pf3 pf;
     four(&pf);
-    const gf_ekf3_meas me = {1, gf_ekf3_meas_x, NULL,
-                             {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
-                             0, 0};
+    const gf_ekf3_meas me = {1,    gf_ekf3_meas_x,
+                             NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                             0,    0};
     const gf_vec3 z = {{0, 0, 0}};
     assert_int_equal(gf_pf3_update(&pf, &me, &z), GF_OK);
     const double w[N] = {1, exp(-0.5), exp(-4.5), exp(-24.5)};
@@ -147,8 +147,9 @@ static void test_update_far(void **state)
     (void)state;
     gf_pf3 pf;
     four(&pf);
-    gf_ekf3_meas me = {1, gf_ekf3_meas_x, NULL,
-                       {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+    gf_ekf3_meas me = {1,    gf_ekf3_meas_x,
+                       NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                       0,    0};
     const gf_vec3 z = {{1000, 0, 0}};
     me.gate = 9;
     CHECK_FAILS_UNCHANGED(GF_ERR_GATED, &pf, gf_pf3_update(&pf, &me, &z));
@@ -176,9 +177,10 @@ static void test_resample_counts(void **state)
     for (int k = 0; k < N; k++) {
         CHECK_CLOSE(small[k].w, 0.25);
         for (int j = 0; j < N; j++) {
-            seen[j] += fabs((double)small[k].x.v[0] -
-                            (j == 0 ? 0 : j == 1 ? 0.1 : j == 2 ? 0.3 : 0.7))
-                       < 1e-6;
+            seen[j] += fabs((double)small[k].x.v[0] - (j == 0   ? 0
+                                                       : j == 1 ? 0.1
+                                                       : j == 2 ? 0.3
+                                                                : 0.7)) < 1e-6;
         }
     }
     assert_int_equal(seen[0], 2);
@@ -194,8 +196,7 @@ static void test_resample_matches_table_4_4(void **state)
     (void)state;
     gf_pf3 pf;
     gf_rng wr;
-    assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 21, &origin, &zero3),
-                     GF_OK);
+    assert_int_equal(gf_pf3_init(&pf, big, N_BIG, 21, &origin, &zero3), GF_OK);
     assert_int_equal(gf_rng_seed(&wr, 5), GF_OK);
     gf_real total = 0; // summed as the filter sums it
     for (int k = 0; k < N_BIG; k++) {
@@ -276,12 +277,12 @@ static void test_neff_and_estimate(void **state)
 
 // Checks that a call fails with st and leaves pf and its particles as
 // they were.
-#define CHECK_PF_UNCHANGED(st, pf, call)                                   \
-    do {                                                                   \
-        gf_pf3_particle keep_[N];                                          \
-        memcpy(keep_, small, sizeof small);                                \
-        CHECK_FAILS_UNCHANGED(st, pf, call);                               \
-        assert_memory_equal(keep_, small, sizeof small);                   \
+#define CHECK_PF_UNCHANGED(st, pf, call)                                       \
+    do {                                                                       \
+        gf_pf3_particle keep_[N];                                              \
+        memcpy(keep_, small, sizeof small);                                    \
+        CHECK_FAILS_UNCHANGED(st, pf, call);                                   \
+        assert_memory_equal(keep_, small, sizeof small);                       \
     } while (0)
 
 // z may point into the particles an update rewrites: a z whose first
@@ -324,8 +325,9 @@ static void test_bad_inputs(void **state)
                        gf_pf3_init(&pf, NULL, N, 1, &origin, &prior));
     CHECK_PF_UNCHANGED(GF_ERR_ARG, &pf,
                        gf_pf3_init(&pf, small, 0, 1, &origin, &prior));
-    CHECK_PF_UNCHANGED(GF_ERR_ARG, &pf, gf_pf3_init(&pf, small,
-                       GF_PF3_MAX_N + 1u, 1, &origin, &prior));
+    CHECK_PF_UNCHANGED(
+        GF_ERR_ARG, &pf,
+        gf_pf3_init(&pf, small, GF_PF3_MAX_N + 1u, 1, &origin, &prior));
     CHECK_PF_UNCHANGED(GF_ERR_ARG, &pf,
                        gf_pf3_init(&pf, small, N, 1, NULL, &prior));
     CHECK_PF_UNCHANGED(GF_ERR_NONFINITE, &pf,
@@ -336,9 +338,10 @@ static void test_bad_inputs(void **state)
     // predict: the model fails on the last particle, after the first three
     // went through: nothing moved, the generator did not advance.
     const gf_real u[2] = {1, 0};
-    gf_ekf3_motion mo = {fails_far, NULL,
-                         {{{GF_R(0.1), 0, 0}, {0, GF_R(0.1), 0},
-                           {0, 0, GF_R(0.1)}}}};
+    gf_ekf3_motion mo = {
+        fails_far,
+        NULL,
+        {{{GF_R(0.1), 0, 0}, {0, GF_R(0.1), 0}, {0, 0, GF_R(0.1)}}}};
     CHECK_PF_UNCHANGED(GF_ERR_MODEL, &pf, gf_pf3_predict(&pf, &mo, u));
     assert_int_equal(gf_pf3_predict(NULL, &mo, u), GF_ERR_ARG);
     CHECK_PF_UNCHANGED(GF_ERR_ARG, &pf, gf_pf3_predict(&pf, NULL, u));
@@ -352,8 +355,9 @@ static void test_bad_inputs(void **state)
     CHECK_PF_UNCHANGED(GF_ERR_ARG, &pf, gf_pf3_predict(&pf, &mo, u));
 
     // update
-    gf_ekf3_meas me = {1, meas_fails_far, NULL,
-                       {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+    gf_ekf3_meas me = {1,    meas_fails_far,
+                       NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                       0,    0};
     const gf_vec3 z = {{0, 0, 0}};
     CHECK_PF_UNCHANGED(GF_ERR_MODEL, &pf, gf_pf3_update(&pf, &me, &z));
     me.h = gf_ekf3_meas_x;

@@ -150,9 +150,8 @@ typedef struct tally {
 
 // Prints the first three of each kind of failure (every one with GR_ALL=1
 // in the environment) and counts them.
-static void fail_note(unsigned *counter, const char *what,
-                      const gr_scen *sc, unsigned index, int step,
-                      double got, double bound)
+static void fail_note(unsigned *counter, const char *what, const gr_scen *sc,
+                      unsigned index, int step, double got, double bound)
 {
     if (++*counter <= 3 || getenv("GR_ALL")) {
         print_message("  %s: family %d scenario %u step %d m %d: %.3g "
@@ -166,8 +165,8 @@ static void fail_note(unsigned *counter, const char *what,
 static void trace_matrix(const char *what, int n, gr_real M[3][3])
 {
     for (int i = 0; i < n; i++) {
-        print_message("  %s %a %a %a\n", what, (double)M[i][0],
-                      (double)M[i][1], (double)M[i][2]);
+        print_message("  %s %a %a %a\n", what, (double)M[i][0], (double)M[i][1],
+                      (double)M[i][2]);
     }
 }
 
@@ -284,8 +283,8 @@ static void run_family(int kind, tally *t)
                                   &sc, index, step, (double)st, 0);
                     }
                     if (!same_belief(&before, &l)) {
-                        fail_note(&t->changed, "gated call changed belief",
-                                  &sc, index, step, 0, 0);
+                        fail_note(&t->changed, "gated call changed belief", &sc,
+                                  index, step, 0, 0);
                     }
                     continue; // the belief stays the prior: so do the refs
                 }
@@ -434,8 +433,8 @@ static void run_family(int kind, tally *t)
     print_message("%s (%s, u = %.3g): %u scenarios (the first 150's "
                   "inputs hash to %08x), "
                   "%u steps compared (%u with a vacuous bound)\n",
-                  names[kind], sizeof(gf_real) == 4 ? "float" : "double",
-                  GR_U, t->scenarios, (unsigned)(inputs >> 32), t->compared,
+                  names[kind], sizeof(gf_real) == 4 ? "float" : "double", GR_U,
+                  t->scenarios, (unsigned)(inputs >> 32), t->compared,
                   t->vacuous);
     print_message("  Sigma error worst %.3g median %.3g; mu error worst %.3g "
                   "median %.3g; worst error / bound %.3g\n",
@@ -549,7 +548,8 @@ static void prepared_same_as_plain(void **state)
         }
     }
     print_message("prepared and plain paths: %u calls the same bit for bit "
-                  "(%u gated, %u refused)\n", calls, gated, refused);
+                  "(%u gated, %u refused)\n",
+                  calls, gated, refused);
     assert_true(gated > 0u && refused > 0u);
 }
 
@@ -587,7 +587,8 @@ static void reference_itself(void **state)
     s3.m = 3;
     gf_real p0[3][3] = {{4, 1, 0}, {1, 3, GF_R(0.5)}, {0, GF_R(0.5), 2}};
     gf_real h[3][3] = {{1, 0, 0}, {GF_R(0.5), 1, 0}, {0, 1, 1}};
-    gf_real q[3][3] = {{1, GF_R(0.5), GF_R(0.25)}, {GF_R(0.5), 2, GF_R(0.5)},
+    gf_real q[3][3] = {{1, GF_R(0.5), GF_R(0.25)},
+                       {GF_R(0.5), 2, GF_R(0.5)},
                        {GF_R(0.25), GF_R(0.5), 1}};
     memcpy(s3.S0, p0, sizeof p0);
     memcpy(s3.H, h, sizeof h);

@@ -60,8 +60,8 @@ static void check_rel(double got, ld want, const char *what, int line)
     ld d = (ld)got - want;
     ld scale = want < 0 ? -want : want;
     if (!(d <= (ld)tol_now * scale && -d <= (ld)tol_now * scale)) {
-        print_error("%s: got %.9g, want %.9Lg (relative tolerance %g)\n",
-                    what, got, want, tol_now);
+        print_error("%s: got %.9g, want %.9Lg (relative tolerance %g)\n", what,
+                    got, want, tol_now);
         _fail(__FILE__, line);
     }
 }
@@ -86,8 +86,7 @@ static void check_cov(const gf_real *got, int n, ld want[3][3], int line)
 
 // The long-double scalar Joseph update of an n-state covariance P with the
 // row c and noise q (n = 2 or 3), and the mean.
-static void ld_update(int n, ld P[3][3], ld mu[3], const ld c[3], ld q,
-                      ld z)
+static void ld_update(int n, ld P[3][3], ld mu[3], const ld c[3], ld q, ld z)
 {
     ld p[3] = {0, 0, 0}, s = q, y = z, k[3], N[3][3];
     for (int i = 0; i < n; i++) {
@@ -272,8 +271,8 @@ static void kf2_correlated_prior(void **state)
     assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
     assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
     const ld s = 1e8L + 1;
-    ld w[3][3] = {{1e8L / s, 3e7L / s, 0}, {3e7L / s, 1e8L - 9e14L / s, 0},
-                  {0, 0, 0}};
+    ld w[3][3] = {
+        {1e8L / s, 3e7L / s, 0}, {3e7L / s, 1e8L - 9e14L / s, 0}, {0, 0, 0}};
     const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
     check_cov(sigma.m[0], 2, w, __LINE__);
     assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
@@ -418,8 +417,7 @@ static void verdicts_do_not_depend_on_units(void **state)
         gf_kf2 kf;
         const gf_mat2 id = {{{1, 0}, {0, 1}}};
         assert_int_equal(gf_kf2_init(&kf, &mu2, &id), GF_OK);
-        CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf,
-                              gf_kf2_init(&kf, &mu2, &b));
+        CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &kf, gf_kf2_init(&kf, &mu2, &b));
     }
 }
 
@@ -514,10 +512,8 @@ static void null_pointers(void **state)
     assert_int_equal(gf_kf2_predict(NULL, &mo, NULL), GF_ERR_ARG);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_predict(&kf, NULL, NULL));
     assert_int_equal(gf_kf2_update(NULL, &me, &m2, NULL), GF_ERR_ARG);
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
-                          gf_kf2_update(&kf, NULL, &m2, NULL));
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
-                          gf_kf2_update(&kf, &me, NULL, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, NULL, &m2, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf, gf_kf2_update(&kf, &me, NULL, NULL));
     gf_kf2_pmodel pm;
     gf_kf2_pmeas pq;
     assert_int_equal(gf_kf2_prepare_model(NULL, &mo), GF_ERR_ARG);
@@ -529,8 +525,7 @@ static void null_pointers(void **state)
     assert_int_equal(gf_kf2_predict_prepared(NULL, &pm, NULL), GF_ERR_ARG);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
                           gf_kf2_predict_prepared(&kf, NULL, NULL));
-    assert_int_equal(gf_kf2_update_prepared(NULL, &pq, &m2, NULL),
-                     GF_ERR_ARG);
+    assert_int_equal(gf_kf2_update_prepared(NULL, &pq, &m2, NULL), GF_ERR_ARG);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
                           gf_kf2_update_prepared(&kf, NULL, &m2, NULL));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &kf,
@@ -629,8 +624,7 @@ static void one_answer_per_call(void **state)
     assert_int_equal(gf_kf2_update(&kf, &me, &z1, &info), GF_OK);
     assert_true(kf.mu.v[0] == mu1.v[0] && kf.mu.v[1] == mu1.v[1]);
     sigma = gf_test_kf2_sigma(&kf);
-    assert_true(sigma.m[0][0] == 0 && sigma.m[0][1] == 0 &&
-                sigma.m[1][1] == 0);
+    assert_true(sigma.m[0][0] == 0 && sigma.m[0][1] == 0 && sigma.m[1][1] == 0);
     assert_true(info.nis == 0);
 
     // EKF3 the same: Q = half the largest gf_real on x, and a zero prior

@@ -111,11 +111,11 @@ static void check_square_root(const gf_mat3 *s)
 static void test_sqrt_psd(void **state)
 {
     (void)state;
-    const gf_mat3 ex4 = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                          {0, 0, 10000}}};
+    const gf_mat3 ex4 = {
+        {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 10000}}};
     const gf_mat3 full = {{{4, 2, 1}, {2, 3, GF_R(0.5)}, {1, GF_R(0.5), 2}}};
-    const gf_mat3 rank1 = {{{GF_R(0.25), GF_R(0.5), 0}, {GF_R(0.5), 1, 0},
-                            {0, 0, 0}}};
+    const gf_mat3 rank1 = {
+        {{GF_R(0.25), GF_R(0.5), 0}, {GF_R(0.5), 1, 0}, {0, 0, 0}}};
     const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     const gf_mat3 lead0 = {{{0, 0, 0}, {0, 2, 1}, {0, 1, 3}}};
     check_square_root(&ex4);
@@ -130,8 +130,7 @@ static void test_sqrt_psd(void **state)
     nanm.m[2][1] = (gf_real)NAN;
     gf_mat3 l = full;
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &l, gf_mat3_sqrt_psd(&indef, 3, &l));
-    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &l,
-                          gf_mat3_sqrt_psd(&nanm, 3, &l));
+    CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &l, gf_mat3_sqrt_psd(&nanm, 3, &l));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &l, gf_mat3_sqrt_psd(&full, 0, &l));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &l, gf_mat3_sqrt_psd(&full, 4, &l));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &l, gf_mat3_sqrt_psd(NULL, 3, &l));

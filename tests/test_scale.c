@@ -46,7 +46,7 @@ typedef struct case3 {
 
 static const case2 CASES2[] = {
     {DEF, {{{2, 1}, {1, 2}}}},
-    {DEF, {{{1, 1 - E10}, {1 - E10, 1}}}}, // correlation 1 - 2^-10
+    {DEF, {{{1, 1 - E10}, {1 - E10, 1}}}},          // correlation 1 - 2^-10
     {DEF, {{{1024, GF_R(0.5)}, {GF_R(0.5), E10}}}}, // spread 2^20, corr 0.5
     {SEMI, {{{1, 1}, {1, 1}}}},
     {SEMI, {{{4, -2}, {-2, 1}}}},
@@ -60,8 +60,10 @@ static const case2 CASES2[] = {
 
 static const case3 CASES3[] = {
     // Item 2's positive definite matrix (refused at 2^44 in float).
-    {DEF, {{{1, GF_R(0.5), GF_R(0.3)}, {GF_R(0.5), 1, GF_R(0.4)},
-            {GF_R(0.3), GF_R(0.4), 1}}}},
+    {DEF,
+     {{{1, GF_R(0.5), GF_R(0.3)},
+       {GF_R(0.5), 1, GF_R(0.4)},
+       {GF_R(0.3), GF_R(0.4), 1}}}},
     {DEF, {{{4, 1, 0}, {1, 3, 1}, {0, 1, 2}}}},
     {DEF, {{{1024, 1, 0}, {1, 1, GF_R(0.015625)}, {0, GF_R(0.015625), E10}}}},
     {SEMI, {{{1, 2, -1}, {2, 4, -2}, {-1, -2, 1}}}}, // rank 1
@@ -69,12 +71,15 @@ static const case3 CASES3[] = {
     {SEMI, {{{1, 0, 0}, {0, 0, 0}, {0, 0, 2}}}},     // a zero variance
     // G G^T, G = ((0.75, 0.5), (0.25, 1.125), (0.25, 1)): rank 2, every
     // entry and product exact in binary (eighths).
-    {SEMI, {{{GF_R(0.8125), GF_R(0.75), GF_R(0.6875)},
-             {GF_R(0.75), GF_R(1.328125), GF_R(1.1875)},
-             {GF_R(0.6875), GF_R(1.1875), GF_R(1.0625)}}}},
+    {SEMI,
+     {{{GF_R(0.8125), GF_R(0.75), GF_R(0.6875)},
+       {GF_R(0.75), GF_R(1.328125), GF_R(1.1875)},
+       {GF_R(0.6875), GF_R(1.1875), GF_R(1.0625)}}}},
     // Item 2's indefinite matrix (accepted at 1e13 in float).
-    {INDEF, {{{1, GF_R(0.9), GF_R(0.9)}, {GF_R(0.9), 1, GF_R(-0.9)},
-              {GF_R(0.9), GF_R(-0.9), 1}}}},
+    {INDEF,
+     {{{1, GF_R(0.9), GF_R(0.9)},
+       {GF_R(0.9), 1, GF_R(-0.9)},
+       {GF_R(0.9), GF_R(-0.9), 1}}}},
     {INDEF, {{{1, 0, 0}, {0, 1, 0}, {0, 0, -1}}}},
     {INDEF, {{{1, 1, 0}, {1, 1, E10}, {0, E10, 0}}}}, // det -2^-20
 };
@@ -107,13 +112,13 @@ static void fail_at(const char *what, unsigned c, int k, int got, int want)
                 want);
 }
 
-#define VERDICT(what, c, k, got, want)                                      \
-    do {                                                                    \
-        int g_ = (int)(got), w_ = (int)(want);                              \
-        if (g_ != w_) {                                                     \
-            fail_at(what, c, k, g_, w_);                                    \
-            _fail(__FILE__, __LINE__);                                      \
-        }                                                                   \
+#define VERDICT(what, c, k, got, want)                                         \
+    do {                                                                       \
+        int g_ = (int)(got), w_ = (int)(want);                                 \
+        if (g_ != w_) {                                                        \
+            fail_at(what, c, k, g_, w_);                                       \
+            _fail(__FILE__, __LINE__);                                         \
+        }                                                                      \
     } while (0)
 
 // got (rows of n) is the covariance m read back from a belief's factors:

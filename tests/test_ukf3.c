@@ -11,15 +11,15 @@
 #else
 #define UKF_TOL 1e-9
 #endif
-#define CHECK_UKF(got, want)                                              \
-    gf_check_close_((double)(got), (double)(want), UKF_TOL, #got,         \
-                    __FILE__, __LINE__)
+#define CHECK_UKF(got, want)                                                   \
+    gf_check_close_((double)(got), (double)(want), UKF_TOL, #got, __FILE__,    \
+                    __LINE__)
 
 // A linear motion x' = A x + b, with its Jacobian A, for both filters.
-static const gf_mat3 lin_A = {{{1, GF_R(0.5), 0}, {GF_R(-0.2), 1, GF_R(0.3)},
-                               {GF_R(0.05), 0, 1}}};
-static gf_status linear_motion(void *ctx, const gf_vec3 *mu,
-                               const gf_real *u, gf_vec3 *mu_bar, gf_mat3 *G)
+static const gf_mat3 lin_A = {
+    {{1, GF_R(0.5), 0}, {GF_R(-0.2), 1, GF_R(0.3)}, {GF_R(0.05), 0, 1}}};
+static gf_status linear_motion(void *ctx, const gf_vec3 *mu, const gf_real *u,
+                               gf_vec3 *mu_bar, gf_mat3 *G)
 {
     (void)ctx;
     gf_mat3_mulv(&lin_A, mu, mu_bar);
@@ -35,7 +35,9 @@ static gf_status meas_theta(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 {
     (void)ctx;
     z_hat->v[0] = gf_angle_wrap(mu_bar->v[2]); // as a real sensor would
-    H->m[0][0] = 0; H->m[0][1] = 0; H->m[0][2] = 1;
+    H->m[0][0] = 0;
+    H->m[0][1] = 0;
+    H->m[0][2] = 1;
     return GF_OK;
 }
 
@@ -50,10 +52,14 @@ static gf_status wrapped_turn(void *ctx, const gf_vec3 *mu, const gf_real *u,
 }
 
 // A motion model that fails, with a status the filter does not know.
-static gf_status broken_motion(void *ctx, const gf_vec3 *mu,
-                               const gf_real *u, gf_vec3 *mu_bar, gf_mat3 *G)
+static gf_status broken_motion(void *ctx, const gf_vec3 *mu, const gf_real *u,
+                               gf_vec3 *mu_bar, gf_mat3 *G)
 {
-    (void)ctx; (void)mu; (void)u; (void)mu_bar; (void)G;
+    (void)ctx;
+    (void)mu;
+    (void)u;
+    (void)mu_bar;
+    (void)G;
     return (gf_status)42;
 }
 
@@ -61,7 +67,9 @@ static gf_status broken_motion(void *ctx, const gf_vec3 *mu,
 static gf_status nan_meas(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
                           gf_mat3 *H)
 {
-    (void)ctx; (void)mu_bar; (void)H;
+    (void)ctx;
+    (void)mu_bar;
+    (void)H;
     z_hat->v[0] = (gf_real)NAN;
     return GF_OK;
 }
@@ -104,16 +112,20 @@ static const gf_mat3 sig_a = {{{GF_R(0.5), GF_R(0.1), GF_R(0.02)},
 static void test_linear_equals_kalman(void **state)
 {
     (void)state;
-    const gf_ukf3_params params[] = {{1, 2, 0}, {GF_R(0.5), 2, 1},
-                                     {GF_R(0.1), 0, 3}};
-    const gf_ekf3_motion motion = {
-        linear_motion, NULL,
-        {{{GF_R(0.01), 0, 0}, {0, GF_R(0.02), GF_R(0.005)},
-          {0, GF_R(0.005), GF_R(0.01)}}}};
+    const gf_ukf3_params params[] = {
+        {1, 2, 0}, {GF_R(0.5), 2, 1}, {GF_R(0.1), 0, 3}};
+    const gf_ekf3_motion motion = {linear_motion,
+                                   NULL,
+                                   {{{GF_R(0.01), 0, 0},
+                                     {0, GF_R(0.02), GF_R(0.005)},
+                                     {0, GF_R(0.005), GF_R(0.01)}}}};
     const gf_ekf3_meas meas = {
-        2, gf_ekf3_meas_xy, NULL,
+        2,
+        gf_ekf3_meas_xy,
+        NULL,
         {{{GF_R(0.2), GF_R(0.05), 0}, {GF_R(0.05), GF_R(0.3), 0}, {0, 0, 0}}},
-        0, 0};
+        0,
+        0};
     const gf_real u[2] = {GF_R(0.4), GF_R(-0.1)};
     const gf_vec3 z = {{GF_R(1.2), GF_R(-2.5), 0}};
     for (unsigned k = 0; k < sizeof params / sizeof params[0]; k++) {
@@ -158,7 +170,7 @@ static void test_weights(void **state)
 // heading's sigma is 0.1 rad), where the EKF predicts
 // (1.8776, 2.4794, 0.8), diag (0.0123, 0.0177, 0.01).
 // |got - want| <= tol, absolute (the bounds below carry their own scale).
-#define check_abs(got, want, tol, what)                                    \
+#define check_abs(got, want, tol, what)                                        \
     check_abs_((got), (want), (tol), (what), __FILE__, __LINE__)
 static void check_abs_(double got, double want, double tol, const char *what,
                        const char *file, int line)
@@ -171,8 +183,8 @@ static void check_abs_(double got, double want, double tol, const char *what,
 }
 
 static const gf_vec3 sa_mu = {{1, 2, GF_R(0.5)}};
-static const gf_mat3 sa_sig = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                                {0, 0, GF_R(0.01)}}};
+static const gf_mat3 sa_sig = {
+    {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, GF_R(0.01)}}};
 static const gf_real sa_u[2] = {1, GF_R(0.3)};
 static const gf_ekf3_motion sa_move = {
     gf_ekf3_motion_forward_turn, NULL, {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
@@ -193,8 +205,7 @@ typedef struct exact_ut {
 
 static exact_ut exact_turn(long double alpha, long double beta)
 {
-    const long double x = 1, y = 2, th = 0.5L, s = 0.01L, d = 1,
-                      phi = 0.3L;
+    const long double x = 1, y = 2, th = 0.5L, s = 0.01L, d = 1, phi = 0.3L;
     const long double h = sqrtl(3 * alpha * alpha * s);
     const long double wi = 1 / (6 * alpha * alpha);
     const long double s2 = sinl(h / 2);
@@ -208,8 +219,10 @@ static exact_ut exact_turn(long double alpha, long double beta)
     r.mu[1] = y + d * sinl(th) + m[1];
     r.mu[2] = th + phi;
     // the position points: e = (+-h, 0, 0) and (0, +-h, 0)
-    r.sig[0][0] = 2 * wi * h * h + wi * 4 * d * d * s2 * s2 * (sp * sp + sm * sm);
-    r.sig[1][1] = 2 * wi * h * h + wi * 4 * d * d * s2 * s2 * (cp * cp + cm * cm);
+    r.sig[0][0] =
+        2 * wi * h * h + wi * 4 * d * d * s2 * s2 * (sp * sp + sm * sm);
+    r.sig[1][1] =
+        2 * wi * h * h + wi * 4 * d * d * s2 * s2 * (cp * cp + cm * cm);
     r.sig[2][2] = 2 * wi * h * h;
     r.sig[0][1] = -wi * 4 * d * d * s2 * s2 * (sp * cp + sm * cm);
     r.sig[0][2] = -wi * 4 * d * h * s2 * sinl(th) * cosl(h / 2);
@@ -254,8 +267,7 @@ static void test_small_alpha_predict(void **state)
     assert_int_equal(gf_ekf3_predict(&ekf, &sa_move, sa_u), GF_OK);
     const gf_mat3 ekf_sigma = gf_test_ekf3_sigma(&ekf);
     double worst_mu = 0, worst_sig = 0;
-    for (double alpha = 1; alpha >= (double)GF_UKF3_ALPHA_MIN;
-         alpha *= 0.5) {
+    for (double alpha = 1; alpha >= (double)GF_UKF3_ALPHA_MIN; alpha *= 0.5) {
         const gf_ukf3_params p = {(gf_real)alpha, 2, 0};
         gf_ukf3 ukf;
         assert_int_equal(gf_ukf3_init(&ukf, &sa_mu, &sa_sig, &p), GF_OK);
@@ -263,23 +275,22 @@ static void test_small_alpha_predict(void **state)
         const exact_ut ex = exact_turn((long double)p.alpha, 2);
         for (int a = 0; a < 3; a++) {
             const double em = fabs((double)ukf.mu.v[a] - (double)ex.mu[a]);
-            worst_mu = em / sa_tol_mu(alpha) > worst_mu
-                           ? em / sa_tol_mu(alpha) : worst_mu;
-            check_abs((double)ukf.mu.v[a], (double)ex.mu[a],
-                            sa_tol_mu(alpha), "mu_bar vs exact UT");
-            check_abs((double)ukf.mu.v[a], (double)ekf.mu.v[a],
-                            0.01, "mu_bar vs EKF");
+            worst_mu = em / sa_tol_mu(alpha) > worst_mu ? em / sa_tol_mu(alpha)
+                                                        : worst_mu;
+            check_abs((double)ukf.mu.v[a], (double)ex.mu[a], sa_tol_mu(alpha),
+                      "mu_bar vs exact UT");
+            check_abs((double)ukf.mu.v[a], (double)ekf.mu.v[a], 0.01,
+                      "mu_bar vs EKF");
             for (int b = 0; b < 3; b++) {
                 const double es =
                     fabs((double)ukf.sigma.m[a][b] - (double)ex.sig[a][b]);
                 worst_sig = es / sa_tol_sig(alpha) > worst_sig
-                                ? es / sa_tol_sig(alpha) : worst_sig;
-                check_abs((double)ukf.sigma.m[a][b],
-                                (double)ex.sig[a][b], sa_tol_sig(alpha),
-                                "Sigma_bar vs exact UT");
-                check_abs((double)ukf.sigma.m[a][b],
-                                (double)ekf_sigma.m[a][b], 1e-4,
-                                "Sigma_bar vs EKF");
+                                ? es / sa_tol_sig(alpha)
+                                : worst_sig;
+                check_abs((double)ukf.sigma.m[a][b], (double)ex.sig[a][b],
+                          sa_tol_sig(alpha), "Sigma_bar vs exact UT");
+                check_abs((double)ukf.sigma.m[a][b], (double)ekf_sigma.m[a][b],
+                          1e-4, "Sigma_bar vs EKF");
             }
         }
     }
@@ -295,12 +306,14 @@ static void test_small_alpha_update(void **state)
 {
     (void)state;
     const gf_ekf3_meas xy = {
-        2, gf_ekf3_meas_xy, NULL,
-        {{{GF_R(0.02), GF_R(0.005), 0}, {GF_R(0.005), GF_R(0.03), 0},
-          {0, 0, 0}}}, 0, 0};
+        2,
+        gf_ekf3_meas_xy,
+        NULL,
+        {{{GF_R(0.02), GF_R(0.005), 0}, {GF_R(0.005), GF_R(0.03), 0}, {0, 0, 0}}},
+        0,
+        0};
     const gf_vec3 z = {{GF_R(1.8), GF_R(2.6), 0}};
-    for (double alpha = 1; alpha >= (double)GF_UKF3_ALPHA_MIN;
-         alpha *= 0.5) {
+    for (double alpha = 1; alpha >= (double)GF_UKF3_ALPHA_MIN; alpha *= 0.5) {
         const gf_ukf3_params p = {(gf_real)alpha, 2, 0};
         gf_ukf3 ukf;
         gf_ekf3 ekf;
@@ -313,15 +326,14 @@ static void test_small_alpha_update(void **state)
         const gf_mat3 ekf_sigma = gf_test_ekf3_sigma(&ekf);
         for (int a = 0; a < 3; a++) {
             check_abs((double)ukf.mu.v[a], (double)ekf.mu.v[a],
-                            sa_tol_mu(alpha), "mu vs EKF");
+                      sa_tol_mu(alpha), "mu vs EKF");
             for (int b = 0; b < 3; b++) {
-                check_abs((double)ukf.sigma.m[a][b],
-                                (double)ekf_sigma.m[a][b], sa_tol_sig(alpha),
-                                "Sigma vs EKF");
+                check_abs((double)ukf.sigma.m[a][b], (double)ekf_sigma.m[a][b],
+                          sa_tol_sig(alpha), "Sigma vs EKF");
             }
         }
-        check_abs((double)iu.nis, (double)ie.nis,
-                        100 * sa_tol_mu(alpha), "NIS vs EKF");
+        check_abs((double)iu.nis, (double)ie.nis, 100 * sa_tol_mu(alpha),
+                  "NIS vs EKF");
     }
 }
 
@@ -335,9 +347,13 @@ static void test_small_alpha_refused(void **state)
     const gf_ukf3_params ok = {1, 2, 0};
     gf_ukf3 ukf;
     assert_int_equal(gf_ukf3_init(&ukf, &sa_mu, &sa_sig, &ok), GF_OK);
-    const gf_real below[] = {
-        GF_UKF3_ALPHA_MIN * (1 - GF_REAL_EPSILON), GF_R(1e-3), GF_R(3e-6),
-        GF_R(1e-8), GF_R(1e-9), GF_R(1e-30), GF_REAL_EPSILON * GF_R(1e-30)};
+    const gf_real below[] = {GF_UKF3_ALPHA_MIN * (1 - GF_REAL_EPSILON),
+                             GF_R(1e-3),
+                             GF_R(3e-6),
+                             GF_R(1e-8),
+                             GF_R(1e-9),
+                             GF_R(1e-30),
+                             GF_REAL_EPSILON * GF_R(1e-30)};
     for (unsigned k = 0; k < sizeof below / sizeof below[0]; k++) {
         if (below[k] >= GF_UKF3_ALPHA_MIN) {
             continue; // 1e-3 in double: accepted (the predict test covers it)
@@ -370,8 +386,9 @@ static void test_small_alpha_far(void **state)
     const gf_ukf3_params at_floor = {GF_UKF3_ALPHA_MIN, 2, 0};
     const gf_ukf3_params wide = {ok_alpha, 2, 0};
     const gf_ekf3_meas xy = {
-        2, gf_ekf3_meas_xy, NULL,
-        {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 0}}}, 0, 0};
+        2,    gf_ekf3_meas_xy,
+        NULL, {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, 0}}},
+        0,    0};
     const gf_vec3 z = {{far, 2 * far, 0}};
     gf_ukf3 ukf;
     assert_int_equal(gf_ukf3_init(&ukf, &mu, &sa_sig, &at_floor), GF_OK);
@@ -388,8 +405,8 @@ static void test_small_alpha_far(void **state)
         check_abs((double)ukf.mu.v[a], (double)ex.mu[a] + shift[a], tol_mu,
                   "far mu_bar vs exact UT");
         for (int b = 0; b < 3; b++) {
-            check_abs((double)ukf.sigma.m[a][b], (double)ex.sig[a][b],
-                      tol_sig, "far Sigma_bar vs exact UT");
+            check_abs((double)ukf.sigma.m[a][b], (double)ex.sig[a][b], tol_sig,
+                      "far Sigma_bar vs exact UT");
         }
     }
     assert_int_equal(gf_ukf3_update(&ukf, &xy, &z, NULL), GF_OK);
@@ -402,10 +419,11 @@ static void test_heading_across_pi(void **state)
 {
     (void)state;
     const gf_vec3 mu = {{0, 0, GF_PI - GF_R(0.05)}};
-    const gf_mat3 sig = {{{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0},
-                          {0, 0, GF_R(0.04)}}};
+    const gf_mat3 sig = {
+        {{GF_R(0.01), 0, 0}, {0, GF_R(0.01), 0}, {0, 0, GF_R(0.04)}}};
     const gf_ekf3_motion turn = {
-        wrapped_turn, NULL,
+        wrapped_turn,
+        NULL,
         {{{GF_R(0.001), 0, 0}, {0, GF_R(0.001), 0}, {0, 0, GF_R(0.002)}}}};
     const gf_real u[2] = {GF_R(0.5), GF_R(0.1)};
     const gf_ukf3_params p = {1, 2, 0};
@@ -419,7 +437,7 @@ static void test_heading_across_pi(void **state)
     // Observe the heading at -pi + 0.02 (so 0.03 from the mean, across the
     // cut): the linear measurement of an angle, where UKF and EKF agree.
     const gf_ekf3_meas head = {
-        1, meas_theta, NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+        1,  meas_theta, NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
         1u, 0};
     const gf_vec3 z = {{-GF_PI + GF_R(0.02), 0, 0}};
     gf_ekf3 ekf;
@@ -476,8 +494,8 @@ static void test_bad_inputs(void **state)
 
     // predict
     const gf_real u[2] = {1, 0};
-    gf_ekf3_motion mo = {gf_ekf3_motion_forward_turn, NULL,
-                         {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
+    gf_ekf3_motion mo = {
+        gf_ekf3_motion_forward_turn, NULL, {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}}};
     assert_int_equal(gf_ukf3_predict(NULL, &mo, u), GF_ERR_ARG);
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_predict(&ukf, NULL, u));
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_predict(&ukf, &mo, NULL));
@@ -503,8 +521,9 @@ static void test_bad_inputs(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &ukf, gf_ukf3_predict(&ukf, &mo, u));
 
     // update
-    gf_ekf3_meas me = {1, gf_ekf3_meas_x, NULL,
-                       {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
+    gf_ekf3_meas me = {1,    gf_ekf3_meas_x,
+                       NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                       0,    0};
     const gf_vec3 z = {{5, 0, 0}};
     gf_vec3 zn = z;
     zn.v[0] = (gf_real)NAN;
@@ -516,9 +535,11 @@ static void test_bad_inputs(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
                           gf_ukf3_update(&ukf, &me, NULL, NULL));
     me.m = 0;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
     me.m = 4;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
     me.m = 1;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_update(&ukf, &me, &zn, NULL));
@@ -526,14 +547,16 @@ static void test_bad_inputs(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_update(&ukf, &me, &z, NULL));
     me.gate = -1;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
     me.gate = 0;
     me.Q.m[0][0] = -1;
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &ukf,
                           gf_ukf3_update(&ukf, &me, &z, NULL));
     me.Q.m[0][0] = GF_R(0.01);
     me.h = NULL;
-    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf, gf_ukf3_update(&ukf, &me, &z, NULL));
+    CHECK_FAILS_UNCHANGED(GF_ERR_ARG, &ukf,
+                          gf_ukf3_update(&ukf, &me, &z, NULL));
     me.h = nan_meas;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &ukf,
                           gf_ukf3_update(&ukf, &me, &z, NULL));
@@ -562,11 +585,13 @@ static void test_update_calls(void **state)
     (void)state;
     const gf_ukf3_params p = {1, 2, 0};
     counting c = {0, 0};
-    gf_ekf3_meas me = {1, counting_meas_x, &c,
-                       {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}}, 0, 0};
-    const gf_ekf3_meas plain = {1, gf_ekf3_meas_x, NULL,
-                                {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
-                                0, 0};
+    gf_ekf3_meas me = {1,  counting_meas_x,
+                       &c, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+                       0,  0};
+    const gf_ekf3_meas plain = {
+        1,    gf_ekf3_meas_x,
+        NULL, {{{GF_R(0.01), 0, 0}, {0, 0, 0}, {0, 0, 0}}},
+        0,    0};
     const gf_vec3 z = {{GF_R(1.3), 0, 0}};
     gf_ukf3 ukf, ref;
     gf_innovation info, info_ref;

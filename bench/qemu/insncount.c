@@ -82,8 +82,8 @@ void qemu_plugin_register_vcpu_insn_exec_cb(struct qemu_plugin_insn *insn,
                                             enum qemu_plugin_cb_flags flags,
                                             void *userdata);
 size_t qemu_plugin_tb_n_insns(const struct qemu_plugin_tb *tb);
-struct qemu_plugin_insn *qemu_plugin_tb_get_insn(const struct qemu_plugin_tb *tb,
-                                                 size_t idx);
+struct qemu_plugin_insn *
+qemu_plugin_tb_get_insn(const struct qemu_plugin_tb *tb, size_t idx);
 const void *qemu_plugin_insn_data(const struct qemu_plugin_insn *insn);
 size_t qemu_plugin_insn_size(const struct qemu_plugin_insn *insn);
 uint64_t qemu_plugin_insn_vaddr(const struct qemu_plugin_insn *insn);
@@ -241,8 +241,8 @@ static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
     for (size_t i = 0; i < n; i++) {
         struct qemu_plugin_insn *insn = qemu_plugin_tb_get_insn(tb, i);
         const uint64_t pc = qemu_plugin_insn_vaddr(insn) & ~(uint64_t)1;
-        unsigned k = classify(qemu_plugin_insn_data(insn),
-                              qemu_plugin_insn_size(insn));
+        unsigned k =
+            classify(qemu_plugin_insn_data(insn), qemu_plugin_insn_size(insn));
         if (pc == mark_start) {
             k = K_START;
         } else if (pc == mark_stop) {
@@ -256,9 +256,8 @@ static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
                 }
             }
         }
-        qemu_plugin_register_vcpu_insn_exec_cb(insn, on_insn,
-                                               QEMU_PLUGIN_CB_NO_REGS,
-                                               record(pc, k));
+        qemu_plugin_register_vcpu_insn_exec_cb(
+            insn, on_insn, QEMU_PLUGIN_CB_NO_REGS, record(pc, k));
     }
 }
 
@@ -307,8 +306,9 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id,
             bad = 1;
         }
         if (bad) {
-            fprintf(stderr, "insncount: bad argument '%s' (start=, stop=, "
-                            "report=, call= take an address; profile=on)\n",
+            fprintf(stderr,
+                    "insncount: bad argument '%s' (start=, stop=, "
+                    "report=, call= take an address; profile=on)\n",
                     a);
             return -1;
         }

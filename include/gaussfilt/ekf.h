@@ -18,9 +18,9 @@ extern "C" {
 // Motion callback: mu_bar = g(u, mu) (n entries) and G = dg/dx at mu (n x n,
 // row-major). mu_bar arrives as a copy of mu, G as the identity. Returns
 // GF_OK or any error, passed on as gf_ekf3's callbacks' are.
-typedef gf_status (*gf_ekf_motion_fn)(void *ctx, unsigned n,
-                                      const gf_real *mu, const gf_real *u,
-                                      gf_real *mu_bar, gf_real *G);
+typedef gf_status (*gf_ekf_motion_fn)(void *ctx, unsigned n, const gf_real *mu,
+                                      const gf_real *u, gf_real *mu_bar,
+                                      gf_real *G);
 
 // Measurement callback: z_hat = h(mu_bar) (m entries) and H = dh/dx (m x n,
 // row-major). Both arrive as zeros.
@@ -35,7 +35,7 @@ typedef struct gf_ekf_motion {
 } gf_ekf_motion;
 
 typedef struct gf_ekf_meas {
-    unsigned m;          // 1..n measured quantities
+    unsigned m; // 1..n measured quantities
     gf_ekf_meas_fn h;
     void *ctx;           // handed to h untouched; may be NULL
     const gf_real *Q;    // m x m measurement noise covariance, symmetric PSD
@@ -46,8 +46,7 @@ typedef struct gf_ekf_meas {
 // Sets ekf to N(mu, sigma) of n states, the states in `angles` wrapped.
 // As gf_kf_init.
 gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
-                      const gf_real *sigma, unsigned angles,
-                      gf_kf_work *work);
+                      const gf_real *sigma, unsigned angles, gf_kf_work *work);
 
 // Prediction (Table 3.3, lines 2-3): mu_bar = g(u, mu), Sigma_bar =
 // G Sigma G^T + R, on the factors. u is handed to g as is. GF_ERR_ARG,
@@ -58,9 +57,8 @@ gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
 
 // Correction (Table 3.3, lines 4-6), H evaluated once at mu_bar, as
 // gf_kf_update; statuses as gf_kf_update and the callback's error.
-gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas,
-                        const gf_real *z, gf_kf_innovation *info,
-                        gf_kf_work *work);
+gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
+                        gf_kf_innovation *info, gf_kf_work *work);
 
 // ---- Prepared models ---------------------------------------------------
 
@@ -80,8 +78,7 @@ typedef struct gf_ekf_pmeas {
 } gf_ekf_pmeas;
 
 gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
-                                const gf_ekf_motion *motion,
-                                gf_kf_work *work);
+                                const gf_ekf_motion *motion, gf_kf_work *work);
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
                               const gf_ekf_meas *meas, gf_kf_work *work);
 gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,

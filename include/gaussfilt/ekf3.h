@@ -25,7 +25,6 @@ typedef struct gf_ekf3 {
     unsigned char perm[sizeof(gf_real)];
 } gf_ekf3;
 
-
 // Motion callback: mu_bar = g(u, mu) and G = dg/dx at mu. u is whatever the
 // callback defines (the built-in takes two entries). Returns GF_OK or any
 // error, which the filter passes on (GF_ERR_MODEL if unsure; a status the
@@ -42,12 +41,12 @@ typedef gf_status (*gf_ekf3_meas_fn)(void *ctx, const gf_vec3 *mu_bar,
 
 typedef struct gf_ekf3_motion {
     gf_ekf3_motion_fn g;
-    void *ctx;  // handed to g untouched; may be NULL
-    gf_mat3 R;  // process noise covariance, symmetric PSD
+    void *ctx; // handed to g untouched; may be NULL
+    gf_mat3 R; // process noise covariance, symmetric PSD
 } gf_ekf3_motion;
 
 typedef struct gf_ekf3_meas {
-    unsigned m;          // 1..3 measured quantities
+    unsigned m; // 1..3 measured quantities
     gf_ekf3_meas_fn h;
     void *ctx;           // handed to h untouched; may be NULL
     gf_mat3 Q;           // m x m measurement noise covariance, symmetric PSD

@@ -63,8 +63,8 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 // (y = z - c - C mu_bar, S = C Sigma_bar C^T + Q, NIS = y^T S^-1 y), which
 // costs an inversion and needs Omega_bar positive definite
 // (GF_ERR_SINGULAR otherwise). Gate and info rules as gf_kf2_update.
-gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas,
-                        const gf_vec2 *z, gf_innovation *info);
+gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
+                        gf_innovation *info);
 
 #ifdef __cplusplus
 }

@@ -30,7 +30,7 @@ extern "C" {
 #define GF_KF_TRI(n) ((n) * ((n) + 1) / 2)
 
 // The permutation's bytes, rounded up to whole gf_reals (no padding).
-#define GF_KF_PERM_BYTES                                                    \
+#define GF_KF_PERM_BYTES                                                       \
     (((GF_KF_NMAX) + sizeof(gf_real) - 1) / sizeof(gf_real) * sizeof(gf_real))
 
 // The belief N(mu, Sigma) of n states, Sigma carried as its factors
@@ -57,21 +57,21 @@ typedef struct gf_kf_work {
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
 typedef struct gf_kf_model {
-    unsigned nu;       // entries of u (0: no control; B and u unread)
-    const gf_real *A;  // n x n state transition
-    const gf_real *B;  // n x nu control matrix
-    const gf_real *R;  // n x n process noise covariance, symmetric PSD
-    const gf_real *c;  // n constant term, or NULL for none
+    unsigned nu;      // entries of u (0: no control; B and u unread)
+    const gf_real *A; // n x n state transition
+    const gf_real *B; // n x nu control matrix
+    const gf_real *R; // n x n process noise covariance, symmetric PSD
+    const gf_real *c; // n constant term, or NULL for none
 } gf_kf_model;
 
 // The measurement model z = C x + c + delta, delta ~ N(0, Q), of m
 // measured quantities (1 <= m <= n).
 typedef struct gf_kf_meas {
     unsigned m;
-    const gf_real *C;  // m x n measurement matrix
-    const gf_real *Q;  // m x m measurement noise covariance, symmetric PSD
-    const gf_real *c;  // m constant term, or NULL for none
-    gf_real gate;      // chi-square gate on the NIS; 0 disables it
+    const gf_real *C; // m x n measurement matrix
+    const gf_real *Q; // m x m measurement noise covariance, symmetric PSD
+    const gf_real *c; // m constant term, or NULL for none
+    gf_real gate;     // chi-square gate on the NIS; 0 disables it
 } gf_kf_meas;
 
 // What an update saw: the innovation y = z - c - C mu_bar (m entries) and
@@ -96,8 +96,8 @@ gf_status gf_kf_cov(const gf_kf *kf, gf_real *sigma);
 // factors, as gf_kf2_predict). u (model->nu entries) may be NULL for no
 // control. GF_ERR_ARG (NULL, n out of range), GF_ERR_NONFINITE,
 // GF_ERR_NOT_PSD (R); the belief is untouched on failure.
-gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model,
-                        const gf_real *u, gf_kf_work *work);
+gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model, const gf_real *u,
+                        gf_kf_work *work);
 
 // Correction with m measured quantities, as gf_kf2_update: z holds m
 // values; info (may be NULL) receives the innovation and NIS on GF_OK and
@@ -110,19 +110,19 @@ gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
 // ---- Prepared models, as kf2.h's: checked and factored once -----------
 
 typedef struct gf_kf_pmodel {
-    gf_kf_model model;                    // as given, checked
-    unsigned n;                           // the states it was prepared for
-    gf_real Rf[GF_KF_NMAX * GF_KF_NMAX];  // R = F diag(Rd) F^T (rows of n)
+    gf_kf_model model;                   // as given, checked
+    unsigned n;                          // the states it was prepared for
+    gf_real Rf[GF_KF_NMAX * GF_KF_NMAX]; // R = F diag(Rd) F^T (rows of n)
     gf_real Rd[GF_KF_NMAX];
 } gf_kf_pmodel;
 
 typedef struct gf_kf_pmeas {
-    gf_kf_meas meas;                      // as given, checked
-    unsigned n;                           // the states it was prepared for
-    gf_real Qf[GF_KF_NMAX * GF_KF_NMAX];  // Q = F diag(Qe) F^T (rows of m)
+    gf_kf_meas meas;                     // as given, checked
+    unsigned n;                          // the states it was prepared for
+    gf_real Qf[GF_KF_NMAX * GF_KF_NMAX]; // Q = F diag(Qe) F^T (rows of m)
     gf_real Qe[GF_KF_NMAX];
-    unsigned Qorder[GF_KF_NMAX];          // F's pivot order
-    gf_real Cw[GF_KF_NMAX * GF_KF_NMAX];  // F^-1 C (m x n)
+    unsigned Qorder[GF_KF_NMAX];         // F's pivot order
+    gf_real Cw[GF_KF_NMAX * GF_KF_NMAX]; // F^-1 C (m x n)
 } gf_kf_pmeas;
 
 // Checks model for n states as gf_kf_predict does and keeps R's factors.

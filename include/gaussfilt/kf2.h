@@ -28,12 +28,11 @@ extern "C" {
 // gf_kf2_init only. 24 bytes in float, 48 in double.
 typedef struct gf_kf2 {
     gf_vec2 mu;
-    gf_real ud[2 * 3 / 2];  // U and D, packed (src/udu.h)
+    gf_real ud[2 * 3 / 2]; // U and D, packed (src/udu.h)
     // P: the state of each index of the factors (entries beyond the
     // second zero: as many bytes as a gf_real, so there is no padding)
     unsigned char perm[sizeof(gf_real)];
 } gf_kf2;
-
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
 // Never changes in most programs, so it can live in flash as const.
@@ -94,8 +93,8 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 // untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2, gate < 0),
 // GF_ERR_NONFINITE, GF_ERR_NOT_PSD (Q), GF_ERR_SINGULAR (S); the belief and
 // info are untouched.
-gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas,
-                        const gf_vec2 *z, gf_innovation *info);
+gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
+                        gf_innovation *info);
 
 // ---- Prepared models: checked once, trusted every step ----------------
 //

@@ -16,10 +16,18 @@
 extern "C" {
 #endif
 
-typedef struct gf_vec2 { gf_real v[2]; } gf_vec2;
-typedef struct gf_vec3 { gf_real v[3]; } gf_vec3;
-typedef struct gf_mat2 { gf_real m[2][2]; } gf_mat2;
-typedef struct gf_mat3 { gf_real m[3][3]; } gf_mat3;
+typedef struct gf_vec2 {
+    gf_real v[2];
+} gf_vec2;
+typedef struct gf_vec3 {
+    gf_real v[3];
+} gf_vec3;
+typedef struct gf_mat2 {
+    gf_real m[2][2];
+} gf_mat2;
+typedef struct gf_mat3 {
+    gf_real m[3][3];
+} gf_mat3;
 
 // ---- 2x2 -----------------------------------------------------------------
 
@@ -86,7 +94,7 @@ gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l);
 
 // Solves l l^T x = b on the leading n entries, l from gf_mat3_chol.
 gf_status gf_mat3_chol_solve(const gf_mat3 *l, unsigned n, const gf_vec3 *b,
-                        gf_vec3 *x);
+                             gf_vec3 *x);
 
 // Lower-triangular square root l (s = l l^T) of the leading n x n block of
 // a symmetric positive SEMIdefinite s (n = 1..3), for drawing sigma points

@@ -30,14 +30,14 @@ extern "C" {
 #define GF_PF3_MAX_N 16777216u
 
 typedef struct gf_pf3_particle {
-    gf_vec3 x;  // (x, y, theta), theta in (-pi, pi]
-    gf_real w;  // importance weight; the weights sum to 1
+    gf_vec3 x; // (x, y, theta), theta in (-pi, pi]
+    gf_real w; // importance weight; the weights sum to 1
 } gf_pf3_particle;
 
 typedef struct gf_pf3 {
     gf_pf3_particle *p; // caller-owned array of n particles
     unsigned n;
-    gf_rng rng;         // the filter's random stream
+    gf_rng rng; // the filter's random stream
 } gf_pf3;
 
 // Takes the caller's array of n particles (1..GF_PF3_MAX_N), seeds the
@@ -46,8 +46,7 @@ typedef struct gf_pf3 {
 // GF_ERR_ARG (NULL, n out of range), GF_ERR_NONFINITE, GF_ERR_NOT_PSD;
 // neither pf nor the array is touched on failure.
 gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
-                      uint32_t seed, const gf_vec3 *mu,
-                      const gf_mat3 *sigma);
+                      uint32_t seed, const gf_vec3 *mu, const gf_mat3 *sigma);
 
 // Prediction, sampling the motion model (Table 4.3, line 4):
 //   x_t^[k] = g(u, x_{t-1}^[k]) + eps^[k],  eps^[k] ~ N(0, R),
@@ -68,8 +67,7 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
 // it. GF_ERR_ARG, GF_ERR_NONFINITE, GF_ERR_NOT_PSD (Q), GF_ERR_SINGULAR
 // (Q not positive definite: a noiseless measurement weighs nothing), or
 // the callback's own error; the belief is untouched on failure.
-gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas,
-                        const gf_vec3 *z);
+gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z);
 
 // Low-variance resampling (Table 4.4): one uniform draw r in [0, W/n),
 // particle i is copied once for each of the n points r + k W/n (W the

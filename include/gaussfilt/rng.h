@@ -18,8 +18,8 @@ extern "C" {
 #endif
 
 typedef struct gf_rng {
-    uint32_t s[4];   // xoshiro128** state, never all zero
-    gf_real spare;   // second Box-Muller variate, valid if has_spare
+    uint32_t s[4]; // xoshiro128** state, never all zero
+    gf_real spare; // second Box-Muller variate, valid if has_spare
     int has_spare;
 } gf_rng;
 
@@ -43,8 +43,7 @@ gf_real gf_rng_normal(gf_rng *rng);
 // x ~ N(mu, l l^T): x = mu + l n with n ~ N(0, I_3), l a square root as
 // from gf_mat3_sqrt_psd (lower triangular; other shapes work too). Does
 // nothing (no draw, x untouched) if any pointer is NULL.
-void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l,
-                 gf_vec3 *x);
+void gf_rng_mvn3(gf_rng *rng, const gf_vec3 *mu, const gf_mat3 *l, gf_vec3 *x);
 
 #ifdef __cplusplus
 }

@@ -11,17 +11,17 @@ extern "C" {
 // returns anything but GF_OK has left the filter's belief bit-for-bit as it
 // was.
 typedef enum gf_status {
-    GF_OK               =  0, // success
-    GF_ERR_ARG          = -1, // NULL pointer or a size out of range
-    GF_ERR_NONFINITE    = -2, // an input (or a model's output) is NaN or inf
-    GF_ERR_NOT_PSD      = -3, // a covariance or noise matrix is not symmetric
-                              // positive semidefinite
-    GF_ERR_SINGULAR     = -4, // innovation covariance S is not positive
-                              // definite (singular relative to its scale)
-    GF_ERR_GATED        = -5, // measurement rejected by the chi-square gate
-    GF_ERR_UNDEFINED    = -6, // quantity undefined for this input, e.g. the
-                              // correlation of a zero variance
-    GF_ERR_MODEL        = -7, // a caller-supplied model callback failed
+    GF_OK = 0,             // success
+    GF_ERR_ARG = -1,       // NULL pointer or a size out of range
+    GF_ERR_NONFINITE = -2, // an input (or a model's output) is NaN or inf
+    GF_ERR_NOT_PSD = -3,   // a covariance or noise matrix is not symmetric
+                           // positive semidefinite
+    GF_ERR_SINGULAR = -4,  // innovation covariance S is not positive
+                           // definite (singular relative to its scale)
+    GF_ERR_GATED = -5,     // measurement rejected by the chi-square gate
+    GF_ERR_UNDEFINED = -6, // quantity undefined for this input, e.g. the
+                           // correlation of a zero variance
+    GF_ERR_MODEL = -7,     // a caller-supplied model callback failed
 } gf_status;
 
 // Short, constant, English name of a status ("ok", "gated", ...), for logs.

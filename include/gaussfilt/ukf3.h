@@ -63,7 +63,8 @@ typedef struct gf_ukf3 {
     gf_vec3 mu;
     gf_mat3 sigma;
     gf_real gamma; // sqrt(n + lambda)
-    gf_real wi;    // weight of the 2n points about the centre, 1 / (2 (n + lambda))
+    gf_real
+        wi; // weight of the 2n points about the centre, 1 / (2 (n + lambda))
     gf_real wfold; // beta - alpha^2, what the centre's weights leave in Sigma
 } gf_ukf3;
 

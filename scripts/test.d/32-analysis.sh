@@ -5,12 +5,15 @@
 #   addon: the deviations kept are in scripts/analysis/misra-suppressions.txt
 #   and explained in docs/misra.md;
 #   clang-tidy with scripts/analysis/clang-tidy.yaml, warnings as errors;
-#   gcc -fanalyzer with the project's warnings, -Werror.
+#   gcc -fanalyzer with the project's warnings, -Werror;
+#   clang-format --dry-run --Werror with .clang-format over every C and C++
+#   file of src/, include/, sim/, tests/, bench/, fuzz/, examples/ and
+#   firmware/: one style, checked.
 # Each in the double and the float configuration.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
-gf_apt cppcheck clang-tidy gcc python3
+gf_apt cppcheck clang-tidy clang-format gcc python3
 
 an="$GF_ROOT/scripts/analysis"
 fail=0
@@ -65,4 +68,16 @@ for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
     fi
 done
 
-[ $fail -eq 0 ] || gf_die "static analysis found problems in the core"
+gf_log "analysis: $(clang-format --version | grep -o 'clang-format version [0-9.]*') over the tree"
+fmt=$(git ls-files -- src include sim tests bench fuzz examples firmware |
+    grep -E '\.(c|h|cpp|hpp)$' || true)
+# shellcheck disable=SC2086
+if clang-format --dry-run --Werror $fmt; then
+    echo "clang-format: $(echo "$fmt" | wc -l) files clean"
+else
+    echo "clang-format: the files above differ from .clang-format's style" \
+        "(clang-format -i FILE fixes them)"
+    fail=1
+fi
+
+[ $fail -eq 0 ] || gf_die "static analysis found problems"

@@ -79,8 +79,7 @@ static void on_truth(const lcm_recv_buf_t *rbuf, const char *channel,
     step *s;
     int i;
     (void)channel;
-    if (gaussfilt_lcm_groundtruth_t_decode(rbuf->data, 0,
-                                           (int)rbuf->data_size,
+    if (gaussfilt_lcm_groundtruth_t_decode(rbuf->data, 0, (int)rbuf->data_size,
                                            &g) != (int)rbuf->data_size)
         return;
     s = find(user, g.track, (long)((g.seq + 1) / 2));
@@ -176,10 +175,8 @@ int main(int argc, char **argv)
             step *s = &d.s[r][t];
             double e[3];
             int k;
-            if (!s->have_truth || !s->have_belief ||
-                s->b.status != 0) {
-                fprintf(stderr,
-                        "gf_consist: track %ld step %ld: %s\n",
+            if (!s->have_truth || !s->have_belief || s->b.status != 0) {
+                fprintf(stderr, "gf_consist: track %ld step %ld: %s\n",
                         d.first + r, t,
                         !s->have_truth    ? "no truth"
                         : !s->have_belief ? "no corrected belief"

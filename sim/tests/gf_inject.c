@@ -72,12 +72,12 @@ int main(int argc, char **argv)
 
         memset(&b, 0, sizeof(b));
         b.track = (int32_t)track;
-        m.len = gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data),
-                                              &b);
+        m.len =
+            gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);
         failed |= lcm_publish(lcm, ctrl_ch, m.data, (unsigned)m.len);
     }
     lcm_destroy(lcm);
-    printf("gf_inject: malformed=%ld type_mismatch=%ld%s\n", 3 * rounds,
-           rounds, failed ? " (some publishes FAILED)" : "");
+    printf("gf_inject: malformed=%ld type_mismatch=%ld%s\n", 3 * rounds, rounds,
+           failed ? " (some publishes FAILED)" : "");
     return failed ? 1 : 0;
 }

@@ -59,7 +59,7 @@ static void on_signal(int sig)
 typedef struct recorder {
     lcm_eventlog_t *log;
     long events;
-    int write_errno; // errno of the first failed write, 0 if none
+    int write_errno;      // errno of the first failed write, 0 if none
     struct timespec last; // when the last event was written
 } recorder;
 
@@ -143,7 +143,8 @@ static const char help_text[] =
     "nothing sent after its ready line (unbounded LCM queue, a socket buffer\n"
     "that holds a whole test's traffic); what the kernel drops is counted.\n\n"
     "usage: gf_record [--url URL] [--channels REGEX] [--count N]\n"
-    "                 [--timeout-ms MS] [--linger-ms MS] [--rcvbuf BYTES] FILE\n\n"
+    "                 [--timeout-ms MS] [--linger-ms MS] [--rcvbuf BYTES] "
+    "FILE\n\n"
     "  --url URL        where to listen (default LCM's)\n"
     "  --channels RE    channels to record (default .*)\n"
     "  --count N        stop once N events are recorded and --linger-ms\n"
@@ -154,7 +155,8 @@ static const char help_text[] =
     "Prints \"gf_record: ready ...\" once subscribed, and at the end\n"
     "\"gf_record: summary events=N kernel_drops=D\"; exits 1 if D > 0.\n\n"
     "example:\n"
-    "  gf_record --url 'udpm://239.255.76.67:7667?ttl=0' --count 768 in.lcmlog\n";
+    "  gf_record --url 'udpm://239.255.76.67:7667?ttl=0' --count 768 "
+    "in.lcmlog\n";
 
 int main(int argc, char **argv)
 {
@@ -256,8 +258,7 @@ int main(int argc, char **argv)
     lcm_destroy(lcm);
     lcm_eventlog_destroy(r.log);
 
-    printf("gf_record: summary events=%ld kernel_drops=%ld\n", r.events,
-           drops);
+    printf("gf_record: summary events=%ld kernel_drops=%ld\n", r.events, drops);
     if (r.write_errno != 0) {
         fprintf(stderr, "gf_record: cannot write %s: %s\n", path,
                 strerror(r.write_errno));
@@ -272,8 +273,7 @@ int main(int argc, char **argv)
     }
     if (count >= 0 && r.events != count) {
         fprintf(stderr, "gf_record: %ld events where %ld were expected%s\n",
-                r.events, count,
-                r.events < count ? " (timed out)" : "");
+                r.events, count, r.events < count ? " (timed out)" : "");
         rc = 1;
     }
     return rc;

@@ -36,29 +36,30 @@ typedef struct type_case {
 } type_case;
 
 // Typed wrappers, so that each type is called through its own prototype.
-#define WRAP(T)                                                            \
-    static int enc_##T(void *b, int o, int m, const void *p)               \
-    {                                                                      \
-        return gaussfilt_lcm_##T##_encode(b, o, m,                         \
-                                          (const gaussfilt_lcm_##T *)p);   \
-    }                                                                      \
-    static int dec_##T(const void *b, int o, int m, void *p)               \
-    {                                                                      \
-        return gaussfilt_lcm_##T##_decode(b, o, m, (gaussfilt_lcm_##T *)p); \
-    }                                                                      \
-    static int size_##T(const void *p)                                     \
-    {                                                                      \
-        return gaussfilt_lcm_##T##_encoded_size(                           \
-            (const gaussfilt_lcm_##T *)p);                                 \
+#define WRAP(T)                                                                \
+    static int enc_##T(void *b, int o, int m, const void *p)                   \
+    {                                                                          \
+        return gaussfilt_lcm_##T##_encode(b, o, m,                             \
+                                          (const gaussfilt_lcm_##T *)p);       \
+    }                                                                          \
+    static int dec_##T(const void *b, int o, int m, void *p)                   \
+    {                                                                          \
+        return gaussfilt_lcm_##T##_decode(b, o, m, (gaussfilt_lcm_##T *)p);    \
+    }                                                                          \
+    static int size_##T(const void *p)                                         \
+    {                                                                          \
+        return gaussfilt_lcm_##T##_encoded_size((const gaussfilt_lcm_##T *)p); \
     }
 WRAP(measurement_t)
 WRAP(control_t)
 WRAP(belief_t)
 WRAP(groundtruth_t)
 
-#define CASE(T, wire)                                                      \
-    {#T,       sizeof(gaussfilt_lcm_##T), enc_##T, dec_##T, size_##T,      \
-     __gaussfilt_lcm_##T##_get_hash, wire}
+#define CASE(T, wire)                                                          \
+    {                                                                          \
+#T, sizeof(gaussfilt_lcm_##T), enc_##T, dec_##T, size_##T,             \
+            __gaussfilt_lcm_##T##_get_hash, wire                               \
+    }
 
 // wire = 8 (fingerprint) + the fields (measurement and control: utime,
 // seq, session, track, model, size, values).
@@ -214,13 +215,12 @@ static void particles_roundtrip(void **state)
     // 8 + 8+8+8 + 4+1+1+4+4+8+4 + 4 arrays of 3 floats
     assert_int_equal(len, 8 + 24 + 26 + 4 * 3 * 4);
     assert_int_equal(gaussfilt_lcm_particles_t_encoded_size(&in), len);
-    assert_int_equal(gaussfilt_lcm_particles_t_decode(buf, 0, len, &out),
-                     len);
+    assert_int_equal(gaussfilt_lcm_particles_t_decode(buf, 0, len, &out), len);
     assert_true(out.utime == in.utime && out.seq == in.seq &&
                 out.input_seq == in.input_seq && out.track == in.track &&
                 out.stage == in.stage && out.resampled == 1 &&
-                out.n_filter == 2000 && out.stride == 4 &&
-                out.neff == 212.5 && out.count == 3);
+                out.n_filter == 2000 && out.stride == 4 && out.neff == 212.5 &&
+                out.count == 3);
     assert_memory_equal(out.x, x, sizeof(x));
     assert_memory_equal(out.y, y, sizeof(y));
     assert_memory_equal(out.theta, th, sizeof(th));
@@ -236,8 +236,7 @@ static void particles_roundtrip(void **state)
             fail_msg("%s decoded the bytes of particles_t", cases[k].name);
         make(k, ins);
         olen = cases[k].enc(other, 0, (int)sizeof(other), ins);
-        assert_true(gaussfilt_lcm_particles_t_decode(other, 0, olen, &out) <
-                    0);
+        assert_true(gaussfilt_lcm_particles_t_decode(other, 0, olen, &out) < 0);
     }
 }
 

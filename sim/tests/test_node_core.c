@@ -63,9 +63,9 @@ static void exercise_2(fixture *f, int32_t track)
 {
     int64_t t;
     for (t = 1; t <= 5; t++)
-        assert_int_equal(feed(f, gf_msg_ctrl(track, GF_CAR, t, t * 1000000,
-                                             0, 0, 0)),
-                         GF_NODE_APPLIED);
+        assert_int_equal(
+            feed(f, gf_msg_ctrl(track, GF_CAR, t, t * 1000000, 0, 0, 0)),
+            GF_NODE_APPLIED);
     assert_int_equal(feed(f, gf_msg_meas(track, GF_CAR, 6, 5000000, 5, 10)),
                      GF_NODE_APPLIED);
 }
@@ -170,15 +170,15 @@ static void malformed_and_type_mismatch(void **state)
                      GF_NODE_MALFORMED);
     malformed++;
     for (cut = 0; cut < good.len; cut++) { // every truncation
-        assert_int_equal(gf_node_handle(&f->node, good.channel, good.data,
-                                        (size_t)cut, 0),
-                         GF_NODE_MALFORMED);
+        assert_int_equal(
+            gf_node_handle(&f->node, good.channel, good.data, (size_t)cut, 0),
+            GF_NODE_MALFORMED);
         malformed++;
     }
     m = good; // one trailing byte
-    assert_int_equal(gf_node_handle(&f->node, m.channel, m.data,
-                                    (size_t)m.len + 1, 0),
-                     GF_NODE_MALFORMED);
+    assert_int_equal(
+        gf_node_handle(&f->node, m.channel, m.data, (size_t)m.len + 1, 0),
+        GF_NODE_MALFORMED);
     malformed++;
     for (i = 0; i < 8; i++) { // wrong fingerprint, any of its bytes
         m = good;
@@ -194,24 +194,24 @@ static void malformed_and_type_mismatch(void **state)
             x = x * 1664525u + 1013904223u;
             junk[j] = (uint8_t)(x >> 24);
         }
-        assert_int_equal(gf_node_handle(&f->node, i % 2 ? "GF_MEAS_1"
-                                                        : "GF_CTRL_1",
-                                        junk, len, 0),
+        assert_int_equal(gf_node_handle(&f->node,
+                                        i % 2 ? "GF_MEAS_1" : "GF_CTRL_1", junk,
+                                        len, 0),
                          GF_NODE_MALFORMED);
         malformed++;
     }
     // Our other types on the wrong channel.
-    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_1", good.data,
-                                    (size_t)good.len, 0),
-                     GF_NODE_TYPE_MISMATCH);
-    assert_int_equal(gf_node_handle(&f->node, "GF_MEAS_1", ctrl.data,
-                                    (size_t)ctrl.len, 0),
-                     GF_NODE_TYPE_MISMATCH);
+    assert_int_equal(
+        gf_node_handle(&f->node, "GF_CTRL_1", good.data, (size_t)good.len, 0),
+        GF_NODE_TYPE_MISMATCH);
+    assert_int_equal(
+        gf_node_handle(&f->node, "GF_MEAS_1", ctrl.data, (size_t)ctrl.len, 0),
+        GF_NODE_TYPE_MISMATCH);
     memset(&b, 0, sizeof(b));
     m.len = gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);
-    assert_int_equal(gf_node_handle(&f->node, "GF_MEAS_1", m.data,
-                                    (size_t)m.len, 0),
-                     GF_NODE_TYPE_MISMATCH);
+    assert_int_equal(
+        gf_node_handle(&f->node, "GF_MEAS_1", m.data, (size_t)m.len, 0),
+        GF_NODE_TYPE_MISMATCH);
 
     assert_int_equal(f->node.counts.by_result[GF_NODE_MALFORMED], malformed);
     assert_int_equal(f->node.counts.by_result[GF_NODE_TYPE_MISMATCH], 3);
@@ -256,20 +256,19 @@ static void bad_fields_and_channels(void **state)
                      GF_NODE_BAD_FIELD);
     // Channels the node does not serve.
     m = gf_msg_ctrl(1, GF_CAR, 3, 0, 0, 0, 0);
-    assert_int_equal(gf_node_handle(&f->node, "GF_BELIEF_1", m.data,
-                                    (size_t)m.len, 0),
-                     GF_NODE_UNKNOWN_CHANNEL);
-    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_", m.data,
-                                    (size_t)m.len, 0),
-                     GF_NODE_UNKNOWN_CHANNEL);
-    assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_1x", m.data,
-                                    (size_t)m.len, 0),
-                     GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(
+        gf_node_handle(&f->node, "GF_BELIEF_1", m.data, (size_t)m.len, 0),
+        GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(
+        gf_node_handle(&f->node, "GF_CTRL_", m.data, (size_t)m.len, 0),
+        GF_NODE_UNKNOWN_CHANNEL);
+    assert_int_equal(
+        gf_node_handle(&f->node, "GF_CTRL_1x", m.data, (size_t)m.len, 0),
+        GF_NODE_UNKNOWN_CHANNEL);
     assert_int_equal(gf_node_handle(&f->node, "GF_CTRL_99999999999", m.data,
                                     (size_t)m.len, 0),
                      GF_NODE_UNKNOWN_CHANNEL);
-    assert_int_equal(gf_node_handle(&f->node, NULL, m.data, (size_t)m.len,
-                                    0),
+    assert_int_equal(gf_node_handle(&f->node, NULL, m.data, (size_t)m.len, 0),
                      GF_NODE_UNKNOWN_CHANNEL);
     assert_int_equal(f->node.counts.by_result[GF_NODE_BAD_FIELD], 6);
     assert_int_equal(f->node.counts.by_result[GF_NODE_UNKNOWN_CHANNEL], 5);
@@ -285,11 +284,12 @@ static void nonfinite_reported_nothing_changed(void **state)
     exercise_2(f, 2);
     memcpy(&before, gf_node_find(&f->node, 2), sizeof(before));
     n = f->sink.n;
-    assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 7, 6000000, (double)NAN, 10.0)),
-                     GF_NODE_NONFINITE);
-    assert_int_equal(feed(f, gf_msg_ctrl(2, GF_CAR, 8, 6000000, 2, (double)INFINITY,
-                                         0.0)),
-                     GF_NODE_NONFINITE);
+    assert_int_equal(
+        feed(f, gf_msg_meas(2, GF_CAR, 7, 6000000, (double)NAN, 10.0)),
+        GF_NODE_NONFINITE);
+    assert_int_equal(
+        feed(f, gf_msg_ctrl(2, GF_CAR, 8, 6000000, 2, (double)INFINITY, 0.0)),
+        GF_NODE_NONFINITE);
     assert_int_equal(feed(f, gf_msg_meas(2, GF_CAR, 9, 6000000, 1.0, -1.0)),
                      GF_NODE_FILTER_ERROR); // Q not PSD
     assert_int_equal(f->sink.n, n + 3);
@@ -306,8 +306,9 @@ static void nonfinite_reported_nothing_changed(void **state)
     assert_memory_equal(&before.f, &gf_node_find(&f->node, 2)->f,
                         sizeof(before.f));
     // Robot: a NaN heading change.
-    assert_int_equal(feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, (double)NAN)),
-                     GF_NODE_NONFINITE);
+    assert_int_equal(
+        feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, (double)NAN)),
+        GF_NODE_NONFINITE);
     assert_int_equal(f->sink.b[f->sink.n - 1].status, GF_ERR_NONFINITE);
     check_counts(&f->node);
 }
@@ -336,12 +337,11 @@ static gf_msg in_session(gf_msg m, int64_t session)
     gaussfilt_lcm_measurement_t z;
     if (gaussfilt_lcm_control_t_decode(m.data, 0, m.len, &c) == m.len) {
         c.session = session;
-        m.len = gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof(m.data),
-                                               &c);
+        m.len =
+            gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof(m.data), &c);
     } else {
-        assert_int_equal(gaussfilt_lcm_measurement_t_decode(m.data, 0, m.len,
-                                                            &z),
-                         m.len);
+        assert_int_equal(
+            gaussfilt_lcm_measurement_t_decode(m.data, 0, m.len, &z), m.len);
         z.session = session;
         m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0,
                                                    (int)sizeof(m.data), &z);
@@ -358,16 +358,20 @@ static void simulator_restart_resyncs(void **state)
     const gaussfilt_lcm_belief_t *b;
     const gf_node_track *t;
     gf_kf2 before;
-    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0),
-                                        100)), GF_NODE_APPLIED);
-    assert_int_equal(feed(f, in_session(gf_msg_meas(3, GF_CAR, 2, 1, 5.0, 10.0),
-                                        100)), GF_NODE_APPLIED);
-    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 3, 2, 0, 0, 0),
-                                        100)), GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0), 100)),
+        GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(f, in_session(gf_msg_meas(3, GF_CAR, 2, 1, 5.0, 10.0), 100)),
+        GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 3, 2, 0, 0, 0), 100)),
+        GF_NODE_APPLIED);
     assert_int_equal(f->sink.n, 4); // init + 3
     // The restart: seq 1, utime 1 again, session 200.
-    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0),
-                                        200)), GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0), 200)),
+        GF_NODE_APPLIED);
     assert_true(f->node.counts.resyncs == 1);
     assert_int_equal(f->sink.n, 6);
     b = &f->sink.b[4]; // the re-initialisation: the prior, mu = 0, Sigma = 0
@@ -387,10 +391,12 @@ static void simulator_restart_resyncs(void **state)
     t = gf_node_find(&f->node, 3);
     assert_non_null(t);
     before = t->f.kf2;
-    assert_int_equal(feed(f, in_session(gf_msg_meas(3, GF_CAR, 4, 3, 1.0, 10.0),
-                                        100)), GF_NODE_STALE_SESSION);
-    assert_int_equal(feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0),
-                                        200)), GF_NODE_DUPLICATE);
+    assert_int_equal(
+        feed(f, in_session(gf_msg_meas(3, GF_CAR, 4, 3, 1.0, 10.0), 100)),
+        GF_NODE_STALE_SESSION);
+    assert_int_equal(
+        feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0), 200)),
+        GF_NODE_DUPLICATE);
     assert_memory_equal(&before, &t->f.kf2, sizeof(before));
     assert_int_equal(f->sink.n, 6);
     assert_true(f->node.counts.by_result[GF_NODE_STALE_SESSION] == 1);

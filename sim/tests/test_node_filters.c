@@ -37,8 +37,8 @@ static int catch_publish(void *ctx, const char *channel, const void *data,
     size_t i;
     for (i = 0; i < len; i++)
         c->hash = (c->hash ^ p[i]) * 1099511628211u;
-    if (strncmp(channel, GF_CHANNEL_PARTICLES,
-                strlen(GF_CHANNEL_PARTICLES)) == 0) {
+    if (strncmp(channel, GF_CHANNEL_PARTICLES, strlen(GF_CHANNEL_PARTICLES)) ==
+        0) {
         gaussfilt_lcm_particles_t m;
         int k = c->nclouds;
         if (gaussfilt_lcm_particles_t_decode(data, 0, (int)len, &m) !=
@@ -51,8 +51,8 @@ static int catch_publish(void *ctx, const char *channel, const void *data,
             memcpy(c->y[k], m.y, sizeof(float) * (size_t)m.count);
             memcpy(c->w[k], m.w, sizeof(float) * (size_t)m.count);
             c->cloud[k] = m;
-            c->cloud[k].x = c->cloud[k].y = c->cloud[k].theta =
-                c->cloud[k].w = NULL;
+            c->cloud[k].x = c->cloud[k].y = c->cloud[k].theta = c->cloud[k].w =
+                NULL;
             snprintf(c->cloud_channel[k], GF_CHANNEL_MAX, "%s", channel);
             c->nclouds++;
         }
@@ -109,10 +109,8 @@ static void options_parse(void **state)
     assert_int_equal(gf_node_filter_parse(NULL, &fl), -1);
     gf_node_init(&node, NULL, NULL);
     // PF needs a pool; an unknown filter is refused.
-    assert_int_equal(gf_node_set_filter(&node, GF_NODE_FILTER_PF, NULL, 1),
-                     -1);
-    assert_int_equal(gf_node_set_filter(&node, (gf_node_filter)7, NULL, 1),
-                     -1);
+    assert_int_equal(gf_node_set_filter(&node, GF_NODE_FILTER_PF, NULL, 1), -1);
+    assert_int_equal(gf_node_set_filter(&node, (gf_node_filter)7, NULL, 1), -1);
     assert_int_equal(node.robot_filter, GF_NODE_FILTER_EKF);
 }
 
@@ -130,8 +128,7 @@ static void ukf_exercise_4(void **state)
         assert_int_equal(b[i].status, 0);
     }
     // (4 + 2 cos(100 sqrt 3)) / 6: the sigma points (tests/test_ex4.c)
-    assert_true(fabs(b[1].mean[0] - (4 + 2 * cos(100 * sqrt(3.0))) / 6) <
-                1e-4);
+    assert_true(fabs(b[1].mean[0] - (4 + 2 * cos(100 * sqrt(3.0))) / 6) < 1e-4);
     assert_int_equal(gf_ex4_check_ukf_pred(b[1].mean[0], b[1].mean[1]), 0);
     assert_int_equal(b[2].m, 1); // the UKF reports its innovation
     assert_true(fabs(b[2].mean[0] + 0.7) < 0.02 && fabs(b[2].mean[1]) < 0.01);
@@ -158,8 +155,7 @@ static void pf_exercise_4(void **state)
                     c[i].input_seq == b[i].input_seq && c[i].track == 4);
         assert_int_equal(c[i].n_filter, GF_NODE_PF_PARTICLES);
         assert_int_equal(c[i].count, GF_NODE_PF_CLOUD);
-        assert_int_equal(c[i].stride,
-                         GF_NODE_PF_PARTICLES / GF_NODE_PF_CLOUD);
+        assert_int_equal(c[i].stride, GF_NODE_PF_PARTICLES / GF_NODE_PF_CLOUD);
     }
     // Predicted: the summary mean is inside the ring the particles form.
     assert_true(hypot(b[1].mean[0], b[1].mean[1]) < 0.5);
@@ -167,9 +163,8 @@ static void pf_exercise_4(void **state)
     // After z: resampled (neff fell below half), two modes.
     assert_int_equal(c[2].resampled, 1);
     assert_true(c[2].neff > 50 && c[2].neff < 0.5 * GF_NODE_PF_PARTICLES);
-    assert_int_equal(gf_ex4_check_modes(f->c.x[2], f->c.y[2], f->c.w[2],
-                                        c[2].count),
-                     0);
+    assert_int_equal(
+        gf_ex4_check_modes(f->c.x[2], f->c.y[2], f->c.w[2], c[2].count), 0);
     // The Gaussian summary sits between them, where no particle is.
     assert_true(fabs(b[2].mean[0] + 0.7) < 0.05 && fabs(b[2].mean[1]) < 0.15);
     assert_true(b[2].cov[1][1] > 0.4); // y spread over both modes
@@ -215,9 +210,9 @@ static void pf_track_limit(void **state)
     int32_t t;
     (void)state;
     for (t = 0; t < GF_NODE_PF_TRACKS; t++)
-        assert_int_equal(feed(f, gf_msg_ctrl(100 + t, GF_ROBOT, 1, 1, 2, 1.0,
-                                             0.0)),
-                         GF_NODE_APPLIED);
+        assert_int_equal(
+            feed(f, gf_msg_ctrl(100 + t, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
+            GF_NODE_APPLIED);
     assert_int_equal(feed(f, gf_msg_ctrl(200, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
                      GF_NODE_TRACK_LIMIT);
     assert_null(gf_node_find(&f->node, 200));
@@ -227,8 +222,7 @@ static void pf_track_limit(void **state)
                      GAUSSFILT_LCM_BELIEF_T_FILTER_KF2);
     assert_int_equal(f->node.ntracks, GF_NODE_PF_TRACKS + 1);
     // Each PF track has its own slot: their particles differ.
-    assert_true(memcmp(f->pool.p[0], f->pool.p[1], sizeof(f->pool.p[0])) !=
-                0);
+    assert_true(memcmp(f->pool.p[0], f->pool.p[1], sizeof(f->pool.p[0])) != 0);
 }
 
 // A step the core refuses (non-finite z, singular Q) leaves the track and

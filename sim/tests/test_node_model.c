@@ -39,8 +39,8 @@ static int on_publish(void *ctx, const char *channel, const void *data,
                       size_t len)
 {
     catch_ *c = ctx;
-    if (strncmp(channel, GF_CHANNEL_PARTICLES,
-                strlen(GF_CHANNEL_PARTICLES)) == 0) {
+    if (strncmp(channel, GF_CHANNEL_PARTICLES, strlen(GF_CHANNEL_PARTICLES)) ==
+        0) {
         gaussfilt_lcm_particles_t p;
         int i;
         if (gaussfilt_lcm_particles_t_decode(data, 0, (int)len, &p) ==
@@ -67,28 +67,27 @@ typedef struct fixture {
 
 static fixture fx;
 
-static const char test_conf[] =
-    "# comment\n"
-    "[model car100]\n"
-    "type = car\n"
-    "channels = GF_(MEAS|CTRL|MODEL)_1[0-9][0-9]\n"
-    "dt = 0.01\n"
-    "accel_var = 4   # (m/s^2)^2\n"
-    "prior_cov = 0.01 0.01\n"
-    "measure = position velocity\n"
-    "meas_cov = 0.0025 0.01\n"
-    "\n"
-    "[model lm]\n"
-    "type = robot\n"
-    "channels = GF_(MEAS|CTRL)_3[0-9]\n"
-    "odometry = 0.0025 0 0 0.0001\n"
-    "prior_mean = 1 2 0.5\n"
-    "prior_cov = 0.01 0.02 0.03\n"
-    "measure = range bearing\n"
-    "landmark = 5 3\n"
-    "[model lm2]\n"
-    "base = lm\n"
-    "gate = 9.2\n";
+static const char test_conf[] = "# comment\n"
+                                "[model car100]\n"
+                                "type = car\n"
+                                "channels = GF_(MEAS|CTRL|MODEL)_1[0-9][0-9]\n"
+                                "dt = 0.01\n"
+                                "accel_var = 4   # (m/s^2)^2\n"
+                                "prior_cov = 0.01 0.01\n"
+                                "measure = position velocity\n"
+                                "meas_cov = 0.0025 0.01\n"
+                                "\n"
+                                "[model lm]\n"
+                                "type = robot\n"
+                                "channels = GF_(MEAS|CTRL)_3[0-9]\n"
+                                "odometry = 0.0025 0 0 0.0001\n"
+                                "prior_mean = 1 2 0.5\n"
+                                "prior_cov = 0.01 0.02 0.03\n"
+                                "measure = range bearing\n"
+                                "landmark = 5 3\n"
+                                "[model lm2]\n"
+                                "base = lm\n"
+                                "gate = 9.2\n";
 
 static int setup(void **state)
 {
@@ -122,9 +121,8 @@ static gf_node_result feed_on(const char *channel, gf_msg m)
     return gf_node_handle(&fx.node, channel, m.data, (size_t)m.len, 0);
 }
 
-static gf_msg msg_meas2(int32_t track, int8_t model, int64_t seq,
-                        int64_t utime, double z0, double z1, double q0,
-                        double q1)
+static gf_msg msg_meas2(int32_t track, int8_t model, int64_t seq, int64_t utime,
+                        double z0, double z1, double q0, double q1)
 {
     const double z[2] = {z0, z1}, q[2] = {q0, q1};
     return gf_msg_meas_m(track, model, seq, utime, 2, z, q);
@@ -153,15 +151,14 @@ static void config_and_lookup(void **state)
     check_close(m->prior_cov[1][1], 0.01);
     assert_int_equal(m->measure, GF_NODE_MEASURE_XV);
     // another kind on the same pattern, or no pattern: the presets
-    assert_string_equal(gf_node_config_lookup(&fx.cfg, 150,
-                                              GF_NODE_KIND_ROBOT)->name,
-                        "book-robot");
-    assert_string_equal(gf_node_config_lookup(&fx.cfg, 7, GF_NODE_KIND_CAR)
-                            ->name,
-                        "book-car");
-    assert_string_equal(gf_node_config_lookup(&fx.cfg, 1500,
-                                              GF_NODE_KIND_CAR)->name,
-                        "book-car"); // anchored
+    assert_string_equal(
+        gf_node_config_lookup(&fx.cfg, 150, GF_NODE_KIND_ROBOT)->name,
+        "book-robot");
+    assert_string_equal(
+        gf_node_config_lookup(&fx.cfg, 7, GF_NODE_KIND_CAR)->name, "book-car");
+    assert_string_equal(
+        gf_node_config_lookup(&fx.cfg, 1500, GF_NODE_KIND_CAR)->name,
+        "book-car"); // anchored
     assert_string_equal(gf_node_config_lookup(NULL, 1, GF_NODE_KIND_CAR)->name,
                         "book-car");
     m = gf_node_config_find(&fx.cfg, "lm2"); // base = lm, then its own gate
@@ -190,7 +187,8 @@ static void config_errors(void **state)
          "line 3: odometry takes 4 numbers"},
         {"[model a]\ntype = car\nmeasure = x y\n",
          "line 3: a car measures position, velocity or position velocity"},
-        {"[model a]\ntype = car\nlandmark = 1 2\n", "line 3: a car has no landmark"},
+        {"[model a]\ntype = car\nlandmark = 1 2\n",
+         "line 3: a car has no landmark"},
         {"[model a]\ntype = car\nchannels = GF_(\n",
          "line 1: model a: bad channels regex GF_("},
         {"[model a]\ntype = car\n[model a]\n", "line 3: model a defined twice"},
@@ -360,9 +358,9 @@ static void range_bearing(void **state)
     // of 3.1 rad against a predicted one near -3.1 must wrap.
     assert_int_equal(feed(gf_msg_ctrl(31, GF_ROBOT, 1, 1, 2, 1.0, 0.2)),
                      GF_NODE_APPLIED);
-    assert_int_equal(feed(msg_meas2(31, GF_ROBOT, 2, 1, 3.2, 0.3, 0.0025,
-                                    0.0001)),
-                     GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(msg_meas2(31, GF_ROBOT, 2, 1, 3.2, 0.3, 0.0025, 0.0001)),
+        GF_NODE_APPLIED);
     assert_int_equal(gf_ekf3_init(&ekf, &mu0, &sigma0), GF_OK);
     memset(&mot, 0, sizeof mot);
     mot.g = gf_ekf3_motion_forward_turn;
@@ -392,10 +390,10 @@ static void range_bearing(void **state)
     // the wrap: a bearing one turn off gives the same innovation
     assert_int_equal(feed(gf_msg_ctrl(32, GF_ROBOT, 1, 1, 2, 1.0, 0.2)),
                      GF_NODE_APPLIED);
-    assert_int_equal(feed(msg_meas2(32, GF_ROBOT, 2, 1, 3.2,
-                                    0.3 - 2.0 * 3.14159265358979323846,
-                                    0.0025, 0.0001)),
-                     GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(msg_meas2(32, GF_ROBOT, 2, 1, 3.2,
+                       0.3 - 2.0 * 3.14159265358979323846, 0.0025, 0.0001)),
+        GF_NODE_APPLIED);
     check_close(fx.c.sink.b[fx.c.sink.n - 1].innovation[1], b->innovation[1]);
     check_close(fx.c.sink.b[fx.c.sink.n - 1].mean[0], b->mean[0]);
     // m = 1 does not fit a range-bearing model
@@ -476,18 +474,16 @@ static void pf_no_summary(void **state)
     const gf_node_track *t;
     char line[1024];
     (void)state;
-    assert_int_equal(gf_node_set_filter(&fx.node, GF_NODE_FILTER_PF, &fx.pool,
-                                        1),
-                     0);
+    assert_int_equal(
+        gf_node_set_filter(&fx.node, GF_NODE_FILTER_PF, &fx.pool, 1), 0);
     assert_int_equal(feed(gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
                      GF_NODE_APPLIED);
     // 1e155 forward (1e20 in float): the particles move, their covariance
     // overflows
-    assert_int_equal(feed(gf_msg_ctrl(4, GF_ROBOT, 2, 2, 2,
-                                      sizeof(gf_real) == sizeof(float) ? 1e20
-                                                                      : 1e155,
-                                      0.0)),
-                     GF_NODE_NO_SUMMARY);
+    assert_int_equal(
+        feed(gf_msg_ctrl(4, GF_ROBOT, 2, 2, 2,
+                         sizeof(gf_real) == sizeof(float) ? 1e20 : 1e155, 0.0)),
+        GF_NODE_NO_SUMMARY);
     b = &fx.c.sink.b[fx.c.sink.n - 1];
     assert_int_equal(b->status, GF_NODE_STATUS_NO_SUMMARY);
     assert_int_equal(b->status, GAUSSFILT_LCM_BELIEF_T_STATUS_NO_SUMMARY);
@@ -511,8 +507,8 @@ static void pf_no_summary(void **state)
         gaussfilt_lcm_control_t c;
         gaussfilt_lcm_control_t_decode(m.data, 0, m.len, &c);
         c.session = 2;
-        m.len = gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof m.data,
-                                               &c);
+        m.len =
+            gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof m.data, &c);
         assert_int_equal(feed(m), GF_NODE_APPLIED);
     }
     b = &fx.c.sink.b[fx.c.sink.n - 1];

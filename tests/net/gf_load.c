@@ -74,8 +74,9 @@ int main(int argc, char **argv)
             break;
     }
     if (i < argc || tracks < 1 || tracks > MAX_TRACKS || rate <= 0.0) {
-        fprintf(stderr, "usage: gf_load --url URL [--tracks N<=%d] "
-                        "[--first F] [--rate HZ] [--seconds S] [--seed S]\n",
+        fprintf(stderr,
+                "usage: gf_load --url URL [--tracks N<=%d] "
+                "[--first F] [--rate HZ] [--seconds S] [--seed S]\n",
                 MAX_TRACKS);
         return 2;
     }
@@ -119,8 +120,8 @@ int main(int argc, char **argv)
                 z.z[0] = x[k][0] + sqrt(10.0) * noise();
                 z.q[0][0] = 10.0;
                 snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_MEAS, first + k);
-                len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof(buf),
-                                                         &z);
+                len =
+                    gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof(buf), &z);
                 failed += lcm_publish(lcm, ch, buf, (unsigned)len) != 0;
                 sent += 2;
             }

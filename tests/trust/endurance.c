@@ -39,10 +39,10 @@
 
 typedef struct stats {
     const char *name;
-    int n;                 // state size
+    int n; // state size
     long steps, updates;
-    double max_dmu[3];     // max |mu_f - mu_d| / sqrt(sigma_d ii)
-    double max_dsigma;     // max |s_f - s_d| / sqrt(s_d ii s_d jj)
+    double max_dmu[3]; // max |mu_f - mu_d| / sqrt(sigma_d ii)
+    double max_dsigma; // max |s_f - s_d| / sqrt(s_d ii s_d jj)
     long max_dmu_step;
     double nees_d, nees_f; // sums
     long failures;
@@ -56,8 +56,7 @@ static int is_pd(double s[3][3], int n)
 
 // Checks one step's pair of beliefs; prints and counts a failure.
 static void check(stats *st, long t, const endurance_belief *d,
-                  const endurance_belief *f, const double *truth,
-                  int heading)
+                  const endurance_belief *f, const double *truth, int heading)
 {
     const int n = st->n;
     const char *why = NULL;
@@ -135,9 +134,11 @@ static void check(stats *st, long t, const endurance_belief *d,
 static void progress(const stats *st, long t, long steps, int on)
 {
     if (on && steps >= 10 && t % (steps / 10) == 0) {
-        fprintf(stderr, "  %s: %3ld%% (%ld steps), max |dmu|/sd %.3g, "
-                "max dsigma %.3g, failures %ld\n", st->name, 100 * t / steps,
-                t, fmax(fmax(st->max_dmu[0], st->max_dmu[1]), st->max_dmu[2]),
+        fprintf(stderr,
+                "  %s: %3ld%% (%ld steps), max |dmu|/sd %.3g, "
+                "max dsigma %.3g, failures %ld\n",
+                st->name, 100 * t / steps, t,
+                fmax(fmax(st->max_dmu[0], st->max_dmu[1]), st->max_dmu[2]),
                 st->max_dsigma, st->failures);
     }
 }
@@ -196,7 +197,8 @@ static void run_ekf3(stats *st, long steps, int prog)
         double c = cos(th), s = sin(th);
         x += c + sqrt(ENDURANCE_EKF3_R_XY) * trust_normal(&rng);
         y += s + sqrt(ENDURANCE_EKF3_R_XY) * trust_normal(&rng);
-        th = trust_wrap(th + phi + sqrt(ENDURANCE_EKF3_R_TH) * trust_normal(&rng));
+        th = trust_wrap(th + phi +
+                        sqrt(ENDURANCE_EKF3_R_TH) * trust_normal(&rng));
         double z[2] = {x + sqrt(ENDURANCE_EKF3_Q) * trust_normal(&rng),
                        y + sqrt(ENDURANCE_EKF3_Q) * trust_normal(&rng)};
         const double *zp = trust_uniform(&rng) < 0.9 ? z : NULL;

@@ -39,23 +39,23 @@
 #include "gaussfilt/gaussfilt.h"
 #include "trust.h"
 
-#define RUNS 100   // Monte-Carlo runs M
-#define STEPS 200  // steps T per run
+#define RUNS 100      // Monte-Carlo runs M
+#define STEPS 200     // steps T per run
 #define EX4_RUNS 2000 // exercise 4 is one step; more runs instead
 
 // ---- the verdict -----------------------------------------------------------
 
 typedef struct verdict {
     const char *what;
-    int dof;         // n (NEES) or m (NIS) of one sample
-    int runs;        // M
-    int steps;       // steps judged
-    double lo, hi;   // two-sided 95% bounds on a step's average
-    int outside;     // steps whose average fell outside [lo, hi]
-    int allowed;     // binomial 99.9% quantile of steps * 0.05
-    double mean;     // average over all runs and steps
+    int dof;               // n (NEES) or m (NIS) of one sample
+    int runs;              // M
+    int steps;             // steps judged
+    double lo, hi;         // two-sided 95% bounds on a step's average
+    int outside;           // steps whose average fell outside [lo, hi]
+    int allowed;           // binomial 99.9% quantile of steps * 0.05
+    double mean;           // average over all runs and steps
     double all_lo, all_hi; // 99.9% bounds on that, see the top
-    double min, max; // smallest and largest step average
+    double min, max;       // smallest and largest step average
 } verdict;
 
 // Judges per-step sums over the runs: sum[t] for t = first..last.
@@ -188,10 +188,9 @@ static void run_kf2(uint64_t seed, double r_scale, double q_filter,
             double e[2] = {x - (double)kf.mu.v[0], v - (double)kf.mu.v[1]};
             gf_mat2 sigma;
             assert_int_equal(gf_kf2_cov(&kf, &sigma), GF_OK);
-            double s[3][3] = {
-                {(double)sigma.m[0][0], (double)sigma.m[0][1], 0},
-                {(double)sigma.m[1][0], (double)sigma.m[1][1], 0},
-                {0, 0, 0}};
+            double s[3][3] = {{(double)sigma.m[0][0], (double)sigma.m[0][1], 0},
+                              {(double)sigma.m[1][0], (double)sigma.m[1][1], 0},
+                              {0, 0, 0}};
             // Sigma_1 is singular (R has rank 1, all of it along g), so
             // NEES is judged from t = 2 on.
             if (t >= 2) {
@@ -221,7 +220,8 @@ static void test_kf2_mistuned_is_caught(void **state)
 {
     (void)state;
     run_kf2(UINT64_C(0x6b66320002), 1.0, 5.0, nees, nis);
-    verdict ni = judge("KF2 told Q=5 (truth 10): NIS", nis, 1, STEPS, RUNS, 1, 1);
+    verdict ni =
+        judge("KF2 told Q=5 (truth 10): NIS", nis, 1, STEPS, RUNS, 1, 1);
     assert_false(consistent(&ni));
     assert_true(ni.outside > ni.steps / 2);
 
@@ -325,8 +325,10 @@ static void test_ekf3_small_heading_consistent(void **state)
         .runs = RUNS,
     };
     run_ekf3(&c, UINT64_C(0x656b66330001), nees, nis);
-    verdict ne = judge("EKF3 small heading NEES (n=3)", nees, 1, STEPS, RUNS, 3, 0);
-    verdict ni = judge("EKF3 small heading NIS (m=2)", nis, 1, STEPS, RUNS, 2, 1);
+    verdict ne =
+        judge("EKF3 small heading NEES (n=3)", nees, 1, STEPS, RUNS, 3, 0);
+    verdict ni =
+        judge("EKF3 small heading NIS (m=2)", nis, 1, STEPS, RUNS, 2, 1);
     assert_true(consistent(&ne));
     assert_true(consistent(&ni));
 }
@@ -352,8 +354,8 @@ static void test_ekf3_exercise4_small_heading_consistent(void **state)
     run_ekf3(&c, UINT64_C(0x657834000001), ex4_nees, ex4_nis);
     verdict ne = judge("exercise 4, theta var 0.01: NEES", ex4_nees, 1, 1,
                        EX4_RUNS, 3, 0);
-    verdict ni = judge("exercise 4, theta var 0.01: NIS", ex4_nis, 1, 1,
-                       EX4_RUNS, 1, 1);
+    verdict ni =
+        judge("exercise 4, theta var 0.01: NIS", ex4_nis, 1, 1, EX4_RUNS, 1, 1);
     assert_true(consistent(&ne));
     assert_true(consistent(&ni));
 }
@@ -390,7 +392,8 @@ static void test_ekf3_exercise4_inconsistent(void **state)
     // circle and S = 0.02: (1/2 + 1) / 0.02 = 75 (+1 from the noise terms
     // scaled by S, which is what a consistent filter would show alone).
     printf("  exercise 4: NIS %.1f times, NEES %.1f times the consistent "
-           "value (1 and 3)\n", ni.mean, ne.mean / 3.0);
+           "value (1 and 3)\n",
+           ni.mean, ne.mean / 3.0);
     assert_true(ni.mean > 60.0 && ni.mean < 90.0);
 }
 

@@ -147,8 +147,7 @@ static inline int trust_binom_quantile(int n, double p, double q)
 
 // x^T S^-1 x for a symmetric n x n S (n = 1..3, row-major, stride 3), by
 // Cholesky. Returns NAN when S is not positive definite.
-static inline double trust_quad_form(double s[3][3], const double *x,
-                                     int n)
+static inline double trust_quad_form(double s[3][3], const double *x, int n)
 {
     double l[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (int j = 0; j < n; j++) {
