@@ -10,6 +10,24 @@
 
 // ---- shared with ekf.c ---------------------------------------------------
 
+// *dst = *src for the parts an n-state belief uses (n, angles, mu, the
+// factors and the permutation): the rest of dst is left as it is.
+static void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
+{
+    const unsigned n = src->n;
+    dst->n = n;
+    dst->angles = src->angles;
+    for (unsigned i = 0; i < n; i++) {
+        dst->mu[i] = src->mu[i];
+    }
+    for (unsigned k = 0; k < GF_KF_TRI(n); k++) {
+        dst->ud[k] = src->ud[k];
+    }
+    for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
+        dst->perm[k] = src->perm[k];
+    }
+}
+
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
                        unsigned *order, gf_kf_work *work)
 {
@@ -62,7 +80,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
 {
     const unsigned n = kf->n;
     gf_kf *nb = &work->b;
-    *nb = *kf;
+    kfc_copy(nb, kf);
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] =
             ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i]) : mu_bar[i];
@@ -73,7 +91,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
-    *kf = *nb;
+    kfc_copy(kf, nb);
     return GF_OK;
 }
 
@@ -109,7 +127,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
         }
     }
     gf_kf *nb = &work->b;
-    *nb = *kf;
+    kfc_copy(nb, kf);
     const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx,
                                         &in.nis, work->w, GF_KFC_S(work, 2));
     if (st != GF_OK) {
@@ -134,7 +152,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE;
     }
-    *kf = *nb;
+    kfc_copy(kf, nb);
     if (info) {
         *info = in;
     }

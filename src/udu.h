@@ -312,21 +312,32 @@ static inline void gf_udu_predict(unsigned n, gf_real *ud,
                                   gf_real *w, gf_real *wd)
 {
     const unsigned stride = 2u * n;
-    // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         wd[j] = ud[GF_UD(j, j)];
         wd[n + j] = dr[j];
+    }
+    // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        const gf_real *ai = &a[perm[i] * n];
+        const gf_real *fi = &fr[perm[i] * n];
+        gf_real *wi = &w[i * stride];
+        gf_real ap[GF_UDU_NMAX]; // row i of P^T A P
         GF_UNROLL
-        for (unsigned i = 0; i < n; i++) {
-            const gf_real *ai = &a[perm[i] * n];
-            gf_real acc = ai[perm[j]];
+        for (unsigned l = 0; l < n; l++) {
+            ap[l] = ai[perm[l]];
+        }
+        GF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real *uj = &ud[GF_UD(0, j)];
+            gf_real acc = ap[j];
             GF_UNROLL
             for (unsigned l = 0; l < j; l++) {
-                acc += ai[perm[l]] * ud[GF_UD(l, j)];
+                acc += ap[l] * uj[l];
             }
-            w[i * stride + j] = acc;
-            w[i * stride + n + j] = fr[perm[i] * n + j];
+            wi[j] = acc;
+            wi[n + j] = fi[j];
         }
     }
     gf_mwgs(n, stride, w, wd, ud);
