@@ -75,6 +75,37 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     return GF_OK;
 }
 
+// The factored steps, specialised for n = 2 and 3 (the loops unrolled)
+// and for any n.
+static void kfc_udu_predict(unsigned n, gf_real *ud, const unsigned char *perm,
+                            const gf_real *G, const gf_real *Rf,
+                            const gf_real *Rd, gf_kf_work *work)
+{
+    gf_real *wd = GF_KFC_S(work, 2);
+    if (n == 2u) {
+        gf_udu_predict(2u, ud, perm, G, Rf, Rd, work->w, wd);
+    } else if (n == 3u) {
+        gf_udu_predict(3u, ud, perm, G, Rf, Rd, work->w, wd);
+    } else {
+        gf_udu_predict(n, ud, perm, G, Rf, Rd, work->w, wd);
+    }
+}
+
+static gf_status kfc_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
+                                 unsigned m, const gf_real *hw,
+                                 const gf_real *e, const gf_real *yw,
+                                 gf_real *dx, gf_real *nis, gf_kf_work *work)
+{
+    gf_real *wd = GF_KFC_S(work, 2);
+    if (n == 2u) {
+        return gf_udu_correct(2u, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+    }
+    if (n == 3u) {
+        return gf_udu_correct(3u, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+    }
+    return gf_udu_correct(n, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+}
+
 gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
                          const gf_real *Rf, const gf_real *Rd, gf_kf_work *work)
 {
@@ -86,7 +117,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
             ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i]) : mu_bar[i];
     }
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
-    gf_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work->w, GF_KFC_S(work, 2));
+    kfc_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work);
     if (!gf_sum_finite(
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
@@ -128,8 +159,8 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
     }
     gf_kf *nb = &work->b;
     kfc_copy(nb, kf);
-    const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx,
-                                        &in.nis, work->w, GF_KFC_S(work, 2));
+    const gf_status st =
+        kfc_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx, &in.nis, work);
     if (st != GF_OK) {
         return st;
     }

@@ -7,8 +7,10 @@
 
 #include "gaussfilt/ekf.h"
 
-// n is known only at run time here: the loops stay loops.
-#define GF_UNROLL
+// The steps are compiled for n = 2 and 3, where the loops unroll, and
+// for any n, where they stay loops (gcc unrolls no loop of unknown count
+// at -Os).
+#define GF_UNROLL _Pragma("GCC unroll 6")
 #ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX GF_KF_NMAX
 #endif

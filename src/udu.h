@@ -306,10 +306,10 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 // n x n, rows of n, by state; a column of zero weight adds nothing), then
 // gf_mwgs. a: n x n, rows of n, by state. w: scratch of n rows of 2n, wd:
 // scratch of 2n (caller-owned).
-static inline void gf_udu_predict(unsigned n, gf_real *ud,
-                                  const unsigned char *perm, const gf_real *a,
-                                  const gf_real *fr, const gf_real *dr,
-                                  gf_real *w, gf_real *wd)
+GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, gf_real *ud,
+                                     const unsigned char *perm,
+                                     const gf_real *a, const gf_real *fr,
+                                     const gf_real *dr, gf_real *w, gf_real *wd)
 {
     const unsigned stride = 2u * n;
     GF_UNROLL
@@ -550,11 +550,11 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
 // scalar NIS, which is y^T S^-1 y. w, wd: scratch as gf_udu_predict's.
 // Statuses as gf_udu_update.
-static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
-                                       unsigned char *perm, unsigned m,
-                                       const gf_real *hw, const gf_real *e,
-                                       const gf_real *yw, gf_real *dx,
-                                       gf_real *nis, gf_real *w, gf_real *wd)
+GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
+                                          unsigned char *perm, unsigned m,
+                                          const gf_real *hw, const gf_real *e,
+                                          const gf_real *yw, gf_real *dx,
+                                          gf_real *nis, gf_real *w, gf_real *wd)
 {
     gf_real sd[GF_UDU_NMAX] = {0}, tell[GF_UDU_NMAX] = {0}, v[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX];
