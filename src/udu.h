@@ -344,8 +344,9 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, gf_real *ud,
 }
 
 // The state measured by the row h (by state) with the largest share of
-// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal (by
-// state), sum_(k >= i) U_ik^2 d_k for the state perm[i].
+// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal in the
+// factors' order: sigma_d[i] = sum_(k >= i) U_ik^2 d_k, the variance of
+// the state perm[i].
 GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
                                             const unsigned char *perm,
                                             const gf_real *h, gf_real *sigma_d)
@@ -360,7 +361,7 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
             v += ud[GF_UD(i, k)] * ud[GF_UD(i, k)] * ud[GF_UD(k, k)];
         }
         const unsigned s = perm[i];
-        sigma_d[s] = v;
+        sigma_d[i] = v;
         const gf_real part = h[s] * h[s] * v;
         if (part > most) {
             most = part;
@@ -556,21 +557,23 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           const gf_real *yw, gf_real *dx,
                                           gf_real *nis, gf_real *w, gf_real *wd)
 {
-    gf_real sd[GF_UDU_NMAX] = {0}, tell[GF_UDU_NMAX] = {0}, v[GF_UDU_NMAX];
+    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     unsigned main = gf_udu_main_state(n, ud, perm, hw, sd);
     for (unsigned i = 0; i < m; i++) {
         gf_real acc = 0;
         GF_UNROLL
-        for (unsigned s = 0; s < n; s++) {
-            acc += hw[i * n + s] * hw[i * n + s] * sd[s];
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real h = hw[i * n + perm[j]];
+            acc += h * h * sd[j];
         }
         v[i] = acc;
         rank[i] = i;
-    }
-    for (unsigned i = 0; i < m && m > 1u; i++) {
-        tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
+        // (one quantity needs no ranking)
+        tell[i] = (m < 2u)     ? GF_R(0.0)
+                  : (e[i] > 0) ? v[i] / e[i]
+                               : (gf_real)INFINITY;
     }
     for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
         for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
