@@ -73,8 +73,8 @@ static PyObject *raise_status(gf_status st, const char *where, const char *what,
         return NULL;
     }
     if (where) {
-        PyObject *msg = PyUnicode_FromFormat(
-            "%s: %s", where, what ? what : gf_status_str(st));
+        PyObject *msg = PyUnicode_FromFormat("%s: %s", where,
+                                             what ? what : gf_status_str(st));
         if (msg) {
             PyObject *a = PyTuple_Pack(1, msg);
             if (a) {
@@ -142,7 +142,8 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
     PyArrayObject *a;
     npy_intp size = rows ? rows * cols : cols;
     int ok;
-    if (PyArray_CheckExact(obj) && PyArray_TYPE((PyArrayObject *)obj) == NPY_GF &&
+    if (PyArray_CheckExact(obj) &&
+        PyArray_TYPE((PyArrayObject *)obj) == NPY_GF &&
         PyArray_ISCARRAY_RO((PyArrayObject *)obj)) {
         a = (PyArrayObject *)obj;
         Py_INCREF(a);
@@ -270,8 +271,8 @@ static int get_args(const char *fname, PyObject *const *args, Py_ssize_t nargs,
             }
             if (out[j]) {
                 PyErr_Format(PyExc_TypeError,
-                             "%s() got multiple values for argument '%s'", fname,
-                             names[j]);
+                             "%s() got multiple values for argument '%s'",
+                             fname, names[j]);
                 return -1;
             }
             out[j] = args[nargs + k];
@@ -279,9 +280,8 @@ static int get_args(const char *fname, PyObject *const *args, Py_ssize_t nargs,
     }
     for (int i = 0; i < nreq; i++) {
         if (!out[i]) {
-            PyErr_Format(PyExc_TypeError,
-                         "%s() missing required argument '%s'", fname,
-                         names[i]);
+            PyErr_Format(PyExc_TypeError, "%s() missing required argument '%s'",
+                         fname, names[i]);
             return -1;
         }
     }
@@ -304,8 +304,7 @@ static int read_gate(PyObject *obj, const char *name, gf_real *gate)
 // ---- built-in EKF3 models ------------------------------------------------
 
 typedef struct {
-    PyObject_HEAD
-    gf_ekf3_motion_fn g; // one of the two is set
+    PyObject_HEAD gf_ekf3_motion_fn g; // one of the two is set
     gf_ekf3_meas_fn h;
     unsigned m; // a measurement's measured quantities
     const char *name;
@@ -367,8 +366,8 @@ static PyObject *Builtin_repr(PyObject *self)
 }
 
 static PyTypeObject Builtin_Type = {
-    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "gaussfilt." GF_PREC_NAME
-                                             ".Builtin",
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name =
+        "gaussfilt." GF_PREC_NAME ".Builtin",
     .tp_basicsize = sizeof(BuiltinObj),
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "One of the library's built-in EKF3 models, as a C function.\n\n"
@@ -380,8 +379,8 @@ static PyTypeObject Builtin_Type = {
     .tp_repr = Builtin_repr,
 };
 
-static PyObject *new_builtin(gf_ekf3_motion_fn g, gf_ekf3_meas_fn h,
-                             unsigned m, const char *name)
+static PyObject *new_builtin(gf_ekf3_motion_fn g, gf_ekf3_meas_fn h, unsigned m,
+                             const char *name)
 {
     BuiltinObj *b = PyObject_New(BuiltinObj, &Builtin_Type);
     if (b) {
@@ -396,18 +395,15 @@ static PyObject *new_builtin(gf_ekf3_motion_fn g, gf_ekf3_meas_fn h,
 // ---- KF2 ------------------------------------------------------------------
 
 typedef struct {
-    PyObject_HEAD
-    gf_kf2_pmodel pm;
+    PyObject_HEAD gf_kf2_pmodel pm;
 } KF2ModelObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_kf2_pmeas pq;
+    PyObject_HEAD gf_kf2_pmeas pq;
 } KF2MeasObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_kf2 kf;
+    PyObject_HEAD gf_kf2 kf;
     gf_innovation last; // the last accepted update's
     int has_last;
 } KF2Obj;
@@ -577,12 +573,13 @@ static PyObject *KF2_predict(PyObject *self_, PyObject *const *args,
         return bad_arg("KF2.predict: model must be a KF2Model, not %s",
                        Py_TYPE(a[0])->tp_name);
     }
-    if (a[1] && a[1] != Py_None && read_real(a[1], "KF2.predict: u", 0, 2, u.v) < 0) {
+    if (a[1] && a[1] != Py_None &&
+        read_real(a[1], "KF2.predict: u", 0, 2, u.v) < 0) {
         return NULL;
     }
-    gf_status st = gf_kf2_predict_prepared(&((KF2Obj *)self_)->kf,
-                                           &((KF2ModelObj *)a[0])->pm,
-                                           (a[1] && a[1] != Py_None) ? &u : NULL);
+    gf_status st = gf_kf2_predict_prepared(
+        &((KF2Obj *)self_)->kf, &((KF2ModelObj *)a[0])->pm,
+        (a[1] && a[1] != Py_None) ? &u : NULL);
     if (st != GF_OK) {
         return raise_status(st, "KF2.predict", NULL, NULL, 0, 0);
     }
@@ -639,7 +636,8 @@ static PyObject *KF2_get(PyObject *self_, void *which)
     case 0:
         return new_array(2, 0, self->kf.mu.v);
     case 1:
-        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis : (double)NAN);
+        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
+                                                 : (double)NAN);
     default:
         if (!self->has_last) {
             Py_RETURN_NONE;
@@ -736,10 +734,10 @@ static PyObject *KF2_run(PyObject *self_, PyObject *const *args,
         goto done;
     }
     {
-        const gf_real *u = U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U)
-                             : NULL;
-        const gf_real *z = Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z)
-                             : NULL;
+        const gf_real *u =
+            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
+        const gf_real *z =
+            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
         gf_real *mo = (gf_real *)PyArray_DATA((PyArrayObject *)mu_o);
         gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)sg_o);
         gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)nis_o);
@@ -752,9 +750,8 @@ static PyObject *KF2_run(PyObject *self_, PyObject *const *args,
             gf_innovation info;
             no[k] = (gf_real)NAN;
             if (pm) {
-                st = gf_kf2_predict_prepared(&self->kf, pm,
-                                             u ? (const gf_vec2 *)(u + 2 * k)
-                                               : NULL);
+                st = gf_kf2_predict_prepared(
+                    &self->kf, pm, u ? (const gf_vec2 *)(u + 2 * k) : NULL);
             }
             if (st == GF_OK && z) {
                 const gf_real *zk = z + (npy_intp)m * k;
@@ -845,21 +842,18 @@ static PyGetSetDef KF2_getset[] = {
 // ---- EKF3 -----------------------------------------------------------------
 
 typedef struct {
-    PyObject_HEAD
-    gf_ekf3_pmotion pm;
+    PyObject_HEAD gf_ekf3_pmotion pm;
     PyObject *g;     // the callable (a Builtin: its C function is in pm)
     PyObject *cur_u; // the step's u, while the step runs
 } EKF3MotionObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_ekf3_pmeas pq;
+    PyObject_HEAD gf_ekf3_pmeas pq;
     PyObject *h;
 } EKF3MeasObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_ekf3 ekf;
+    PyObject_HEAD gf_ekf3 ekf;
     gf_innovation last;
     int has_last;
     int busy; // a step is running (its callback may not step this filter)
@@ -923,10 +917,10 @@ static gf_status ekf3_h_py(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
         bad_arg("EKF3 measurement h must return (z_hat, H)");
         return GF_ERR_MODEL;
     }
-    int bad = read_real(PySequence_Fast_GET_ITEM(seq, 0), "h's z_hat", 0, m,
-                        z_hat->v) < 0 ||
-              read_real(PySequence_Fast_GET_ITEM(seq, 1), "h's H", m, 3, Hv) <
-                  0;
+    int bad =
+        read_real(PySequence_Fast_GET_ITEM(seq, 0), "h's z_hat", 0, m,
+                  z_hat->v) < 0 ||
+        read_real(PySequence_Fast_GET_ITEM(seq, 1), "h's H", m, 3, Hv) < 0;
     Py_DECREF(seq);
     if (bad) {
         return GF_ERR_MODEL;
@@ -943,7 +937,8 @@ static int EKF3Motion_init(PyObject *self_, PyObject *args, PyObject *kw)
     EKF3MotionObj *self = (EKF3MotionObj *)self_;
     PyObject *g, *R;
     gf_ekf3_motion mo;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3Motion", names, &g, &R)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3Motion", names, &g,
+                                     &R)) {
         return -1;
     }
     if (!PyCallable_Check(g)) {
@@ -1120,8 +1115,7 @@ static PyGetSetDef EKF3Motion_getset[] = {
 static PyGetSetDef EKF3Meas_getset[] = {
     {"h", EKF3Meas_get, NULL, "the measurement h(mu_bar) -> (z_hat, H)",
      (void *)0},
-    {"Q", EKF3Meas_get, NULL, "measurement noise covariance (m, m)",
-     (void *)1},
+    {"Q", EKF3Meas_get, NULL, "measurement noise covariance (m, m)", (void *)1},
     {"m", EKF3Meas_get, NULL, "measured quantities (1..3)", (void *)2},
     {"angle_mask", EKF3Meas_get, NULL, "bit i: residual i is an angle",
      (void *)3},
@@ -1268,7 +1262,8 @@ static PyObject *EKF3_get(PyObject *self_, void *which)
     case 0:
         return new_array(3, 0, self->ekf.mu.v);
     case 1:
-        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis : (double)NAN);
+        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
+                                                 : (double)NAN);
     default:
         if (!self->has_last) {
             Py_RETURN_NONE;
@@ -1314,28 +1309,24 @@ static PyGetSetDef EKF3_getset[] = {
 // ---- KF and EKF: n states -------------------------------------------------
 
 typedef struct {
-    PyObject_HEAD
-    gf_kf_pmodel pm;
+    PyObject_HEAD gf_kf_pmodel pm;
     gf_real A[NMAX * NMAX], B[NMAX * NMAX], R[NMAX * NMAX], c[NMAX];
 } KFModelObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_kf_pmeas pq;
+    PyObject_HEAD gf_kf_pmeas pq;
     gf_real C[NMAX * NMAX], Q[NMAX * NMAX], c[NMAX];
 } KFMeasObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_ekf_pmotion pm;
+    PyObject_HEAD gf_ekf_pmotion pm;
     gf_real R[NMAX * NMAX];
     PyObject *g;
     PyObject *cur_u;
 } EKFMotionObj;
 
 typedef struct {
-    PyObject_HEAD
-    gf_ekf_pmeas pq;
+    PyObject_HEAD gf_ekf_pmeas pq;
     gf_real Q[NMAX * NMAX];
     PyObject *h;
 } EKFMeasObj;
@@ -1343,8 +1334,7 @@ typedef struct {
 // KF and EKF share it: the belief, the workspace its steps use (its own,
 // so that a callback may step another filter) and the last update's.
 typedef struct {
-    PyObject_HEAD
-    gf_kf kf;
+    PyObject_HEAD gf_kf kf;
     gf_kf_work work;
     gf_kf_innovation last;
     int has_last;
@@ -1779,8 +1769,9 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
     gf_real m[NMAX], s[NMAX * NMAX];
     npy_intp n, r;
     if (self->busy) {
-        PyErr_Format(PyExc_RuntimeError, "%s: re-initialised from its own "
-                                         "callback",
+        PyErr_Format(PyExc_RuntimeError,
+                     "%s: re-initialised from its own "
+                     "callback",
                      who);
         return -1;
     }
@@ -1860,8 +1851,8 @@ static PyObject *KF_predict(PyObject *self_, PyObject *const *args,
     if (has_u && read_real(a[1], "KF.predict: u", 0, pm->model.nu, u) < 0) {
         return NULL;
     }
-    gf_status st = gf_kf_predict_prepared(&self->kf, pm, has_u ? u : NULL,
-                                          &self->work);
+    gf_status st =
+        gf_kf_predict_prepared(&self->kf, pm, has_u ? u : NULL, &self->work);
     if (st != GF_OK) {
         return raise_status(st, "KF.predict", NULL, NULL, 0, 0);
     }
@@ -2008,10 +1999,10 @@ static PyObject *KF_run(PyObject *self_, PyObject *const *args,
         goto done;
     }
     {
-        const gf_real *u = U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U)
-                             : NULL;
-        const gf_real *z = Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z)
-                             : NULL;
+        const gf_real *u =
+            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
+        const gf_real *z =
+            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
         gf_real *mo = (gf_real *)PyArray_DATA((PyArrayObject *)mu_o);
         gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)sg_o);
         gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)nis_o);
@@ -2024,8 +2015,8 @@ static PyObject *KF_run(PyObject *self_, PyObject *const *args,
             gf_kf_innovation info;
             no[k] = (gf_real)NAN;
             if (pm) {
-                st = gf_kf_predict_prepared(&self->kf, pm, u ? u + nu * k : NULL,
-                                            &self->work);
+                st = gf_kf_predict_prepared(&self->kf, pm,
+                                            u ? u + nu * k : NULL, &self->work);
             }
             if (st == GF_OK && z) {
                 const gf_real *zk = z + m * k;
@@ -2185,7 +2176,8 @@ static PyObject *KF_get(PyObject *self_, void *which)
     case 0:
         return new_array(self->kf.n, 0, self->kf.mu);
     case 1:
-        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis : (double)NAN);
+        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
+                                                 : (double)NAN);
     case 2:
         if (!self->has_last) {
             Py_RETURN_NONE;
@@ -2274,7 +2266,8 @@ static PyObject *py_ellipse(PyObject *mod, PyObject *args, PyObject *kw)
     gf_mat2 s;
     gf_ellipse e;
     (void)mod;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|d:ellipse", names, &s_o, &p) ||
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|d:ellipse", names, &s_o,
+                                     &p) ||
         read_real(s_o, "ellipse: sigma", 2, 2, &s.m[0][0]) < 0) {
         return NULL;
     }
@@ -2354,8 +2347,8 @@ static PyMethodDef module_methods[] = {
         PyVarObject_HEAD_INIT(NULL, 0).tp_name =                               \
             "gaussfilt." GF_PREC_NAME "." name,                                \
         .tp_basicsize = sizeof(T##Obj),                                        \
-        .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE |                 \
-                    Py_TPFLAGS_HAVE_GC,                                        \
+        .tp_flags =                                                            \
+            Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE | Py_TPFLAGS_HAVE_GC,     \
         .tp_doc = doc,                                                         \
         .tp_new = PyType_GenericNew,                                           \
         .tp_init = init,                                                       \
@@ -2452,10 +2445,10 @@ static struct PyModuleDef moddef = {
 PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
 {
     PyObject *m, *errors;
-    PyTypeObject *types[] = {&Builtin_Type,  &KF2Model_Type,   &KF2Meas_Type,
-                             &KF2_Type,      &EKF3Motion_Type, &EKF3Meas_Type,
-                             &EKF3_Type,     &KFModel_Type,    &KFMeas_Type,
-                             &KF_Type,       &EKFMotion_Type,  &EKFMeas_Type,
+    PyTypeObject *types[] = {&Builtin_Type, &KF2Model_Type,   &KF2Meas_Type,
+                             &KF2_Type,     &EKF3Motion_Type, &EKF3Meas_Type,
+                             &EKF3_Type,    &KFModel_Type,    &KFMeas_Type,
+                             &KF_Type,      &EKFMotion_Type,  &EKFMeas_Type,
                              &EKF_Type};
     import_array();
     errors = PyImport_ImportModule("gaussfilt._errors");
@@ -2487,8 +2480,8 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
     if (PyModule_AddObject(m, "forward_turn",
                            new_builtin(gf_ekf3_motion_forward_turn, NULL, 0,
                                        "forward_turn")) < 0 ||
-        PyModule_AddObject(m, "meas_x",
-                           new_builtin(NULL, gf_ekf3_meas_x, 1, "meas_x")) < 0 ||
+        PyModule_AddObject(
+            m, "meas_x", new_builtin(NULL, gf_ekf3_meas_x, 1, "meas_x")) < 0 ||
         PyModule_AddObject(m, "meas_xy",
                            new_builtin(NULL, gf_ekf3_meas_xy, 2, "meas_xy")) <
             0 ||
