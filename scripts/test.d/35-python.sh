@@ -31,8 +31,8 @@ rc=${PIPESTATUS[0]}
 set -e
 line=$(tail -1 "$out")
 rm -f "$out"
-passed=$(grep -oE '[0-9]+ passed' <<<"$line" | awk '{s += $1} END {print s + 0}')
-failed=$(grep -oE '[0-9]+ (failed|errors?)' <<<"$line" | awk '{s += $1} END {print s + 0}')
+passed=$(awk '{for (i = 2; i <= NF; i++) if ($i ~ /^passed/) s += $(i - 1)} END {print s + 0}' <<<"$line")
+failed=$(awk '{for (i = 2; i <= NF; i++) if ($i ~ /^(failed|errors?)/) s += $(i - 1)} END {print s + 0}' <<<"$line")
 mkdir -p "$(dirname "$GF_TALLY")"
 echo "$passed $failed" >>"$GF_TALLY"
 exit "$rc"
