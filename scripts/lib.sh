@@ -102,6 +102,19 @@ PY
     fi
 }
 
+# gf_py_package: the Python package gaussfilt (python/, docs/python.md) in
+# the project's .venv, once: its build requirements from PyPI, then the
+# package built from this checkout, offline (pip install ./python).
+gf_py_package() {
+    gf_venv 'numpy>=1.21' 'scikit-build-core>=0.8'
+    "$GF_VENV/bin/python" -c 'import gaussfilt' 2>/dev/null && return 0
+    gf_apt cmake make gcc libc6-dev
+    gf_log "installing the Python package gaussfilt into .venv (pip install ./python)"
+    "$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
+        --no-build-isolation --no-index --no-deps "$GF_ROOT/python" ||
+        gf_die "pip install ./python failed"
+}
+
 # gf_ctest BUILD_DIR [ctest args...]: runs ctest and adds its counts to the
 # tally that scripts/test prints at the end.
 gf_ctest() {
