@@ -3,6 +3,7 @@
 
 #include "gaussfilt/ekf3.h"
 
+#include "gf_filter.h"
 #include "udu.h"
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,

@@ -3,6 +3,7 @@
 
 #include "gaussfilt/kf2.h"
 
+#include "gf_filter.h"
 #include "udu.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of

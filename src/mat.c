@@ -147,7 +147,9 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
     return ldl_core(s, stride, n, F, d, order, a3, p3);
 }
 
-gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
+// The verdict on a covariance passed in (n x n block, rows of stride):
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_cov_factor), else GF_OK.
+static gf_status psd_check(const gf_real *s, unsigned stride, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
         if (!gf_all_finite(&s[(size_t)i * stride], n)) {
@@ -219,7 +221,7 @@ int gf_mat2_is_finite(const gf_mat2 *a)
 
 gf_status gf_mat2_check_psd(const gf_mat2 *s)
 {
-    return s ? gf_psd_check(s->m[0], 2, 2) : GF_ERR_ARG;
+    return s ? psd_check(s->m[0], 2, 2) : GF_ERR_ARG;
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
@@ -374,7 +376,7 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    return gf_psd_check(s->m[0], 3, n);
+    return psd_check(s->m[0], 3, n);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/pf3.h"
 
-#include "gf_internal.h"
+#include "gf_filter.h"
 
 // exp() of gf_real; -DGF_EXP=... overrides it (config.h does not define it).
 #ifndef GF_EXP

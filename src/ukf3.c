@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/ukf3.h"
 
-#include "gf_internal.h"
+#include "gf_filter.h"
 
 #define N_STATE 3u
 #define N_SIGMA (2u * N_STATE + 1u)

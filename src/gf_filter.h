@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// gaussfilt: what the fixed-size filters share above the numeric helpers
+// (kf2.c, ekf3.c, if2.c, ukf3.c, pf3.c): an EKF3 measurement model's
+// checks, the gate and the innovation's store. Not installed, not part of
+// the API; everything here is static inline.
+#ifndef GAUSSFILT_SRC_FILTER_H
+#define GAUSSFILT_SRC_FILTER_H
+
+#include "gaussfilt/ekf3.h"
+
+#include "gf_internal.h"
+
+// The checks every update with an EKF3 measurement model starts with, in
+// the order of the status rules: GF_ERR_ARG (NULL model, h, z; m not 1..3),
+// GF_ERR_NONFINITE (z, gate), GF_ERR_ARG (gate < 0), then Q's
+// gf_mat3_check_psd verdict.
+static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
+                                       const gf_vec3 *z)
+{
+    if (!meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_vec3_is_finite_n(z, meas->m) || !GF_ISFINITE(meas->gate)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    return gf_mat3_check_psd(&meas->Q, meas->m);
+}
+
+// *info = *in field by field: a struct copy may carry the padding bytes
+// of the local (after m, in double), which callers comparing the whole
+// struct would see change from call to call.
+static inline void gf_info_store(gf_innovation *info, const gf_innovation *in)
+{
+    info->m = in->m;
+    info->y[0] = in->y[0];
+    info->y[1] = in->y[1];
+    info->y[2] = in->y[2];
+    info->nis = in->nis;
+}
+
+// The gate every update applies once it has the innovation: a NIS above a
+// set gate (gate > 0) rejects the measurement, and the caller still gets
+// the innovation. 1 if gated (info written), else 0 (info untouched).
+static inline int gf_gated(const gf_innovation *in, gf_real gate,
+                           gf_innovation *info)
+{
+    if (!(gate > 0 && in->nis > gate)) {
+        return 0;
+    }
+    if (info) {
+        gf_info_store(info, in);
+    }
+    return 1;
+}
+
+#endif
