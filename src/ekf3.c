@@ -4,7 +4,6 @@
 #include "gaussfilt/ekf3.h"
 
 #include "gf_filter.h"
-#include "udu.h"
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
@@ -120,10 +119,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!ekf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_all_finite(mu->v, 3) || !gf_all_finite(sigma->m[0], 9)) {
-        return GF_ERR_NONFINITE;
-    }
-    const gf_status st = gf_cov_factor(sigma->m[0], 3, 3, NULL, NULL, NULL);
+    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 3);
     if (st != GF_OK) {
         return st;
     }

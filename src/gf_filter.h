@@ -1,14 +1,27 @@
 // SPDX-License-Identifier: MIT
 // gaussfilt: what the fixed-size filters share above the numeric helpers
-// (kf2.c, ekf3.c, if2.c, ukf3.c, pf3.c): an EKF3 measurement model's
-// checks, the gate and the innovation's store. Not installed, not part of
+// (kf2.c, ekf3.c, if2.c, ukf3.c, pf3.c): a prior's checks, an EKF3
+// measurement model's checks, the gate and the innovation's store. Not installed, not part of
 // the API; everything here is static inline.
 #ifndef GAUSSFILT_SRC_FILTER_H
 #define GAUSSFILT_SRC_FILTER_H
 
 #include "gaussfilt/ekf3.h"
 
-#include "gf_internal.h"
+#include "udu.h"
+
+// The checks every init makes of the prior it is given (mu: n entries;
+// sigma: n x n, rows of n), in the order of the status rules:
+// GF_ERR_NONFINITE (mu, then sigma), then sigma's verdict
+// (gf_cov_factor: GF_ERR_NOT_PSD), else GF_OK.
+GF_ALWAYS_INLINE gf_status gf_prior_check(const gf_real *mu,
+                                          const gf_real *sigma, unsigned n)
+{
+    if (!gf_all_finite(mu, n) || !gf_all_finite(sigma, n * n)) {
+        return GF_ERR_NONFINITE;
+    }
+    return gf_cov_factor(sigma, n, n, NULL, NULL, NULL);
+}
 
 // The checks every update with an EKF3 measurement model starts with, in
 // the order of the status rules: GF_ERR_ARG (NULL model, h, z; m not 1..3),

@@ -8,10 +8,7 @@ gf_status gf_if2_init(gf_if2 *inf, const gf_mat2 *omega, const gf_vec2 *xi)
     if (!inf || !omega || !xi) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec2_is_finite(xi)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat2_check_psd(omega);
+    const gf_status st = gf_prior_check(xi->v, omega->m[0], 2);
     if (st != GF_OK) {
         return st;
     }
@@ -27,10 +24,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
     if (!inf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec2_is_finite(mu)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat2_check_psd(sigma);
+    gf_status st = gf_prior_check(mu->v, sigma->m[0], 2);
     if (st != GF_OK) {
         return st;
     }

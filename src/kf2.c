@@ -4,7 +4,6 @@
 #include "gaussfilt/kf2.h"
 
 #include "gf_filter.h"
-#include "udu.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
@@ -67,10 +66,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_all_finite(mu->v, 2) || !gf_all_finite(sigma->m[0], 4)) {
-        return GF_ERR_NONFINITE;
-    }
-    const gf_status st = gf_cov_factor(sigma->m[0], 2, 2, NULL, NULL, NULL);
+    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 2);
     if (st != GF_OK) {
         return st;
     }

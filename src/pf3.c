@@ -69,10 +69,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     if (!pf || !particles || !mu || !sigma || n < 1 || n > GF_PF3_MAX_N) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec3_is_finite_n(mu, 3)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat3_check_psd(sigma, 3);
+    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 3);
     if (st != GF_OK) {
         return st;
     }
