@@ -160,8 +160,7 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_real w[3 * 6], wd[6];
     gf_udu_predict(3, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), 3, nb.ud))) {
+    if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
     *ekf = nb;
@@ -229,25 +228,19 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    if (!GF_ISFINITE(in.nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gf_gated(&in, meas->gate, info)) {
-        return GF_ERR_GATED;
+    st = gf_innovation_verdict(&in, meas->gate, info);
+    if (st != GF_OK) {
+        return st;
     }
     for (unsigned j = 0; j < 3u; j++) {
         nb.mu.v[j] += dx[j];
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), 3, nb.ud))) {
-        return GF_ERR_NONFINITE;
+    st = gf_update_done(gf_belief_finite(nb.mu.v, nb.ud, 3), &in, info);
+    if (st == GF_OK) {
+        *ekf = nb;
     }
-    *ekf = nb;
-    if (info) {
-        gf_info_store(info, &in);
-    }
-    return GF_OK;
+    return st;
 }
 
 gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// gaussfilt: what the fixed-size filters share above the numeric helpers
-// (kf2.c, ekf3.c, if2.c, ukf3.c, pf3.c): a prior's checks, an EKF3
-// measurement model's checks, the gate and the innovation's store. Not installed, not part of
-// the API; everything here is static inline.
+// gaussfilt: the checks and the end of a step that the fixed-size filters
+// share (kf2.c, ekf3.c, if2.c, ukf3.c, pf3.c): a prior's checks, an EKF3
+// measurement model's checks, and the tail of every update (the NIS
+// finite, the gate, the result finite, the innovation stored). Not
+// installed, not part of the API; everything here is static inline.
 #ifndef GAUSSFILT_SRC_FILTER_H
 #define GAUSSFILT_SRC_FILTER_H
 
@@ -54,19 +55,47 @@ static inline void gf_info_store(gf_innovation *info, const gf_innovation *in)
     info->nis = in->nis;
 }
 
-// The gate every update applies once it has the innovation: a NIS above a
-// set gate (gate > 0) rejects the measurement, and the caller still gets
-// the innovation. 1 if gated (info written), else 0 (info untouched).
-static inline int gf_gated(const gf_innovation *in, gf_real gate,
-                           gf_innovation *info)
+// The first half of every update's tail, once it has the innovation:
+// GF_ERR_NONFINITE for a NIS that is not finite; GF_ERR_GATED for a NIS
+// above a set gate (gate > 0), with the innovation stored in info (if not
+// NULL: the caller still gets it); else GF_OK, info untouched.
+static inline gf_status gf_innovation_verdict(const gf_innovation *in,
+                                              gf_real gate, gf_innovation *info)
 {
+    if (!GF_ISFINITE(in->nis)) {
+        return GF_ERR_NONFINITE;
+    }
     if (!(gate > 0 && in->nis > gate)) {
-        return 0;
+        return GF_OK;
     }
     if (info) {
         gf_info_store(info, in);
     }
-    return 1;
+    return GF_ERR_GATED;
+}
+
+// The end of every update, once it has the new belief (finite: 1 if all
+// of it is finite): GF_ERR_NONFINITE, the caller keeping the last good
+// belief; else the innovation stored in info (if not NULL) and GF_OK, the
+// caller then storing the new belief.
+static inline gf_status gf_update_done(int finite, const gf_innovation *in,
+                                       gf_innovation *info)
+{
+    if (!finite) {
+        return GF_ERR_NONFINITE;
+    }
+    if (info) {
+        gf_info_store(info, in);
+    }
+    return GF_OK;
+}
+
+// 1 if a factored belief (mu: n entries; ud: its packed factors, udu.h)
+// is all finite.
+GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
+                                      unsigned n)
+{
+    return gf_sum_finite(gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), mu, n), n, ud));
 }
 
 #endif
