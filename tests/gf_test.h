@@ -15,6 +15,14 @@
 
 #include "gaussfilt/gaussfilt.h"
 
+// Uniform in [lo, hi), in double, from the library's generator: the
+// tests' random inputs (each test seeds its own gf_rng, so it draws the
+// same inputs whatever runs before it).
+static inline double gf_test_uniform(gf_rng *rng, double lo, double hi)
+{
+    return lo + (hi - lo) * (double)gf_rng_uniform(rng);
+}
+
 // Golden tolerance: |got - want| <= GF_TEST_TOL * max(1, |want|).
 // Double: 1e-12 (the exercise tables are exact binary fractions or short
 // rationals). Float: 2e-5, a few ulps of the float accumulated over the
