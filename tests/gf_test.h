@@ -33,8 +33,8 @@ static inline double gf_test_uniform(gf_rng *rng, double lo, double hi)
 #define GF_TEST_TOL 1e-12
 #endif
 
-// The seed prints two decimals: a value agrees with it "to the digits
-// printed" when it rounds to it.
+// The worked solutions (docs/exercises.md) print two decimals: a value
+// agrees with them "to the digits printed" when it rounds to theirs.
 #define GF_PRINTED_TOL 0.005
 
 static inline void gf_check_close_(double got, double want, double tol,
@@ -52,12 +52,13 @@ static inline void gf_check_close_(double got, double want, double tol,
 #define CHECK_CLOSE(got, want)                                                 \
     gf_check_close_((double)(got), (double)(want), GF_TEST_TOL, #got,          \
                     __FILE__, __LINE__)
-// got agrees with the seed's printed (rounded) value.
+// got agrees with the worked solutions' printed (rounded) value.
 #define CHECK_PRINTED(got, printed)                                            \
     do {                                                                       \
         double g_ = (double)(got), p_ = (double)(printed);                     \
         if (!(fabs(g_ - p_) <= GF_PRINTED_TOL)) {                              \
-            print_error("%s: got %.6f, the seed prints %.2f\n", #got, g_, p_); \
+            print_error("%s: got %.6f, the worked solutions print %.2f\n",     \
+                        #got, g_, p_);                                         \
             _fail(__FILE__, __LINE__);                                         \
         }                                                                      \
     } while (0)

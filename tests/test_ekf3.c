@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // EKF3 against exercise 4 of Probabilistic Robotics chapter 3
-// (../shared/seeds/000_da0a77abadc93716.txt): Tables 4.1 and 4.2.
+// (docs/exercises.md): Tables 4.1 and 4.2.
 #include "gf_test.h"
 
 // Tables 4.1 and 4.2: the robot moves one unit forward without noise in
