@@ -15,8 +15,7 @@ gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
     }
     const gf_real d = u[0], phi = u[1], th = mu->v[2];
     // sin and cos theta land in G's third column (no local of ours has
-    // its address taken, so this frame stays small under UKF3's and PF3's
-    // large ones); their G entries are written below
+    // its address taken); their G entries are written below
     gf_sincos(th, &G->m[0][2], &G->m[1][2]);
     const gf_real s = G->m[0][2], c = G->m[1][2];
     // g(u, x) = (x + d cos theta, y + d sin theta, theta + phi)

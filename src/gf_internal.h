@@ -11,8 +11,8 @@
 #include "gf_names.h"
 
 // Inlined into every caller by gcc and clang, at -Os too, for helpers whose
-// own frame would otherwise sit on top of a large caller's (the stack
-// budget of scripts/footprint); a plain inline elsewhere.
+// own frame would otherwise sit on top of a large caller's
+// (docs/firmware.md, the stack); a plain inline elsewhere.
 #if defined(__GNUC__)
 #define GF_ALWAYS_INLINE static inline __attribute__((always_inline))
 #else
@@ -20,11 +20,9 @@
 #endif
 
 // Before each loop over states or measured quantities: unrolled where the
-// trip count is known (a filter's own n), at -Os too: the Cortex-M4F
-// step costs about half as many instructions for about 12% more flash
-// (docs/performance.md). (clang unrolls such loops by itself, and warns
-// where a pragma asked it to and the trip count is not known.)
-// A source whose n is known only at run time defines it empty first.
+// trip count is known (a filter's own n), at -Os too (docs/performance.md
+// has what it costs and saves); clang unrolls such loops by itself. A
+// source whose n is known only at run time defines it empty first.
 #ifndef GF_UNROLL
 #if defined(__GNUC__) && !defined(__clang__)
 #define GF_UNROLL _Pragma("GCC unroll 6")

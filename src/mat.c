@@ -236,10 +236,9 @@ gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
         return GF_ERR_NONFINITE;
     }
     // Positive definite iff a > 0, c > 0 and det > 0; det is tested
-    // against the scale a c so that the verdict does not depend on units.
-    // Computed on the correlation form (r = b / sqrt(a c), det / (a c) =
-    // 1 - r^2) so that a c cannot overflow: the fuzzer found a = 1.8e308
-    // giving det = inf and an all-zero "inverse".
+    // against the scale a c so that the verdict does not depend on units,
+    // on the correlation form (r = b / sqrt(a c), det / (a c) = 1 - r^2),
+    // so that nothing overflows for entries up to the largest gf_real.
     if (!(a > 0) || !(c > 0)) {
         return GF_ERR_SINGULAR;
     }
@@ -274,8 +273,7 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
     gf_real a = s->m[0][0], c = s->m[1][1];
     gf_real b = GF_R(0.5) * s->m[0][1] + GF_R(0.5) * s->m[1][0];
     // Halves before sums and a scaled hypotenuse, so that entries near the
-    // largest finite value do not overflow (the fuzzer found 1.9e185
-    // giving an infinite eigenvalue).
+    // largest finite value do not overflow.
     gf_real mean = GF_R(0.5) * a + GF_R(0.5) * c;
     gf_real half = GF_R(0.5) * a - GF_R(0.5) * c;
     gf_real sc = GF_FABS(half) > GF_FABS(b) ? GF_FABS(half) : GF_FABS(b);

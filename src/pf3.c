@@ -36,10 +36,8 @@ static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
     return GF_OK;
 }
 
-// l = sqrt(s), packed (GF_TRI), for s checked PSD: gf_sqrt_psd_packed
-// in a frame of its own (the square roots' calls are not on
-// top of the caller's frame). Packed, not a 3x3 matrix: 12 B less in the
-// callers' frames (Cortex-M0+).
+// l = sqrt(s), packed (GF_TRI), for s checked PSD: gf_sqrt_psd_packed in
+// a frame of its own (docs/firmware.md, the stack).
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
@@ -87,8 +85,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
             return GF_ERR_NONFINITE;
         }
     }
-    // x^[k] ~ N(mu, Sigma), then w^[k] = 1/n (a loop of its own: no float
-    // kept across the draws' calls, so no FP register saved in this frame)
+    // x^[k] ~ N(mu, Sigma), then w^[k] = 1/n
     (void)gf_rng_seed(&rng, seed);
     for (unsigned k = 0; k < n; k++) {
         draw(&rng, mu, L, &particles[k].x);
@@ -105,9 +102,8 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
 }
 
 // x = g(u, p) through the motion's callback (G discarded), checked
-// finite. Not inlined under -Os (firmware): G's scratch is then in this
-// frame, which is gone before gf_pf3_predict draws the noise (the deeper
-// call). Inlined otherwise, for speed (a call per particle and pass).
+// finite. A call of its own under -Os, inlined otherwise
+// (docs/firmware.md, the stack).
 #if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
 __attribute__((noinline))
 #endif

@@ -119,9 +119,8 @@ gf_real gf_angle_wrap(gf_real a);
 // and the wrap's rounding bounds the error absolutely: within 1e-15 in
 // double and 6e-7 in float up to 1000 turns (tests/test_angle.c), many
 // ulps where sin or cos is near zero (-GF_PI included: it wraps to GF_PI).
-// Does nothing if s or c is NULL. The core's own (no libm call): newlib's
-// sinf/cosf would add about 4 KiB of flash and 500 bytes of stack to an
-// MCU image for a large-argument reduction the wrapped heading never needs.
+// Does nothing if s or c is NULL. The core's own, with no libm call
+// (docs/firmware.md says why).
 void gf_sincos(gf_real a, gf_real *s, gf_real *c);
 
 #ifdef __cplusplus
