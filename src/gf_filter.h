@@ -55,23 +55,32 @@ static inline void gf_info_store(gf_innovation *info, const gf_innovation *in)
     info->nis = in->nis;
 }
 
+// The gate every update applies once it has the innovation: a NIS above a
+// set gate (gate > 0) rejects the measurement, and the caller still gets
+// the innovation. 1 if gated (info written, if not NULL), else 0 (info
+// untouched).
+static inline int gf_gated(const gf_innovation *in, gf_real gate,
+                           gf_innovation *info)
+{
+    if (!(gate > 0 && in->nis > gate)) {
+        return 0;
+    }
+    if (info) {
+        gf_info_store(info, in);
+    }
+    return 1;
+}
+
 // The first half of every update's tail, once it has the innovation:
-// GF_ERR_NONFINITE for a NIS that is not finite; GF_ERR_GATED for a NIS
-// above a set gate (gate > 0), with the innovation stored in info (if not
-// NULL: the caller still gets it); else GF_OK, info untouched.
+// GF_ERR_NONFINITE for a NIS that is not finite, GF_ERR_GATED as gf_gated,
+// else GF_OK.
 static inline gf_status gf_innovation_verdict(const gf_innovation *in,
                                               gf_real gate, gf_innovation *info)
 {
     if (!GF_ISFINITE(in->nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(gate > 0 && in->nis > gate)) {
-        return GF_OK;
-    }
-    if (info) {
-        gf_info_store(info, in);
-    }
-    return GF_ERR_GATED;
+    return gf_gated(in, gate, info) ? GF_ERR_GATED : GF_OK;
 }
 
 // The end of every update, once it has the new belief (finite: 1 if all

@@ -474,15 +474,19 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
             q.u.v[i] /= s[GF_TRI(i, i)];
             q.in.nis += q.u.v[i] * q.u.v[i];
         }
-        st = gf_innovation_verdict(&q.in, meas->gate, info);
-        if (st != GF_OK) {
-            return st;
+        if (!GF_ISFINITE(q.in.nis)) {
+            return GF_ERR_NONFINITE;
+        }
+        if (gf_gated(&q.in, meas->gate, info)) {
+            return GF_ERR_GATED;
         }
         st = posterior(ukf, s, &Pxz, &q);
         if (st != GF_OK) {
             return st;
         }
-        // posterior judged the belief and stored it
-        return gf_update_done(1, &q.in, info);
+        if (info) {
+            gf_info_store(info, &q.in);
+        }
     }
+    return GF_OK;
 }
