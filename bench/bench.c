@@ -5,7 +5,9 @@
 //
 // Usage:
 //   gf_bench count WL PART N   runs N loop iterations once (under
-//                              callgrind: the loop function is bench_loop_*)
+//                              callgrind: the loop function is
+//                              bench_loop_FILTER_PART, FILTER kf2 for W1,
+//                              ekf3 for W2, n for the filters of n states)
 //   gf_bench time WL PART N R  R timed runs of N iterations; prints the
 //                              median, min and max ns per iteration
 //   gf_bench floor WL PART     prints the hand-counted flop floor
@@ -68,6 +70,27 @@
 //            K y (18); Sigma -= K Sigma, 6 entries (36)
 #define FLOOR_W2M3_UPDATE 138
 
+// ---- the workloads (workloads.h) -----------------------------------------
+
+typedef struct bench_wl {
+    const char *name;
+    int ekf3;     // W2's EKF3, else W1's KF2
+    int prepared; // through the prepared models
+    unsigned m;   // W2's measured quantities
+    int user;     // W2 with the caller's own copies of the built-in models
+    int floor_predict, floor_update;
+} bench_wl;
+
+static const bench_wl WORKLOADS[] = {
+    {"w1", 0, 0, 1u, 0, FLOOR_W1_PREDICT, FLOOR_W1_UPDATE},
+    {"w1p", 0, 1, 1u, 0, FLOOR_W1_PREDICT, FLOOR_W1_UPDATE},
+    {"w2", 1, 0, 1u, 0, FLOOR_W2_PREDICT, FLOOR_W2_UPDATE},
+    {"w2c", 1, 0, 1u, 1, FLOOR_W2_PREDICT, FLOOR_W2_UPDATE},
+    {"w2p", 1, 1, 1u, 0, FLOOR_W2_PREDICT, FLOOR_W2_UPDATE},
+    {"w2m2", 1, 0, 2u, 0, FLOOR_W2_PREDICT, FLOOR_W2M2_UPDATE},
+    {"w2m3", 1, 0, 3u, 0, FLOOR_W2_PREDICT, FLOOR_W2M3_UPDATE},
+};
+
 // ---- the measured loops --------------------------------------------------
 //
 // noinline, so that callgrind can attribute to them by name and the
@@ -79,16 +102,48 @@
 static double fail_sink; // set on failure, so the loops have a side exit
 static gf_innovation info_sink;
 
-NOINLINE static double bench_loop_w1_step(unsigned long n)
+// The chosen workload's steps: through the prepared models or not (each
+// loop reads bench_prepared once; the branch is outside the measured calls).
+static int bench_prepared;
+
+static inline gf_status kf2_predict(int prepared, gf_kf2 *kf)
 {
+    return prepared ? gf_kf2_predict_prepared(kf, &wl_w1_pmodel, NULL)
+                    : gf_kf2_predict(kf, &wl_w1_model, NULL);
+}
+
+static inline gf_status kf2_update(int prepared, gf_kf2 *kf, unsigned j)
+{
+    return prepared ? gf_kf2_update_prepared(kf, &wl_w1_pmeas, &wl_w1_z[j],
+                                             &info_sink)
+                    : gf_kf2_update(kf, &wl_w1_meas, &wl_w1_z[j], &info_sink);
+}
+
+static inline gf_status ekf3_predict(int prepared, gf_ekf3 *ekf, unsigned j)
+{
+    return prepared ? gf_ekf3_predict_prepared(ekf, &wl_w2_pmotion, wl_w2_u[j])
+                    : gf_ekf3_predict(ekf, &wl_w2_motion, wl_w2_u[j]);
+}
+
+static inline gf_status ekf3_update(int prepared, gf_ekf3 *ekf, unsigned j)
+{
+    return prepared ? gf_ekf3_update_prepared(ekf, &wl_w2_pmeas, &wl_w2_z[j],
+                                              &info_sink)
+                    : gf_ekf3_update(ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink);
+}
+
+// W1 (KF2): the step, the prediction alone, the update alone.
+NOINLINE static double bench_loop_kf2_step(unsigned long n)
+{
+    const int prepared = bench_prepared;
     gf_kf2 kf = wl_w1_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
             kf = wl_w1_init;
         }
-        if (gf_kf2_predict(&kf, &wl_w1_model, NULL) != GF_OK ||
-            gf_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j], &info_sink) != GF_OK) {
+        if (kf2_predict(prepared, &kf) != GF_OK ||
+            kf2_update(prepared, &kf, j) != GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -96,12 +151,13 @@ NOINLINE static double bench_loop_w1_step(unsigned long n)
     return (double)kf.mu.v[0] + (double)kf.ud[1];
 }
 
-NOINLINE static double bench_loop_w1_predict(unsigned long n)
+NOINLINE static double bench_loop_kf2_predict(unsigned long n)
 {
+    const int prepared = bench_prepared;
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         gf_kf2 kf = wl_w1_post[i & (TAB - 1)];
-        if (gf_kf2_predict(&kf, &wl_w1_model, NULL) != GF_OK) {
+        if (kf2_predict(prepared, &kf) != GF_OK) {
             return -1;
         }
         acc += (double)kf.ud[1];
@@ -109,13 +165,14 @@ NOINLINE static double bench_loop_w1_predict(unsigned long n)
     return acc;
 }
 
-NOINLINE static double bench_loop_w1_update(unsigned long n)
+NOINLINE static double bench_loop_kf2_update(unsigned long n)
 {
+    const int prepared = bench_prepared;
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_kf2 kf = wl_w1_prior[j];
-        if (gf_kf2_update(&kf, &wl_w1_meas, &wl_w1_z[j], &info_sink) != GF_OK) {
+        if (kf2_update(prepared, &kf, j) != GF_OK) {
             return -1;
         }
         acc += (double)kf.ud[1];
@@ -123,64 +180,18 @@ NOINLINE static double bench_loop_w1_update(unsigned long n)
     return acc;
 }
 
-// W1 through the prepared models.
-NOINLINE static double bench_loop_w1p_step(unsigned long n)
+// W2 (EKF3): the step, the prediction alone, the update alone.
+NOINLINE static double bench_loop_ekf3_step(unsigned long n)
 {
-    gf_kf2 kf = wl_w1_init;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        if (j == 0) {
-            kf = wl_w1_init;
-        }
-        if (gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL) != GF_OK ||
-            gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j],
-                                   &info_sink) != GF_OK) {
-            fail_sink = (double)i;
-            return -1;
-        }
-    }
-    return (double)kf.mu.v[0] + (double)kf.ud[1];
-}
-
-NOINLINE static double bench_loop_w1p_predict(unsigned long n)
-{
-    double acc = 0;
-    for (unsigned long i = 0; i < n; i++) {
-        gf_kf2 kf = wl_w1_post[i & (TAB - 1)];
-        if (gf_kf2_predict_prepared(&kf, &wl_w1_pmodel, NULL) != GF_OK) {
-            return -1;
-        }
-        acc += (double)kf.ud[1];
-    }
-    return acc;
-}
-
-NOINLINE static double bench_loop_w1p_update(unsigned long n)
-{
-    double acc = 0;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        gf_kf2 kf = wl_w1_prior[j];
-        if (gf_kf2_update_prepared(&kf, &wl_w1_pmeas, &wl_w1_z[j],
-                                   &info_sink) != GF_OK) {
-            return -1;
-        }
-        acc += (double)kf.ud[1];
-    }
-    return acc;
-}
-
-NOINLINE static double bench_loop_w2_step(unsigned long n)
-{
+    const int prepared = bench_prepared;
     gf_ekf3 ekf = wl_w2_init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         if (j == 0) {
             ekf = wl_w2_init;
         }
-        if (gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]) != GF_OK ||
-            gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) !=
-                GF_OK) {
+        if (ekf3_predict(prepared, &ekf, j) != GF_OK ||
+            ekf3_update(prepared, &ekf, j) != GF_OK) {
             fail_sink = (double)i;
             return -1;
         }
@@ -188,13 +199,14 @@ NOINLINE static double bench_loop_w2_step(unsigned long n)
     return (double)ekf.mu.v[0] + (double)ekf.ud[1];
 }
 
-NOINLINE static double bench_loop_w2_predict(unsigned long n)
+NOINLINE static double bench_loop_ekf3_predict(unsigned long n)
 {
+    const int prepared = bench_prepared;
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_ekf3 ekf = wl_w2_post[j];
-        if (gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[j]) != GF_OK) {
+        if (ekf3_predict(prepared, &ekf, j) != GF_OK) {
             return -1;
         }
         acc += (double)ekf.ud[1];
@@ -202,64 +214,14 @@ NOINLINE static double bench_loop_w2_predict(unsigned long n)
     return acc;
 }
 
-NOINLINE static double bench_loop_w2_update(unsigned long n)
+NOINLINE static double bench_loop_ekf3_update(unsigned long n)
 {
+    const int prepared = bench_prepared;
     double acc = 0;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
         gf_ekf3 ekf = wl_w2_prior[j];
-        if (gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink) !=
-            GF_OK) {
-            return -1;
-        }
-        acc += (double)ekf.ud[1];
-    }
-    return acc;
-}
-
-// W2 through the prepared models.
-NOINLINE static double bench_loop_w2p_step(unsigned long n)
-{
-    gf_ekf3 ekf = wl_w2_init;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        if (j == 0) {
-            ekf = wl_w2_init;
-        }
-        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) !=
-                GF_OK ||
-            gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j],
-                                    &info_sink) != GF_OK) {
-            fail_sink = (double)i;
-            return -1;
-        }
-    }
-    return (double)ekf.mu.v[0] + (double)ekf.ud[1];
-}
-
-NOINLINE static double bench_loop_w2p_predict(unsigned long n)
-{
-    double acc = 0;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        gf_ekf3 ekf = wl_w2_post[j];
-        if (gf_ekf3_predict_prepared(&ekf, &wl_w2_pmotion, wl_w2_u[j]) !=
-            GF_OK) {
-            return -1;
-        }
-        acc += (double)ekf.ud[1];
-    }
-    return acc;
-}
-
-NOINLINE static double bench_loop_w2p_update(unsigned long n)
-{
-    double acc = 0;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        gf_ekf3 ekf = wl_w2_prior[j];
-        if (gf_ekf3_update_prepared(&ekf, &wl_w2_pmeas, &wl_w2_z[j],
-                                    &info_sink) != GF_OK) {
+        if (ekf3_update(prepared, &ekf, j) != GF_OK) {
             return -1;
         }
         acc += (double)ekf.ud[1];
@@ -268,7 +230,7 @@ NOINLINE static double bench_loop_w2p_update(unsigned long n)
 }
 
 // The same step with the no-checks reference (bench/ref.c).
-NOINLINE static double bench_loop_w1_ref(unsigned long n)
+NOINLINE static double bench_loop_kf2_ref(unsigned long n)
 {
     const ref_kf2 init = ref_kf2_from(&wl_w1_init);
     ref_kf2 kf = init;
@@ -283,7 +245,7 @@ NOINLINE static double bench_loop_w1_ref(unsigned long n)
     return (double)kf.mu.v[0] + (double)kf.sigma.m[0][0];
 }
 
-NOINLINE static double bench_loop_w2_ref(unsigned long n)
+NOINLINE static double bench_loop_ekf3_ref(unsigned long n)
 {
     const ref_ekf3 init = ref_ekf3_from(&wl_w2_init);
     ref_ekf3 ekf = init;
@@ -408,63 +370,41 @@ int main(int argc, char **argv)
     if (strncmp(wl, "cv", 2) == 0 || strcmp(wl, "gps") == 0) {
         return main_n(argc, argv);
     }
-    int user = strcmp(wl, "w2c") == 0;
-    unsigned m = strcmp(wl, "w2m2") == 0   ? 2u
-                 : strcmp(wl, "w2m3") == 0 ? 3u
-                                           : 1u;
-    int w2 = user || m > 1 || strcmp(wl, "w2") == 0;
-    int prepared = strcmp(wl, "w1p") == 0;
-    int w2p = strcmp(wl, "w2p") == 0;
-    w2 = w2 || w2p;
-    if (!w2 && !prepared && strcmp(wl, "w1") != 0) {
-        return usage();
+    const bench_wl *w = NULL;
+    for (size_t k = 0; k < sizeof WORKLOADS / sizeof WORKLOADS[0]; k++) {
+        if (strcmp(wl, WORKLOADS[k].name) == 0) {
+            w = &WORKLOADS[k];
+        }
     }
-    int p; // 0 step, 1 predict, 2 update, 3 reference step
-    if (strcmp(part, "step") == 0) {
-        p = 0;
-    } else if (strcmp(part, "ref") == 0) {
-        p = 3;
-    } else if (strcmp(part, "predict") == 0) {
-        p = 1;
-    } else if (strcmp(part, "update") == 0) {
-        p = 2;
-    } else {
+    static const char *const parts[4] = {"step", "predict", "update", "ref"};
+    int p = -1; // an index of parts
+    for (int k = 0; k < 4; k++) {
+        if (strcmp(part, parts[k]) == 0) {
+            p = k;
+        }
+    }
+    if (!w || p < 0) {
         return usage();
     }
     if (strcmp(mode, "floor") == 0) {
-        if (m > 1) {
-            const int upd = m == 2 ? FLOOR_W2M2_UPDATE : FLOOR_W2M3_UPDATE;
-            const int f[4] = {FLOOR_W2_PREDICT + upd, FLOOR_W2_PREDICT, upd,
-                              FLOOR_W2_PREDICT + upd};
-            printf("%d\n", f[p]);
-            return 0;
-        }
-        static const int floors[2][4] = {
-            {FLOOR_W1_PREDICT + FLOOR_W1_UPDATE, FLOOR_W1_PREDICT,
-             FLOOR_W1_UPDATE, FLOOR_W1_PREDICT + FLOOR_W1_UPDATE},
-            {FLOOR_W2_PREDICT + FLOOR_W2_UPDATE, FLOOR_W2_PREDICT,
-             FLOOR_W2_UPDATE, FLOOR_W2_PREDICT + FLOOR_W2_UPDATE}};
-        printf("%d\n", floors[w2][p]);
+        const int f[4] = {w->floor_predict + w->floor_update, w->floor_predict,
+                          w->floor_update, w->floor_predict + w->floor_update};
+        printf("%d\n", f[p]);
         return 0;
     }
 
-    static const loop_fn loops[4][4] = {
-        {bench_loop_w1_step, bench_loop_w1_predict, bench_loop_w1_update,
-         bench_loop_w1_ref},
-        {bench_loop_w2_step, bench_loop_w2_predict, bench_loop_w2_update,
-         bench_loop_w2_ref},
-        {bench_loop_w1p_step, bench_loop_w1p_predict, bench_loop_w1p_update,
-         bench_loop_w1_ref},
-        {bench_loop_w2p_step, bench_loop_w2p_predict, bench_loop_w2p_update,
-         bench_loop_w2_ref}};
-    loop_fn loop = loops[prepared ? 2 : w2p ? 3 : w2][p];
-    if (w2) {
-        wl_setup_w2(m, user);
+    static const loop_fn loops[2][4] = {
+        {bench_loop_kf2_step, bench_loop_kf2_predict, bench_loop_kf2_update,
+         bench_loop_kf2_ref},
+        {bench_loop_ekf3_step, bench_loop_ekf3_predict, bench_loop_ekf3_update,
+         bench_loop_ekf3_ref}};
+    bench_prepared = w->prepared;
+    if (w->ekf3) {
+        wl_setup_w2(w->m, w->user);
     } else {
         wl_setup_w1();
     }
-
-    return run_loop(loop, argc, argv);
+    return run_loop(loops[w->ekf3][p], argc, argv);
 }
 
 // The count and time modes of main, for the loop chosen.

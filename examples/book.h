@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The book's exercises, every number in one place: Probabilistic Robotics,
-// chapter 3, exercises 1, 2 and 4, as the in-process program
-// (examples/exercises.c), the simulator (gf_sim --exercise), the node's
-// presets (sim/node_model.c: book-car, book-robot) and the checker
-// (gf_check) use them. Header-only, C99, no library needed.
+// The book's exercises (docs/exercises.md), every number in one place:
+// Probabilistic Robotics, chapter 3, exercises 1, 2 and 4, as the in-process
+// program (examples/exercises.c), the simulator (gf_sim --exercise), the node's
+// presets (sim/node_model.c: book-car, book-robot) and the checker (gf_check)
+// use them. Header-only, C99, no library needed.
 //
 // Four of them are parameters a student can change on the command line of
 // every one of those programs (and of scripts/demo); the tables that then

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Exercise 4 three ways, as data for a figure (scripts/ex4-figure): EKF3,
-// UKF3 and PF3 from the same prior, one move of 1, one observation
-// x = -0.7. Prints one record a line:
+// Exercise 4 (docs/exercises.md) three ways, as data for a figure
+// (scripts/ex4-figure): EKF3, UKF3 and PF3 from the same prior, one move of 1,
+// one observation x = -0.7. Prints one record a line:
 //   ellipse NAME mx my a b angle     68% ellipse of the (x, y) marginal
 //   particle STAGE x y w             PF3 particles (STAGE: pred, post)
 #include <stdio.h>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Prints the exercise tables of Probabilistic Robotics chapter 3 as
-// gaussfilt computes them, beside the values the seed prints
-// (../shared/seeds/000_da0a77abadc93716.txt). Exit status 1 if any value
-// disagrees with the seed to the digits it prints.
+// gaussfilt computes them, beside the values the worked solutions print
+// (docs/exercises.md). Exit status 1 if any value disagrees with the
+// worked solutions to the digits they print.
 //
 //   exercises [--meas-var V] [--z Z] [--steps N] [--heading-var V]
 //             [--beliefs FILE]
@@ -77,7 +77,8 @@ static void put_ekf3(int track, int seq, int stage, const gf_ekf3 *e)
     put_belief(track, seq, stage, 3, e->mu.v, &s.m[0][0], 3);
 }
 
-// One number, computed and printed by the seed with `digits` decimals.
+// One number, computed, and printed by the worked solutions with `digits`
+// decimals.
 static void cell(double got, double seed, int digits)
 {
     double half_ulp = 0.5 * pow(10.0, -digits) + 1e-12;
@@ -177,10 +178,11 @@ int main(int argc, char **argv)
     gf_kf2 kf;
     char label[16];
 
-    printf("gaussfilt %d.%d.%d (%s), computed value, then the seed's;"
-           " '!' marks a disagreement\n\n",
-           GF_VERSION_MAJOR, GF_VERSION_MINOR, GF_VERSION_PATCH,
-           sizeof(gf_real) == sizeof(float) ? "float" : "double");
+    printf(
+        "gaussfilt %d.%d.%d (%s), computed value, then the worked solutions';"
+        " '!' marks a disagreement\n\n",
+        GF_VERSION_MAJOR, GF_VERSION_MINOR, GF_VERSION_PATCH,
+        sizeof(gf_real) == sizeof(float) ? "float" : "double");
 
     printf("Table 1.1: KF2 prediction, no measurements (Sigma: xx xv vv)\n");
     gf_kf2_init(&kf, &mu0, &s0);
@@ -216,7 +218,8 @@ int main(int argc, char **argv)
         }
         printf("\n");
     }
-    printf("  limit   sqrt(3)/2 = %.5f (the seed: 0.87)\n", sqrt(3.0) / 2);
+    printf("  limit   sqrt(3)/2 = %.5f (the worked solutions: 0.87)\n",
+           sqrt(3.0) / 2);
 
     printf("\nTable 2.1: the measurement z = %g (variance %g) at t = %d\n",
            book.ex2_z, book.ex2_q, book.ex2_steps);
@@ -277,7 +280,7 @@ int main(int argc, char **argv)
         printf("\nbeliefs written to %s\n", beliefs_path);
     }
 
-    printf("\n%s: %d value(s) disagree with the seed%s%s%s\n",
+    printf("\n%s: %d value(s) disagree with the worked solutions%s%s%s\n",
            mismatches ? "FAIL" : "OK", mismatches,
            ex2_differs || ex4_differs
                ? "; not compared (changed by an option): "

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The README's example: exercises 1 and 2 of Probabilistic Robotics
 // chapter 3. Five predictions from a known start, then the position
-// reading z = 5 with variance 10 (Table 2.1).
+// reading z = 5 with variance 10 (Table 2.1, docs/exercises.md).
 #include <stdio.h>
 
 #include "gaussfilt/kf2.h"

@@ -34,21 +34,23 @@ gf_readme_block() {
 }
 
 # gf_check_names LIBRARY float|double [NM]: every function LIBRARY defines
-# has its precision in its link name (include/gaussfilt/names.h), and every
-# name names.h renames is defined. gf_status_str alone keeps its name.
+# has its precision in its link name (include/gaussfilt/names.h for the
+# API, src/gf_names.h for the internal functions), and every name they
+# rename is defined. gf_status_str alone keeps its name.
 gf_check_names() {
     local lib=$1 prec=$2 nm=${3:-nm} suffix=_f64 defined listed bad
     [ "$prec" = float ] && suffix=_f32
     defined=$("$nm" --defined-only -g "$lib" | awk 'NF == 3 {print $3}' | sort -u)
     listed=$(sed -nE 's/^#define (gf_[a-z0-9_]+) GF_NAME\(\1\)$/\1/p' \
-        "$GF_ROOT/include/gaussfilt/names.h" | sort -u)
+        "$GF_ROOT/include/gaussfilt/names.h" "$GF_ROOT/src/gf_names.h" | sort -u)
     [ -n "$defined" ] || gf_die "$lib defines no symbol"
     bad=$(grep -vxE "gf_status_str|gf_[a-z0-9_]+$suffix" <<<"$defined" || true)
     [ -z "$bad" ] || gf_die "$lib ($prec) defines $(tr '\n' ' ' <<<"$bad")without \
-the precision in the name; add to include/gaussfilt/names.h, for each:
+the precision in the name; add to include/gaussfilt/names.h (API) or
+       src/gf_names.h (internal), for each:
        #define NAME GF_NAME(NAME)"
     bad=$(comm -23 <(sed "s/\$/$suffix/" <<<"$listed" | sort) <(printf '%s\n' "$defined") | tr '\n' ' ')
-    [ -z "$bad" ] || gf_die "include/gaussfilt/names.h renames what $lib ($prec) does not define: $bad"
+    [ -z "$bad" ] || gf_die "names.h or src/gf_names.h renames what $lib ($prec) does not define: $bad"
     echo "$(wc -l <<<"$listed") function names carry $suffix; gf_status_str keeps its name"
 }
 

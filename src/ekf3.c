@@ -3,7 +3,7 @@
 
 #include "gaussfilt/ekf3.h"
 
-#include "udu.h"
+#include "gf_filter.h"
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
@@ -15,8 +15,7 @@ gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
     }
     const gf_real d = u[0], phi = u[1], th = mu->v[2];
     // sin and cos theta land in G's third column (no local of ours has
-    // its address taken, so this frame stays small under UKF3's and PF3's
-    // large ones); their G entries are written below
+    // its address taken); their G entries are written below
     gf_sincos(th, &G->m[0][2], &G->m[1][2]);
     const gf_real s = G->m[0][2], c = G->m[1][2];
     // g(u, x) = (x + d cos theta, y + d sin theta, theta + phi)
@@ -119,10 +118,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!ekf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_all_finite(mu->v, 3) || !gf_all_finite(sigma->m[0], 9)) {
-        return GF_ERR_NONFINITE;
-    }
-    const gf_status st = gf_cov_factor(sigma->m[0], 3, 3, NULL, NULL, NULL);
+    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 3);
     if (st != GF_OK) {
         return st;
     }
@@ -163,8 +159,7 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_real w[3 * 6], wd[6];
     gf_udu_predict(3, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), 3, nb.ud))) {
+    if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
     *ekf = nb;
@@ -232,25 +227,19 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    if (!GF_ISFINITE(in.nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gf_gated(&in, meas->gate, info)) {
-        return GF_ERR_GATED;
+    st = gf_innovation_verdict(&in, meas->gate, info);
+    if (st != GF_OK) {
+        return st;
     }
     for (unsigned j = 0; j < 3u; j++) {
         nb.mu.v[j] += dx[j];
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 3), 3, nb.ud))) {
-        return GF_ERR_NONFINITE;
+    st = gf_update_done(gf_belief_finite(nb.mu.v, nb.ud, 3), &in, info);
+    if (st == GF_OK) {
+        *ekf = nb;
     }
-    *ekf = nb;
-    if (info) {
-        gf_info_store(info, &in);
-    }
-    return GF_OK;
+    return st;
 }
 
 gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,

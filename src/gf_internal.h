@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: MIT
-// gaussfilt: helpers shared by the filters' sources. Not installed, not
-// part of the API; everything here is static inline.
+// gaussfilt: the numeric helpers every source shares, on the types of
+// gaussfilt/mat.h. The bottom of src/: it includes no filter's header and
+// needs no function defined elsewhere (everything here is static inline).
+// Not installed, not part of the API; gf_filter.h holds the filters' own.
 #ifndef GAUSSFILT_SRC_INTERNAL_H
 #define GAUSSFILT_SRC_INTERNAL_H
 
-#include "gaussfilt/ekf3.h"
+#include "gaussfilt/mat.h"
+
+#include "gf_names.h"
 
 // Inlined into every caller by gcc and clang, at -Os too, for helpers whose
-// own frame would otherwise sit on top of a large caller's (the stack
-// budget of scripts/footprint); a plain inline elsewhere.
+// own frame would otherwise sit on top of a large caller's
+// (docs/firmware.md, the stack); a plain inline elsewhere.
 #if defined(__GNUC__)
 #define GF_ALWAYS_INLINE static inline __attribute__((always_inline))
 #else
@@ -16,11 +20,9 @@
 #endif
 
 // Before each loop over states or measured quantities: unrolled where the
-// trip count is known (a filter's own n), at -Os too: the Cortex-M4F
-// step costs about half as many instructions for about 12% more flash
-// (docs/performance.md). (clang unrolls such loops by itself, and warns
-// where a pragma asked it to and the trip count is not known.)
-// A source whose n is known only at run time defines it empty first.
+// trip count is known (a filter's own n), at -Os too (docs/performance.md
+// has what it costs and saves); clang unrolls such loops by itself. A
+// source whose n is known only at run time defines it empty first.
 #ifndef GF_UNROLL
 #if defined(__GNUC__) && !defined(__clang__)
 #define GF_UNROLL _Pragma("GCC unroll 6")
@@ -68,11 +70,6 @@ static inline int gf_vec3_is_finite_n(const gf_vec3 *x, unsigned n)
     return gf_all_finite(x->v, n);
 }
 
-// The verdict on a covariance passed in (n x n block, rows of stride):
-// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (src/udu.h's gf_udu_factor), else
-// GF_OK. Defined in mat.c; gf_mat2_check_psd and gf_mat3_check_psd call it.
-gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n);
-
 // A model callback's status, with anything that is not a known failure
 // mapped to GF_ERR_MODEL; so is GF_ERR_GATED, which only the filter's own
 // gate may report (the caller then expects the innovation to be written).
@@ -81,52 +78,6 @@ static inline gf_status gf_callback_status(gf_status st)
     return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
                ? GF_ERR_MODEL
                : st;
-}
-
-// *info = *in field by field: a struct copy may carry the padding bytes
-// of the local (after m, in double), which callers comparing the whole
-// struct would see change from call to call.
-static inline void gf_info_store(gf_innovation *info, const gf_innovation *in)
-{
-    info->m = in->m;
-    info->y[0] = in->y[0];
-    info->y[1] = in->y[1];
-    info->y[2] = in->y[2];
-    info->nis = in->nis;
-}
-
-// The gate every update applies once it has the innovation: a NIS above a
-// set gate (gate > 0) rejects the measurement, and the caller still gets
-// the innovation. 1 if gated (info written), else 0 (info untouched).
-static inline int gf_gated(const gf_innovation *in, gf_real gate,
-                           gf_innovation *info)
-{
-    if (!(gate > 0 && in->nis > gate)) {
-        return 0;
-    }
-    if (info) {
-        gf_info_store(info, in);
-    }
-    return 1;
-}
-
-// The checks every update with an EKF3 measurement model starts with, in
-// the order of the status rules: GF_ERR_ARG (NULL model, h, z; m not 1..3),
-// GF_ERR_NONFINITE (z, gate), GF_ERR_ARG (gate < 0), then Q's
-// gf_mat3_check_psd verdict.
-static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
-                                       const gf_vec3 *z)
-{
-    if (!meas || !meas->h || !z || meas->m < 1 || meas->m > 3) {
-        return GF_ERR_ARG;
-    }
-    if (!gf_vec3_is_finite_n(z, meas->m) || !GF_ISFINITE(meas->gate)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    return gf_mat3_check_psd(&meas->Q, meas->m);
 }
 
 // Entry (i, j), j <= i, of a lower triangle packed by rows:

@@ -1,17 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/if2.h"
 
-#include "gf_internal.h"
+#include "gf_filter.h"
 
 gf_status gf_if2_init(gf_if2 *inf, const gf_mat2 *omega, const gf_vec2 *xi)
 {
     if (!inf || !omega || !xi) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec2_is_finite(xi)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat2_check_psd(omega);
+    const gf_status st = gf_prior_check(xi->v, omega->m[0], 2);
     if (st != GF_OK) {
         return st;
     }
@@ -27,10 +24,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
     if (!inf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec2_is_finite(mu)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat2_check_psd(sigma);
+    gf_status st = gf_prior_check(mu->v, sigma->m[0], 2);
     if (st != GF_OK) {
         return st;
     }
@@ -148,7 +142,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 
 // The innovation of the moments form (for info and the gate):
 // y = z - c - C mu_bar, NIS = y^T (C Sigma_bar C^T + Q)^-1 y, into out
-// (the caller's scratch, kept only on GF_OK).
+// (the caller's scratch, kept only on GF_OK; the caller judges the NIS).
 static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
                             const gf_vec2 *z, gf_innovation *out)
 {
@@ -193,7 +187,7 @@ static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
             out->nis += out->y[i] * sig.m[i][j] * out->y[j];
         }
     }
-    return GF_ISFINITE(out->nis) ? GF_OK : GF_ERR_NONFINITE;
+    return GF_OK;
 }
 
 gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
@@ -248,8 +242,9 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
         if (st != GF_OK) {
             return st;
         }
-        if (gf_gated(&in, meas->gate, info)) {
-            return GF_ERR_GATED;
+        st = gf_innovation_verdict(&in, meas->gate, info);
+        if (st != GF_OK) {
+            return st;
         }
     }
 
@@ -285,13 +280,11 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
             }
         }
 
-        if (!gf_mat2_is_finite(&r.omega) || !gf_vec2_is_finite(&r.xi)) {
-            return GF_ERR_NONFINITE;
+        st = gf_update_done(
+            gf_mat2_is_finite(&r.omega) && gf_vec2_is_finite(&r.xi), &in, info);
+        if (st == GF_OK) {
+            *inf = r;
         }
-        *inf = r;
     }
-    if (info) {
-        gf_info_store(info, &in);
-    }
-    return GF_OK;
+    return st;
 }

@@ -3,7 +3,7 @@
 
 #include "gaussfilt/kf2.h"
 
-#include "udu.h"
+#include "gf_filter.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
@@ -66,10 +66,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    if (!gf_all_finite(mu->v, 2) || !gf_all_finite(sigma->m[0], 4)) {
-        return GF_ERR_NONFINITE;
-    }
-    const gf_status st = gf_cov_factor(sigma->m[0], 2, 2, NULL, NULL, NULL);
+    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 2);
     if (st != GF_OK) {
         return st;
     }
@@ -109,8 +106,7 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
     }
     gf_real w[2 * 4], wd[4];
     gf_udu_predict(2, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), 2, nb.ud))) {
+    if (!gf_belief_finite(nb.mu.v, nb.ud, 2)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     *kf = nb;
@@ -151,23 +147,17 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    if (!GF_ISFINITE(in.nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gf_gated(&in, meas->gate, info)) {
-        return GF_ERR_GATED;
+    st = gf_innovation_verdict(&in, meas->gate, info);
+    if (st != GF_OK) {
+        return st;
     }
     nb.mu.v[0] += dx[0];
     nb.mu.v[1] += dx[1];
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb.mu.v, 2), 2, nb.ud))) {
-        return GF_ERR_NONFINITE;
+    st = gf_update_done(gf_belief_finite(nb.mu.v, nb.ud, 2), &in, info);
+    if (st == GF_OK) {
+        *kf = nb;
     }
-    *kf = nb;
-    if (info) {
-        gf_info_store(info, &in);
-    }
-    return GF_OK;
+    return st;
 }
 
 gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,

@@ -147,7 +147,9 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
     return ldl_core(s, stride, n, F, d, order, a3, p3);
 }
 
-gf_status gf_psd_check(const gf_real *s, unsigned stride, unsigned n)
+// The verdict on a covariance passed in (n x n block, rows of stride):
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_cov_factor), else GF_OK.
+static gf_status psd_check(const gf_real *s, unsigned stride, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
         if (!gf_all_finite(&s[(size_t)i * stride], n)) {
@@ -219,7 +221,7 @@ int gf_mat2_is_finite(const gf_mat2 *a)
 
 gf_status gf_mat2_check_psd(const gf_mat2 *s)
 {
-    return s ? gf_psd_check(s->m[0], 2, 2) : GF_ERR_ARG;
+    return s ? psd_check(s->m[0], 2, 2) : GF_ERR_ARG;
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
@@ -234,10 +236,9 @@ gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
         return GF_ERR_NONFINITE;
     }
     // Positive definite iff a > 0, c > 0 and det > 0; det is tested
-    // against the scale a c so that the verdict does not depend on units.
-    // Computed on the correlation form (r = b / sqrt(a c), det / (a c) =
-    // 1 - r^2) so that a c cannot overflow: the fuzzer found a = 1.8e308
-    // giving det = inf and an all-zero "inverse".
+    // against the scale a c so that the verdict does not depend on units,
+    // on the correlation form (r = b / sqrt(a c), det / (a c) = 1 - r^2),
+    // so that nothing overflows for entries up to the largest gf_real.
     if (!(a > 0) || !(c > 0)) {
         return GF_ERR_SINGULAR;
     }
@@ -272,8 +273,7 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
     gf_real a = s->m[0][0], c = s->m[1][1];
     gf_real b = GF_R(0.5) * s->m[0][1] + GF_R(0.5) * s->m[1][0];
     // Halves before sums and a scaled hypotenuse, so that entries near the
-    // largest finite value do not overflow (the fuzzer found 1.9e185
-    // giving an infinite eigenvalue).
+    // largest finite value do not overflow.
     gf_real mean = GF_R(0.5) * a + GF_R(0.5) * c;
     gf_real half = GF_R(0.5) * a - GF_R(0.5) * c;
     gf_real sc = GF_FABS(half) > GF_FABS(b) ? GF_FABS(half) : GF_FABS(b);
@@ -374,7 +374,7 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    return gf_psd_check(s->m[0], 3, n);
+    return psd_check(s->m[0], 3, n);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)

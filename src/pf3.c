@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/pf3.h"
 
-#include "gf_internal.h"
+#include "gf_filter.h"
 
 // exp() of gf_real; -DGF_EXP=... overrides it (config.h does not define it).
 #ifndef GF_EXP
@@ -36,10 +36,8 @@ static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
     return GF_OK;
 }
 
-// l = sqrt(s), packed (GF_TRI), for s checked PSD: gf_sqrt_psd_packed
-// in a frame of its own (the square roots' calls are not on
-// top of the caller's frame). Packed, not a 3x3 matrix: 12 B less in the
-// callers' frames (Cortex-M0+).
+// l = sqrt(s), packed (GF_TRI), for s checked PSD: gf_sqrt_psd_packed in
+// a frame of its own (docs/firmware.md, the stack).
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
@@ -69,10 +67,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     if (!pf || !particles || !mu || !sigma || n < 1 || n > GF_PF3_MAX_N) {
         return GF_ERR_ARG;
     }
-    if (!gf_vec3_is_finite_n(mu, 3)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_status st = gf_mat3_check_psd(sigma, 3);
+    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 3);
     if (st != GF_OK) {
         return st;
     }
@@ -90,8 +85,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
             return GF_ERR_NONFINITE;
         }
     }
-    // x^[k] ~ N(mu, Sigma), then w^[k] = 1/n (a loop of its own: no float
-    // kept across the draws' calls, so no FP register saved in this frame)
+    // x^[k] ~ N(mu, Sigma), then w^[k] = 1/n
     (void)gf_rng_seed(&rng, seed);
     for (unsigned k = 0; k < n; k++) {
         draw(&rng, mu, L, &particles[k].x);
@@ -108,9 +102,8 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
 }
 
 // x = g(u, p) through the motion's callback (G discarded), checked
-// finite. Not inlined under -Os (firmware): G's scratch is then in this
-// frame, which is gone before gf_pf3_predict draws the noise (the deeper
-// call). Inlined otherwise, for speed (a call per particle and pass).
+// finite. A call of its own under -Os, inlined otherwise
+// (docs/firmware.md, the stack).
 #if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
 __attribute__((noinline))
 #endif

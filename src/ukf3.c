@@ -1,24 +1,20 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/ukf3.h"
 
-#include "gf_internal.h"
+#include "gf_filter.h"
 
 #define N_STATE 3u
 #define N_SIGMA (2u * N_STATE + 1u)
 #define HEADING_MASK (1u << 2) // state entry 2, theta, is an angle
 
-// Stack (a firmware target gives a public function 256 bytes, built-in
-// models included; scripts/footprint): no array of sigma points is kept.
-// Each point is made when needed from the packed square root of Sigma
-// (chi_j = mu + off_j); the prediction keeps the 7 images through g, the
-// update none (its sums are taken about the centre's image, which comes
-// first, so each point is measured once and added in). The locals of successive phases are grouped so that
-// the compiler can lay them over each other, and the helpers under the
-// deepest frames are leaves or call only gf_angle_wrap.
+// No array of sigma points is kept: each point is made when needed from
+// the packed square root of Sigma (chi_j = mu + off_j); the prediction
+// keeps the 7 images through g, the update none (its sums are taken about
+// the centre's image, which comes first). How the code is laid out for
+// the stack: docs/ukf3.md.
 
-// UKF3_SMALL_CALL: a small helper of the large frames, called under -Os
-// (its few bytes of frame on top of theirs cost less than its code inlined
-// into theirs), inlined under gcc and clang otherwise, for speed.
+// UKF3_SMALL_CALL: a small helper of the large frames, a call under -Os,
+// inlined under gcc and clang otherwise.
 #if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define UKF3_SMALL_CALL static inline __attribute__((always_inline))
 #else
@@ -27,10 +23,8 @@
 
 // Entry k of off_j = chi_j - mu: off_0 = 0, off_{1+i} = gamma L_i,
 // off_{4+i} = -gamma L_i (L_i column i of L, packed as GF_TRI). With
-// WEIGHTED added to k, entry k of w_i off_j: the weight is read here,
-// so that no caller keeps it in an FP register across the call (which
-// its large frame would have to save; an argument more would go on the
-// stack on Arm).
+// WEIGHTED added to k, entry k of w_i off_j (the weight read here, not
+// passed in).
 #define WEIGHTED 4u
 static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
                              unsigned k)
@@ -45,8 +39,7 @@ static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
     return (k >= WEIGHTED) ? ukf->wi * o : o;
 }
 
-// chi_j = mu + off_j (the offset first: no float is kept across
-// offset's call).
+// chi_j = mu + off_j.
 UKF3_SMALL_CALL void sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
                                  unsigned j, gf_vec3 *chi)
 {
@@ -71,10 +64,8 @@ GF_ALWAYS_INLINE void wrap_entry(gf_real *e, unsigned b)
 
 // The flagged entries among the first n of d wrapped to (-pi, pi], the
 // entries from n on zeroed: the second half of a residual, and the last
-// step of a mean. The one helper that calls out (gf_angle_wrap), so that
-// the large frames above it need not; entry by entry, so that only d and
-// the bits (k: entry k kept, 3 + k: entry k wrapped) are kept across the
-// calls.
+// step of a mean. The one helper that calls gf_angle_wrap; entry by entry,
+// with the bits (k: entry k kept, 3 + k: entry k wrapped).
 UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_mask)
 {
     const unsigned keep = (1u << n) - 1u;

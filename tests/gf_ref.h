@@ -32,7 +32,7 @@ typedef long double gr_real;
 #endif
 #define GR_U_REF (0.5 * (double)LDBL_EPSILON)
 
-// Ranges of the scenarios, per build (issue's "Tests" section): the
+// Ranges of the scenarios, per build (docs/accuracy.md): the
 // largest ratio of prior to measurement-noise variance (in measurement
 // space), and the largest condition number of the prior's correlation form.
 #ifdef GF_SINGLE_PRECISION

@@ -15,6 +15,14 @@
 
 #include "gaussfilt/gaussfilt.h"
 
+// Uniform in [lo, hi), in double, from the library's generator: the
+// tests' random inputs (each test seeds its own gf_rng, so it draws the
+// same inputs whatever runs before it).
+static inline double gf_test_uniform(gf_rng *rng, double lo, double hi)
+{
+    return lo + (hi - lo) * (double)gf_rng_uniform(rng);
+}
+
 // Golden tolerance: |got - want| <= GF_TEST_TOL * max(1, |want|).
 // Double: 1e-12 (the exercise tables are exact binary fractions or short
 // rationals). Float: 2e-5, a few ulps of the float accumulated over the
@@ -25,8 +33,8 @@
 #define GF_TEST_TOL 1e-12
 #endif
 
-// The seed prints two decimals: a value agrees with it "to the digits
-// printed" when it rounds to it.
+// The worked solutions (docs/exercises.md) print two decimals: a value
+// agrees with them "to the digits printed" when it rounds to theirs.
 #define GF_PRINTED_TOL 0.005
 
 static inline void gf_check_close_(double got, double want, double tol,
@@ -44,12 +52,13 @@ static inline void gf_check_close_(double got, double want, double tol,
 #define CHECK_CLOSE(got, want)                                                 \
     gf_check_close_((double)(got), (double)(want), GF_TEST_TOL, #got,          \
                     __FILE__, __LINE__)
-// got agrees with the seed's printed (rounded) value.
+// got agrees with the worked solutions' printed (rounded) value.
 #define CHECK_PRINTED(got, printed)                                            \
     do {                                                                       \
         double g_ = (double)(got), p_ = (double)(printed);                     \
         if (!(fabs(g_ - p_) <= GF_PRINTED_TOL)) {                              \
-            print_error("%s: got %.6f, the seed prints %.2f\n", #got, g_, p_); \
+            print_error("%s: got %.6f, the worked solutions print %.2f\n",     \
+                        #got, g_, p_);                                         \
             _fail(__FILE__, __LINE__);                                         \
         }                                                                      \
     } while (0)

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Correlation and uncertainty ellipses of 2-D covariances (Figures 1.1,
-// 1.2, 2.1 and 4.1 of the seed draw 68% ellipses).
+// 1.2, 2.1 and 4.1 of the worked solutions, docs/exercises.md, draw 68%
+// ellipses).
 #include "gf_test.h"
 
-// k^2 = -2 ln(1 - p) for the seed's p = 0.68.
+// k^2 = -2 ln(1 - p) for the worked solutions' p = 0.68.
 static const double K2_68 = 2.2788685663767296; // -2 ln 0.32
 
 static void correlation(void **state)

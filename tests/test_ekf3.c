@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // EKF3 against exercise 4 of Probabilistic Robotics chapter 3
-// (../shared/seeds/000_da0a77abadc93716.txt): Tables 4.1 and 4.2.
+// (docs/exercises.md): Tables 4.1 and 4.2.
 #include "gf_test.h"
 
 // Tables 4.1 and 4.2: the robot moves one unit forward without noise in
@@ -506,25 +506,13 @@ static gf_status meas_linear(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
     return GF_OK;
 }
 
-static unsigned long long lin_rng = 0x9E3779B97F4A7C15ull;
-
-static double lin_rand(double lo, double hi)
-{
-    lin_rng ^= lin_rng >> 12;
-    lin_rng ^= lin_rng << 25;
-    lin_rng ^= lin_rng >> 27;
-    double u =
-        (double)((lin_rng * 2685821657736338717ull) >> 11) / 9007199254740992.0;
-    return lo + (hi - lo) * u;
-}
-
 // A random symmetric positive-definite n x n block (A A^T + d I).
-static void random_spd(int n, double d, double out[3][3])
+static void random_spd(gf_rng *rng, int n, double d, double out[3][3])
 {
     double a[3][3];
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 3; j++) {
-            a[i][j] = lin_rand(-1, 1);
+            a[i][j] = gf_test_uniform(rng, -1, 1);
             out[i][j] = 0;
         }
     }
@@ -544,6 +532,8 @@ static void random_spd(int n, double d, double out[3][3])
 static void general_random(void **state)
 {
     (void)state;
+    gf_rng rng;
+    (void)gf_rng_seed(&rng, 1u);
 #ifdef GF_SINGLE_PRECISION
     const double tol = 2e-4;
 #else
@@ -552,12 +542,12 @@ static void general_random(void **state)
     for (int trial = 0; trial < 200; trial++) {
         const int m = 2 + trial % 2;
         double P[3][3], Q[3][3], Hd[3][3] = {{0}}, mu[3], z[3];
-        random_spd(3, 0.05, P);
-        random_spd(m, 0.1, Q);
+        random_spd(&rng, 3, 0.05, P);
+        random_spd(&rng, m, 0.1, Q);
         gf_mat3 hm = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
         for (int i = 0; i < m; i++) {
             for (int j = 0; j < 3; j++) {
-                hm.m[i][j] = (gf_real)lin_rand(-1.5, 1.5);
+                hm.m[i][j] = (gf_real)gf_test_uniform(&rng, -1.5, 1.5);
                 Hd[i][j] = (double)hm.m[i][j];
             }
         }
@@ -574,7 +564,7 @@ static void general_random(void **state)
         };
         gf_vec3 zv = {{0, 0, 0}};
         for (int i = 0; i < 3; i++) {
-            mu0.v[i] = (gf_real)lin_rand(-0.5, 0.5);
+            mu0.v[i] = (gf_real)gf_test_uniform(&rng, -0.5, 0.5);
             for (int j = 0; j < 3; j++) {
                 s0.m[i][j] = (gf_real)P[i][j];
                 meas.Q.m[i][j] = (gf_real)Q[i][j];
@@ -592,7 +582,7 @@ static void general_random(void **state)
             }
         }
         for (int i = 0; i < m; i++) {
-            zv.v[i] = (gf_real)lin_rand(-1, 1);
+            zv.v[i] = (gf_real)gf_test_uniform(&rng, -1, 1);
             z[i] = (double)zv.v[i];
         }
         gf_innovation info;

@@ -1,17 +1,17 @@
 // SPDX-License-Identifier: MIT
-// Exercise 3 as a property test: the prediction step of the Kalman filter
-// is what happens to samples. Draw x_{t-1} ~ N(mu, Sigma) and
-// eps ~ N(0, R), push them through x_t = A x_{t-1} + B u + eps, and the
-// sample mean and covariance must match gf_kf2_predict's
-// mu_bar = A mu + B u and Sigma_bar = A Sigma A^T + R within their
-// sampling error.
+// Exercise 3 (docs/exercises.md) as a property test: the prediction step
+// of the Kalman filter is what happens to samples. Draw
+// x_{t-1} ~ N(mu, Sigma) and eps ~ N(0, R), push them through
+// x_t = A x_{t-1} + B u + eps, and the sample mean and covariance must
+// match gf_kf2_predict's mu_bar = A mu + B u and
+// Sigma_bar = A Sigma A^T + R within their sampling error.
 //
 // The bound, stated once: with N samples from N(m, S), the sample mean's
 // entry i has standard error sqrt(S_ii / N) and the sample covariance's
 // entry (i, j) has standard error sqrt((S_ij^2 + S_ii S_jj) / N) (Gaussian
 // fourth moments). Every check allows SAMPLING_K = 4.5 standard errors: a
 // correct filter fails one check with probability 6.8e-6, five checks per
-// run under 4e-5. The seed is fixed, so the run is reproducible.
+// run under 4e-5. The generator's seed is fixed, so the run is reproducible.
 #include "gf_test.h"
 
 #define SAMPLING_K 4.5
@@ -148,9 +148,9 @@ static void test_table_1_1_steps_match_samples(void **state)
     CHECK_CLOSE(sigma_4.m[0][0], 21.0); // Table 1.1, t = 4
 }
 
-// The check can fail: the seed's equation 1.8, R = diag(0.25, 1), is not
-// the noise the samples carry (the tables' R = G G^T is), and the test
-// sees it: the covariance is off by many standard errors.
+// The check can fail: the worked solutions' equation 1.8, R = diag(0.25, 1), is
+// not the noise the samples carry (the tables' R = G G^T is), and the test sees
+// it: the covariance is off by many standard errors.
 static void test_wrong_noise_is_detected(void **state)
 {
     (void)state;

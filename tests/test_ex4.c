@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Exercise 4 three ways: the robot at the origin, heading unknown
-// (variance 10000), moves 1 forward, then observes x = -0.7 (variance
+// Exercise 4 (docs/exercises.md) three ways: the robot at the origin, heading
+// unknown (variance 10000), moves 1 forward, then observes x = -0.7 (variance
 // 0.01). It must be near (-0.7, +0.714) or (-0.7, -0.714).
 //
 //   EKF3: linearizes at heading 0 and stays at (1, 0), then (0.15, 0, 0)
-//         (Tables 4.1 and 4.2): the seed's failure.
+//         (Tables 4.1 and 4.2): the failure docs/exercises.md shows.
 //   UKF3: pushes sigma points through the motion; its predicted mean lies
 //         inside the unit circle, but it is still one Gaussian.
 //   PF3:  the particles after z = -0.7 have two modes, near

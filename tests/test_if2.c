@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // IF2, the information filter, golden-tested beside KF2 on exercises 1, 2
-// and 5, and on what only the canonical form can hold.
+// and 5 (docs/exercises.md), and on what only the canonical form can hold.
 #include "gf_test.h"
 
 // Agreement with KF2 (and with the tables, through KF2's golden values):
-// |if - kf| <= IF_TOL * max(1, |kf|). The issue asks for 1e-9 in double;
+// |if - kf| <= IF_TOL * max(1, |kf|): 1e-9 in double;
 // the float build loses a few ulps per inversion, times the condition
 // number of Sigma (about 40 at t = 5), so 1e-4 there.
 #ifdef GF_SINGLE_PRECISION

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // KF2 against exercises 1, 2 and 5 of Probabilistic Robotics chapter 3
-// (../shared/seeds/000_da0a77abadc93716.txt): Table 1.1, Figure 1.2,
+// (docs/exercises.md): Table 1.1, Figure 1.2,
 // Table 2.1, and the additive constants of exercise 5.
 #include "gf_test.h"
 
 // Exercise 1: A = ((1, 1), (0, 1)), no control, and the process noise
-// R = G G^T with G = (0.5, 1)^T. (The seed's equation 1.8 prints
+// R = G G^T with G = (0.5, 1)^T. (The worked solutions' equation 1.8 prints
 // diag(0.25, 1), but its own Table 1.1 needs the full R; the tables are
 // the truth.)
 static const gf_kf2_model CAR = {
@@ -92,7 +92,7 @@ static const double RHO[11] = {
     0.8673649643743680,
     0.8671099695241200,
 };
-// The values the seed's Figure 1.2 shows, to three decimals.
+// The values the worked solutions' Figure 1.2 shows, to three decimals.
 static const double RHO_PRINTED[4] = {0, 1.0, 0.894, 0.878};
 
 static void figure_1_2(void **state)
@@ -115,7 +115,7 @@ static void figure_1_2(void **state)
         if (t < 4) {
             assert_true(fabs((double)rho - RHO_PRINTED[t]) <= 0.0005);
         }
-        // Falling towards sqrt(3)/2, the seed's 0.87, from above.
+        // Falling towards sqrt(3)/2, the worked solutions' 0.87, from above.
         assert_true(rho < prev);
         assert_true((double)rho > 0.8660254037844386);
         prev = rho;
@@ -143,7 +143,7 @@ static void table_2_1(void **state)
         {{(gf_real)(41.25 * 10 / s), (gf_real)(12.5 * 10 / s)},
          {(gf_real)(12.5 * 10 / s), (gf_real)(5 - 12.5 * 12.5 / s)}}};
     check_belief(&kf, &mu, &sigma);
-    // ... and to the digits the seed prints.
+    // ... and to the digits the worked solutions print.
     const gf_mat2 got = gf_test_kf2_sigma(&kf);
     CHECK_PRINTED(kf.mu.v[0], 4.02);
     CHECK_PRINTED(kf.mu.v[1], 1.22);

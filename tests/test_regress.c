@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The defects found in the core, each as the smallest call sequence that
-// showed it, against long-double values computed here or exact ones:
-// the scalar update collapsing the covariance, verdicts that depended on
-// units, float refusing a valid update, NULL pointers that crashed, and
-// statuses that depended on how the library was built.
+// Defects the core must not have, each as the smallest call sequence that
+// would show it, against long-double values computed here or exact ones:
+// the scalar update collapsing the covariance, verdicts that depend on
+// units, float refusing a valid update, NULL pointers that crash, and
+// statuses that depend on how the library is built.
 #include "gf_test.h"
 
 // Each update is checked against the long-double update of the prior the
@@ -651,9 +651,9 @@ static void one_answer_per_call(void **state)
     assert_true(info.nis == 0);
 }
 
-// The largest covariance a verdict accepts is stored finite: the fuzzer
-// found init's symmetrisation, (a + b) / 2, overflowing for a covariance of
-// the largest finite entries (accepted since verdicts take no products).
+// The largest covariance a verdict accepts is stored finite: a
+// symmetrisation (a + b) / 2 would overflow for a covariance of the largest
+// finite entries (which verdicts accept: they take no products).
 static void largest_covariance_stays_finite(void **state)
 {
     (void)state;

@@ -367,10 +367,10 @@ static void test_small_alpha_refused(void **state)
 }
 
 // Far from the origin the images' rounding grows with |g| / sigma: at
-// mu = (1e4, 2e4) with sigma 0.1 the floor put Sigma_bar 12 times off in
-// float and the mean 3 sigma off, GF_OK. Predict and update now refuse
-// that with GF_ERR_UNDEFINED, the belief untouched; a larger alpha is
-// accepted there and agrees with the exact transform (translated: the
+// mu = (1e4, 2e4) with sigma 0.1, alpha at the floor would put Sigma_bar
+// 12 times off in float and the mean 3 sigma off. Predict and update
+// refuse that with GF_ERR_UNDEFINED, the belief untouched; a larger alpha
+// is accepted there and agrees with the exact transform (translated: the
 // motion does not depend on the position).
 static void test_small_alpha_far(void **state)
 {

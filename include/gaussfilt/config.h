@@ -48,7 +48,7 @@ typedef double gf_real;
 // The tolerances of the verdicts. Every test of definiteness and
 // singularity looks at the correlation form D^-1/2 M D^-1/2 (D = diag(M)),
 // through the pivots of M = U D U^T taken relative to M's own diagonal
-// (src/udu.c), so multiplying M by any power of two that keeps its entries
+// (src/udu.h), so multiplying M by any power of two that keeps its entries
 // normal never changes a verdict, and units never do.
 //
 // GF_PD_RTOL: a pivot below GF_PD_RTOL times its diagonal entry is zero

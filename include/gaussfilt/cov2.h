@@ -24,8 +24,9 @@ gf_status gf_cov2_correlation(const gf_mat2 *s, gf_real *rho);
 
 // The ellipse holding probability mass p (0 < p < 1) of N(0, s):
 // k^2 = -2 ln(1 - p), semi-axes k sqrt(lambda_i) along s's eigenvectors.
-// p = 0.68 gives the seed's figures. GF_ERR_ARG on NULL or p out of range,
-// GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *e untouched then.
+// p = 0.68 gives the ellipses of docs/exercises.md's figures. GF_ERR_ARG on
+// NULL or p out of range, GF_ERR_NONFINITE, GF_ERR_NOT_PSD; *e untouched
+// then.
 gf_status gf_cov2_ellipse(const gf_mat2 *s, gf_real p, gf_ellipse *e);
 
 // The 2-D marginal of entries (i, j) of a 3-D covariance, e.g. (0, 1) for

@@ -112,16 +112,14 @@ gf_status gf_mat3_sqrt_psd(const gf_mat3 *s, unsigned n, gf_mat3 *l);
 // number no longer holds a direction at its own precision, and wraps to 0.
 gf_real gf_angle_wrap(gf_real a);
 
-// *s = sin(a), *c = cos(a). On (-GF_PI, GF_PI], what gf_angle_wrap
-// returns (every heading the filters keep), within 2 ulp of the true
-// values, near the zeros of sin and cos too (measured against long
-// double: 1.5 ulp in double, 1.74 in float). Any other a is wrapped first,
-// and the wrap's rounding bounds the error absolutely: within 1e-15 in
-// double and 6e-7 in float up to 1000 turns (tests/test_angle.c), many
-// ulps where sin or cos is near zero (-GF_PI included: it wraps to GF_PI).
-// Does nothing if s or c is NULL. The core's own (no libm call): newlib's
-// sinf/cosf would add about 4 KiB of flash and 500 bytes of stack to an
-// MCU image for a large-argument reduction the wrapped heading never needs.
+// *s = sin(a), *c = cos(a). On (-GF_PI, GF_PI], what gf_angle_wrap returns
+// (every heading the filters keep), within 2 ulp of the true values, near the
+// zeros of sin and cos too (docs/accuracy.md has the figures). Any other a is
+// wrapped first, and the wrap's rounding bounds the error absolutely: within
+// 1e-15 in double and 6e-7 in float up to 1000 turns (tests/test_angle.c), many
+// ulps where sin or cos is near zero (-GF_PI included: it wraps to GF_PI). Does
+// nothing if s or c is NULL. The core's own, with no libm call
+// (docs/firmware.md says why).
 void gf_sincos(gf_real a, gf_real *s, gf_real *c);
 
 #ifdef __cplusplus

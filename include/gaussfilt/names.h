@@ -8,8 +8,9 @@
 // Included by config.h once gf_real is chosen; not meant to be included on
 // its own. gf_status_str keeps its name: it has no gf_real in it.
 //
-// Every function a library source defines is listed here (scripts/test
-// compares this list with nm of the built library, both precisions).
+// Every function of the API is listed here; the library's internal
+// functions are in src/gf_names.h (scripts/test compares both lists with
+// nm of the built library, both precisions).
 #ifndef GAUSSFILT_NAMES_H
 #define GAUSSFILT_NAMES_H
 
@@ -18,10 +19,6 @@
 #else
 #define GF_NAME(name) name##_f64
 #endif
-
-// src/gf_internal.h and src/udu.h: internal, defined in mat.c
-#define gf_ldl GF_NAME(gf_ldl)
-#define gf_psd_check GF_NAME(gf_psd_check)
 
 // mat.h
 #define gf_angle_wrap GF_NAME(gf_angle_wrap)
@@ -90,14 +87,6 @@
 #define gf_ekf_prepare_motion GF_NAME(gf_ekf_prepare_motion)
 #define gf_ekf_update GF_NAME(gf_ekf_update)
 #define gf_ekf_update_prepared GF_NAME(gf_ekf_update_prepared)
-
-// src/kf_core.h: internal, defined in kf.c
-#define gf_kfc_init GF_NAME(gf_kfc_init)
-#define gf_kfc_keep GF_NAME(gf_kfc_keep)
-#define gf_kfc_meas_check GF_NAME(gf_kfc_meas_check)
-#define gf_kfc_noise GF_NAME(gf_kfc_noise)
-#define gf_kfc_predict GF_NAME(gf_kfc_predict)
-#define gf_kfc_update GF_NAME(gf_kfc_update)
 
 // rng.h
 #define gf_rng_mvn3 GF_NAME(gf_rng_mvn3)

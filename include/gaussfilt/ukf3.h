@@ -23,26 +23,17 @@ extern "C" {
 // The scaling parameters of Table 3.4 (Julier and Uhlmann; van der Merwe):
 // lambda = alpha^2 (n + kappa) - n, sigma points at mu +- sqrt(n + lambda)
 // times the columns of a square root of Sigma. alpha in
-// [GF_UKF3_ALPHA_MIN, 1] spreads
-// them, beta folds in prior knowledge of the distribution (2 is optimal
-// for a Gaussian), kappa >= 0 is a secondary spread (3 - n = 0 here).
+// [GF_UKF3_ALPHA_MIN, 1] spreads them, beta folds in prior knowledge of the
+// distribution (2 is optimal for a Gaussian), kappa >= 0 is a secondary
+// spread (3 - n = 0 here).
 // alpha = 1, beta = 2, kappa = 0 puts the points at sqrt(3) sigma.
 //
-// A small alpha brings the points within alpha sqrt(3) sigma of the mean
-// and weighs their differences by 1 / alpha^2 (a second difference): the
-// rounding of g's and h's outputs, u |g| (u the unit roundoff), reaches the
-// mean as about u |g| / alpha^2, however the sums are arranged. Below
-// GF_UKF3_ALPHA_MIN (alpha^2 = 2^-10 in float, 2^-40 in double: about
-// 1e-4 |g| in the mean) gf_ukf3_init refuses alpha with GF_ERR_ARG. Above
-// it the error still grows with |g| / sigma, so predict and update bound
-// it at every step, and refuse with GF_ERR_UNDEFINED the moments it could
-// move by a quarter of a sigma. With the points placed as in the tests,
-// that is from about |g| = 1500 sigma in float and 800 sigma in double at
-// the floor, and from 1.6e6 sigma in float at alpha = 1. Where the spread
-// is small enough for a small alpha to matter little, the floor costs
-// little: on exercise 4's motion with Sigma = 0.01 I, the exact
-// transform's Sigma_bar moves by less than 1e-5 relative from alpha =
-// 0.03 to 0 (docs/ukf3.md has the figures).
+// GF_UKF3_ALPHA_MIN, the smallest alpha gf_ukf3_init takes (2^-5 in
+// float, 2^-20 in double; GF_ERR_ARG below): a small alpha weighs the
+// points' differences by 1 / alpha^2, and with them the rounding of g's
+// and h's outputs. Above it, predict and update refuse with
+// GF_ERR_UNDEFINED a step whose rounding could move the moments by a
+// quarter of a sigma. docs/ukf3.md has the error analysis and the figures.
 #ifdef GF_SINGLE_PRECISION
 #define GF_UKF3_ALPHA_MIN GF_R(0.03125)
 #else

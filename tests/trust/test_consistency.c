@@ -360,12 +360,12 @@ static void test_ekf3_exercise4_small_heading_consistent(void **state)
     assert_true(consistent(&ni));
 }
 
-// ...but with the exercise's heading variance of 10000 (the heading is
-// unknown, the robot is somewhere on the unit circle) it is badly
-// inconsistent, the point of the seed's 4E: the linearisation puts all of
-// the heading's uncertainty into y (y = theta, true only for small theta),
-// and the x-variance 0.01 it predicts ignores that x = cos(theta) spans
-// [-1, 1]. "Badly": both averages above 10 times their 95% upper bound.
+// ...but with the exercise's heading variance of 10000 (the heading is unknown,
+// the robot is somewhere on the unit circle) it is badly inconsistent, the
+// point of exercise 4 (docs/exercises.md): the linearisation puts all of the
+// heading's uncertainty into y (y = theta, true only for small theta), and the
+// x-variance 0.01 it predicts ignores that x = cos(theta) spans [-1, 1].
+// "Badly": both averages above 10 times their 95% upper bound.
 static void test_ekf3_exercise4_inconsistent(void **state)
 {
     (void)state;

@@ -1,33 +1,29 @@
 // SPDX-License-Identifier: MIT
-// KF2's and EKF3's steps (the factored update of src/udu.h) against a
-// plain textbook implementation written here: full matrix products, the factored Joseph
-// form (I - K H) Sigma (I - K H)^T + K Q K^T, and a general G. Random
-// beliefs, headings all round the circle, and the inputs that take the slow
-// paths (R symmetric only within tolerance, R not diagonally dominant, a
-// Jacobian not of the built-in shape, gated and overflowing updates).
+// KF2's and EKF3's steps (the factored steps of src/udu.h) against a
+// plain textbook implementation written here: full matrix products, the
+// Joseph form (I - K H) Sigma (I - K H)^T + K Q K^T, and a general G.
+// Random beliefs, headings all round the circle, and the edge inputs (R
+// symmetric only within tolerance, R not diagonally dominant, a Jacobian
+// not of the built-in shape, gated and overflowing updates).
 #include "gf_test.h"
 
 // The reference works in double from the filter's gf_real values on
 // purpose (in the float build too): promotion is what is wanted here.
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
 
-// Fast path against the textbook: relative to the largest entry involved.
+// The steps against the textbook: relative to the largest entry involved.
 #ifdef GF_SINGLE_PRECISION
 #define FP_TOL 2e-4
 #else
 #define FP_TOL 1e-10
 #endif
 
-static unsigned long long rng = 0x2545F4914F6CDD1Dull;
+// The random inputs (each random test seeds it first).
+static gf_rng rng;
 
 static double urand(double lo, double hi)
 {
-    rng ^= rng >> 12;
-    rng ^= rng << 25;
-    rng ^= rng >> 27;
-    double u =
-        (double)((rng * 2685821657736338717ull) >> 11) / 9007199254740992.0;
-    return lo + (hi - lo) * u;
+    return gf_test_uniform(&rng, lo, hi);
 }
 
 static void check_rel(double got, double want, double scale, const char *what)
@@ -113,6 +109,7 @@ static void kf2_check(const gf_kf2 *kf, const ref_belief *r)
 static void kf2_random(void **state)
 {
     (void)state;
+    (void)gf_rng_seed(&rng, 1u);
     for (int trial = 0; trial < 200; trial++) {
         gf_kf2_model model;
         gf_kf2_meas meas;
@@ -182,9 +179,10 @@ static void kf2_random(void **state)
     }
 }
 
-// Inputs the cheap tests doubt but the full checks accept, and failures
-// found only after the step was computed.
-static void kf2_slow_paths(void **state)
+// Inputs the checks must accept (R symmetric only within tolerance) or
+// find (a NaN or inf that reaches no output), and failures found only
+// after the step was computed.
+static void kf2_edge_inputs(void **state)
 {
     (void)state;
     const gf_kf2_model car = {{{{1, 1}, {0, 1}}},
@@ -224,7 +222,7 @@ static void kf2_slow_paths(void **state)
     q.gate = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &a,
                           gf_kf2_update(&a, &q, &z, &info));
-    // Gated on the fast path: info written, belief untouched.
+    // Gated: info written, belief untouched.
     q = gps;
     q.gate = GF_R(1e-6);
     z.v[0] = 5; // mu_bar is (3, 2): y = 2
@@ -318,6 +316,7 @@ static void ekf3_check(const gf_ekf3 *e, const ref_belief *r)
 static void ekf3_random(void **state)
 {
     (void)state;
+    (void)gf_rng_seed(&rng, 2u);
     for (int trial = 0; trial < 120; trial++) {
         const int general = trial % 3 == 1, angle = trial % 2;
         gf_ekf3_motion mo;
@@ -325,7 +324,7 @@ static void ekf3_random(void **state)
         memset(&mo, 0, sizeof mo);
         memset(&me, 0, sizeof me);
         mo.g = general ? motion_general : gf_ekf3_motion_forward_turn;
-        // R: diagonal (quick test), or correlated (the exact test).
+        // R: diagonal (its own factors), or correlated (factored by pivots).
         double R[3][3] = {{0}};
         double g[3] = {urand(-0.3, 0.3), urand(-0.3, 0.3), urand(-0.1, 0.1)};
         for (int i = 0; i < 3; i++)
@@ -408,7 +407,7 @@ static gf_status motion_fails(void *ctx, const gf_vec3 *mu, const gf_real *u,
     return GF_ERR_MODEL;
 }
 
-static void ekf3_slow_paths(void **state)
+static void ekf3_edge_inputs(void **state)
 {
     (void)state;
     gf_ekf3 e, f;
@@ -428,8 +427,7 @@ static void ekf3_slow_paths(void **state)
     assert_int_equal(gf_ekf3_predict(&f, &m2, u), GF_OK);
     memset(&m2.R, 0, sizeof m2.R);
     assert_int_equal(gf_ekf3_predict(&f, &m2, u), GF_OK);
-    // inf on R's diagonal passes the quick test and is still found first,
-    // also when the model fails.
+    // inf on R's diagonal is found first, also when the model fails.
     m2 = mo;
     m2.R.m[2][2] = (gf_real)INFINITY;
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &e, gf_ekf3_predict(&e, &m2, u));
@@ -437,7 +435,7 @@ static void ekf3_slow_paths(void **state)
     CHECK_FAILS_UNCHANGED(GF_ERR_NONFINITE, &e, gf_ekf3_predict(&e, &m2, u));
     m2.R = mo.R;
     CHECK_FAILS_UNCHANGED(GF_ERR_MODEL, &e, gf_ekf3_predict(&e, &m2, u));
-    // R indefinite but not diagonally dominant: the exact test says no.
+    // R indefinite but not diagonally dominant: refused.
     m2 = mo;
     m2.R.m[0][1] = m2.R.m[1][0] = GF_R(0.2);
     CHECK_FAILS_UNCHANGED(GF_ERR_NOT_PSD, &e, gf_ekf3_predict(&e, &m2, u));
@@ -472,9 +470,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(kf2_random),
-        cmocka_unit_test(kf2_slow_paths),
+        cmocka_unit_test(kf2_edge_inputs),
         cmocka_unit_test(ekf3_random),
-        cmocka_unit_test(ekf3_slow_paths),
+        cmocka_unit_test(ekf3_edge_inputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+// gaussfilt: the link names of the library's internal functions, which
+// carry their precision as the public ones do (include/gaussfilt/names.h):
+// gf_ldl_f32 in the float build, gf_ldl_f64 in the double build. Included
+// by gf_internal.h, so by every source before it declares one of them.
+//
+// Every function a library source defines outside the API is listed here
+// (scripts/test compares this list and names.h with nm of the built
+// library, both precisions).
+#ifndef GAUSSFILT_SRC_NAMES_H
+#define GAUSSFILT_SRC_NAMES_H
+
+#include "gaussfilt/config.h"
+
+// udu.h: defined in mat.c
+#define gf_ldl GF_NAME(gf_ldl)
+
+// kf_core.h: defined in kf.c
+#define gf_kfc_init GF_NAME(gf_kfc_init)
+#define gf_kfc_keep GF_NAME(gf_kfc_keep)
+#define gf_kfc_meas_check GF_NAME(gf_kfc_meas_check)
+#define gf_kfc_noise GF_NAME(gf_kfc_noise)
+#define gf_kfc_predict GF_NAME(gf_kfc_predict)
+#define gf_kfc_update GF_NAME(gf_kfc_update)
+
+#endif
