@@ -20,16 +20,17 @@ gf_skip() {
     gf_die "$*"
 }
 
-# gf_readme_block NAME: the lines of README.md between <!-- NAME --> and
-# <!-- /NAME -->, without the ``` fences, so that the tests run what the
-# README shows. Fails if the block is missing or empty.
+# gf_readme_block NAME: the lines between <!-- NAME --> and <!-- /NAME -->
+# in README.md or the page of docs/ that holds them, without the ```
+# fences, so that the tests run what the documentation shows. Fails if the
+# block is missing or empty.
 gf_readme_block() {
     local text
     text=$(awk -v start="<!-- $1 -->" -v stop="<!-- /$1 -->" '
         $0 == stop { inside = 0 }
         inside && !/^```/ { print }
-        $0 == start { inside = 1 }' "$GF_ROOT/README.md")
-    [ -n "$text" ] || gf_die "README.md has no block <!-- $1 --> ... <!-- /$1 -->"
+        $0 == start { inside = 1 }' "$GF_ROOT/README.md" "$GF_ROOT"/docs/*.md)
+    [ -n "$text" ] || gf_die "README.md and docs/ have no block <!-- $1 --> ... <!-- /$1 -->"
     printf '%s\n' "$text"
 }
 
