@@ -1729,6 +1729,16 @@ static int memo_same(const gf_kf *a, const gf_kf *b)
            memcmp(a->perm, b->perm, sizeof a->perm) == 0;
 }
 
+// The next gf_real after x towards `to`.
+static gf_real memo_next(gf_real x, gf_real to)
+{
+#ifdef GF_SINGLE_PRECISION
+    return nextafterf(x, to);
+#else
+    return nextafter(x, to);
+#endif
+}
+
 // A random symmetric PSD n x n matrix: F F^T, F with entries N(0, 1), a
 // block of `zeros` leading states uncoupled from the rest (exact zeros).
 static void memo_cov(gf_rng *r, unsigned n, unsigned zeros, gf_real *s)
@@ -1791,17 +1801,17 @@ static void memo_never_stale(void **state)
         }
         // 1: the last bit of a variance; 2: -0 for a zero coupling (or,
         // with none, the last bit again); 3: a NaN; 4: a negative variance
-        R[1][0] = nextafter(R[0][0], 10.0);
-        Q[1][0] = nextafter(Q[0][0], 10.0);
+        R[1][0] = memo_next(R[0][0], GF_R(10.0));
+        Q[1][0] = memo_next(Q[0][0], GF_R(10.0));
         if (n > 1u && n / 2u > 0u && n / 2u < n) {
             R[2][n - 1u] = R[2][(n - 1u) * n] = -GF_R(0.0);
         } else {
-            R[2][0] = nextafter(R[0][0], 0.0);
+            R[2][0] = memo_next(R[0][0], GF_R(0.0));
         }
         if (m > 1u) {
             Q[2][m - 1u] = Q[2][(m - 1u) * m] = -GF_R(0.0);
         } else {
-            Q[2][0] = nextafter(Q[0][0], 0.0);
+            Q[2][0] = memo_next(Q[0][0], GF_R(0.0));
         }
         R[3][0] = Q[3][0] = (gf_real)NAN;
         R[4][0] = Q[4][0] = -GF_R(1.0);
