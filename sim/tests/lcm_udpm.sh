@@ -159,7 +159,7 @@ replay)
     recorded recorder
     "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog"
     for run in a b; do
-        "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" \
+        "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" --name replay \
             --out-url "file://$work/out-$run.lcmlog?mode=w" | tee "$work/node-$run.out"
         grep -q 'received=518 applied=518 published=523 ' "$work/node-$run.out" ||
             { echo "lcm_udpm: replay $run did not apply all 518 inputs" >&2; exit 1; }
@@ -266,7 +266,7 @@ model)
     start recorder "$bin/gf_record" --url "$URL" --channels GF_BELIEF_150 \
         --count 101 "$work/beliefs-set.lcmlog"
     ready recorder
-    start node "$bin/gf_node" --url "$URL"
+    start node "$bin/gf_node" --url "$URL" --name n150
     ready node
     # the node's socket keeps the order of sending: the model first
     "$bin/gf_setmodel" --url "$URL" --config "$conf" --model car100 \
@@ -282,7 +282,7 @@ model)
     "$bin/gf_sim" --url "file://$work/in.lcmlog?mode=w" --config "$conf" \
         --model car100 --track 150 --steps 50 --seed 5 --session 1
     "$bin/gf_node" --config "$conf" --url "file://$work/in.lcmlog?speed=0" \
-        --out-url "file://$work/beliefs-conf.lcmlog?mode=w" >"$work/node-conf.out"
+        --name n150 --out-url "file://$work/beliefs-conf.lcmlog?mode=w" >"$work/node-conf.out"
     cat "$work/node-conf.out"
     # 1 initial belief (the model message's) + 100
     "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect 101 \

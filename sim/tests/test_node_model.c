@@ -174,13 +174,13 @@ static void config_errors(void **state)
         const char *text, *err;
     } bad[] = {
         {"dt = 1\n", "line 1: a key before the first [model NAME]"},
-        {"[model a]\ntype = boat\n", "line 2: type is car or robot"},
+        {"[model a]\ntype = boat\n", "line 2: type is car, robot or linear"},
         {"[model a]\ndt = 1\n", "line 2: type or base first"},
         {"[model a]\ntype = car\nspeed = 3\n", "line 3: unknown key speed"},
         {"[model a]\ntype = car\ndt = 0\n",
-         "line 1: model a: dt must be a finite number > 0"},
+         "line 3: model a: dt must be a finite number > 0"},
         {"[model a]\ntype = car\nprior_cov = 1 2 3 1\n",
-         "line 1: model a: prior_cov must be symmetric positive semidefinite"},
+         "line 3: model a: prior_cov must be symmetric positive semidefinite"},
         {"[model a]\ntype = robot\nprior_cov = 1 1\n",
          "line 3: prior_cov takes 3 or 9 numbers"},
         {"[model a]\ntype = robot\nodometry = 1 2 3\n",
@@ -190,7 +190,7 @@ static void config_errors(void **state)
         {"[model a]\ntype = car\nlandmark = 1 2\n",
          "line 3: a car has no landmark"},
         {"[model a]\ntype = car\nchannels = GF_(\n",
-         "line 1: model a: bad channels regex GF_("},
+         "line 3: model a: bad channels regex GF_("},
         {"[model a]\ntype = car\n[model a]\n", "line 3: model a defined twice"},
         {"[model a]\nbase = nothing\n", "line 2: no model nothing before this"},
         {"[model a]\ntype = car\ndt = 1x\n", "line 3: dt takes 1 number"},
@@ -218,7 +218,7 @@ static void model_between_steps(void **state)
     gf_kf2_model mot;
     gf_kf2_meas meas;
     gf_vec2 z;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     const double dt = 0.1, q = 2.0;
     const gf_vec2 mu0 = {{GF_R(0.0), GF_R(0.0)}};
     const gf_mat2 sigma0 = {{{GF_R(0.0), GF_R(0.0)}, {GF_R(0.0), GF_R(0.0)}}};
@@ -350,7 +350,7 @@ static void range_bearing(void **state)
                              {GF_R(0.0), GF_R(0.02), GF_R(0.0)},
                              {GF_R(0.0), GF_R(0.0), GF_R(0.03)}}};
     gf_mat3 sigma;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     double vd = 0.0025, vp = 0.0001 * 0.2 * 0.2, c = cos(0.5), s = sin(0.5);
     int i, j;
     (void)state;
@@ -470,7 +470,7 @@ static void sequence_resync(void **state)
 
 static void pf_no_summary(void **state)
 {
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     const gf_node_track *t;
     char line[1024];
     (void)state;
@@ -509,6 +509,7 @@ static void pf_no_summary(void **state)
         c.session = 2;
         m.len =
             gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof m.data, &c);
+        gaussfilt_lcm_control_t_decode_cleanup(&c);
         assert_int_equal(feed(m), GF_NODE_APPLIED);
     }
     b = &fx.c.sink.b[fx.c.sink.n - 1];
