@@ -25,6 +25,11 @@
 #              all with --config), M = 50 runs of each model streamed by
 #              gf_sim over udpm, every input applied, and the NEES and NIS
 #              of the beliefs consistent (gf_consist, 95% bounds per step)
+#   linear     node_test.conf's linear models (gf_kf): a 2-D constant-
+#              velocity target (n = 4), the same in constant acceleration
+#              (n = 6), a 3-D drone with commanded accelerations (n = 6, B,
+#              m = 3); one node each (--strict), 50 runs of 100 steps,
+#              every input applied, NEES and NIS consistent (gf_consist)
 #   model      a node without a configuration; gf_setmodel gives track 150
 #              the car100 model at run time; after it, every belief of the
 #              track (gf_record records them from the wire) equals that of
@@ -228,7 +233,7 @@ config)
             --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
         ready "node$k"
     done
-    grep -q 'models=3 config=' "$work/node1.out" ||
+    grep -q 'models=6 config=' "$work/node1.out" ||
         { echo "lcm_udpm: the ready line does not name the models" >&2; exit 1; }
     for spec in car100:1 rover-xy:2 rover-landmark:3; do
         m=${spec%:*} k=${spec#*:}
@@ -253,6 +258,51 @@ config)
         expect tracks $runs
     done
     for spec in car100:1 rover-xy:2 rover-landmark:3; do
+        m=${spec%:*} k=${spec#*:}
+        "$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
+            --url "file://$work/beliefs-$m.lcmlog?speed=0" --first "${k}00" \
+            --runs $runs --steps $steps --label "$m" ||
+            { echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
+    done
+    ;;
+linear)
+    conf=$(dirname "$0")/node_test.conf
+    runs=50 steps=100
+    models="target2d:4 target2d-ca:5 drone3d:6"
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        start "node$k" "$bin/gf_node" --config "$conf" --strict \
+            --url "$URL&recv_buf_size=4194304" \
+            --channels "GF_(MEAS|CTRL|MODEL)_${k}[0-9][0-9]" \
+            --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
+        ready "node$k"
+    done
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
+            "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
+                --track "${k}00" --runs $runs --steps $steps --seed $k \
+                --session 1 --rate 100
+        done
+    done
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        node_pid=$(eval echo "\$node${k}_pid")
+        kill -TERM "$node_pid"
+        wait "$node_pid" || { echo "lcm_udpm: node $k exit status $?" >&2; exit 1; }
+        summary=$(grep 'gf_node: summary' "$work/node$k.out")
+        echo "node $k: $summary"
+        expect received $((2 * runs * steps))
+        expect applied $((2 * runs * steps))
+        expect gaps 0
+        expect dropped 0
+        expect no_model 0
+        expect tracks $runs
+        grep -q "^gf_node: track ${k}00 (linear, gf_kf): model $m, its channels" \
+            "$work/node$k.out" ||
+            { echo "lcm_udpm: node $k did not say track ${k}00's model" >&2; exit 1; }
+    done
+    for spec in $models; do
         m=${spec%:*} k=${spec#*:}
         "$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
             --url "file://$work/beliefs-$m.lcmlog?speed=0" --first "${k}00" \
