@@ -29,7 +29,9 @@
 #              velocity target (n = 4), the same in constant acceleration
 #              (n = 6), a 3-D drone with commanded accelerations (n = 6, B,
 #              m = 3); one node each (--strict), 50 runs of 100 steps,
-#              every input applied, NEES and NIS consistent (gf_consist)
+#              every input applied, NEES and NIS consistent (gf_consist),
+#              and sim/tools/gf_nees.py finds the same means in the logs,
+#              inside its 95% bounds, and draws them
 #   strict     a configuration error names the file and the key's line;
 #              a --strict node refuses exercise 1's unnamed track 1
 #              (no_model, said once) and runs the configured car on 100; a
@@ -315,12 +317,24 @@ linear)
             "$work/node$k.out" ||
             { echo "lcm_udpm: node $k did not say track ${k}00's model" >&2; exit 1; }
     done
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    tools=$(cd "$(dirname "$0")/../tools" && pwd)
     for spec in $models; do
         m=${spec%:*} k=${spec#*:}
-        "$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
+        cons=$("$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
             --url "file://$work/beliefs-$m.lcmlog?speed=0" --first "${k}00" \
-            --runs $runs --steps $steps --label "$m" ||
-            { echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
+            --runs $runs --steps $steps --label "$m") ||
+            { echo "$cons"; echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
+        echo "$cons"
+        # the log tool finds the same means, inside its 95% bounds
+        nees=$(sed -n 's/.* NEES dof=.* mean=\([0-9.]*\) .*/\1/p' <<<"$cons")
+        nis=$(sed -n 's/.* NIS dof=.* mean=\([0-9.]*\) .*/\1/p' <<<"$cons")
+        MPLCONFIGDIR=$work/mpl "$py" "$tools/gf_nees.py" "$work/truth-$m.lcmlog" \
+            "$work/beliefs-$m.lcmlog" --plot "$work/nees-$m.png" >"$work/nees-$m.out"
+        grep '^all ' "$work/nees-$m.out"
+        grep -Eq "^all $runs linear tracks .*: NEES $nees \(95% bounds [0-9.]+\.\.[0-9.]+, inside\); NIS $nis \(95% bounds [0-9.]+\.\.[0-9.]+, inside\)$" \
+            "$work/nees-$m.out" && [ -s "$work/nees-$m.png" ] ||
+            { echo "lcm_udpm: gf_nees.py does not agree with gf_consist on $m" >&2; exit 1; }
     done
     ;;
 strict)
