@@ -110,7 +110,8 @@ typedef struct node_ctx {
     gf_node *node;
     gf_inq q;
     gf_rt *rt;
-    pthread_mutex_t mu; // with started: the handling thread is placed
+    pthread_mutex_t mu;      // with started: the handling thread is placed
+    pthread_mutex_t node_mu; // the node: handling, and others' beliefs
     pthread_cond_t cv;
     int started;
     int timing;
@@ -128,21 +129,26 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
                       rbuf->recv_utime);
 }
 
-// LCM's dispatch of a belief (the node's own come back over udpm): only
-// another node's go into the queue, where the handling thread checks them
-// against its tracks (gf_node_peer_belief). The id is fixed before LCM
-// starts, so reading it here races with nothing.
+// LCM's dispatch of a belief (the node's own come back over udpm): one of
+// another node is checked against the node's tracks right here
+// (gf_node_peer_belief), under the lock the handling thread holds while it
+// handles a message; it never enters the input queue, so the queue's
+// counts stay the inputs'. The id is fixed before LCM starts: reading it
+// races with nothing.
 static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
                       void *user)
 {
     node_ctx *c = user;
     char id[GF_NODE_ID_MAX];
     int32_t track;
+    (void)channel;
     if (gf_node_belief_origin(rbuf->data, rbuf->data_size, &track, id,
-                              sizeof id) == 0 &&
-        strcmp(id, c->node->id) != 0)
-        (void)gf_inq_push(&c->q, channel, rbuf->data, rbuf->data_size,
-                          rbuf->recv_utime);
+                              sizeof id) != 0 ||
+        strcmp(id, c->node->id) == 0)
+        return;
+    pthread_mutex_lock(&c->node_mu);
+    (void)gf_node_peer_belief(c->node, rbuf->data, rbuf->data_size);
+    pthread_mutex_unlock(&c->node_mu);
 }
 
 // The handling thread: every queued message through gf_node_handle (which
@@ -157,13 +163,10 @@ static void *handling(void *arg)
     pthread_cond_signal(&c->cv);
     pthread_mutex_unlock(&c->mu);
     while ((e = gf_inq_peek(&c->q)) != NULL) {
-        const char *ch = gf_inq_channel(e);
-        if (strncmp(ch, GF_CHANNEL_BELIEF, sizeof GF_CHANNEL_BELIEF - 1) == 0) {
-            (void)gf_node_peer_belief(c->node, gf_inq_data(e), e->len);
-            gf_inq_release(&c->q, e);
-            continue;
-        }
-        gf_node_handle(c->node, ch, gf_inq_data(e), e->len, e->recv_utime);
+        pthread_mutex_lock(&c->node_mu);
+        gf_node_handle(c->node, gf_inq_channel(e), gf_inq_data(e), e->len,
+                       e->recv_utime);
+        pthread_mutex_unlock(&c->node_mu);
         if (c->timing) {
             struct timespec ts;
             clock_gettime(CLOCK_REALTIME, &ts);
@@ -373,6 +376,7 @@ int main(int argc, char **argv)
     ctx.node = &node;
     ctx.rt = &rt;
     pthread_mutex_init(&ctx.mu, NULL);
+    pthread_mutex_init(&ctx.node_mu, NULL);
     pthread_cond_init(&ctx.cv, NULL);
     {
         const char *u = url != NULL ? url : getenv("LCM_DEFAULT_URL");
