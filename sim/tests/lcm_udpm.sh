@@ -41,7 +41,8 @@
 #              warns once that the other publishes beliefs of track 1,
 #              and counts them (peer_beliefs)
 #   quickstart docs/node.md's quick start, its commands as written (the
-#              block between <!-- quickstart --> and <!-- /quickstart -->),
+#              block between <!-- quickstart --> and <!-- /quickstart -->;
+#              README.md's copy of its commands checked line by line),
 #              run by bash in a folder that holds build/sim/sim/bin, .venv
 #              and examples/: every input applied, none lost before the
 #              node was ready, beliefs.py's 201 beliefs and its plot
@@ -426,6 +427,13 @@ quickstart)
         sed -n '/^```/,/^```/p' | sed '1d;$d' >"$work/quickstart.sh"
     [ -s "$work/quickstart.sh" ] || { echo "lcm_udpm: no quick start in docs/node.md" >&2; exit 1; }
     cat "$work/quickstart.sh"
+    # README.md shows the quick start's commands: each line as here
+    sed -n '/^    B=build\/sim\/sim\/bin$/,/^$/p' "$root/README.md" | sed 's/^    //; /^$/d' >"$work/readme.sh"
+    [ "$(wc -l <"$work/readme.sh")" -ge 3 ] || { echo "lcm_udpm: no quick start in README.md" >&2; exit 1; }
+    while IFS= read -r line; do
+        grep -qxF -- "$line" "$work/quickstart.sh" ||
+            { echo "lcm_udpm: README.md's '$line' is not docs/node.md's quick start" >&2; exit 1; }
+    done <"$work/readme.sh"
     # outside a namespace, the test's own port instead of LCM's default
     [ -n "${GF_IN_NETNS:-}" ] || export LCM_DEFAULT_URL=$URL
     (cd "$here" && MPLCONFIGDIR=$work/mpl timeout 120 bash -e "$work/quickstart.sh") \
