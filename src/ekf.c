@@ -15,7 +15,7 @@ gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
 
 // R's verdict and factors (into Rf, Rd).
 static gf_status ekf_motion_check(unsigned n, const gf_ekf_motion *motion,
-                                  gf_kf_work *work, const gf_kf_memo **fac)
+                                  gf_kf_work *work, const gf_kf_factors **fac)
 {
     if (!motion->g || !motion->R || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
@@ -54,7 +54,7 @@ gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
     if (!ekf || !motion || !work) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *r = NULL;
+    const gf_kf_factors *r = NULL;
     const gf_status st = ekf_motion_check(ekf->n, motion, work, &r);
     return st != GF_OK ? st
                        : ekf_predict_step(ekf, motion, u, r->F, r->d, work);
@@ -66,7 +66,7 @@ gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
     if (!pm || !motion || !work) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *r = NULL;
+    const gf_kf_factors *r = NULL;
     const gf_status st = ekf_motion_check(n, motion, work, &r);
     if (st != GF_OK) {
         return st;
@@ -129,7 +129,7 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         ekf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *q = NULL;
+    const gf_kf_factors *q = NULL;
     const gf_status st =
         gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
     return st != GF_OK ? st
@@ -143,7 +143,7 @@ gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work || !meas->h || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *q = NULL;
+    const gf_kf_factors *q = NULL;
     const gf_status st =
         gf_kfc_meas_check(n, meas->m, meas->Q, meas->gate, NULL, work, &q);
     if (st != GF_OK) {

@@ -3,7 +3,6 @@
 // core of src/udu.h for n states, 1 <= n <= GF_KF_NMAX, with the scratch
 // that grows with n^2 in the caller's gf_kf_work.
 #include <stddef.h>
-#include <stdint.h>
 
 #include "gaussfilt/kf.h"
 
@@ -29,44 +28,9 @@ static void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
     }
 }
 
-// The bits of x (a union reads them: defined in C99, no aliasing).
-#ifdef GF_SINGLE_PRECISION
-typedef uint32_t kfc_bits;
-#else
-typedef uint64_t kfc_bits;
-#endif
-static kfc_bits kfc_bits_of(gf_real x)
-{
-    union {
-        gf_real r;
-        kfc_bits u;
-    } b;
-    b.r = x;
-    return b.u;
-}
-
-// 1 if a and b (k entries) hold the same numbers bit for bit.
-static int kfc_same(const gf_real *a, const gf_real *b, unsigned k)
-{
-    for (unsigned i = 0; i < k; i++) {
-        if (kfc_bits_of(a[i]) != kfc_bits_of(b[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
-
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
-                       const gf_kf_memo **fac)
+                       const gf_kf_factors **fac)
 {
-    // A matrix accepted before, bit for bit (so finite): its factors
-    for (unsigned t = 0; fac && t < 2u; t++) {
-        const gf_kf_memo *mm = &work->memo[t];
-        if (mm->tag == GF_KF_MEMO_TAG + n && kfc_same(mm->s, s, n * n)) {
-            *fac = mm;
-            return GF_OK;
-        }
-    }
     gf_real z = GF_R(0.0);
     for (unsigned i = 0; i < n * n; i++) {
         z += s[i] * GF_R(0.0);
@@ -78,18 +42,11 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
     if (!fac) {
         return gf_cov_factor_n(s, n, n, NULL, NULL, NULL, work->x, p);
     }
-    const unsigned t = work->memo_next & 1u;
-    gf_kf_memo *mm = &work->memo[t];
-    mm->tag = 0;
+    gf_kf_factors *f = &work->f;
     const gf_status st =
-        gf_cov_factor_n(s, n, n, mm->F, mm->d, mm->order, work->x, p);
+        gf_cov_factor_n(s, n, n, f->F, f->d, f->order, work->x, p);
     if (st == GF_OK) {
-        for (unsigned k = 0; k < n * n; k++) {
-            mm->s[k] = s[k];
-        }
-        mm->tag = GF_KF_MEMO_TAG + n;
-        work->memo_next = t ^ 1u;
-        *fac = mm;
+        *fac = f;
     }
     return st;
 }
@@ -251,7 +208,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
 
 gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
                             gf_real gate, const gf_real *z, gf_kf_work *work,
-                            const gf_kf_memo **fac)
+                            const gf_kf_factors **fac)
 {
     if (!Q || m < 1u || m > n) {
         return GF_ERR_ARG;
@@ -269,7 +226,7 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
     return gf_kfc_noise(Q, m, work, fac);
 }
 
-void gf_kfc_keep(const gf_kf_memo *fac, unsigned m, gf_real *F, gf_real *d,
+void gf_kfc_keep(const gf_kf_factors *fac, unsigned m, gf_real *F, gf_real *d,
                  unsigned *order)
 {
     for (unsigned k = 0; k < m * m; k++) {
@@ -305,7 +262,7 @@ gf_status gf_kf_cov(const gf_kf *kf, gf_real *sigma)
 // factors.
 static gf_status kf_model_check(unsigned n, const gf_kf_model *model,
                                 const gf_real *u, gf_kf_work *work,
-                                const gf_kf_memo **fac)
+                                const gf_kf_factors **fac)
 {
     if (!model->A || !model->R || (model->nu > 0u && !model->B) || n < 1u ||
         n > GF_KF_NMAX) {
@@ -359,7 +316,7 @@ gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model, const gf_real *u,
     if (!kf || !model || !work) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *r = NULL;
+    const gf_kf_factors *r = NULL;
     const gf_status st = kf_model_check(kf->n, model, u, work, &r);
     return st != GF_OK ? st : kf_predict_step(kf, model, u, r->F, r->d, work);
 }
@@ -370,7 +327,7 @@ gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
     if (!pm || !model || !work) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *r = NULL;
+    const gf_kf_factors *r = NULL;
     const gf_status st = kf_model_check(n, model, NULL, work, &r);
     if (st != GF_OK) {
         return st;
@@ -399,7 +356,7 @@ gf_status gf_kf_predict_prepared(gf_kf *kf, const gf_kf_pmodel *pm,
 // Qf, Qe, Qorder and F_Q^-1 C in Cw.
 static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
                                const gf_real *z, gf_real *Cw, gf_kf_work *work,
-                               const gf_kf_memo **fac)
+                               const gf_kf_factors **fac)
 {
     const unsigned m = meas->m;
     if (!meas->C || m < 1u || m > n) {
@@ -459,7 +416,7 @@ gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
     gf_real *Cw = work->x;
     // the whitened rows live where gf_kfc_update would whiten H: it is
     // told they are whitened already
-    const gf_kf_memo *q = NULL;
+    const gf_kf_factors *q = NULL;
     const gf_status st = kf_meas_check(kf->n, meas, z, Cw, work, &q);
     if (st != GF_OK) {
         return st;
@@ -473,7 +430,7 @@ gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work) {
         return GF_ERR_ARG;
     }
-    const gf_kf_memo *q = NULL;
+    const gf_kf_factors *q = NULL;
     const gf_status st = kf_meas_check(n, meas, NULL, work->x, work, &q);
     if (st != GF_OK) {
         return st;

@@ -18,11 +18,10 @@
 
 // The verdict on an n x n covariance s passed in (finite, symmetric, PSD)
 // and, where fac is not NULL, its factors F diag(d) F^T with their pivot
-// order (gf_cov_factor's), kept in one of work's two memo slots (*fac
-// points there on GF_OK): a matrix bitwise the same as one a slot holds
-// is not judged again. The Schur complements in work->x.
+// order (gf_cov_factor's) in work->f (*fac points there on GF_OK). The
+// Schur complements in work->x.
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
-                       const gf_kf_memo **fac);
+                       const gf_kf_factors **fac);
 
 // Checks n and mu, judges sigma, and sets *kf to N(mu, sigma) factored,
 // the states in `angles` wrapped; kf untouched on failure.
@@ -40,7 +39,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
 // update's statuses; on GF_OK, *fac holds Q's factors (gf_kfc_noise).
 gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
                             gf_real gate, const gf_real *z, gf_kf_work *work,
-                            const gf_kf_memo **fac);
+                            const gf_kf_factors **fac);
 
 // The correction once the measurement is checked: innovation y (m), the
 // rows H (m x n; whitened here if whiten_h, else already F_Q^-1 H), Q's
@@ -56,7 +55,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
 
 // Copies a noise's factors (m x m) into a prepared model's arrays (order
 // may be NULL).
-void gf_kfc_keep(const gf_kf_memo *fac, unsigned m, gf_real *F, gf_real *d,
+void gf_kfc_keep(const gf_kf_factors *fac, unsigned m, gf_real *F, gf_real *d,
                  unsigned *order);
 
 #endif
