@@ -1362,6 +1362,21 @@ static int square_size(PyObject *obj, const char *name, npy_intp *n)
     return 0;
 }
 
+// A workspace for a model's prepare call, zeroed. The library takes the
+// factors of a noise matrix from the workspace's memo when the memo's tag
+// and matrix match it; freed memory can still hold an earlier workspace's
+// tag and matrix with its factors written over since, and would hand the
+// prepared model wrong factors. NULL with MemoryError; free with
+// PyMem_Free.
+static gf_kf_work *new_work(void)
+{
+    gf_kf_work *w = PyMem_Calloc(1, sizeof *w);
+    if (!w) {
+        PyErr_NoMemory();
+    }
+    return w;
+}
+
 static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
 {
     static char *names[] = {"A", "R", "B", "c", NULL};
@@ -1400,9 +1415,8 @@ static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
     m.B = nu ? self->B : NULL;
     m.R = self->R;
     m.c = c != Py_None ? self->c : NULL;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_kf_prepare_model(&self->pm, (unsigned)n, &m, w);
@@ -1481,9 +1495,8 @@ static int KFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     me.C = self->C;
     me.Q = self->Q;
     me.c = c != Py_None ? self->c : NULL;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_kf_prepare_meas(&self->pq, (unsigned)n, &me, w);
@@ -1611,9 +1624,8 @@ static int EKFMotion_init(PyObject *self_, PyObject *args, PyObject *kw)
     mo.g = ekf_g_py;
     mo.ctx = self;
     mo.R = self->R;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_ekf_prepare_motion(&self->pm, (unsigned)n, &mo, w);
@@ -1653,9 +1665,8 @@ static int EKFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     me.ctx = self;
     me.Q = self->Q;
     me.angle_mask = angle_mask;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_ekf_prepare_meas(&self->pq, n, &me, w);
