@@ -1244,6 +1244,233 @@ static PyObject *EKF3_update(PyObject *self_, PyObject *const *args,
     Py_RETURN_NONE;
 }
 
+// The arrays of an EKF3 or EKF batch: u (N, k) or (N,) as (N, 1), k = nu
+// when nu > 0 (a built-in motion's entries); z (N, m) or, when m is 1,
+// (N,); N from them or from steps. m = 0: no measurement, z refused. 0, or
+// -1 with GF_ERR_ARG's exception and nothing held.
+static int ekf_run_arrays(const char *who, PyObject *u_o, PyObject *z_o,
+                          PyObject *steps_o, npy_intp nu, npy_intp m,
+                          PyObject **U, PyObject **Z, npy_intp *N, npy_intp *k)
+{
+    *U = *Z = NULL;
+    *N = -1;
+    *k = 0;
+    if (steps_o && steps_o != Py_None) {
+        *N = (npy_intp)PyLong_AsSsize_t(steps_o);
+        if (*N == -1 && PyErr_Occurred()) {
+            return -1;
+        }
+        if (*N < 0) {
+            bad_arg("%s: steps must be >= 0", who);
+            return -1;
+        }
+    }
+    if (u_o && u_o != Py_None) {
+        *U = PyArray_FROMANY(u_o, NPY_GF, 1, 2,
+                             NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
+        if (!*U) {
+            PyErr_Clear();
+            bad_arg("%s: u must be an (N, k) array", who);
+            return -1;
+        }
+        PyArrayObject *a = (PyArrayObject *)*U;
+        *k = PyArray_NDIM(a) == 2 ? PyArray_DIM(a, 1) : 1;
+        if ((nu && *k != nu) || (*N >= 0 && PyArray_DIM(a, 0) != *N)) {
+            Py_CLEAR(*U);
+            if (nu) {
+                bad_arg("%s: u must have shape (steps, %ld)", who, (long)nu);
+            } else {
+                bad_arg("%s: u must have steps rows", who);
+            }
+            return -1;
+        }
+        *N = PyArray_DIM(a, 0);
+    } else if (nu) {
+        bad_arg("%s: u must have shape (steps, %ld) for a built-in motion", who,
+                (long)nu);
+        return -1;
+    }
+    if (z_o && z_o != Py_None) {
+        if (!m) {
+            Py_CLEAR(*U);
+            bad_arg("%s: z without meas", who);
+            return -1;
+        }
+        *Z = PyArray_FROMANY(z_o, NPY_GF, 1, 2,
+                             NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
+        if (!*Z) {
+            PyErr_Clear();
+            Py_CLEAR(*U);
+            bad_arg("%s: z must be an (N, m) array", who);
+            return -1;
+        }
+        PyArrayObject *a = (PyArrayObject *)*Z;
+        npy_intp zc = PyArray_NDIM(a) == 2 ? PyArray_DIM(a, 1) : 1;
+        if (zc != m || (PyArray_NDIM(a) == 1 && m != 1) ||
+            (*N >= 0 && PyArray_DIM(a, 0) != *N)) {
+            Py_CLEAR(*U);
+            Py_CLEAR(*Z);
+            bad_arg("%s: z must have shape (steps, %ld)", who, (long)m);
+            return -1;
+        }
+        *N = PyArray_DIM(a, 0);
+    }
+    if (*N < 0) {
+        bad_arg("%s: give u, z or steps", who);
+        return -1;
+    }
+    return 0;
+}
+
+// The outputs of a batch of N steps of n states: mu (N, n), sigma (N, n,
+// n), nis (N,), status (N,). 0, or -1 with an exception and none held.
+static int run_outputs(npy_intp N, npy_intp n, PyObject *out[4])
+{
+    npy_intp d3[3] = {N, n, n};
+    out[0] = PyArray_SimpleNew(2, d3, NPY_GF);
+    out[1] = PyArray_SimpleNew(3, d3, NPY_GF);
+    out[2] = PyArray_SimpleNew(1, d3, NPY_GF);
+    out[3] = PyArray_SimpleNew(1, d3, NPY_INT8);
+    if (out[0] && out[1] && out[2] && out[3]) {
+        return 0;
+    }
+    for (int i = 0; i < 4; i++) {
+        Py_CLEAR(out[i]);
+    }
+    return -1;
+}
+
+// The row z[k] (m entries) holds a measurement: no NaN in it.
+static int z_present(const gf_real *zk, npy_intp m)
+{
+    int present = 1;
+    for (npy_intp i = 0; i < m; i++) {
+        present &= !isnan(zk[i]);
+    }
+    return present;
+}
+
+// u[k] for a Python g: a fresh (k,) array (g may keep or change it);
+// NULL with an exception.
+static PyObject *u_row(PyObject *U, npy_intp k, npy_intp cols)
+{
+    return new_array(
+        cols, 0, (const gf_real *)PyArray_DATA((PyArrayObject *)U) + cols * k);
+}
+
+// run(): the batch entry of EKF3, see its docstring. On a failure other
+// than a gate the belief is put back as it was before the call.
+static PyObject *EKF3_run(PyObject *self_, PyObject *const *args,
+                          Py_ssize_t nargs, PyObject *kwnames)
+{
+    static const char *const names[] = {"motion", "meas", "u", "z", "steps"};
+    PyObject *a[5], *U = NULL, *Z = NULL, *o[4] = {NULL, NULL, NULL, NULL},
+                    *out = NULL;
+    EKF3Obj *self = (EKF3Obj *)self_;
+    EKF3MotionObj *mo = NULL;
+    const gf_ekf3_pmeas *pq = NULL;
+    npy_intp N, k, m = 0;
+    int builtin = 0;
+    if (get_args("run", args, nargs, kwnames, names, 0, 5, a) < 0) {
+        return NULL;
+    }
+    if (a[0] && a[0] != Py_None) {
+        if (!PyObject_TypeCheck(a[0], &EKF3Motion_Type)) {
+            return bad_arg("EKF3.run: motion must be an EKF3Motion or None");
+        }
+        mo = (EKF3MotionObj *)a[0];
+        builtin = mo->pm.motion.g != ekf3_g_py;
+    }
+    if (a[1] && a[1] != Py_None) {
+        if (!PyObject_TypeCheck(a[1], &EKF3Meas_Type)) {
+            return bad_arg("EKF3.run: meas must be an EKF3Meas or None");
+        }
+        pq = &((EKF3MeasObj *)a[1])->pq;
+        m = pq->meas.m;
+    }
+    if (self->busy) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "EKF3.run called from this filter's own callback");
+        return NULL;
+    }
+    if (!mo && a[2] && a[2] != Py_None) {
+        return bad_arg("EKF3.run: u without motion");
+    }
+    if (ekf_run_arrays("EKF3.run", a[2], a[3], a[4], builtin ? 2 : 0, m, &U, &Z,
+                       &N, &k) < 0 ||
+        run_outputs(N, 3, o) < 0) {
+        goto done;
+    }
+    {
+        const gf_real *u =
+            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
+        const gf_real *z =
+            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
+        gf_real *mo_ = (gf_real *)PyArray_DATA((PyArrayObject *)o[0]);
+        gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
+        gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
+        signed char *sto = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
+        const gf_ekf3 saved = self->ekf;
+        const gf_innovation saved_last = self->last;
+        const int saved_has = self->has_last;
+        PyObject *prev_u = mo ? mo->cur_u : NULL;
+        self->busy = 1;
+        for (npy_intp t = 0; t < N; t++) {
+            gf_status st = GF_OK;
+            gf_innovation info;
+            no[t] = (gf_real)NAN;
+            if (mo) {
+                PyObject *ut = NULL;
+                if (U && !builtin && !(ut = u_row(U, t, k))) {
+                    st = GF_ERR_MODEL;
+                } else {
+                    mo->cur_u = ut;
+                    st = gf_ekf3_predict_prepared(&self->ekf, &mo->pm,
+                                                  u ? u + k * t : NULL);
+                    mo->cur_u = prev_u;
+                    Py_XDECREF(ut);
+                }
+            }
+            if (st == GF_OK && z && z_present(z + m * t, m)) {
+                const gf_real *zt = z + m * t;
+                gf_vec3 zv = {{zt[0], m > 1 ? zt[1] : GF_R(0.0),
+                               m > 2 ? zt[2] : GF_R(0.0)}};
+                st = gf_ekf3_update_prepared(&self->ekf, pq, &zv, &info);
+                if (st == GF_OK || st == GF_ERR_GATED) {
+                    no[t] = info.nis;
+                }
+                if (st == GF_OK) {
+                    self->last = info;
+                    self->has_last = 1;
+                }
+            }
+            if (st != GF_OK && st != GF_ERR_GATED) {
+                self->busy = 0;
+                self->ekf = saved;
+                self->last = saved_last;
+                self->has_last = saved_has;
+                if (!PyErr_Occurred()) {
+                    raise_status(st, "EKF3.run", NULL, NULL, 0, 0);
+                }
+                set_step(t);
+                goto done;
+            }
+            sto[t] = (signed char)st;
+            memcpy(mo_ + 3 * t, self->ekf.mu.v, 3 * sizeof(gf_real));
+            gf_ekf3_cov(&self->ekf, (gf_mat3 *)(so + 9 * t));
+        }
+        self->busy = 0;
+    }
+    out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
+done:
+    Py_XDECREF(U);
+    Py_XDECREF(Z);
+    for (int i = 0; i < 4; i++) {
+        Py_XDECREF(o[i]);
+    }
+    return out;
+}
+
 static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
 {
     gf_mat3 s;
@@ -1292,6 +1519,17 @@ static PyMethodDef EKF3_methods[] = {
      "belief unchanged."},
     {"sigma", EKF3_sigma, METH_NOARGS,
      "sigma() -> (3, 3) array: Sigma = U D U^T, exactly symmetric."},
+    {"run", (PyCFunction)(void (*)(void))EKF3_run,
+     METH_FASTCALL | METH_KEYWORDS,
+     "run(motion=None, meas=None, u=None, z=None, steps=None)\n"
+     "    -> (mu (N, 3), sigma (N, 3, 3), nis (N,), status (N,))\n\n"
+     "N steps in one call, as KF2.run: predict(motion, u[k]) (when motion\n"
+     "is given; u (N, k), a row a step: a built-in motion takes k = 2, a\n"
+     "Python g gets u[k] as a fresh (k,) array, or None without u) then\n"
+     "update(meas, z[k]) unless z[k] has a NaN. A gated update is recorded\n"
+     "(status -5 and its NIS) and the run goes on; any other failure, a\n"
+     "callback's exception included, raises with exc.step = k and puts\n"
+     "the belief back as it was before the call."},
     {NULL, NULL, 0, NULL},
 };
 
@@ -1362,6 +1600,21 @@ static int square_size(PyObject *obj, const char *name, npy_intp *n)
     return 0;
 }
 
+// A workspace for a model's prepare call, zeroed. The library takes the
+// factors of a noise matrix from the workspace's memo when the memo's tag
+// and matrix match it; freed memory can still hold an earlier workspace's
+// tag and matrix with its factors written over since, and would hand the
+// prepared model wrong factors. NULL with MemoryError; free with
+// PyMem_Free.
+static gf_kf_work *new_work(void)
+{
+    gf_kf_work *w = PyMem_Calloc(1, sizeof *w);
+    if (!w) {
+        PyErr_NoMemory();
+    }
+    return w;
+}
+
 static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
 {
     static char *names[] = {"A", "R", "B", "c", NULL};
@@ -1400,9 +1653,8 @@ static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
     m.B = nu ? self->B : NULL;
     m.R = self->R;
     m.c = c != Py_None ? self->c : NULL;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_kf_prepare_model(&self->pm, (unsigned)n, &m, w);
@@ -1481,9 +1733,8 @@ static int KFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     me.C = self->C;
     me.Q = self->Q;
     me.c = c != Py_None ? self->c : NULL;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_kf_prepare_meas(&self->pq, (unsigned)n, &me, w);
@@ -1611,9 +1862,8 @@ static int EKFMotion_init(PyObject *self_, PyObject *args, PyObject *kw)
     mo.g = ekf_g_py;
     mo.ctx = self;
     mo.R = self->R;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_ekf_prepare_motion(&self->pm, (unsigned)n, &mo, w);
@@ -1653,9 +1903,8 @@ static int EKFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     me.ctx = self;
     me.Q = self->Q;
     me.angle_mask = angle_mask;
-    gf_kf_work *w = PyMem_Malloc(sizeof *w);
+    gf_kf_work *w = new_work();
     if (!w) {
-        PyErr_NoMemory();
         return -1;
     }
     gf_status st = gf_ekf_prepare_meas(&self->pq, n, &me, w);
@@ -2158,6 +2407,131 @@ static PyObject *EKF_update(PyObject *self_, PyObject *const *args,
     Py_RETURN_NONE;
 }
 
+// run(): the batch entry of EKF, as EKF3.run.
+static PyObject *EKF_run(PyObject *self_, PyObject *const *args,
+                         Py_ssize_t nargs, PyObject *kwnames)
+{
+    static const char *const names[] = {"motion", "meas", "u", "z", "steps"};
+    PyObject *a[5], *U = NULL, *Z = NULL, *o[4] = {NULL, NULL, NULL, NULL},
+                    *out = NULL;
+    KFObj *self = (KFObj *)self_;
+    EKFMotionObj *mo = NULL;
+    const gf_ekf_pmeas *pq = NULL;
+    const npy_intp n = self->kf.n;
+    npy_intp N, k, m = 0;
+    gf_kf *saved = NULL;
+    if (get_args("run", args, nargs, kwnames, names, 0, 5, a) < 0) {
+        return NULL;
+    }
+    if (a[0] && a[0] != Py_None) {
+        if (!PyObject_TypeCheck(a[0], &EKFMotion_Type)) {
+            return bad_arg("EKF.run: motion must be an EKFMotion or None");
+        }
+        mo = (EKFMotionObj *)a[0];
+        if ((npy_intp)mo->pm.n != n) {
+            return bad_arg("EKF.run: the motion is for %u states, the filter "
+                           "has %ld",
+                           mo->pm.n, (long)n);
+        }
+    }
+    if (a[1] && a[1] != Py_None) {
+        if (!PyObject_TypeCheck(a[1], &EKFMeas_Type)) {
+            return bad_arg("EKF.run: meas must be an EKFMeas or None");
+        }
+        pq = &((EKFMeasObj *)a[1])->pq;
+        if ((npy_intp)pq->n != n) {
+            return bad_arg("EKF.run: the measurement is for %u states, the "
+                           "filter has %ld",
+                           pq->n, (long)n);
+        }
+        m = pq->meas.m;
+    }
+    if (self->busy) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "EKF.run called from this filter's own callback");
+        return NULL;
+    }
+    if (!mo && a[2] && a[2] != Py_None) {
+        return bad_arg("EKF.run: u without motion");
+    }
+    if (ekf_run_arrays("EKF.run", a[2], a[3], a[4], 0, m, &U, &Z, &N, &k) < 0 ||
+        run_outputs(N, n, o) < 0) {
+        goto done;
+    }
+    saved = PyMem_Malloc(sizeof *saved);
+    if (!saved) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    {
+        const gf_real *u =
+            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
+        const gf_real *z =
+            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
+        gf_real *mo_ = (gf_real *)PyArray_DATA((PyArrayObject *)o[0]);
+        gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
+        gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
+        signed char *sto = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
+        const gf_kf_innovation saved_last = self->last;
+        const int saved_has = self->has_last;
+        PyObject *prev_u = mo ? mo->cur_u : NULL;
+        *saved = self->kf;
+        self->busy = 1;
+        for (npy_intp t = 0; t < N; t++) {
+            gf_status st = GF_OK;
+            gf_kf_innovation info;
+            no[t] = (gf_real)NAN;
+            if (mo) {
+                PyObject *ut = NULL;
+                if (U && !(ut = u_row(U, t, k))) {
+                    st = GF_ERR_MODEL;
+                } else {
+                    mo->cur_u = ut;
+                    st = gf_ekf_predict_prepared(
+                        &self->kf, &mo->pm, u ? u + k * t : NULL, &self->work);
+                    mo->cur_u = prev_u;
+                    Py_XDECREF(ut);
+                }
+            }
+            if (st == GF_OK && z && z_present(z + m * t, m)) {
+                st = gf_ekf_update_prepared(&self->kf, pq, z + m * t, &info,
+                                            &self->work);
+                if (st == GF_OK || st == GF_ERR_GATED) {
+                    no[t] = info.nis;
+                }
+                if (st == GF_OK) {
+                    self->last = info;
+                    self->has_last = 1;
+                }
+            }
+            if (st != GF_OK && st != GF_ERR_GATED) {
+                self->busy = 0;
+                self->kf = *saved;
+                self->last = saved_last;
+                self->has_last = saved_has;
+                if (!PyErr_Occurred()) {
+                    raise_status(st, "EKF.run", NULL, NULL, 0, 0);
+                }
+                set_step(t);
+                goto done;
+            }
+            sto[t] = (signed char)st;
+            memcpy(mo_ + n * t, self->kf.mu, (size_t)n * sizeof(gf_real));
+            gf_kf_cov(&self->kf, so + n * n * t);
+        }
+        self->busy = 0;
+    }
+    out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
+done:
+    PyMem_Free(saved);
+    Py_XDECREF(U);
+    Py_XDECREF(Z);
+    for (int i = 0; i < 4; i++) {
+        Py_XDECREF(o[i]);
+    }
+    return out;
+}
+
 static PyObject *KF_sigma(PyObject *self_, PyObject *unused)
 {
     KFObj *self = (KFObj *)self_;
@@ -2240,6 +2614,13 @@ static PyMethodDef EKF_methods[] = {
      "and NIS; every failure leaves the belief unchanged."},
     {"sigma", KF_sigma, METH_NOARGS,
      "sigma() -> (n, n) array: Sigma = P U D U^T P^T, exactly symmetric."},
+    {"run", (PyCFunction)(void (*)(void))EKF_run, METH_FASTCALL | METH_KEYWORDS,
+     "run(motion=None, meas=None, u=None, z=None, steps=None)\n"
+     "    -> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
+     "N steps in one call, as EKF3.run: g gets u[k] as a fresh (k,)\n"
+     "array (None without u); update unless z[k] has a NaN; a gated\n"
+     "update is recorded; any other failure raises with exc.step and puts\n"
+     "the belief back as it was before the call."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -143,18 +143,105 @@ def test_gated_carries_the_innovation_and_nis(mod):
     assert np.isnan(kf.nis) and kf.innovation is None
 
 
-@pytest.mark.parametrize("mod", MODS)
-def test_a_callback_may_not_step_its_own_filter(mod):
-    ekf = mod.EKF3([0, 0, 0], np.eye(3))
-    me = mod.EKF3Meas(mod.meas_x, [[1]])
+def reentry_setup(mod, family):
+    """A filter of `family`, a motion and a measurement for it, and a
+    function making a motion (or measurement) whose callback first runs
+    `inner` (on the filter) and then computes the model."""
+    if family == "EKF3":
+        filt = mod.EKF3([1, 2, 0.5], np.diag([2.0, 1.0, 0.1]))
+        motion = mod.EKF3Motion(mod.forward_turn, np.eye(3) * 0.01)
+        meas = mod.EKF3Meas(mod.meas_x, [[1]])
+        u = [1.0, 0.1]
 
-    def g(mu, u):
-        ekf.update(me, [1])
-        return mu, np.eye(3)
-    before = snapshot(ekf)
+        def with_g(inner):
+            def g(mu, u):
+                inner()
+                return mod.forward_turn(mu, u)
+            return mod.EKF3Motion(g, np.eye(3) * 0.01)
+
+        def with_h(inner):
+            def h(mu):
+                inner()
+                return mod.meas_x(mu)
+            return mod.EKF3Meas(h, [[1]])
+        reinit = lambda: filt.__init__([0, 0, 0], np.eye(3))
+    else:
+        A = np.eye(4) + 0.1 * np.eye(4, k=1)
+        filt = mod.EKF(np.arange(4.0), np.eye(4))
+        motion = mod.EKFMotion(lambda mu, u: (A @ mu, A), np.eye(4) * 0.01)
+        meas = mod.EKFMeas(lambda mu: (mu[:1], np.eye(1, 4)), [[1]], n=4)
+        u = None
+
+        def with_g(inner):
+            def g(mu, u):
+                inner()
+                return A @ mu, A
+            return mod.EKFMotion(g, np.eye(4) * 0.01)
+
+        def with_h(inner):
+            def h(mu):
+                inner()
+                return mu[:1], np.eye(1, 4)
+            return mod.EKFMeas(h, [[1]], n=4)
+        reinit = lambda: filt.__init__(np.zeros(4), np.eye(4))
+    filt.predict(motion, u)
+    filt.update(meas, [1.5])
+    inners = {"update": lambda: filt.update(meas, [1]),
+              "predict": lambda: filt.predict(motion, u),
+              "__init__": reinit}
+    return filt, motion, meas, u, with_g, with_h, inners
+
+
+@pytest.mark.parametrize("mod", MODS)
+@pytest.mark.parametrize("family", ["EKF3", "EKF"])
+@pytest.mark.parametrize("inner", ["update", "predict", "__init__"])
+@pytest.mark.parametrize("where", ["g", "h"])
+def test_a_callback_may_not_step_its_own_filter(mod, family, inner, where):
+    """A callback that calls predict, update or __init__ on the filter
+    whose step is running gets RuntimeError (the guard against the
+    library's belief being written twice); the step raises it, the belief
+    is unchanged, and the filter steps as before afterwards."""
+    filt, motion, meas, u, with_g, with_h, inners = reentry_setup(mod, family)
+    twin = reentry_setup(mod, family)[0]
+    calls = []
+
+    def nested():
+        calls.append(inner)
+        inners[inner]()
+    before = snapshot(filt)
+    assert snapshot(twin) == before
     with pytest.raises(RuntimeError, match="own callback"):
-        ekf.predict(mod.EKF3Motion(g, np.eye(3)))
-    assert snapshot(ekf) == before
+        if where == "g":
+            filt.predict(with_g(nested), u)
+        else:
+            filt.update(with_h(nested), [1])
+    assert calls == [inner]
+    assert snapshot(filt) == before
+    # not left busy: the next steps are the twin's, bit for bit
+    for f in (filt, twin):
+        f.predict(motion, u)
+        f.update(meas, [0.5])
+    assert snapshot(filt) == snapshot(twin)
+
+
+@pytest.mark.parametrize("mod", MODS)
+@pytest.mark.parametrize("family", ["EKF3", "EKF"])
+def test_a_callback_may_step_another_filter(mod, family):
+    """The guard is per filter: a callback stepping another filter of the
+    same kind (with the same models) works, and both filters end as
+    they would have stepped one after the other."""
+    filt, motion, meas, u, with_g, with_h, _ = reentry_setup(mod, family)
+    other, twin, twin_other = (reentry_setup(mod, family)[0]
+                               for _ in range(3))
+    filt.predict(with_g(lambda: other.predict(motion, u)), u)
+    filt.update(with_h(lambda: other.update(meas, [0.5])), [1])
+    twin_other.predict(motion, u)
+    twin_other.update(meas, [0.5])
+    twin.predict(motion, u)
+    twin.update(meas, [1])
+    assert snapshot(filt) == snapshot(twin)
+    assert snapshot(other) == snapshot(twin_other)
+    assert snapshot(filt) != snapshot(other)
 
 
 def rss_kib():
