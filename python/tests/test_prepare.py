@@ -3,12 +3,9 @@
 EKFMotion and EKFMeas gets the factors of its own noise matrix.
 
 A model is checked and factored once, when built, in a workspace the
-package allocates for the call. The library reuses the factors held in a
-workspace for a noise matrix bitwise equal to the one it is given; memory
-freed by an earlier workspace, partly written over since, can hold such a
-matrix beside factors that are no longer its own. Each model must still
-step as the first one built (seen before the package zeroed that
-workspace: a wrong R in up to 15% of the float32 EKFMotions built here).
+package allocates for the call, on a heap full of freed workspaces: what
+an earlier workspace left there must never reach a model, so each model
+must step as the first one built did.
 """
 import numpy as np
 import pytest
