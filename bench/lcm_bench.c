@@ -82,13 +82,14 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
         return;
     r->beliefs++;
     int k = b.track - r->first;
-    if (k < 0 || k >= r->tracks || b.input_seq < 1 ||
-        b.input_seq > r->per_track) {
+    int64_t input_seq = b.input_seq;
+    gaussfilt_lcm_belief_t_decode_cleanup(&b); // mean, cov: not needed
+    if (k < 0 || k >= r->tracks || input_seq < 1 || input_seq > r->per_track) {
         r->unmatched++; // initial beliefs (input_seq -1) and strangers
         return;
     }
-    r->t_rx[(long)k * r->per_track + (b.input_seq - 1)] = t;
-    r->t_lcm[(long)k * r->per_track + (b.input_seq - 1)] =
+    r->t_rx[(long)k * r->per_track + (input_seq - 1)] = t;
+    r->t_lcm[(long)k * r->per_track + (input_seq - 1)] =
         rbuf->recv_utime * 1000 - r->real_mono;
 }
 
@@ -197,10 +198,12 @@ int main(int argc, char **argv)
     for (i = 0; i < tracks; i++)
         snprintf(ch[i], sizeof ch[i], "GF_MEAS_%d", first + i);
     gaussfilt_lcm_measurement_t m;
+    double z0 = 0.0, q00 = 10.0, *q0 = &q00; // m = 1: z[1], q[1][1]
     memset(&m, 0, sizeof m);
     m.model = GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR;
     m.m = 1;
-    m.q[0][0] = 10;
+    m.z = &z0;
+    m.q = &q0;
 
     // Pacing without spinning (see the top): each tick sends what is due,
     // then an absolute sleep to the next tick.
@@ -238,7 +241,7 @@ int main(int argc, char **argv)
         m.track = first + k;
         m.seq = seq;
         m.utime = seq * 10000; // 100 Hz in simulated time
-        m.z[0] = (double)seq;
+        z0 = (double)seq;
         int len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof buf, &m);
         int64_t tp = now_ns();
         r.t_pub[(long)k * r.per_track + (seq - 1)] = tp;

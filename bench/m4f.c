@@ -8,8 +8,9 @@
 // region ("empty"), run first, is what the markers themselves cost.
 //
 // The filters of n states (workloads_n.h): each row's step through gf_kf
-// (gf_ekf for gps) and the same step by the floor of bench/ref_n.c, named
-// "cvN step" / "cvN ref" and "gps step" / "gps ref".
+// (gf_ekf for gps), the same through the prepared path, and the same step
+// by the floor of bench/ref_n.c, named "cvN step" / "cvN prep" / "cvN ref"
+// (and "gps ...").
 //
 // After each report the image prints, over semihosting, one line
 //   bench WL PART N
@@ -161,6 +162,14 @@ static void w2(const char *name, unsigned m)
 }
 
 static ref_n ref_belief;
+static union {
+    gf_kf_pmodel k;
+    gf_ekf_pmotion e;
+} n_pmotion;
+static union {
+    gf_kf_pmeas k;
+    gf_ekf_pmeas e;
+} n_pmeas;
 
 static void n_rows(const char *name)
 {
@@ -184,6 +193,41 @@ static void n_rows(const char *name)
         check(a != GF_OK ? a : b, name, i);
     }
     report(name, "step");
+    // The same steps through the prepared path: the models judged and
+    // factored once, before the loop.
+    kf = wl_nw.init;
+    if (wl_nw.ekf) {
+        check(gf_ekf_prepare_motion(&n_pmotion.e, wl_nw.n, &wl_nw.motion,
+                                    &wl_n_work),
+              name, 0);
+        check(
+            gf_ekf_prepare_meas(&n_pmeas.e, wl_nw.n, &wl_nw.emeas, &wl_n_work),
+            name, 0);
+    } else {
+        check(gf_kf_prepare_model(&n_pmotion.k, wl_nw.n, &wl_nw.model,
+                                  &wl_n_work),
+              name, 0);
+        check(gf_kf_prepare_meas(&n_pmeas.k, wl_nw.n, &wl_nw.meas, &wl_n_work),
+              name, 0);
+    }
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        gf_status a, b;
+        if (wl_nw.ekf) {
+            bench_mark_start(&kf);
+            a = gf_ekf_predict_prepared(&kf, &n_pmotion.e, NULL, &wl_n_work);
+            b = gf_ekf_update_prepared(&kf, &n_pmeas.e, wl_n_z[i], NULL,
+                                       &wl_n_work);
+            bench_mark_stop(&kf);
+        } else {
+            bench_mark_start(&kf);
+            a = gf_kf_predict_prepared(&kf, &n_pmotion.k, NULL, &wl_n_work);
+            b = gf_kf_update_prepared(&kf, &n_pmeas.k, wl_n_z[i], NULL,
+                                      &wl_n_work);
+            bench_mark_stop(&kf);
+        }
+        check(a != GF_OK ? a : b, name, i);
+    }
+    report(name, "prep");
     ref_n *r = &ref_belief;
     ref_n_from(r, wl_nw.n, wl_nw.mu0, wl_nw.sigma0);
     for (unsigned i = 0; i < WL_TAB; i++) {

@@ -5,11 +5,16 @@
     python examples/beliefs.py [--url URL] [--track N] [--plot FILE.png]
                                [--count N] [--seconds S]
 
-Subscribes to GF_BELIEF_<track> (every track by default) and prints one
-line per belief: track, seq, stage, status, the mean and the standard
-deviations (square roots of the covariance's diagonal), and the NIS of an
-update. With --plot, the mean of --track with its 2-sigma band over the
-beliefs is drawn to FILE.png (matplotlib) at the end.
+Subscribes to GF_BELIEF_<track> (every track by default) and prints a
+ready line once it listens ("beliefs.py: ready ..."; `gf_sim --wait FILE`
+waits for it), then one line per belief: track, seq, stage, status, the
+mean and the standard deviations (square roots of the covariance's
+diagonal), and the NIS of an update. At the end it says how many beliefs
+it got, and how many of each track it missed (belief seqs never seen:
+those published before it listened, or lost). With --plot, every state of
+--track is drawn to FILE.png (matplotlib) over time (the beliefs' utime, in
+seconds): the mean, its 2-sigma band, and the true state when the
+simulator's groundtruth_t (GF_TRUTH_<track>) is on the wire too.
 
 Needs the lcm package and the types (the package gaussfilt_lcm, which
 scripts/lcm.sh installs into the project's .venv). URL: LCM's, e.g.
@@ -26,6 +31,8 @@ import lcm
 from gaussfilt_lcm import belief_t
 
 STAGES = {0: "init", 1: "predict", 2: "update"}
+NAMES = {1: ["position", "velocity"], 2: ["x", "y", "theta"]}  # car, robot
+TRUTH = "GF_TRUTH_"
 
 
 def main():
@@ -42,7 +49,7 @@ def main():
         ap.error("--plot needs --track")
 
     lc = lcm.LCM(a.url) if a.url else lcm.LCM()
-    seen = []
+    seen, truths = [], []
     chan = "GF_BELIEF_%d" % a.track if a.track is not None else "GF_BELIEF_-?[0-9]+"
 
     def on_belief(channel, data):
@@ -61,6 +68,14 @@ def main():
     # LCM keeps 30 messages per subscription by default: too few for a
     # node's bursts (a replayed log comes as fast as it was written)
     lc.subscribe(chan, on_belief).set_queue_capacity(100000)
+    if a.plot:
+        from gaussfilt_lcm import groundtruth_t
+
+        def on_truth(channel, data):
+            truths.append(groundtruth_t.decode(data))
+        lc.subscribe(TRUTH + str(a.track), on_truth).set_queue_capacity(100000)
+    print("beliefs.py: ready url=%s channel=%s" % (a.url or "(LCM's default)",
+                                                    chan), flush=True)
     print("%6s %6s %-7s %4s | %s | %s | %s" % (
         "track", "seq", "stage", "st", "mean", "sd", "NIS"), flush=True)
     replay = bool(a.url) and a.url.startswith("file://")
@@ -76,7 +91,17 @@ def main():
             lc.handle()
     except (KeyboardInterrupt, IOError):
         pass
-    print("%d beliefs" % len(seen), flush=True)
+    # belief seqs never seen, per track: from 0 (the initial belief) to the
+    # last one seen
+    missed = {}
+    for t in sorted({b.track for b in seen}):
+        seqs = {b.seq for b in seen if b.track == t}
+        gone = max(seqs) + 1 - len(seqs)
+        if gone:
+            missed[t] = gone
+    print("%d beliefs%s" % (len(seen), "; missed (never seen): " + ", ".join(
+        "track %d: %d" % kv for kv in missed.items()) if missed else ""),
+        flush=True)
 
     if a.plot:
         import matplotlib
@@ -86,23 +111,31 @@ def main():
         if not bs:
             sys.exit("no beliefs of track %d to plot" % a.track)
         n = bs[0].n
-        names = (["position", "velocity"] if n == 2 else ["x", "y", "theta"])
-        fig, axes = plt.subplots(n, 1, sharex=True, figsize=(7, 2.2 * n))
-        k = list(range(len(bs)))
-        for i, ax in enumerate(axes):
+        names = NAMES.get(bs[0].model, [])
+        names = names if len(names) == n else ["x%d" % i for i in range(n)]
+        fig, axes = plt.subplots(n, 1, sharex=True, figsize=(7, 2.0 * n),
+                                 squeeze=False)
+        t = [b.utime * 1e-6 for b in bs]
+        gt = sorted(truths, key=lambda g: g.seq)
+        for i, ax in enumerate(axes[:, 0]):
             mu = [b.mean[i] for b in bs]
             sd = [math.sqrt(max(b.cov[i][i], 0.0)) for b in bs]
-            ax.fill_between(k, [m - 2 * s for m, s in zip(mu, sd)],
+            ax.fill_between(t, [m - 2 * s for m, s in zip(mu, sd)],
                             [m + 2 * s for m, s in zip(mu, sd)], alpha=0.3,
-                            label="2 sigma")
-            ax.plot(k, mu, lw=1, label="mean")
+                            step="post", label="2 sigma")
+            ax.step(t, mu, where="post", lw=1, label="mean")
+            if gt:
+                ax.plot([g.utime * 1e-6 for g in gt],
+                        [g.state[i] for g in gt], "k.", ms=2,
+                        label="truth (groundtruth_t)")
             ax.set_ylabel(names[i])
-        axes[0].set_title("gf_node beliefs of track %d" % a.track)
-        axes[0].legend(loc="best", fontsize=8)
-        axes[-1].set_xlabel("belief")
+        axes[0, 0].set_title("gf_node beliefs of track %d" % a.track)
+        axes[0, 0].legend(loc="best", fontsize=8)
+        axes[-1, 0].set_xlabel("time (s, the inputs' utime)")
         fig.tight_layout()
         fig.savefig(a.plot, dpi=100)
-        print("drew %s" % a.plot)
+        print("drew %s (%d beliefs%s)" % (
+            a.plot, len(bs), ", %d truths" % len(gt) if gt else ""))
 
 
 if __name__ == "__main__":

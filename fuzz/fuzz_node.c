@@ -28,6 +28,7 @@
 #include "gaussfilt_lcm_belief_t.h"
 #include "gaussfilt_lcm_control_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
+#include "gf_wire.h"
 #include "gaussfilt_lcm_model_t.h"
 #include "node_core.h"
 
@@ -184,7 +185,7 @@ static size_t put(uint8_t *out, uint8_t kind, int8_t track, const void *msg,
 static size_t ctrl(uint8_t *out, int8_t track, int64_t seq, int8_t model,
                    int8_t n, double u0, double u1)
 {
-    gaussfilt_lcm_control_t c;
+    gf_wire_ctrl c;
     memset(&c, 0, sizeof c);
     c.utime = 1000 * seq;
     c.seq = seq;
@@ -194,7 +195,7 @@ static size_t ctrl(uint8_t *out, int8_t track, int64_t seq, int8_t model,
     c.u[0] = u0;
     c.u[1] = u1;
     uint8_t buf[256];
-    int len = gaussfilt_lcm_control_t_encode(buf, 0, sizeof buf, &c);
+    int len = gf_wire_ctrl_encode(buf, sizeof buf, &c);
     REQUIRE(len > 0);
     return put(out, 1, track, buf, len);
 }
@@ -202,7 +203,7 @@ static size_t ctrl(uint8_t *out, int8_t track, int64_t seq, int8_t model,
 static size_t meas(uint8_t *out, int8_t track, int64_t seq, int8_t model,
                    int8_t m, double z0, double q00, uint8_t kind)
 {
-    gaussfilt_lcm_measurement_t z;
+    gf_wire_meas z;
     memset(&z, 0, sizeof z);
     z.utime = 1000 * seq;
     z.seq = seq;
@@ -213,7 +214,7 @@ static size_t meas(uint8_t *out, int8_t track, int64_t seq, int8_t model,
     z.q[0][0] = q00;
     z.q[1][1] = q00;
     uint8_t buf[256];
-    int len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof buf, &z);
+    int len = gf_wire_meas_encode(buf, sizeof buf, &z);
     REQUIRE(len > 0);
     return put(out, kind, track, buf, len);
 }

@@ -20,16 +20,17 @@ gf_skip() {
     gf_die "$*"
 }
 
-# gf_readme_block NAME: the lines of README.md between <!-- NAME --> and
-# <!-- /NAME -->, without the ``` fences, so that the tests run what the
-# README shows. Fails if the block is missing or empty.
+# gf_readme_block NAME: the lines between <!-- NAME --> and <!-- /NAME -->
+# in README.md or the page of docs/ that holds them, without the ```
+# fences, so that the tests run what the documentation shows. Fails if the
+# block is missing or empty.
 gf_readme_block() {
     local text
     text=$(awk -v start="<!-- $1 -->" -v stop="<!-- /$1 -->" '
         $0 == stop { inside = 0 }
         inside && !/^```/ { print }
-        $0 == start { inside = 1 }' "$GF_ROOT/README.md")
-    [ -n "$text" ] || gf_die "README.md has no block <!-- $1 --> ... <!-- /$1 -->"
+        $0 == start { inside = 1 }' "$GF_ROOT/README.md" "$GF_ROOT"/docs/*.md)
+    [ -n "$text" ] || gf_die "README.md and docs/ have no block <!-- $1 --> ... <!-- /$1 -->"
     printf '%s\n' "$text"
 }
 
@@ -102,6 +103,19 @@ PY
         "$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
             packaging "$@" || gf_die "pip install $* failed (is PyPI reachable?)"
     fi
+}
+
+# gf_py_package: the Python package gaussfilt (python/, docs/python.md) in
+# the project's .venv, once: its build requirements from PyPI, then the
+# package built from this checkout, offline (pip install ./python).
+gf_py_package() {
+    gf_venv 'numpy>=1.21' 'scikit-build-core>=0.8'
+    "$GF_VENV/bin/python" -c 'import gaussfilt' 2>/dev/null && return 0
+    gf_apt cmake make gcc libc6-dev
+    gf_log "installing the Python package gaussfilt into .venv (pip install ./python)"
+    "$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
+        --no-build-isolation --no-index --no-deps "$GF_ROOT/python" ||
+        gf_die "pip install ./python failed"
 }
 
 # gf_ctest BUILD_DIR [ctest args...]: runs ctest and adds its counts to the

@@ -25,7 +25,7 @@
 #include <lcm/lcm.h>
 
 #include "gaussfilt/gaussfilt.h"
-#include "gaussfilt_lcm_belief_t.h"
+#include "gf_wire.h"
 #include "book.h"
 #include "gf_channels.h"
 #include "gf_help.h"
@@ -40,7 +40,7 @@
 #endif
 
 typedef struct check {
-    gaussfilt_lcm_belief_t b[MAX_BELIEFS];
+    gf_wire_belief b[MAX_BELIEFS];
     int have[MAX_BELIEFS];
     int count;
     int bad;
@@ -50,10 +50,9 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
                       void *user)
 {
     check *c = (check *)user;
-    gaussfilt_lcm_belief_t b;
+    gf_wire_belief b;
     (void)channel;
-    if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size,
-                                      &b) != (int)rbuf->data_size) {
+    if (gf_wire_belief_decode(rbuf->data, rbuf->data_size, &b) != 0) {
         c->bad++;
         return;
     }
@@ -81,7 +80,7 @@ static int close_to(double got, double want_v, double tol)
     return fabs(got - want_v) <= tol * scale;
 }
 
-static void print_belief(const gaussfilt_lcm_belief_t *b)
+static void print_belief(const gf_wire_belief *b)
 {
     int i, j;
     printf("mu = (");
@@ -95,7 +94,7 @@ static void print_belief(const gaussfilt_lcm_belief_t *b)
 }
 
 // Compares belief b with w within TOL, and its status and stage.
-static int compare(const gaussfilt_lcm_belief_t *b, const want *w)
+static int compare(const gf_wire_belief *b, const want *w)
 {
     int i, j, ok = b->status == 0 && b->stage == w->stage && b->n == w->n;
     for (i = 0; i < w->n; i++) {
@@ -115,7 +114,7 @@ static int run_rows(const check *c, const want *w, const int *seq, int rows)
 {
     int r, fails = 0;
     for (r = 0; r < rows; r++) {
-        const gaussfilt_lcm_belief_t *b = &c->b[seq[r]];
+        const gf_wire_belief *b = &c->b[seq[r]];
         int ok = compare(b, &w[r]);
         fails += !ok;
         printf("  %-9s wire: ", w[r].label);
@@ -126,7 +125,7 @@ static int run_rows(const check *c, const want *w, const int *seq, int rows)
         } else {
             printf("\n  %-9s want: ", "");
             {
-                gaussfilt_lcm_belief_t x;
+                gf_wire_belief x;
                 int i, j;
                 memset(&x, 0, sizeof x);
                 x.n = (int8_t)w[r].n;

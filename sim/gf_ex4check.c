@@ -18,7 +18,7 @@
 #include <lcm/lcm.h>
 
 #include "ex4_modes.h"
-#include "gaussfilt_lcm_belief_t.h"
+#include "gf_wire.h"
 #include "gaussfilt_lcm_particles_t.h"
 #include "gf_channels.h"
 #include "gf_help.h"
@@ -34,7 +34,7 @@ enum { EKF, UKF, PF, NFILTERS };
 
 typedef struct state {
     int32_t track[NFILTERS];
-    gaussfilt_lcm_belief_t b[NFILTERS][3]; // by belief seq 0..2
+    gf_wire_belief b[NFILTERS][3]; // by belief seq 0..2
     int have[NFILTERS][3];
     float x[CLOUD_MAX], y[CLOUD_MAX], w[CLOUD_MAX];
     int count, have_cloud, bad;
@@ -45,11 +45,10 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
                       void *user)
 {
     state *s = (state *)user;
-    gaussfilt_lcm_belief_t b;
+    gf_wire_belief b;
     int f;
     (void)channel;
-    if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size,
-                                      &b) != (int)rbuf->data_size) {
+    if (gf_wire_belief_decode(rbuf->data, rbuf->data_size, &b) != 0) {
         s->bad++;
         return;
     }
@@ -104,7 +103,7 @@ static int check(const state *s)
                                           GAUSSFILT_LCM_BELIEF_T_FILTER_UKF3,
                                           GAUSSFILT_LCM_BELIEF_T_FILTER_PF3};
     static const char *names[NFILTERS] = {"EKF3", "UKF3", "PF3"};
-    const gaussfilt_lcm_belief_t *pf = &s->b[PF][2];
+    const gf_wire_belief *pf = &s->b[PF][2];
     int f, j, fails = 0;
     for (f = 0; f < NFILTERS; f++) {
         for (j = 0; j < 3; j++) {

@@ -6,13 +6,21 @@
 // SIGINT/SIGTERM (or the end of a file:// log) end it, once the queue is
 // drained, with a one-line summary on stdout.
 //
-//   gf_node [--config FILE] [--url URL] [--out-url URL] [--channels REGEX]
-//           [--queue N] [--filter ekf|ukf|pf] [--seed S] [--cpu N]
-//           [--rx-cpu M] [--rt PRIO] [--timing] [--help]
+//   gf_node [--config FILE] [--strict] [--name NAME] [--url URL]
+//           [--out-url URL] [--channels REGEX] [--queue N]
+//           [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]
+//           [--rt PRIO] [--timing] [--help]
 //
 //   --config    the tracks' models (sim/node_model.h, docs/node.md):
-//               channel patterns to car and robot models; tracks no model
-//               names run the book's presets (book-car, book-robot)
+//               channel patterns to car, robot and linear models; car and
+//               robot tracks no model names run the book's presets
+//               (book-car, book-robot), a linear one is refused. Each new
+//               track's line says which model it got and why
+//   --strict    refuse every track no configured model names (no_model)
+//   --name      the node's id in every belief (belief_t.node; default
+//               host:pid:start). A belief of one of its tracks from
+//               another id is counted (peer_beliefs) and warned about
+//               once per track: two nodes filter it
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
 //   --out-url   publish beliefs on another LCM instead (needed with a
@@ -57,6 +65,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <pthread.h>
 
@@ -72,6 +81,14 @@ static void on_signal(int sig)
 {
     (void)sig;
     g_stop = 1;
+}
+
+// The node's lines about its tracks (node_core.h's log callback).
+static void log_line(void *ctx, const char *line)
+{
+    (void)ctx;
+    printf("gf_node: %s\n", line);
+    fflush(stdout);
 }
 
 static int publish_lcm(void *ctx, const char *channel, const void *data,
@@ -93,7 +110,8 @@ typedef struct node_ctx {
     gf_node *node;
     gf_inq q;
     gf_rt *rt;
-    pthread_mutex_t mu; // with started: the handling thread is placed
+    pthread_mutex_t mu;      // with started: the handling thread is placed
+    pthread_mutex_t node_mu; // the node: handling, and others' beliefs
     pthread_cond_t cv;
     int started;
     int timing;
@@ -111,6 +129,28 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
                       rbuf->recv_utime);
 }
 
+// LCM's dispatch of a belief (the node's own come back over udpm): one of
+// another node is checked against the node's tracks right here
+// (gf_node_peer_belief), under the lock the handling thread holds while it
+// handles a message; it never enters the input queue, so the queue's
+// counts stay the inputs'. The id is fixed before LCM starts: reading it
+// races with nothing.
+static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
+                      void *user)
+{
+    node_ctx *c = user;
+    char id[GF_NODE_ID_MAX];
+    int32_t track;
+    (void)channel;
+    if (gf_node_belief_origin(rbuf->data, rbuf->data_size, &track, id,
+                              sizeof id) != 0 ||
+        strcmp(id, c->node->id) == 0)
+        return;
+    pthread_mutex_lock(&c->node_mu);
+    (void)gf_node_peer_belief(c->node, rbuf->data, rbuf->data_size);
+    pthread_mutex_unlock(&c->node_mu);
+}
+
 // The handling thread: every queued message through gf_node_handle (which
 // publishes), in order, until the queue is closed and empty.
 static void *handling(void *arg)
@@ -123,8 +163,10 @@ static void *handling(void *arg)
     pthread_cond_signal(&c->cv);
     pthread_mutex_unlock(&c->mu);
     while ((e = gf_inq_peek(&c->q)) != NULL) {
+        pthread_mutex_lock(&c->node_mu);
         gf_node_handle(c->node, gf_inq_channel(e), gf_inq_data(e), e->len,
                        e->recv_utime);
+        pthread_mutex_unlock(&c->node_mu);
         if (c->timing) {
             struct timespec ts;
             clock_gettime(CLOCK_REALTIME, &ts);
@@ -156,9 +198,10 @@ static long timing_quantile(const node_ctx *c, double q)
 }
 
 static const char usage_text[] =
-    "usage: gf_node [--config FILE] [--url URL] [--out-url URL]\n"
-    "               [--channels REGEX] [--queue N] [--filter ekf|ukf|pf]\n"
-    "               [--seed S] [--cpu N] [--rx-cpu M] [--rt PRIO] [--timing]\n";
+    "usage: gf_node [--config FILE] [--strict] [--name NAME] [--url URL]\n"
+    "               [--out-url URL] [--channels REGEX] [--queue N]\n"
+    "               [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]\n"
+    "               [--rt PRIO] [--timing]\n";
 
 static void usage(void)
 {
@@ -170,16 +213,24 @@ static void help(void)
 {
     fputs("gf_node: the gaussfilt filter node. Takes each track's controls\n"
           "(GF_CTRL_<id>) and measurements (GF_MEAS_<id>) over LCM, runs the\n"
-          "track's filter (KF2 for a car, EKF3/UKF3/PF3 for a robot) and\n"
-          "publishes its belief on GF_BELIEF_<id> after every input.\n"
-          "GF_MODEL_<id> (model_t) sets a track's model at run time. At exit\n"
-          "(SIGINT, SIGTERM, end of a log) one summary line of counters.\n\n",
+          "track's filter (KF2 for a car, EKF3/UKF3/PF3 for a robot, gf_kf\n"
+          "for a linear model of any size) and publishes its belief on\n"
+          "GF_BELIEF_<id> after every input. GF_MODEL_<id> (model_t) sets a\n"
+          "car's or robot's model at run time. Prints a ready line once it\n"
+          "listens, a line for each new track (its model and why), and at\n"
+          "exit (SIGINT, SIGTERM, end of a log) one summary line of counters.\n"
+          "udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo (or\n"
+          "your interface), else LCM says \"No route\" and it cannot open.\n\n",
           stdout);
     fputs(usage_text, stdout);
     fputs(
         "\n"
         "  --config FILE   models for channel patterns (docs/node.md); other\n"
-        "                  tracks run the book's presets book-car, book-robot\n"
+        "                  car/robot tracks run the book's presets book-car,\n"
+        "                  book-robot; other linear tracks are refused\n"
+        "  --strict        refuse every track no configured model names\n"
+        "  --name NAME     the node's id in its beliefs (default "
+        "host:pid:start)\n"
         "  --url URL       where to listen (default $LCM_DEFAULT_URL or LCM's\n"
         "                  udpm default); file:///x.lcmlog?speed=0 replays a "
         "log\n"
@@ -199,16 +250,20 @@ static void help(void)
         stdout);
 }
 
-// The node's model lookup: the configuration's (node_model.h).
+// The node's model lookup: the model the configuration names, or NULL
+// (node_core then takes the preset, or refuses the track).
 static const gf_node_model *lookup_model(const void *ctx, int32_t id,
                                          int8_t kind)
 {
-    return gf_node_config_lookup((const gf_node_config *)ctx, id, kind);
+    return gf_node_config_named((const gf_node_config *)ctx, id, kind);
 }
 
 int main(int argc, char **argv)
 {
     const char *url = NULL, *out_url = NULL, *config_path = NULL;
+    const char *name = NULL;
+    int strict = 0;
+    char id[GF_NODE_ID_MAX];
     static gf_node_config config;
     char err[256];
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
@@ -220,13 +275,13 @@ int main(int argc, char **argv)
     gf_node_filter filter = GF_NODE_FILTER_EKF;
     const char *filter_name = "ekf";
     unsigned long seed = 1;
-    char summary[512];
+    char summary[1024];
     lcm_t *in, *out;
     struct sigaction sa;
     int i, rc = 0, queue = 65536, have_handler = 0, replay;
     pthread_t handler;
     char rcvbuf[32];
-    lcm_subscription_t *sub;
+    lcm_subscription_t *sub, *peers;
 
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
@@ -234,6 +289,11 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(argv[i], "--config") == 0 && i + 1 < argc)
             config_path = argv[++i];
+        else if (strcmp(argv[i], "--strict") == 0)
+            strict = 1;
+        else if (strcmp(argv[i], "--name") == 0 && i + 1 < argc &&
+                 argv[i + 1][0] != '\0')
+            name = argv[++i];
         else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
             url = argv[++i];
         else if (strcmp(argv[i], "--out-url") == 0 && i + 1 < argc)
@@ -301,9 +361,22 @@ int main(int argc, char **argv)
     gf_node_init(&node, publish_lcm, out);
     gf_node_set_filter(&node, filter, &pool, (uint32_t)seed);
     gf_node_set_models(&node, lookup_model, &config);
+    gf_node_set_strict(&node, strict);
+    gf_node_set_log(&node, log_line, NULL);
+    if (name != NULL) {
+        snprintf(id, sizeof id, "%s", name);
+    } else {
+        char host[40] = "host";
+        (void)gethostname(host, sizeof host);
+        host[sizeof host - 1] = '\0';
+        snprintf(id, sizeof id, "%s:%ld:%lld", host, (long)getpid(),
+                 (long long)time(NULL));
+    }
+    gf_node_set_id(&node, id);
     ctx.node = &node;
     ctx.rt = &rt;
     pthread_mutex_init(&ctx.mu, NULL);
+    pthread_mutex_init(&ctx.node_mu, NULL);
     pthread_cond_init(&ctx.cv, NULL);
     {
         const char *u = url != NULL ? url : getenv("LCM_DEFAULT_URL");
@@ -314,9 +387,15 @@ int main(int argc, char **argv)
         return 1;
     }
     sub = lcm_subscribe(in, channels, on_message, &ctx);
+    // other nodes' beliefs of this node's tracks (gf_node_peer_belief)
+    peers = replay ? NULL
+                   : lcm_subscribe(in, GF_CHANNEL_BELIEF "-?[0-9]+", on_belief,
+                                   &ctx);
     // LCM's own limit off: every message goes to on_message (the queue
     // above is the node's bound, and it counts what it drops)
     if (sub == NULL || lcm_subscription_set_queue_capacity(sub, 0) != 0 ||
+        (!replay && (peers == NULL ||
+                     lcm_subscription_set_queue_capacity(peers, 0) != 0)) ||
         pthread_create(&handler, NULL, handling, &ctx) != 0) {
         fprintf(stderr, "gf_node: cannot subscribe to %s\n", channels);
         rc = 1;
@@ -330,11 +409,12 @@ int main(int argc, char **argv)
         gf_rt_describe(&rt, placement, sizeof placement);
         printf("gf_node: ready channels=%s queue=%d queue_bytes=%zu "
                "rcvbuf=%s max_tracks=%d track_bytes=%zu node_bytes=%zu "
-               "filter=%s models=%u%s%s %s",
+               "filter=%s models=%u%s%s%s id=%s %s",
                channels, queue, ctx.q.cap, rcvbuf, GF_NODE_MAX_TRACKS,
                sizeof(gf_node_track), sizeof(gf_node), filter_name,
                config.count, config_path ? " config=" : "",
-               config_path ? config_path : "", placement);
+               config_path ? config_path : "", strict ? " strict" : "", id,
+               placement);
         if (filter == GF_NODE_FILTER_PF)
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));

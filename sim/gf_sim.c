@@ -7,6 +7,9 @@
 //   gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]
 //   gf_sim --config FILE --model NAME [--runs M] [--track N] [--steps N]
 //          [--seed S] [--rate HZ] [--turn PHI] [--session S] [--url URL]
+//   any of them with --wait FILE (repeatable): first waits until each FILE
+//   has a ready line (": ready", as gf_node and examples/beliefs.py print
+//   one once they listen), up to --wait-s seconds (default 60)
 //
 // car (exercises 1-2): each step a random acceleration a ~ N(0, 1) moves the
 //   true state (x += v + a/2, v += a); every K-th step the position is
@@ -20,9 +23,13 @@
 //   acceleration of variance accel_var over dt; the robot "move 1, turn
 //   PHI" with the odometry's noise on d and phi), and each step is
 //   measured as the model's measure says, with noise drawn from meas_cov
-//   and sent as q. --runs M: M independent runs at once on tracks N ..
-//   N + M - 1, run k seeded S + k (the Monte-Carlo runs of a consistency
-//   test). utime is t * dt for the car, t seconds for the robot.
+//   and sent as q. A linear model (any n): x_t = A x_{t-1} + B u_t + eps,
+//   eps ~ N(0, R), z = C x + delta, delta ~ N(0, Q), with u_i = sin(0.1 t
+//   + i) when it has controls (B). --runs M: M independent runs at once on
+//   tracks N .. N + M - 1, run k seeded S + k (the Monte-Carlo runs of a
+//   consistency test): every step goes out for each run in turn, so
+//   --rate HZ is HZ steps per second of each run, M * HZ in all. utime is
+//   t * dt for the car and a linear model, t seconds for the robot.
 // --exercise replays the book exactly:
 //   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
 //   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
@@ -64,6 +71,8 @@
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
 #define MODEL_ROBOT GAUSSFILT_LCM_MEASUREMENT_T_MODEL_ROBOT
+#define MODEL_LINEAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_LINEAR
+#define NMAX GF_NODE_NMAX
 
 // ---- deterministic random numbers: xoshiro256** seeded by splitmix64 ------
 
@@ -130,7 +139,7 @@ typedef struct sim {
         ch_truth[GF_CHANNEL_MAX];
     unsigned long sent_ctrl, sent_meas, sent_truth;
     int failed;
-    uint8_t buf[512];
+    uint8_t buf[64 + 8 * (NMAX + NMAX * NMAX)];
 } sim;
 
 static void send(sim *s, const char *channel, int len)
@@ -139,40 +148,52 @@ static void send(sim *s, const char *channel, int len)
         s->failed = 1;
 }
 
-static void send_ctrl(sim *s, long t, int n, double u0, double u1)
+static void send_ctrl_v(sim *s, long t, int n, const double *u)
 {
     gaussfilt_lcm_control_t c;
+    double uu[NMAX];
+    int i;
     memset(&c, 0, sizeof(c));
+    for (i = 0; i < n; i++)
+        uu[i] = u[i];
     c.utime = t * s->step_us;
     c.seq = ++s->seq;
     c.session = s->session;
     c.track = s->track;
     c.model = s->model;
     c.n = (int8_t)n;
-    c.u[0] = u0;
-    c.u[1] = u1;
+    c.u = uu;
     send(s, s->ch_ctrl,
          gaussfilt_lcm_control_t_encode(s->buf, 0, (int)sizeof(s->buf), &c));
     s->sent_ctrl++;
 }
 
-static void send_meas_m(sim *s, long t, int m, const double *z,
-                        const double q[3][3])
+static void send_ctrl(sim *s, long t, int n, double u0, double u1)
+{
+    const double u[2] = {u0, u1};
+    send_ctrl_v(s, t, n, u);
+}
+
+// A measurement of m quantities z with noise q (m x m, rows of m).
+static void send_meas_m(sim *s, long t, int m, const double *z, const double *q)
 {
     gaussfilt_lcm_measurement_t msg;
-    int i, j;
+    double zz[NMAX], qq[NMAX * NMAX], *rows[NMAX];
+    int i;
     memset(&msg, 0, sizeof(msg));
+    for (i = 0; i < m; i++) {
+        zz[i] = z[i];
+        memcpy(&qq[i * m], &q[i * m], sizeof(double) * (size_t)m);
+        rows[i] = &qq[i * m];
+    }
     msg.utime = t * s->step_us;
     msg.seq = ++s->seq;
     msg.session = s->session;
     msg.track = s->track;
     msg.model = s->model;
     msg.m = (int8_t)m;
-    for (i = 0; i < m; i++) {
-        msg.z[i] = z[i];
-        for (j = 0; j < m; j++)
-            msg.q[i][j] = q[i][j];
-    }
+    msg.z = zz;
+    msg.q = rows;
     send(s, s->ch_meas,
          gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
                                             &msg));
@@ -181,22 +202,23 @@ static void send_meas_m(sim *s, long t, int m, const double *z,
 
 static void send_meas(sim *s, long t, double z, double q)
 {
-    const double qm[3][3] = {{q, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    send_meas_m(s, t, 1, &z, qm);
+    send_meas_m(s, t, 1, &z, &q);
 }
 
 static void send_truth(sim *s, long t, int n, const double *x)
 {
     gaussfilt_lcm_groundtruth_t g;
+    double state[NMAX];
     int i;
     memset(&g, 0, sizeof(g));
+    for (i = 0; i < n; i++)
+        state[i] = x[i];
     g.utime = t * s->step_us;
     g.seq = s->seq; // the seq of the step's control
     g.track = s->track;
     g.model = s->model;
     g.n = (int8_t)n;
-    for (i = 0; i < n; i++)
-        g.state[i] = x[i];
+    g.state = state;
     send(
         s, s->ch_truth,
         gaussfilt_lcm_groundtruth_t_encode(s->buf, 0, (int)sizeof(s->buf), &g));
@@ -218,19 +240,21 @@ static void pace(struct timespec *next, long period_ns)
         ;
 }
 
-// x = mean + L w, L L^T = cov (n x n PSD; a zero pivot adds nothing).
-static void draw(rng *r, unsigned n, const double *mean, const double cov[3][3],
-                 double *x)
+// x = mean + L w, L L^T = cov (n x n PSD, rows of n; a zero pivot adds
+// nothing). mean may be NULL (zero).
+static void draw_n(rng *r, unsigned n, const double *mean, const double *cov,
+                   double *x)
 {
-    double l[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, w[3];
+    double l[NMAX][NMAX], w[NMAX];
     unsigned i, j, k;
+    memset(l, 0, sizeof l);
     for (j = 0; j < n; j++) {
-        double d = cov[j][j];
+        double d = cov[j * n + j];
         for (k = 0; k < j; k++)
             d -= l[j][k] * l[j][k];
         l[j][j] = d > 0.0 ? sqrt(d) : 0.0;
         for (i = j + 1; i < n; i++) {
-            double v = cov[i][j];
+            double v = cov[i * n + j];
             for (k = 0; k < j; k++)
                 v -= l[i][k] * l[j][k];
             l[i][j] = l[j][j] > 0.0 ? v / l[j][j] : 0.0;
@@ -239,10 +263,44 @@ static void draw(rng *r, unsigned n, const double *mean, const double cov[3][3],
     for (i = 0; i < n; i++)
         w[i] = rng_normal(r);
     for (i = 0; i < n; i++) {
-        x[i] = mean[i];
+        x[i] = mean != NULL ? mean[i] : 0.0;
         for (k = 0; k <= i; k++)
             x[i] += l[i][k] * w[k];
     }
+}
+
+// draw_n of the leading n x n block of a 3 x 3 matrix.
+static void draw(rng *r, unsigned n, const double *mean, const double cov[3][3],
+                 double *x)
+{
+    double c[9];
+    unsigned i, j;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++)
+            c[i * n + j] = cov[i][j];
+    draw_n(r, n, mean, c, x);
+}
+
+// Waits until the file has a ready line (": ready"), up to seconds;
+// 0 when it has.
+static int wait_ready(const char *path, double seconds)
+{
+    struct timespec nap = {0, 50000000L};
+    long tries = (long)(seconds * 20.0) + 1, k;
+    char line[1024];
+    for (k = 0; k < tries; k++) {
+        FILE *f = fopen(path, "r");
+        if (f != NULL) {
+            while (fgets(line, sizeof line, f) != NULL)
+                if (strstr(line, ": ready") != NULL) {
+                    fclose(f);
+                    return 0;
+                }
+            fclose(f);
+        }
+        nanosleep(&nap, NULL);
+    }
+    return -1;
 }
 
 #define MAX_RUNS 64
@@ -251,8 +309,37 @@ static void draw(rng *r, unsigned n, const double *mean, const double cov[3][3],
 typedef struct run {
     sim s;
     rng r;
-    double x[3];
+    double x[NMAX];
 } run;
+
+// One step of a linear model's truth and its measurement (see the top).
+static void linear_step(run *q, const gf_node_linear *l, long t, int measure)
+{
+    double x[NMAX], u[NMAX], w[NMAX], z[NMAX];
+    unsigned i, j;
+    for (j = 0; j < l->nu; j++)
+        u[j] = sin(0.1 * (double)t + (double)j);
+    draw_n(&q->r, l->n, NULL, l->R, w);
+    // x_t = A x_{t-1} + B u_t + eps
+    for (i = 0; i < l->n; i++) {
+        x[i] = w[i];
+        for (j = 0; j < l->n; j++)
+            x[i] += l->A[i * l->n + j] * q->x[j];
+        for (j = 0; j < l->nu; j++)
+            x[i] += l->B[i * l->nu + j] * u[j];
+    }
+    memcpy(q->x, x, sizeof(double) * l->n);
+    send_ctrl_v(&q->s, t, (int)l->nu, u);
+    send_truth(&q->s, t, (int)l->n, q->x);
+    if (!measure)
+        return;
+    // z = C x + delta
+    draw_n(&q->r, l->m, NULL, l->Q, z);
+    for (i = 0; i < l->m; i++)
+        for (j = 0; j < l->n; j++)
+            z[i] += l->C[i * l->n + j] * q->x[j];
+    send_meas_m(&q->s, t, (int)l->m, z, l->Q);
+}
 
 // The measurement of truth x under model mdl, noise included.
 static int measure(const gf_node_model *mdl, rng *r, const double *x, double *z)
@@ -310,13 +397,16 @@ static void usage(void)
             "       gf_sim --exercise 1|2|4 [--track N] [--session S] "
             "[--url URL]\n"
             "       gf_sim --config FILE --model NAME [--runs M] ... "
-            "(gf_sim --help)\n");
+            "(gf_sim --help)\n"
+            "       (any with --wait FILE ... [--wait-s S])\n");
 }
 
 static const char help_text[] =
-    "gf_sim: streams a simulated car or robot over LCM: each step a control\n"
-    "(GF_CTRL_<track>), the true state (GF_TRUTH_<track>) and a measurement\n"
-    "(GF_MEAS_<track>), for a gf_node to filter.\n\n"
+    "gf_sim: streams a simulated car, robot or linear model over LCM: each\n"
+    "step a control (GF_CTRL_<track>), the true state (GF_TRUTH_<track>) and\n"
+    "a measurement (GF_MEAS_<track>), for a gf_node to filter. Nothing\n"
+    "waits for a receiver: what goes out before a node listens is lost (the\n"
+    "node counts it, lost_before_first); --wait makes sure it listens.\n\n"
     "usage: gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]\n"
     "       gf_sim --model car|robot [--track N] [--steps N] [--seed S]\n"
     "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
@@ -326,19 +416,26 @@ static const char help_text[] =
     "exactly;\n"
     "                  exercise 2 with --steps N, --z Z, --meas-var V changed\n"
     "  --model car|robot  the exercises' car or robot with random motion\n"
-    "  --config FILE --model NAME  a model of a gf_node configuration (or\n"
-    "                  book-car, book-robot): truth from its prior, its noise\n"
-    "  --runs M        M independent runs on tracks N..N+M-1 (seed S+k)\n"
+    "  --config FILE --model NAME  a model of a gf_node configuration (car,\n"
+    "                  robot or linear; or book-car, book-robot): truth from\n"
+    "                  its prior, moved and measured with its noise\n"
+    "  --runs M        M independent runs on tracks N..N+M-1 (seed S+k),\n"
+    "                  sent together: each step goes out for every run, at\n"
+    "                  --rate HZ each (M * HZ steps per second in all)\n"
     "  --track N       track id (default 1); --steps N; --seed S (default 1)\n"
     "  --rate HZ       steps per second of wall-clock time (default: flat "
     "out)\n"
     "  --meas-every K, --meas-var V, --turn PHI  (car/robot without --config)\n"
     "  --session S     the run's session (default: the start time in us)\n"
     "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w "
-    "writes\n\n"
+    "writes\n"
+    "  --wait FILE     first wait until FILE has a ready line (\": ready\",\n"
+    "                  as gf_node's and beliefs.py's output say once they\n"
+    "                  listen); repeatable; up to --wait-s S seconds (60)\n\n"
     "example:\n"
-    "  gf_sim --config examples/node.conf --model car100 --track 100 --rate "
-    "100\n";
+    "  gf_node --config examples/node.conf > node.out &\n"
+    "  gf_sim --wait node.out --config examples/node.conf --model car100 "
+    "--track 100 --rate 100\n";
 
 int main(int argc, char **argv)
 {
@@ -357,6 +454,9 @@ int main(int argc, char **argv)
     struct timespec next;
     struct sigaction sa;
     int have_session = 0;
+    const char *wait_for[16];
+    int nwait = 0;
+    double wait_s = 60.0;
     static sim s; // holds the encode buffer; off the stack
     rng r;
 
@@ -405,6 +505,10 @@ int main(int argc, char **argv)
             meas_var = atof(v);
         else if (strcmp(a, "--turn") == 0)
             turn = atof(v);
+        else if (strcmp(a, "--wait") == 0 && nwait < 16)
+            wait_for[nwait++] = v;
+        else if (strcmp(a, "--wait-s") == 0)
+            wait_s = atof(v);
         else if (strcmp(a, "--session") == 0) {
             s.session = strtoll(v, NULL, 0);
             have_session = 1;
@@ -452,7 +556,7 @@ int main(int argc, char **argv)
     if (meas_var < 0.0)
         meas_var = s.model == MODEL_CAR ? 10.0 : 0.01;
     s.step_us = 1000000;
-    if (mdl != NULL && mdl->kind == MODEL_CAR)
+    if (mdl != NULL && mdl->kind != MODEL_ROBOT)
         s.step_us = (int64_t)(mdl->dt * 1e6 + 0.5);
     if (rate > 0.0 && mdl != NULL)
         period_ns = (long)(1e9 / rate);
@@ -478,6 +582,14 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
 
+    for (i = 0; i < nwait; i++)
+        if (wait_ready(wait_for[i], wait_s) != 0) {
+            fprintf(stderr,
+                    "gf_sim: %s has no ready line after %g s: is the program "
+                    "writing it running? (nothing sent)\n",
+                    wait_for[i], wait_s);
+            return 1;
+        }
     s.lcm = lcm_create(url);
     if (s.lcm == NULL) {
         fprintf(stderr, "gf_sim: cannot open LCM at %s\n",
@@ -489,7 +601,9 @@ int main(int argc, char **argv)
 
     if (mdl != NULL) {
         long k;
-        unsigned n = mdl->kind == MODEL_CAR ? 2u : 3u;
+        unsigned n = mdl->kind == MODEL_CAR     ? 2u
+                     : mdl->kind == MODEL_ROBOT ? 3u
+                                                : mdl->lin->n;
         for (k = 0; k < nruns; k++) {
             run *q = &runs[k];
             q->s = s;
@@ -501,13 +615,21 @@ int main(int argc, char **argv)
             snprintf(q->s.ch_truth, sizeof(q->s.ch_truth), "%s%ld",
                      GF_CHANNEL_TRUTH, (long)q->s.track);
             rng_seed(&q->r, seed + (uint64_t)k);
-            draw(&q->r, n, mdl->prior_mean, mdl->prior_cov, q->x);
+            if (mdl->kind == MODEL_LINEAR)
+                draw_n(&q->r, n, mdl->lin->prior_mean, mdl->lin->prior_cov,
+                       q->x);
+            else
+                draw(&q->r, n, mdl->prior_mean, mdl->prior_cov, q->x);
         }
         for (t = 1; t <= steps && !g_stop; t++) {
             for (k = 0; k < nruns; k++) {
                 run *q = &runs[k];
                 double z[3];
                 int m;
+                if (mdl->kind == MODEL_LINEAR) {
+                    linear_step(q, mdl->lin, t, t % meas_every == 0);
+                    continue;
+                }
                 if (mdl->kind == MODEL_CAR) {
                     double a = sqrt(mdl->accel_var) * rng_normal(&q->r);
                     double dt = mdl->dt;
@@ -530,7 +652,11 @@ int main(int argc, char **argv)
                 send_truth(&q->s, t, (int)n, q->x);
                 if (t % meas_every == 0) {
                     m = measure(mdl, &q->r, q->x, z);
-                    send_meas_m(&q->s, t, m, z, mdl->meas_cov);
+                    double qm[9];
+                    for (int a = 0; a < m; a++)
+                        for (int b = 0; b < m; b++)
+                            qm[a * m + b] = mdl->meas_cov[a][b];
+                    send_meas_m(&q->s, t, m, z, qm);
                 }
             }
             pace(&next, period_ns);

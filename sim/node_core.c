@@ -6,6 +6,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -22,6 +23,8 @@
 #define FILTER_EKF3 GAUSSFILT_LCM_BELIEF_T_FILTER_EKF3
 #define FILTER_UKF3 GAUSSFILT_LCM_BELIEF_T_FILTER_UKF3
 #define FILTER_PF3 GAUSSFILT_LCM_BELIEF_T_FILTER_PF3
+#define FILTER_KF GAUSSFILT_LCM_BELIEF_T_FILTER_KF
+#define MODEL_LINEAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_LINEAR
 
 // The largest message the node decodes; anything longer is malformed.
 #define GF_NODE_MAX_LEN 4096
@@ -53,6 +56,10 @@ const char *gf_node_result_str(gf_node_result r)
         return "stale_session";
     case GF_NODE_NO_SUMMARY:
         return "no_summary";
+    case GF_NODE_GATED:
+        return "gated";
+    case GF_NODE_NO_MODEL:
+        return "no_model";
     case GF_NODE_RESULT_COUNT:
         break;
     }
@@ -99,6 +106,44 @@ void gf_node_add_dropped(gf_node *node, uint64_t n)
 {
     if (node != NULL)
         node->counts.dropped += n;
+}
+
+int gf_node_set_id(gf_node *node, const char *id)
+{
+    if (node == NULL || id == NULL)
+        return -1;
+    snprintf(node->id, sizeof node->id, "%s", id);
+    return 0;
+}
+
+int gf_node_set_strict(gf_node *node, int strict)
+{
+    if (node == NULL)
+        return -1;
+    node->strict = strict != 0;
+    return 0;
+}
+
+int gf_node_set_log(gf_node *node, gf_node_log_fn fn, void *ctx)
+{
+    if (node == NULL)
+        return -1;
+    node->log = fn;
+    node->log_ctx = ctx;
+    return 0;
+}
+
+// One line through the log callback.
+static void say(const gf_node *node, const char *fmt, ...)
+{
+    char line[256];
+    va_list ap;
+    if (node->log == NULL)
+        return;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    node->log(node->log_ctx, line);
 }
 
 int gf_node_filter_parse(const char *name, gf_node_filter *out)
@@ -206,6 +251,176 @@ static gf_node_result check_fingerprint(const void *data, size_t len,
     return GF_NODE_MALFORMED;
 }
 
+// ---- the inputs, decoded in place ------------------------------------------
+//
+// control_t and measurement_t carry variable-length arrays, which LCM's C
+// decoder allocates (and leaks on a truncated message). The node reads
+// them itself into fixed arrays instead: nothing allocated, every length
+// checked against the bytes there are. A size beyond GF_NODE_NMAX in an
+// otherwise whole message is bad_field; bytes that do not add up are
+// malformed.
+
+typedef struct wire {
+    const uint8_t *p;
+    size_t len, pos;
+    int short_read;
+} wire;
+
+static uint64_t wire_bits(wire *w, unsigned bytes)
+{
+    uint64_t v = 0;
+    unsigned i;
+    if (w->pos + bytes > w->len) {
+        w->short_read = 1;
+        return 0;
+    }
+    for (i = 0; i < bytes; i++)
+        v = (v << 8) | w->p[w->pos + i];
+    w->pos += bytes;
+    return v;
+}
+
+static int64_t wire_i64(wire *w)
+{
+    return (int64_t)wire_bits(w, 8);
+}
+
+static int32_t wire_i32(wire *w)
+{
+    return (int32_t)(uint32_t)wire_bits(w, 4);
+}
+
+static int8_t wire_i8(wire *w)
+{
+    return (int8_t)(uint8_t)wire_bits(w, 1);
+}
+
+static double wire_f64(wire *w)
+{
+    uint64_t v = wire_bits(w, 8);
+    double d;
+    memcpy(&d, &v, sizeof d);
+    return d;
+}
+
+typedef struct node_ctrl {
+    int64_t utime, seq, session;
+    int32_t track;
+    int8_t model, n;
+    double u[GF_NODE_NMAX];
+} node_ctrl;
+
+typedef struct node_meas {
+    int64_t utime, seq, session;
+    int32_t track;
+    int8_t model, m;
+    double z[GF_NODE_NMAX];
+    double q[GF_NODE_NMAX][GF_NODE_NMAX];
+} node_meas;
+
+// A size k followed by `per(k)` doubles to the end: APPLIED when it fits
+// our arrays, BAD_FIELD when the message is whole but k too large,
+// MALFORMED otherwise.
+static gf_node_result wire_size(const wire *w, int8_t k, size_t doubles)
+{
+    if (w->short_read || k < 0)
+        return GF_NODE_MALFORMED;
+    if (w->pos + 8 * doubles != w->len)
+        return GF_NODE_MALFORMED;
+    return k > GF_NODE_NMAX ? GF_NODE_BAD_FIELD : GF_NODE_APPLIED;
+}
+
+static gf_node_result decode_ctrl(const void *data, size_t len, node_ctrl *c)
+{
+    wire w = {(const uint8_t *)data, len, 8, 0};
+    gf_node_result r;
+    int i;
+    c->utime = wire_i64(&w);
+    c->seq = wire_i64(&w);
+    c->session = wire_i64(&w);
+    c->track = wire_i32(&w);
+    c->model = wire_i8(&w);
+    c->n = wire_i8(&w);
+    r = wire_size(&w, c->n, c->n > 0 ? (size_t)c->n : 0u);
+    if (r != GF_NODE_APPLIED)
+        return r;
+    for (i = 0; i < c->n; i++)
+        c->u[i] = wire_f64(&w);
+    return GF_NODE_APPLIED;
+}
+
+static gf_node_result decode_meas(const void *data, size_t len, node_meas *z)
+{
+    wire w = {(const uint8_t *)data, len, 8, 0};
+    gf_node_result r;
+    size_t m;
+    int i, j;
+    z->utime = wire_i64(&w);
+    z->seq = wire_i64(&w);
+    z->session = wire_i64(&w);
+    z->track = wire_i32(&w);
+    z->model = wire_i8(&w);
+    z->m = wire_i8(&w);
+    m = z->m > 0 ? (size_t)z->m : 0u;
+    r = wire_size(&w, z->m, m + m * m);
+    if (r != GF_NODE_APPLIED)
+        return r;
+    for (i = 0; i < z->m; i++)
+        z->z[i] = wire_f64(&w);
+    for (i = 0; i < z->m; i++)
+        for (j = 0; j < z->m; j++)
+            z->q[i][j] = wire_f64(&w);
+    return GF_NODE_APPLIED;
+}
+
+int gf_node_belief_origin(const void *data, size_t len, int32_t *track,
+                          char *id, size_t size)
+{
+    // belief_t: fingerprint, utime, seq, input_seq, track, model, stage,
+    // status, filter, then the node string (int32 length with its NUL)
+    wire w = {(const uint8_t *)data, len, 0, 0};
+    int32_t n;
+    size_t k;
+    if (data == NULL || id == NULL || size == 0 ||
+        wire_i64(&w) != __gaussfilt_lcm_belief_t_get_hash())
+        return -1;
+    w.pos = 32;
+    *track = wire_i32(&w);
+    w.pos += 4;
+    n = wire_i32(&w);
+    if (w.short_read || n < 1 || (size_t)n > w.len - w.pos ||
+        w.p[w.pos + (size_t)n - 1] != '\0')
+        return -1;
+    k = (size_t)n - 1 < size - 1 ? (size_t)n - 1 : size - 1;
+    memcpy(id, w.p + w.pos, k);
+    id[k] = '\0';
+    return 0;
+}
+
+int gf_node_peer_belief(gf_node *node, const void *data, size_t len)
+{
+    char id[GF_NODE_ID_MAX];
+    int32_t track;
+    gf_node_track *t;
+    if (node == NULL ||
+        gf_node_belief_origin(data, len, &track, id, sizeof id) != 0 ||
+        strcmp(id, node->id) == 0)
+        return 0;
+    t = (gf_node_track *)(uintptr_t)gf_node_find(node, track);
+    if (t == NULL)
+        return 0;
+    node->counts.peer_beliefs++;
+    if (!t->peer_warned) {
+        t->peer_warned = 1;
+        say(node,
+            "warning: node \"%s\" also publishes beliefs of track %ld "
+            "(this node is \"%s\"): two nodes filter the same track; give "
+            "each its own tracks (--channels)",
+            id, (long)track, node->id);
+    }
+    return 1;
+}
+
 // ---- tracks ----------------------------------------------------------------
 
 // The robot's prior in any filter: N(mu0, sigma0) (see track_prior).
@@ -295,6 +510,18 @@ static void track_prior(gf_node *node, gf_node_track *t)
         filter = node->robot_filter == GF_NODE_FILTER_UKF  ? FILTER_UKF3
                  : node->robot_filter == GF_NODE_FILTER_PF ? FILTER_PF3
                                                            : FILTER_EKF3;
+    if (t->model == MODEL_LINEAR) {
+        const gf_node_linear *l = t->mdl.lin;
+        gf_real *mu = node->vec[2], *sigma = node->lin[0];
+        for (i = 0; i < l->n; i++)
+            mu[i] = (gf_real)l->prior_mean[i];
+        for (i = 0; i < l->n * l->n; i++)
+            sigma[i] = (gf_real)l->prior_cov[i];
+        memset(&t->f.kf, 0, sizeof(t->f.kf));
+        (void)gf_kf_init(&t->f.kf, l->n, mu, sigma, &node->work);
+        t->filter = FILTER_KF;
+        return;
+    }
     if (t->model == MODEL_CAR) {
         gf_vec2 mu2;
         gf_mat2 sigma2;
@@ -331,29 +558,55 @@ static void track_prior(gf_node *node, gf_node_track *t)
     }
 }
 
-static void belief_fill(const gf_node_track *t, gaussfilt_lcm_belief_t *b)
+// The belief as belief_t carries it; its numbers live in the node's
+// scratch until the next belief.
+static void belief_fill(gf_node *node, const gf_node_track *t,
+                        gaussfilt_lcm_belief_t *b)
 {
-    unsigned i, j, n = t->model == MODEL_CAR ? 2u : 3u;
+    unsigned i, j, n;
     gf_vec3 mu3;
     gf_mat3 s3;
     gf_mat2 s2;
-    if (n == 3) {
-        robot_moments(t, &mu3, &s3);
-    } else {
-        (void)gf_kf2_cov(&t->f.kf2, &s2); // fails only on NULL
-    }
+    gf_real *sl = node->lin[0];
     memset(b, 0, sizeof(*b));
+    if (t->model == MODEL_LINEAR) {
+        n = t->f.kf.n;
+        (void)gf_kf_cov(&t->f.kf, sl); // fails only on NULL
+        for (i = 0; i < n; i++) {
+            node->mean[i] = (double)t->f.kf.mu[i];
+            for (j = 0; j < n; j++)
+                node->cov[i * n + j] = (double)sl[i * n + j];
+        }
+    } else if (t->model == MODEL_ROBOT) {
+        n = 3;
+        robot_moments(t, &mu3, &s3);
+        for (i = 0; i < n; i++) {
+            node->mean[i] = (double)mu3.v[i];
+            for (j = 0; j < n; j++)
+                node->cov[i * n + j] = (double)s3.m[i][j];
+        }
+    } else {
+        n = 2;
+        (void)gf_kf2_cov(&t->f.kf2, &s2); // fails only on NULL
+        for (i = 0; i < n; i++) {
+            node->mean[i] = (double)t->f.kf2.mu.v[i];
+            for (j = 0; j < n; j++)
+                node->cov[i * n + j] = (double)s2.m[i][j];
+        }
+    }
+    for (i = 0; i < n; i++)
+        node->cov_rows[i] = &node->cov[i * n];
     b->track = t->id;
     b->model = t->model;
     b->filter = t->filter;
+    b->node = node->id;
     b->n = (int8_t)n;
+    b->mean = node->mean;
+    b->cov = node->cov_rows;
+    b->m = 0;
+    b->innovation = node->innovation;
     if (t->filter == FILTER_PF3 && t->f.pf3.no_summary)
         b->status = GF_NODE_STATUS_NO_SUMMARY;
-    for (i = 0; i < n; i++) {
-        b->mean[i] = (double)(n == 2 ? t->f.kf2.mu.v[i] : mu3.v[i]);
-        for (j = 0; j < n; j++)
-            b->cov[i][j] = (double)(n == 2 ? s2.m[i][j] : s3.m[i][j]);
-    }
 }
 
 static void publish_belief(gf_node *node, gf_node_track *t,
@@ -441,27 +694,66 @@ static void publish_step(gf_node *node, gf_node_track *t,
         publish_particles(node, t, b);
 }
 
-// The model a new track of this id and kind gets.
+static const char *kind_name(int8_t kind)
+{
+    return kind == MODEL_CAR ? "car" : kind == MODEL_ROBOT ? "robot" : "linear";
+}
+
+// The model a new track of this id and kind gets; *named says whether the
+// node's lookup named it (not a preset). NULL: the track is refused
+// (no_model): a linear track nothing names, or any such track when strict.
 static const gf_node_model *model_for(const gf_node *node, int32_t id,
-                                      int8_t kind)
+                                      int8_t kind, int *named)
 {
     const gf_node_model *m = NULL;
+    const gf_node_model *car = gf_node_model_book_car(),
+                        *robot = gf_node_model_book_robot();
     if (node->models != NULL)
         m = node->models(node->models_ctx, id, kind);
-    if (m == NULL || m->kind != kind || gf_node_model_check(m, NULL) != 0)
-        m = kind == MODEL_CAR ? gf_node_model_book_car()
-                              : gf_node_model_book_robot();
+    if (m != NULL && (m->kind != kind || gf_node_model_check(m, NULL) != 0))
+        m = NULL;
+    *named = m != NULL && m != car && m != robot;
+    if (!*named && (node->strict || kind == MODEL_LINEAR))
+        return NULL;
+    if (m == NULL)
+        m = kind == MODEL_CAR ? car : robot;
     return m;
 }
 
-// The track's model, or the one it would be created with.
+// A track refused for want of a model: said once per id, counted by the
+// caller as no_model.
+static gf_node_result refuse(gf_node *node, int32_t id, int8_t kind)
+{
+    unsigned i;
+    for (i = 0; i < node->nrefused; i++)
+        if (node->refused[i] == id)
+            return GF_NODE_NO_MODEL;
+    if (node->nrefused < GF_NODE_MAX_TRACKS)
+        node->refused[node->nrefused++] = id;
+    if (kind == MODEL_LINEAR && !node->strict)
+        say(node,
+            "track %ld (linear) refused: no configured linear model's "
+            "channels name %s%ld or %s%ld (a linear track has no preset)",
+            (long)id, GF_CHANNEL_MEAS, (long)id, GF_CHANNEL_CTRL, (long)id);
+    else
+        say(node,
+            "track %ld (%s) refused (strict): no configured model's channels "
+            "name %s%ld or %s%ld",
+            (long)id, kind_name(kind), GF_CHANNEL_MEAS, (long)id,
+            GF_CHANNEL_CTRL, (long)id);
+    return GF_NODE_NO_MODEL;
+}
+
+// The track's model, or the one it would be created with (NULL: it would
+// be refused).
 static const gf_node_model *track_model(const gf_node *node, int32_t id,
                                         int8_t kind)
 {
     const gf_node_track *t = gf_node_find(node, id);
+    int named;
     if (t != NULL)
-        return &t->mdl;
-    return model_for(node, id, kind);
+        return t->model == kind ? &t->mdl : NULL;
+    return model_for(node, id, kind, &named);
 }
 
 // The track with this id (of this kind), created from mdl (NULL: the
@@ -472,7 +764,9 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
 {
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
+    const gf_node_model *use = mdl;
     unsigned i;
+    int named = 0;
     for (i = 0; i < node->ntracks; i++) {
         t = &node->tracks[i];
         if (t->id == id) {
@@ -481,6 +775,13 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
                 return NULL;
             }
             return t;
+        }
+    }
+    if (use == NULL) {
+        use = model_for(node, id, model, &named);
+        if (use == NULL) {
+            *why = refuse(node, id, model);
+            return NULL;
         }
     }
     if (node->ntracks >= GF_NODE_MAX_TRACKS ||
@@ -493,10 +794,27 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
     memset(t, 0, sizeof(*t));
     t->id = id;
     t->model = model;
-    t->mdl = mdl != NULL ? *mdl : *model_for(node, id, model);
+    t->mdl = *use;
+    t->counting_start = 1;
     track_prior(node, t);
     node->counts.tracks_created++;
-    belief_fill(t, &b);
+    if (mdl != NULL)
+        say(node, "track %ld (%s): model %s from a model_t", (long)id,
+            kind_name(model), use->name);
+    else if (named && use->channels != NULL)
+        say(node, "track %ld (%s%s): model %s, its channels %s name it",
+            (long)id, kind_name(model), model == MODEL_LINEAR ? ", gf_kf" : "",
+            use->name, use->channels);
+    else if (named)
+        say(node, "track %ld (%s): model %s, named by the node's lookup",
+            (long)id, kind_name(model), use->name);
+    else
+        say(node,
+            "track %ld (%s): the preset %s: no configured model's channels "
+            "name %s%ld or %s%ld (strict refuses such a track)",
+            (long)id, kind_name(model), use->name, GF_CHANNEL_MEAS, (long)id,
+            GF_CHANNEL_CTRL, (long)id);
+    belief_fill(node, t, &b);
     b.utime = utime;
     b.input_seq = -1;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
@@ -544,10 +862,11 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
         if (session < t->session)
             return GF_NODE_STALE_SESSION;
         t->has_input = 0;
+        t->counting_start = 1;
         track_prior(node, t);
         node->counts.resyncs++;
         t->belief_seq++;
-        belief_fill(t, &b);
+        belief_fill(node, t, &b);
         b.utime = utime;
         b.input_seq = -1;
         b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
@@ -562,6 +881,17 @@ static void consume(gf_node *node, gf_node_track *t, int64_t session,
     // seq > last_seq here; unsigned arithmetic cannot overflow.
     if (t->has_input)
         node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
+    if (t->counting_start && seq > 1) {
+        // a session's seq starts at 1: the inputs before this one were
+        // sent and never arrived (before the node was ready, typically)
+        node->counts.lost_before_first += (uint64_t)seq - 1u;
+        say(node,
+            "track %ld: its first input has seq %lld: %llu earlier input%s "
+            "never reached this node (sent before it was ready?)",
+            (long)t->id, (long long)seq, (unsigned long long)(seq - 1),
+            seq == 2 ? "" : "s");
+    }
+    t->counting_start = 0;
     t->has_input = 1;
     t->rejected = 0;
     t->session = session;
@@ -576,6 +906,8 @@ static gf_node_result from_status(int s)
         return GF_NODE_APPLIED;
     if (s == GF_NODE_STATUS_NO_SUMMARY)
         return GF_NODE_NO_SUMMARY;
+    if (s == GF_ERR_GATED)
+        return GF_NODE_GATED;
     return s == GF_ERR_NONFINITE ? GF_NODE_NONFINITE : GF_NODE_FILTER_ERROR;
 }
 
@@ -607,17 +939,51 @@ static int pf_correct(gf_node *node, gf_node_track *t, const gf_ekf3_meas *mm,
     return GF_OK;
 }
 
-static gf_node_result handle_ctrl(gf_node *node, int32_t id,
-                                  const gaussfilt_lcm_control_t *c, int64_t now)
+// A linear model's numbers in gf_real, into the node's scratch: A, B, R
+// (and C, Q from the measurement's q when q is given).
+static void linear_numbers(gf_node *node, const gf_node_linear *l,
+                           const node_meas *z)
+{
+    unsigned i, j, n = l->n;
+    for (i = 0; i < n * n; i++) {
+        node->lin[0][i] = (gf_real)l->A[i];
+        node->lin[2][i] = (gf_real)l->R[i];
+    }
+    for (i = 0; i < n * l->nu; i++)
+        node->lin[1][i] = (gf_real)l->B[i];
+    if (z == NULL)
+        return;
+    for (i = 0; i < l->m * n; i++)
+        node->lin[3][i] = (gf_real)l->C[i];
+    for (i = 0; i < l->m; i++) {
+        node->vec[1][i] = (gf_real)z->z[i];
+        for (j = 0; j < l->m; j++)
+            node->lin[4][i * l->m + j] = (gf_real)z->q[i][j];
+    }
+}
+
+static int good_kind(int8_t model)
+{
+    return model == MODEL_CAR || model == MODEL_ROBOT || model == MODEL_LINEAR;
+}
+
+static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
+                                  int64_t now)
 {
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
     int s;
-    if (c->track != id || (c->model != MODEL_CAR && c->model != MODEL_ROBOT))
+    if (c->track != id || !good_kind(c->model))
         return GF_NODE_BAD_FIELD;
-    if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2)
+    if (c->model == MODEL_LINEAR) {
+        // no control, or the model's nu
+        const gf_node_model *mdl = track_model(node, id, c->model);
+        if (mdl != NULL && c->n != 0 && (unsigned)c->n != mdl->lin->nu)
+            return GF_NODE_BAD_FIELD;
+    } else if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2) {
         return GF_NODE_BAD_FIELD;
+    }
     t = track_get(node, id, c->model, c->utime, &r);
     if (t == NULL)
         return r;
@@ -625,7 +991,22 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     if (r != GF_NODE_APPLIED)
         return r;
     consume(node, t, c->session, c->seq, c->utime, now);
-    if (t->model == MODEL_CAR) {
+    if (t->model == MODEL_LINEAR) {
+        const gf_node_linear *l = t->mdl.lin;
+        gf_kf_model km;
+        unsigned i;
+        linear_numbers(node, l, NULL);
+        for (i = 0; i < (unsigned)c->n; i++)
+            node->vec[0][i] = (gf_real)c->u[i];
+        km.nu = l->nu;
+        km.A = node->lin[0];
+        km.B = node->lin[1];
+        km.R = node->lin[2];
+        km.c = NULL;
+        // mu_bar = A mu + B u, Sigma_bar = A Sigma A^T + R
+        s = gf_kf_predict(&t->f.kf, &km, c->n > 0 ? node->vec[0] : NULL,
+                          &node->work);
+    } else if (t->model == MODEL_CAR) {
         gf_kf2_model mdl;
         gf_vec2 u;
         gf_node_model_car(&t->mdl, &mdl);
@@ -655,7 +1036,7 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
         }
     }
     t->belief_seq++;
-    belief_fill(t, &b);
+    belief_fill(node, t, &b);
     b.utime = c->utime;
     b.input_seq = c->seq;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
@@ -664,26 +1045,33 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id,
     return from_status(s);
 }
 
-static gf_node_result handle_meas(gf_node *node, int32_t id,
-                                  const gaussfilt_lcm_measurement_t *z,
+static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
                                   int64_t now)
 {
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
+    const gf_node_model *mdl;
     gaussfilt_lcm_belief_t b;
     gf_innovation info;
-    int s, measure;
+    gf_kf_innovation kinfo;
+    int s, measure = 0;
     unsigned i, m;
-    if (z->track != id || (z->model != MODEL_CAR && z->model != MODEL_ROBOT))
+    if (z->track != id || !good_kind(z->model))
         return GF_NODE_BAD_FIELD;
-    if (z->m < 1 || z->m > 2) // see gf_node_measure_m
-        return GF_NODE_BAD_FIELD;
+    if (z->m < 1 || (z->model != MODEL_LINEAR && z->m > 2)) // see
+        return GF_NODE_BAD_FIELD;                           // gf_node_measure_m
     m = (unsigned)z->m;
     // what the track's model expects (a track of another kind: bad_field
-    // from track_get)
-    measure = gf_node_model_measure(track_model(node, id, z->model), m);
-    if (measure < 0)
-        return GF_NODE_BAD_FIELD;
+    // from track_get; a track that would be refused: no_model from it)
+    mdl = track_model(node, id, z->model);
+    if (mdl != NULL && z->model == MODEL_LINEAR) {
+        if (m != mdl->lin->m)
+            return GF_NODE_BAD_FIELD;
+    } else if (mdl != NULL) {
+        measure = gf_node_model_measure(mdl, m);
+        if (measure < 0)
+            return GF_NODE_BAD_FIELD;
+    }
     t = track_get(node, id, z->model, z->utime, &r);
     if (t == NULL)
         return r;
@@ -692,10 +1080,27 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
         return r;
     consume(node, t, z->session, z->seq, z->utime, now);
     memset(&info, 0, sizeof(info));
-    if (t->model == MODEL_CAR) {
+    memset(&kinfo, 0, sizeof(kinfo));
+    if (t->model == MODEL_LINEAR) {
+        const gf_node_linear *l = t->mdl.lin;
+        gf_kf_meas km;
+        linear_numbers(node, l, z);
+        km.m = l->m;
+        km.C = node->lin[3];
+        km.Q = node->lin[4];
+        km.c = NULL;
+        km.gate = (gf_real)t->mdl.gate;
+        // K = Sigma_bar C^T (C Sigma_bar C^T + Q)^-1, mu = mu_bar + K (z -
+        // C mu_bar), on the factors
+        s = gf_kf_update(&t->f.kf, &km, node->vec[1], &kinfo, &node->work);
+    } else if (t->model == MODEL_CAR) {
         gf_kf2_meas mm;
         gf_vec2 zz;
-        gf_node_model_car_meas(&t->mdl, measure, z->q, &mm);
+        double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        for (i = 0; i < m; i++)
+            for (unsigned j = 0; j < m; j++)
+                q[i][j] = z->q[i][j];
+        gf_node_model_car_meas(&t->mdl, measure, (const double(*)[3])q, &mm);
         for (i = 0; i < m; i++)
             zz.v[i] = (gf_real)z->z[i];
         if (m == 1)
@@ -704,8 +1109,12 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
     } else {
         gf_ekf3_meas mm;
         gf_vec3 zz;
+        double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        for (i = 0; i < m; i++)
+            for (unsigned j = 0; j < m; j++)
+                q[i][j] = z->q[i][j];
         memset(&zz, 0, sizeof(zz));
-        gf_node_model_robot_meas(&t->mdl, measure, z->q, &mm);
+        gf_node_model_robot_meas(&t->mdl, measure, (const double(*)[3])q, &mm);
         for (i = 0; i < m; i++)
             zz.v[i] = (gf_real)z->z[i];
         if (t->filter == FILTER_UKF3)
@@ -716,15 +1125,20 @@ static gf_node_result handle_meas(gf_node *node, int32_t id,
             s = gf_ekf3_update(&t->f.ekf3, &mm, &zz, &info);
     }
     t->belief_seq++;
-    belief_fill(t, &b);
+    belief_fill(node, t, &b);
     b.utime = z->utime;
     b.input_seq = z->seq;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
     b.status = (int8_t)s;
-    if ((s == GF_OK || s == GF_ERR_GATED) && t->filter != FILTER_PF3) {
+    if ((s == GF_OK || s == GF_ERR_GATED) && t->filter == FILTER_KF) {
+        b.m = (int8_t)kinfo.m;
+        for (i = 0; i < kinfo.m; i++)
+            node->innovation[i] = (double)kinfo.y[i];
+        b.nis = (double)kinfo.nis;
+    } else if ((s == GF_OK || s == GF_ERR_GATED) && t->filter != FILTER_PF3) {
         b.m = (int8_t)info.m;
         for (i = 0; i < info.m && i < 3; i++)
-            b.innovation[i] = (double)info.y[i];
+            node->innovation[i] = (double)info.y[i];
         b.nis = (double)info.nis;
     }
     publish_step(node, t, &b);
@@ -742,6 +1156,8 @@ static gf_node_result handle_model(gf_node *node, int32_t id,
     gaussfilt_lcm_belief_t b;
     const gf_node_track *old;
     unsigned i, j;
+    // a linear model comes from the configuration only (model_t carries a
+    // car's or a robot's numbers)
     if (mm->track != id || (mm->model != MODEL_CAR && mm->model != MODEL_ROBOT))
         return GF_NODE_BAD_FIELD;
     old = gf_node_find(node, id);
@@ -781,7 +1197,7 @@ static gf_node_result handle_model(gf_node *node, int32_t id,
     if (mm->reset) {
         track_prior(node, t);
         t->belief_seq++;
-        belief_fill(t, &b);
+        belief_fill(node, t, &b);
         b.utime = mm->utime;
         b.input_seq = -1;
         b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
@@ -797,23 +1213,23 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
     gf_node_result r;
     int kind = channel_kind(channel, &id);
     if (kind == KIND_CTRL) {
-        gaussfilt_lcm_control_t c;
+        node_ctrl c;
         r = check_fingerprint(data, len, __gaussfilt_lcm_control_t_get_hash());
+        if (r == GF_NODE_APPLIED)
+            r = decode_ctrl(data, len, &c);
         if (r != GF_NODE_APPLIED)
             return r;
-        if (gaussfilt_lcm_control_t_decode(data, 0, (int)len, &c) != (int)len)
-            return GF_NODE_MALFORMED;
         return handle_ctrl(node, id, &c, now);
     }
     if (kind == KIND_MEAS) {
-        gaussfilt_lcm_measurement_t z;
+        static const node_meas zero;
+        node_meas z = zero;
         r = check_fingerprint(data, len,
                               __gaussfilt_lcm_measurement_t_get_hash());
+        if (r == GF_NODE_APPLIED)
+            r = decode_meas(data, len, &z);
         if (r != GF_NODE_APPLIED)
             return r;
-        if (gaussfilt_lcm_measurement_t_decode(data, 0, (int)len, &z) !=
-            (int)len)
-            return GF_NODE_MALFORMED;
         return handle_meas(node, id, &z, now);
     }
     if (kind == KIND_MODEL) {
@@ -851,13 +1267,16 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         out, size,
         "received=%llu applied=%llu published=%llu "
         "publish_failed=%llu gaps=%llu dropped=%llu tracks=%u "
-        "resyncs=%llu seq_resyncs=%llu models=%llu",
+        "resyncs=%llu seq_resyncs=%llu models=%llu lost_before_first=%llu "
+        "peer_beliefs=%llu",
         (unsigned long long)c->received,
         (unsigned long long)c->by_result[GF_NODE_APPLIED],
         (unsigned long long)c->published, (unsigned long long)c->publish_failed,
         (unsigned long long)c->gaps, (unsigned long long)c->dropped,
         node->ntracks, (unsigned long long)c->resyncs,
-        (unsigned long long)c->seq_resyncs, (unsigned long long)c->models);
+        (unsigned long long)c->seq_resyncs, (unsigned long long)c->models,
+        (unsigned long long)c->lost_before_first,
+        (unsigned long long)c->peer_beliefs);
     for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),

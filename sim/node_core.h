@@ -3,10 +3,11 @@
 //
 // gf_node_handle() takes one LCM message (channel + bytes, exactly as LCM
 // delivered it), checks it, runs the core filter of its track (KF2 for the
-// car; EKF3, UKF3 or PF3 for the robot, see gf_node_set_filter; no filter
-// math here) and hands every belief to a publish callback as encoded
-// gaussfilt_lcm_belief_t bytes (a PF3 track also a particles_t cloud). gf_node.c wires
-// it to LCM; tests, fuzzers and benchmarks call it directly.
+// car; EKF3, UKF3 or PF3 for the robot, see gf_node_set_filter; gf_kf for
+// a linear model of any size; no filter math here) and hands every belief
+// to a publish callback as encoded gaussfilt_lcm_belief_t bytes (a PF3
+// track also a particles_t cloud). gf_node.c wires it to LCM; tests,
+// fuzzers and benchmarks call it directly.
 //
 // Restarts. A node keeps no state across its own restarts: a restarted node
 // re-initialises each track from the prior on the track's first message
@@ -22,8 +23,13 @@
 // gf_node_model_check refuses counts as none), else the
 // book's preset of its kind (car: exercises 1-2, mu = 0, Sigma = 0; robot:
 // exercise 4, mu = 0, Sigma = diag(0.01, 0.01, 10000)), starts from the
-// model's prior and publishes that initial belief first. A model_t on
-// GF_MODEL_<id> sets a track's model at run time.
+// model's prior and publishes that initial belief first. A linear track
+// has no preset: with no model named it is refused (no_model), and so is
+// every track no model names once gf_node_set_strict is on. A model_t on
+// GF_MODEL_<id> sets a car's or robot's model at run time. The node says
+// which model each new track got and why, a track whose first input comes
+// after others it never saw, and another node's beliefs of its own tracks,
+// through the log callback (gf_node_set_log).
 //
 // Edges, with their rules:
 // - Sequence resync: GF_NODE_RESYNC_AFTER inputs in a row rejected as
@@ -116,11 +122,17 @@ typedef enum gf_node_result {
     GF_NODE_TRACK_LIMIT,     // a new track with GF_NODE_MAX_TRACKS in use
     GF_NODE_NONFINITE,       // the core said GF_ERR_NONFINITE: published with
                              // that status, belief unchanged
-    GF_NODE_FILTER_ERROR,    // any other core failure (gated, not PSD,
-                             // singular): published with its status
+    GF_NODE_FILTER_ERROR,    // any other core failure (not PSD, singular,
+                             // a model callback): published with its status
     GF_NODE_STALE_SESSION,   // from a simulator run older than the track's
     GF_NODE_NO_SUMMARY,      // PF step done, its summary overflowed: published
                              // as STATUS_NO_SUMMARY (see the top)
+    GF_NODE_GATED,           // the core said GF_ERR_GATED: the measurement's
+                             // NIS beyond the model's gate, published with
+                             // that status (and its NIS), belief unchanged
+    GF_NODE_NO_MODEL,        // a new track no configured model names, where
+                             // no preset may stand in: a linear track, or
+                             // any track under gf_node_set_strict
     GF_NODE_RESULT_COUNT
 } gf_node_result;
 
@@ -144,6 +156,13 @@ typedef struct gf_node_counts {
     // messages that reached the process and were dropped before
     // gf_node_handle saw them (set by the caller: gf_node_add_dropped)
     uint64_t dropped;
+    // inputs a track's first input says were sent before it and never
+    // arrived: its seq - 1 (a session's seq starts at 1), e.g. sent before
+    // the node was ready
+    uint64_t lost_before_first;
+    // beliefs of this node's tracks published by another node
+    // (gf_node_peer_belief)
+    uint64_t peer_beliefs;
 } gf_node_counts;
 
 // Inputs rejected as out_of_order in a row before a track's sequence
@@ -158,7 +177,9 @@ typedef struct gf_node_counts {
 #define GF_NODE_STATUS_NO_SUMMARY (-64)
 
 // A new track's model: the lookup's answer for its id and kind
-// (GF_NODE_KIND_*), never NULL. gf_node_config_lookup fits.
+// (GF_NODE_KIND_*); NULL when nothing names the track (the node then takes
+// the kind's preset, or refuses it: see the top). gf_node_config_named
+// fits.
 typedef const gf_node_model *(*gf_node_model_fn)(const void *ctx, int32_t id,
                                                  int8_t kind);
 
@@ -173,8 +194,12 @@ typedef struct gf_node_track {
     int64_t belief_seq; // of the last belief published
     int64_t last_rx;    // `now` of the last input consumed
     unsigned rejected;  // out_of_order inputs in a row
-    gf_node_model mdl;  // its model, a copy
+    gf_node_model mdl;  // its model, a copy (a linear one's numbers stay
+                        // in the configuration)
+    int peer_warned;    // another node's beliefs of it were reported
+    int counting_start; // its next input is a session's first here
     union {
+        gf_kf kf; // linear
         gf_kf2 kf2;
         gf_ekf3 ekf3;
         gf_ukf3 ukf3;
@@ -188,8 +213,14 @@ typedef struct gf_node_track {
             int no_summary; // mu, sigma are NaN: no summary (see the top)
         } pf3;
     } f;
-    int8_t filter; // gaussfilt_lcm belief_t FILTER_KF2/EKF3/UKF3/PF3
+    int8_t filter; // gaussfilt_lcm belief_t FILTER_KF2/EKF3/UKF3/PF3/KF
 } gf_node_track;
+
+// The longest node id (gf_node_set_id) carried in belief_t.node.
+#define GF_NODE_ID_MAX 64
+
+// Log callback: one line of what the node did with a track (no newline).
+typedef void (*gf_node_log_fn)(void *ctx, const char *line);
 
 // Publish callback: channel (NUL-terminated) and the encoded message.
 // Returns 0 on success (anything else is counted in publish_failed).
@@ -202,12 +233,30 @@ typedef struct gf_node {
     unsigned ntracks;
     gf_node_track tracks[GF_NODE_MAX_TRACKS];
     gf_node_counts counts;
-    uint8_t buf[256];            // one encoded belief (belief_t is 170 bytes)
+    // one encoded belief: its header, the id, n + n^2 + m numbers
+    uint8_t buf[64 + GF_NODE_ID_MAX +
+                8 * (2 * GF_NODE_NMAX + GF_NODE_NMAX * GF_NODE_NMAX + 1)];
     gf_node_filter robot_filter; // for new robot tracks (default EKF)
     gf_node_pf_pool *pf_pool;    // the particles of PF tracks, or NULL
     uint32_t pf_seed;            // a PF track's generator: pf_seed + id
     gf_node_model_fn models;     // NULL: the presets
     const void *models_ctx;
+    char id[GF_NODE_ID_MAX]; // belief_t.node ("" until gf_node_set_id)
+    int strict;              // refuse tracks no model names
+    gf_node_log_fn log;
+    void *log_ctx;
+    // ids refused as no_model, each said once (the first
+    // GF_NODE_MAX_TRACKS)
+    unsigned nrefused;
+    int32_t refused[GF_NODE_MAX_TRACKS];
+    // scratch of one step: gf_kf's workspace, a linear model's numbers in
+    // gf_real, a belief's numbers as belief_t carries them
+    gf_kf_work work;
+    gf_real lin[5][GF_NODE_NMAX * GF_NODE_NMAX]; // A, B, R, C, Q
+    gf_real vec[3][GF_NODE_NMAX];                // u, z, mu
+    double mean[GF_NODE_NMAX], cov[GF_NODE_NMAX * GF_NODE_NMAX],
+        innovation[GF_NODE_NMAX];
+    double *cov_rows[GF_NODE_NMAX];
 } gf_node;
 
 // Sets up an empty node; publish may be NULL (beliefs are then only
@@ -231,6 +280,33 @@ int gf_node_set_models(gf_node *node, gf_node_model_fn fn, const void *ctx);
 // Adds n to counts.dropped: messages lost inside the process before
 // gf_node_handle (the caller's queue was full).
 void gf_node_add_dropped(gf_node *node, uint64_t n);
+
+// Sets the id every belief carries (belief_t.node), cut to
+// GF_NODE_ID_MAX - 1 characters. Returns 0, or -1 on NULL.
+int gf_node_set_id(gf_node *node, const char *id);
+
+// strict = 1: a new track no model names is refused (no_model) instead
+// of running its kind's preset; model_t still creates tracks. Returns 0,
+// or -1 on NULL.
+int gf_node_set_strict(gf_node *node, int strict);
+
+// Where the node says what it did with a track (NULL: nowhere): the model
+// each new track got and why, a refused track, a first input after inputs
+// that never arrived, another node's beliefs of its tracks. Returns 0, or
+// -1 on NULL.
+int gf_node_set_log(gf_node *node, gf_node_log_fn fn, void *ctx);
+
+// Reads the track and node id of an encoded belief_t without decoding the
+// rest: 0 (id NUL-terminated, cut to size - 1), or -1 if it is no
+// belief_t.
+int gf_node_belief_origin(const void *data, size_t len, int32_t *track,
+                          char *id, size_t size);
+
+// A belief seen on GF_BELIEF_<id> (the node's own come back over udpm):
+// one of another node (another id) for a track this node holds is counted
+// in peer_beliefs and said once per track through the log callback: two
+// nodes filter the same track. Returns 1 for such a belief, else 0.
+int gf_node_peer_belief(gf_node *node, const void *data, size_t len);
 
 // "ekf", "ukf" or "pf" -> the filter; returns 0, or -1 if unknown.
 int gf_node_filter_parse(const char *name, gf_node_filter *out);

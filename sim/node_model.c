@@ -30,6 +30,8 @@ static const gf_node_model book_car = {
     {0, 0, 0}, // at rest at 0, known exactly (exercise 1)
     {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
     {{GF_BOOK_EX2_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
+    NULL,
+    NULL,
 };
 
 static const gf_node_model book_robot = {
@@ -46,6 +48,8 @@ static const gf_node_model book_robot = {
      {0, GF_BOOK_EX4_XY_VAR, 0},
      {0, 0, GF_BOOK_EX4_HEADING_VAR}},
     {{GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
+    NULL,
+    NULL,
 };
 
 const gf_node_model *gf_node_model_book_car(void)
@@ -147,6 +151,93 @@ static int prior_starts(const gf_node_model *mdl)
     return gf_ekf3_init(&ekf, &mu, &sigma) == GF_OK;
 }
 
+// A linear model's numbers as gf_kf takes them: 0, or -1 with the key at
+// fault in why.
+static int linear_check(const gf_node_model *mdl, const char **why)
+{
+    const gf_node_linear *l = mdl->lin;
+    gf_kf_work work;
+    gf_kf kf;
+    gf_kf_pmodel pm;
+    gf_kf_pmeas pq;
+    gf_kf_model km;
+    gf_kf_meas mm;
+    gf_real A[GF_NODE_NMAX * GF_NODE_NMAX], B[GF_NODE_NMAX * GF_NODE_NMAX],
+        R[GF_NODE_NMAX * GF_NODE_NMAX], C[GF_NODE_NMAX * GF_NODE_NMAX],
+        Q[GF_NODE_NMAX * GF_NODE_NMAX], mu[GF_NODE_NMAX],
+        P[GF_NODE_NMAX * GF_NODE_NMAX];
+    unsigned i, n, m;
+    if (l == NULL || l->n < 1 || l->n > GF_NODE_NMAX) {
+        *why = "n: a linear model has 1 to " GF_NODE_NMAX_STR " states (n = N "
+               "or motion = cv|ca ...)";
+        return -1;
+    }
+    n = l->n;
+    m = l->m;
+    if (m < 1 || m > n) {
+        *why = "C: a linear model measures 1 to n quantities (C = m*n "
+               "numbers)";
+        return -1;
+    }
+    if (l->nu > GF_NODE_NMAX) {
+        *why = "B: at most " GF_NODE_NMAX_STR " controls";
+        return -1;
+    }
+    for (i = 0; i < n * n; i++) {
+        A[i] = (gf_real)l->A[i];
+        R[i] = (gf_real)l->R[i];
+        P[i] = (gf_real)l->prior_cov[i];
+    }
+    for (i = 0; i < n * l->nu; i++)
+        B[i] = (gf_real)l->B[i];
+    for (i = 0; i < m * n; i++)
+        C[i] = (gf_real)l->C[i];
+    for (i = 0; i < m * m; i++)
+        Q[i] = (gf_real)l->Q[i];
+    for (i = 0; i < n; i++)
+        mu[i] = (gf_real)l->prior_mean[i];
+    km.nu = l->nu;
+    km.A = A;
+    km.B = B;
+    km.R = R;
+    km.c = NULL;
+    if (gf_kf_prepare_model(&pm, n, &km, &work) != GF_OK) {
+        // which of A, B, R: non-finite numbers first, then R's shape
+        *why = "R must be symmetric positive semidefinite (and A, B, R "
+               "finite)";
+        for (i = 0; i < n * n; i++)
+            if (!isfinite(l->A[i]))
+                *why = "A must be finite";
+        for (i = 0; i < n * l->nu; i++)
+            if (!isfinite(l->B[i]))
+                *why = "B must be finite";
+        return -1;
+    }
+    mm.m = m;
+    mm.C = C;
+    mm.Q = Q;
+    mm.c = NULL;
+    mm.gate = (gf_real)mdl->gate;
+    if (gf_kf_prepare_meas(&pq, n, &mm, &work) != GF_OK) {
+        *why = "Q must be symmetric positive semidefinite (and C finite)";
+        for (i = 0; i < m * n; i++)
+            if (!isfinite(l->C[i]))
+                *why = "C must be finite";
+        return -1;
+    }
+    for (i = 0; i < n; i++)
+        if (!isfinite(l->prior_mean[i])) {
+            *why = "prior_mean must be finite";
+            return -1;
+        }
+    if (gf_kf_init(&kf, n, mu, P, &work) != GF_OK) {
+        *why = "prior_cov must be symmetric positive semidefinite (as "
+               "gf_kf_init takes it)";
+        return -1;
+    }
+    return 0;
+}
+
 int gf_node_model_check(const gf_node_model *mdl, const char **why)
 {
     const char *w = NULL;
@@ -155,16 +246,26 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why)
         w = "no model";
         goto bad;
     }
+    if (mdl->kind == GF_NODE_KIND_LINEAR) {
+        if (!(mdl->gate >= 0.0) || !isfinite(mdl->gate))
+            w = "gate must be finite and >= 0";
+        else if (!(mdl->dt > 0.0) || !isfinite(mdl->dt))
+            w = "dt must be a finite number > 0";
+        else if (linear_check(mdl, &w) == 0)
+            return 0;
+        goto bad;
+    }
     n = mdl->kind == GF_NODE_KIND_CAR ? 2u : 3u;
     m = gf_node_measure_m(mdl->kind, mdl->measure);
     if (mdl->measure == GF_NODE_MEASURE_AUTO)
         m = 1; // meas_cov: the first entry
     if (mdl->kind != GF_NODE_KIND_CAR && mdl->kind != GF_NODE_KIND_ROBOT)
-        w = "type must be car or robot";
+        w = "type must be car, robot or linear";
     else if (m == 0)
         w = mdl->kind == GF_NODE_KIND_CAR
-                ? "a car measures position, velocity or position velocity"
-                : "a robot measures x, x y or range bearing";
+                ? "measure: a car measures position, velocity or position "
+                  "velocity"
+                : "measure: a robot measures x, x y or range bearing";
     else if (mdl->kind == GF_NODE_KIND_CAR &&
              (!(mdl->dt > 0.0) || !isfinite(mdl->dt)))
         w = "dt must be a finite number > 0";
@@ -182,19 +283,49 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why)
     if (w == NULL && mdl->kind == GF_NODE_KIND_ROBOT)
         for (i = 0; i < 4; i++)
             if (!(mdl->odometry[i] >= 0.0) || !isfinite(mdl->odometry[i]))
-                w = "odometry's four numbers must be finite and >= 0";
+                w = "odometry: its four numbers must be finite and >= 0";
     for (i = 0; w == NULL && i < n; i++)
         if (!isfinite(mdl->prior_mean[i]))
             w = "prior_mean must be finite";
     if (w == NULL && !prior_starts(mdl))
-        w = "the filter's init refuses prior_mean and prior_cov in its "
-            "precision";
+        w = "prior_cov: the filter's init refuses prior_mean and prior_cov "
+            "in its precision";
     if (w == NULL)
         return 0;
 bad:
     if (why != NULL)
         *why = w;
     return -1;
+}
+
+void gf_node_linear_build(gf_node_linear *lin, double dt)
+{
+    unsigned a, k = 0, n = 0, i, j;
+    for (a = 0; a < lin->axes; a++)
+        n += lin->axis[a];
+    if (lin->axes == 0 || n > GF_NODE_NMAX)
+        return;
+    lin->n = n;
+    memset(lin->A, 0, sizeof lin->A);
+    memset(lin->R, 0, sizeof lin->R);
+    for (a = 0; a < lin->axes; a++) {
+        unsigned d = lin->axis[a];
+        // g = (dt^2/2, dt[, 1]): how the axis's white acceleration (cv) or
+        // acceleration change (ca) enters over one step
+        double g[3] = {0.5 * dt * dt, dt, 1.0}, q = lin->accel_var[a];
+        for (i = 0; i < d; i++) {
+            // A block: 1, dt, dt^2/2 above the diagonal
+            lin->A[(k + i) * n + k + i] = 1.0;
+            if (i + 1 < d)
+                lin->A[(k + i) * n + k + i + 1] = dt;
+            if (i + 2 < d)
+                lin->A[(k + i) * n + k + i + 2] = 0.5 * dt * dt;
+            // R block = q g g^T
+            for (j = 0; j < d; j++)
+                lin->R[(k + i) * n + k + j] = q * g[i] * g[j];
+        }
+        k += d;
+    }
 }
 
 // ---- the core's structs -----------------------------------------------------
@@ -423,20 +554,257 @@ const gf_node_model *gf_node_config_find(const gf_node_config *cfg,
     return NULL;
 }
 
-// Ends the section being read: checks its model and compiles its pattern.
-static int finish(gf_node_config *cfg, unsigned line, char *err, size_t size)
+// The section being read: where it starts and the line of each key it
+// set, so that an error found at its end names the key's line.
+#define SECTION_KEYS 32
+typedef struct section {
+    unsigned start;
+    unsigned nkeys;
+    char key[SECTION_KEYS][16];
+    unsigned line[SECTION_KEYS];
+} section;
+
+static void key_seen(section *sec, const char *key, unsigned line)
+{
+    unsigned i;
+    for (i = 0; i < sec->nkeys; i++)
+        if (strcmp(sec->key[i], key) == 0)
+            break;
+    if (i == SECTION_KEYS)
+        return;
+    if (i == sec->nkeys) {
+        snprintf(sec->key[i], sizeof sec->key[i], "%s", key);
+        sec->nkeys++;
+    }
+    sec->line[i] = line;
+}
+
+// The line of a key this section set, 0 if none.
+static unsigned key_line(const section *sec, const char *key, size_t len)
+{
+    unsigned i;
+    for (i = 0; i < sec->nkeys; i++)
+        if (strlen(sec->key[i]) == len && strncmp(sec->key[i], key, len) == 0)
+            return sec->line[i];
+    return 0;
+}
+
+// The line to blame for a model check's reason, which starts with the key
+// at fault: that key's line, else (a key the model took from its base or
+// preset) the base key's, else the section's header.
+static unsigned blame(const section *sec, const char *why)
+{
+    size_t len = strcspn(why, " :");
+    unsigned line = key_line(sec, why, len);
+    if (line == 0 && len == 8 && strncmp(why, "meas_cov", 8) == 0)
+        line = key_line(sec, "Q", 1);
+    if (line == 0 && len == 1 && why[0] == 'Q')
+        line = key_line(sec, "meas_cov", 8);
+    if (line == 0 && len == 1 && (why[0] == 'A' || why[0] == 'R'))
+        line = key_line(sec, "motion", 6);
+    if (line == 0)
+        line = key_line(sec, "base", 4);
+    if (line == 0)
+        line = key_line(sec, "type", 4);
+    return line != 0 ? line : sec->start;
+}
+
+// Ends the section being read: builds a linear model's dt-built A and R,
+// checks the model and compiles its pattern.
+static int finish(gf_node_config *cfg, const section *sec, char *err,
+                  size_t size)
 {
     unsigned i = cfg->count - 1;
+    gf_node_model *mdl = &cfg->model[i];
     const char *why = NULL;
     char re[160];
-    if (gf_node_model_check(&cfg->model[i], &why) != 0)
-        return fail(err, size, line, "model %s: %s", cfg->model[i].name, why);
+    if (mdl->kind == GF_NODE_KIND_LINEAR) {
+        gf_node_linear *lin = &cfg->linear[i];
+        if (key_line(sec, "A", 1) && key_line(sec, "motion", 6))
+            return fail(err, size, key_line(sec, "A", 1),
+                        "model %s: A or motion, not both", mdl->name);
+        if (key_line(sec, "R", 1) && key_line(sec, "accel_var", 9))
+            return fail(err, size, key_line(sec, "R", 1),
+                        "model %s: R or accel_var, not both", mdl->name);
+        gf_node_linear_build(lin, mdl->dt);
+    }
+    if (gf_node_model_check(mdl, &why) != 0)
+        return fail(err, size, blame(sec, why), "model %s: %s", mdl->name, why);
     if (cfg->channels[i][0] != '\0') {
         snprintf(re, sizeof re, "^(%s)$", cfg->channels[i]);
         if (regcomp(&cfg->regex[i], re, REG_EXTENDED | REG_NOSUB) != 0)
-            return fail(err, size, line, "model %s: bad channels regex %s",
-                        cfg->model[i].name, cfg->channels[i]);
+            return fail(err, size, key_line(sec, "channels", 8),
+                        "model %s: bad channels regex %s", mdl->name,
+                        cfg->channels[i]);
         cfg->has_regex[i] = 1;
+        mdl->channels = cfg->channels[i];
+    } else {
+        mdl->channels = NULL;
+    }
+    return 0;
+}
+
+// Reads numbers as numbers() does, a ';' allowed between them (the end of
+// a matrix's row, for the reader: not checked).
+static int numbers_rows(char *s, double *out, int max)
+{
+    char *p;
+    for (p = s; *p != '\0'; p++)
+        if (*p == ';')
+            *p = ' ';
+    return numbers(s, out, max);
+}
+
+// A square k x k matrix (row-major, rows of k) from k numbers (its
+// diagonal) or k*k.
+static int square(char *s, double *a, unsigned k)
+{
+    double v[GF_NODE_NMAX * GF_NODE_NMAX];
+    unsigned i, j;
+    int got = numbers_rows(s, v, GF_NODE_NMAX * GF_NODE_NMAX);
+    if (k == 0 || (got != (int)k && got != (int)(k * k)))
+        return -1;
+    for (i = 0; i < k; i++)
+        for (j = 0; j < k; j++)
+            a[i * k + j] =
+                (unsigned)got == k ? (i == j ? v[i] : 0.0) : v[i * k + j];
+    return 0;
+}
+
+// Rows of n numbers: returns how many rows (1..max_rows), or -1.
+static int rows_of(char *s, double *a, unsigned n, unsigned max_rows)
+{
+    int got = numbers_rows(s, a, GF_NODE_NMAX * GF_NODE_NMAX);
+    if (n == 0 || got <= 0 || got % (int)n != 0 || (unsigned)got / n > max_rows)
+        return -1;
+    return got / (int)n;
+}
+
+// The linear model's keys (see node_model.h). Returns 0, 1 if key is not
+// one of them, or -1 with the error.
+static int linear_key(gf_node_model *mdl, gf_node_linear *lin, const char *key,
+                      char *val, unsigned line, char *err, size_t size)
+{
+    unsigned n = lin->n;
+    if (strcmp(key, "n") == 0 || strcmp(key, "motion") == 0) {
+        unsigned axes = 0, states = 0;
+        unsigned char axis[GF_NODE_NMAX];
+        if (key[0] == 'n') {
+            char *end;
+            long v;
+            errno = 0;
+            v = strtol(val, &end, 10);
+            if (end == val || *trim(end) != '\0' || v < 1 || v > GF_NODE_NMAX)
+                return fail(err, size, line, "n takes a number 1..%d",
+                            GF_NODE_NMAX);
+            states = (unsigned)v;
+        } else {
+            char *w = strtok(val, " \t");
+            for (; w != NULL; w = strtok(NULL, " \t")) {
+                unsigned d = strcmp(w, "cv") == 0   ? GF_NODE_AXIS_CV
+                             : strcmp(w, "ca") == 0 ? GF_NODE_AXIS_CA
+                                                    : 0;
+                if (d == 0)
+                    return fail(err, size, line,
+                                "motion takes axes: cv (position, velocity) "
+                                "or ca (position, velocity, acceleration)");
+                if (states + d > GF_NODE_NMAX)
+                    return fail(err, size, line, "motion: more than %d states",
+                                GF_NODE_NMAX);
+                axis[axes++] = (unsigned char)d;
+                states += d;
+            }
+            if (axes == 0)
+                return fail(err, size, line, "motion takes axes: cv or ca");
+        }
+        // a new size: everything sized by n starts again
+        memset(lin, 0, sizeof(*lin));
+        lin->n = states;
+        for (unsigned i = 0; i < states; i++)
+            lin->A[i * states + i] = 1.0;
+        lin->axes = axes;
+        memcpy(lin->axis, axis, axes);
+        return 0;
+    }
+    if (strcmp(key, "accel_var") == 0) {
+        int got;
+        if (lin->axes == 0)
+            return fail(err, size, line, "accel_var needs motion first");
+        got = numbers(val, lin->accel_var, GF_NODE_NMAX);
+        if (got == 1)
+            for (unsigned a = 1; a < lin->axes; a++)
+                lin->accel_var[a] = lin->accel_var[0];
+        else if (got != (int)lin->axes)
+            return fail(err, size, line,
+                        "accel_var takes 1 number or one per axis (%u)",
+                        lin->axes);
+        for (unsigned a = 0; a < lin->axes; a++)
+            if (!(lin->accel_var[a] >= 0.0) || !isfinite(lin->accel_var[a]))
+                return fail(err, size, line,
+                            "accel_var must be finite and >= 0");
+        return 0;
+    }
+    if (strcmp(key, "dt") == 0) {
+        if (numbers(val, &mdl->dt, 1) != 1)
+            return fail(err, size, line, "dt takes 1 number");
+        return 0;
+    }
+    if (strcmp(key, "gate") == 0) {
+        if (numbers(val, &mdl->gate, 1) != 1)
+            return fail(err, size, line, "gate takes 1 number");
+        return 0;
+    }
+    if (strcmp(key, "A") != 0 && strcmp(key, "B") != 0 &&
+        strcmp(key, "R") != 0 && strcmp(key, "C") != 0 &&
+        strcmp(key, "Q") != 0 && strcmp(key, "meas_cov") != 0 &&
+        strcmp(key, "prior_mean") != 0 && strcmp(key, "prior_cov") != 0)
+        return 1;
+    if (n == 0)
+        return fail(err, size, line, "n (or motion) first");
+    if (strcmp(key, "A") == 0) {
+        if (numbers_rows(val, lin->A, GF_NODE_NMAX * GF_NODE_NMAX) !=
+            (int)(n * n))
+            return fail(err, size, line, "A takes %u numbers (n = %u)", n * n,
+                        n);
+        lin->axes = 0; // as given, not built from dt
+    } else if (strcmp(key, "B") == 0) {
+        double b[GF_NODE_NMAX * GF_NODE_NMAX];
+        int nu = rows_of(val, b, n, GF_NODE_NMAX);
+        unsigned i, j;
+        if (nu < 0)
+            return fail(err, size, line,
+                        "B takes n*nu numbers (n = %u rows of nu controls)", n);
+        // read as n rows of nu (the numbers were counted in rows of n)
+        lin->nu = (unsigned)nu;
+        for (i = 0; i < n; i++)
+            for (j = 0; j < lin->nu; j++)
+                lin->B[i * lin->nu + j] = b[i * lin->nu + j];
+    } else if (strcmp(key, "R") == 0) {
+        if (square(val, lin->R, n) != 0)
+            return fail(err, size, line, "R takes %u or %u numbers", n, n * n);
+    } else if (strcmp(key, "C") == 0) {
+        int m = rows_of(val, lin->C, n, n);
+        if (m < 0)
+            return fail(err, size, line,
+                        "C takes m*n numbers, one row of n = %u per measured "
+                        "quantity (m <= n)",
+                        n);
+        if ((unsigned)m != lin->m)
+            memset(lin->Q, 0, sizeof lin->Q);
+        lin->m = (unsigned)m;
+    } else if (strcmp(key, "prior_mean") == 0) {
+        if (numbers(val, lin->prior_mean, GF_NODE_NMAX) != (int)n)
+            return fail(err, size, line, "prior_mean takes %u numbers", n);
+    } else if (strcmp(key, "prior_cov") == 0) {
+        if (square(val, lin->prior_cov, n) != 0)
+            return fail(err, size, line, "prior_cov takes %u or %u numbers", n,
+                        n * n);
+    } else { // Q, meas_cov
+        if (lin->m == 0)
+            return fail(err, size, line, "%s after C (its rows give m)", key);
+        if (square(val, lin->Q, lin->m) != 0)
+            return fail(err, size, line, "%s takes %u or %u numbers (m = %u)",
+                        key, lin->m, lin->m * lin->m, lin->m);
     }
     return 0;
 }
@@ -444,10 +812,13 @@ static int finish(gf_node_config *cfg, unsigned line, char *err, size_t size)
 int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                          size_t err_size)
 {
-    char buf[512];
-    unsigned line = 0, start = 0;
+    char buf[4096];
+    unsigned line = 0;
+    section sec;
     gf_node_model *mdl = NULL;
+    gf_node_linear *lin = NULL;
     memset(cfg, 0, sizeof(*cfg));
+    memset(&sec, 0, sizeof(sec));
     if (err_size > 0)
         err[0] = '\0';
     while (*text != '\0') {
@@ -478,7 +849,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                             "expected [model NAME] (a name of at most %d "
                             "characters)",
                             GF_NODE_MODEL_NAME - 1);
-            if (mdl != NULL && finish(cfg, start, err, err_size) != 0)
+            if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0)
                 return -1;
             if (gf_node_config_find(cfg, name) != NULL)
                 return fail(err, err_size, line, "model %s defined twice",
@@ -486,10 +857,13 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             if (cfg->count == GF_NODE_CONFIG_MODELS)
                 return fail(err, err_size, line, "more than %d models",
                             GF_NODE_CONFIG_MODELS);
+            lin = &cfg->linear[cfg->count];
             mdl = &cfg->model[cfg->count++];
             memset(mdl, 0, sizeof(*mdl));
+            memset(lin, 0, sizeof(*lin));
             strcpy(mdl->name, name);
-            start = line;
+            memset(&sec, 0, sizeof(sec));
+            sec.start = line;
             continue;
         }
         eq = strchr(s, '=');
@@ -501,6 +875,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
         *eq = '\0';
         key = trim(s);
         val = trim(eq + 1);
+        key_seen(&sec, key, line);
         if (strcmp(key, "base") == 0) {
             const gf_node_model *b = gf_node_config_find(cfg, val);
             char name[GF_NODE_MODEL_NAME];
@@ -510,17 +885,32 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             memcpy(name, mdl->name, sizeof name);
             *mdl = *b;
             memcpy(mdl->name, name, sizeof name);
+            if (b->lin != NULL) {
+                *lin = *b->lin;
+                mdl->lin = lin;
+            }
         } else if (strcmp(key, "type") == 0) {
-            int8_t kind = strcmp(val, "car") == 0     ? GF_NODE_KIND_CAR
-                          : strcmp(val, "robot") == 0 ? GF_NODE_KIND_ROBOT
-                                                      : 0;
+            int8_t kind = strcmp(val, "car") == 0      ? GF_NODE_KIND_CAR
+                          : strcmp(val, "robot") == 0  ? GF_NODE_KIND_ROBOT
+                          : strcmp(val, "linear") == 0 ? GF_NODE_KIND_LINEAR
+                                                       : 0;
             if (kind == 0)
-                return fail(err, err_size, line, "type is car or robot");
+                return fail(err, err_size, line,
+                            "type is car, robot or linear");
             if (mdl->kind != kind) {
-                // a type of its own starts from that type's preset
+                // a type of its own starts from that type's preset (a
+                // linear model from nothing: n or motion next)
                 char name[GF_NODE_MODEL_NAME];
                 memcpy(name, mdl->name, sizeof name);
-                *mdl = kind == GF_NODE_KIND_CAR ? book_car : book_robot;
+                if (kind == GF_NODE_KIND_LINEAR) {
+                    memset(mdl, 0, sizeof(*mdl));
+                    memset(lin, 0, sizeof(*lin));
+                    mdl->kind = kind;
+                    mdl->dt = 1.0;
+                    mdl->lin = lin;
+                } else {
+                    *mdl = kind == GF_NODE_KIND_CAR ? book_car : book_robot;
+                }
                 memcpy(mdl->name, name, sizeof name);
             }
         } else if (mdl->kind == 0) {
@@ -530,6 +920,13 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             if (strlen(val) >= sizeof cfg->channels[0])
                 return fail(err, err_size, line, "channels regex too long");
             strcpy(cfg->channels[i], val);
+        } else if (mdl->kind == GF_NODE_KIND_LINEAR) {
+            int r = linear_key(mdl, lin, key, val, line, err, err_size);
+            if (r < 0)
+                return -1;
+            if (r > 0)
+                return fail(err, err_size, line, "a linear model has no %s",
+                            key);
         } else if (strcmp(key, "measure") == 0) {
             if (measure_parse(val, mdl->kind, &mdl->measure) != 0)
                 return fail(err, err_size, line,
@@ -586,7 +983,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 return fail(err, err_size, line, "unknown key %s", key);
         }
     }
-    if (mdl != NULL && finish(cfg, start, err, err_size) != 0)
+    if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0)
         return -1;
     return 0;
 }
@@ -629,8 +1026,8 @@ void gf_node_config_free(gf_node_config *cfg)
     memset(cfg, 0, sizeof(*cfg));
 }
 
-const gf_node_model *gf_node_config_lookup(const gf_node_config *cfg,
-                                           int32_t id, int8_t kind)
+const gf_node_model *gf_node_config_named(const gf_node_config *cfg, int32_t id,
+                                          int8_t kind)
 {
     char meas[GF_CHANNEL_MAX], ctrl[GF_CHANNEL_MAX];
     unsigned i;
@@ -641,5 +1038,16 @@ const gf_node_model *gf_node_config_lookup(const gf_node_config *cfg,
             (regexec(&cfg->regex[i], meas, 0, NULL, 0) == 0 ||
              regexec(&cfg->regex[i], ctrl, 0, NULL, 0) == 0))
             return &cfg->model[i];
-    return kind == GF_NODE_KIND_CAR ? &book_car : &book_robot;
+    return NULL;
+}
+
+const gf_node_model *gf_node_config_lookup(const gf_node_config *cfg,
+                                           int32_t id, int8_t kind)
+{
+    const gf_node_model *m = gf_node_config_named(cfg, id, kind);
+    if (m != NULL)
+        return m;
+    if (kind == GF_NODE_KIND_CAR)
+        return &book_car;
+    return kind == GF_NODE_KIND_ROBOT ? &book_robot : NULL;
 }

@@ -33,6 +33,22 @@
 // prior N(0, 0)) and "book-robot" (exercise 4: no odometry noise, prior
 // N(0, diag(0.01, 0.01, 10000))), both measuring what each measurement's m
 // says (GF_NODE_MEASURE_AUTO).
+//
+// Linear, any n (gf_kf, 1 <= n <= GF_NODE_NMAX): the book's linear
+// Gaussian system written out,
+//   x_t = A x_{t-1} + B u_t + eps,  eps ~ N(0, R),
+//   z_t = C x_t + delta,            delta ~ N(0, Q),
+// with A, B, R, C and Q (gf_sim's noise; the node takes each message's q)
+// given as numbers, or A and R built from dt per axis: a constant-velocity
+// axis (position, velocity) has the car's A and R; a constant-acceleration
+// axis (position, velocity, acceleration)
+//   A = ((1, dt, dt^2/2), (0, 1, dt), (0, 0, 1)),
+//   R = accel_var g g^T,  g = (dt^2/2, dt, 1)
+// (the acceleration's change over a step has variance accel_var: Bar-Shalom
+// 6.3.3's discrete Wiener process acceleration, FilterPy's
+// Q_discrete_white_noise(3, dt, accel_var)). Axes stack in the order given,
+// each axis's states together: "cv cv" is (x, vx, y, vy). There is no
+// linear preset: a linear track runs only with a model its channels name.
 #ifndef GF_NODE_MODEL_H
 #define GF_NODE_MODEL_H
 
@@ -57,11 +73,40 @@ typedef enum gf_node_measure {
     GF_NODE_MEASURE_RANGE_BEARING = 5 // robot: landmark range and bearing
 } gf_node_measure;
 
-// Kinds, as measurement_t.MODEL_CAR / MODEL_ROBOT.
+// Kinds, as measurement_t.MODEL_CAR / MODEL_ROBOT / MODEL_LINEAR.
 #define GF_NODE_KIND_CAR 1
 #define GF_NODE_KIND_ROBOT 2
+#define GF_NODE_KIND_LINEAR 3
 
 #define GF_NODE_MODEL_NAME 32
+
+// The most states (and controls, and measured quantities) of a linear
+// model: gf_kf's.
+#define GF_NODE_NMAX GF_KF_NMAX
+#define GF_NODE_STR_(x) #x
+#define GF_NODE_STR(x) GF_NODE_STR_(x)
+#define GF_NODE_NMAX_STR GF_NODE_STR(GF_KF_NMAX)
+
+// Axis kinds of a linear model's dt-built motion.
+#define GF_NODE_AXIS_CV 2 // (position, velocity)
+#define GF_NODE_AXIS_CA 3 // (position, velocity, acceleration)
+
+// A linear model's numbers, row-major (rows of n; B rows of nu, C and Q
+// rows of n and m). axes > 0: A and R are built from dt and accel_var per
+// axis (gf_node_linear_build) when the configuration's section ends.
+typedef struct gf_node_linear {
+    unsigned n, nu, m;
+    double A[GF_NODE_NMAX * GF_NODE_NMAX];
+    double B[GF_NODE_NMAX * GF_NODE_NMAX];
+    double R[GF_NODE_NMAX * GF_NODE_NMAX];
+    double C[GF_NODE_NMAX * GF_NODE_NMAX];
+    double Q[GF_NODE_NMAX * GF_NODE_NMAX]; // the sensor's (gf_sim draws it)
+    double prior_mean[GF_NODE_NMAX];
+    double prior_cov[GF_NODE_NMAX * GF_NODE_NMAX];
+    unsigned axes;                    // dt-built axes, 0: A and R as given
+    unsigned char axis[GF_NODE_NMAX]; // GF_NODE_AXIS_CV or _CA
+    double accel_var[GF_NODE_NMAX];   // per axis
+} gf_node_linear;
 
 typedef struct gf_node_model {
     char name[GF_NODE_MODEL_NAME];
@@ -75,6 +120,11 @@ typedef struct gf_node_model {
     double prior_mean[3]; // first n entries (n = 2 car, 3 robot)
     double prior_cov[3][3];
     double meas_cov[3][3]; // the sensor's noise, m x m (gf_sim draws it)
+    // linear: its numbers (prior and noise there, not above); they belong
+    // to the configuration, which outlives every track made from it
+    const gf_node_linear *lin;
+    // the configuration's channels pattern that names this model, or NULL
+    const char *channels;
 } gf_node_model;
 
 // The presets (never NULL).
@@ -92,9 +142,14 @@ int gf_node_model_measure(const gf_node_model *mdl, unsigned m);
 
 // Checks a model: kind and measure agree, every number finite, dt > 0,
 // variances and gate >= 0, prior and meas_cov symmetric PSD, and the prior
-// one the filter's init takes (gf_kf2_init or gf_ekf3_init, in gf_real).
-// Returns 0, or -1 and a reason in why (may be NULL).
+// one the filter's init takes (gf_kf2_init, gf_ekf3_init or gf_kf_init, in
+// gf_real); a linear model's sizes in range and A, B, R, C, Q as
+// gf_kf_prepare_model and gf_kf_prepare_meas take them. Returns 0, or -1
+// and a reason in why (may be NULL) that starts with the key at fault.
 int gf_node_model_check(const gf_node_model *mdl, const char **why);
+
+// Builds a linear model's A and R from dt and its axes (see the top).
+void gf_node_linear_build(gf_node_linear *lin, double dt);
 
 // ---- the core's model structs, built from a model ------------------------
 
@@ -140,13 +195,25 @@ gf_status gf_node_meas_range_bearing(void *ctx, const gf_vec3 *mu_bar,
 //   prior_cov = n numbers (the diagonal) or n*n (row by row)
 //   meas_cov = m numbers (the diagonal) or m*m
 //
-// Every key is optional but type (or base); numbers are C's strtod.
+//   type = linear         a linear model of any n (see the top):
+//   motion = cv cv        dt-built axes (cv, ca), giving n; or n = N and
+//   A = n*n numbers       row by row (a ';' may end each row)
+//   accel_var = q | q1 q2 ...   one per axis (with motion); or
+//   R = n or n*n numbers
+//   B = n*nu numbers      (nu controls; none without it)
+//   C = m*n numbers       the measured quantities, one row each
+//   Q = m or m*m numbers  (the same as meas_cov)
+//   prior_mean, prior_cov, gate as above
+//
+// Every key is optional but type (or base); numbers are C's strtod. An
+// error names the line of the key at fault.
 
 #define GF_NODE_CONFIG_MODELS 16
 
 typedef struct gf_node_config {
     unsigned count;
     gf_node_model model[GF_NODE_CONFIG_MODELS];
+    gf_node_linear linear[GF_NODE_CONFIG_MODELS]; // model[i].lin, if linear
     int has_regex[GF_NODE_CONFIG_MODELS];
     regex_t regex[GF_NODE_CONFIG_MODELS];
     char channels[GF_NODE_CONFIG_MODELS][128];
@@ -161,12 +228,18 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
 int gf_node_config_load(gf_node_config *cfg, const char *path, char *err,
                         size_t err_size);
 
-// Frees the compiled patterns.
+// Frees the compiled patterns. A configuration's models point into it:
+// it must not move while they are used.
 void gf_node_config_free(gf_node_config *cfg);
 
-// The model for a new track id of this kind: the first whose channels
-// match GF_MEAS_<id> or GF_CTRL_<id> and whose kind agrees, else the
-// kind's preset. cfg may be NULL (presets only). Never NULL.
+// The model a configuration names for a new track id of this kind: the
+// first whose channels match GF_MEAS_<id> or GF_CTRL_<id> and whose kind
+// agrees; NULL when none does (cfg may be NULL).
+const gf_node_model *gf_node_config_named(const gf_node_config *cfg, int32_t id,
+                                          int8_t kind);
+
+// As gf_node_config_named, else the kind's preset (NULL for a linear
+// track: there is no linear preset).
 const gf_node_model *gf_node_config_lookup(const gf_node_config *cfg,
                                            int32_t id, int8_t kind);
 

@@ -15,12 +15,12 @@ gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
 
 // R's verdict and factors (into Rf, Rd).
 static gf_status ekf_motion_check(unsigned n, const gf_ekf_motion *motion,
-                                  gf_real *Rf, gf_real *Rd, gf_kf_work *work)
+                                  gf_kf_work *work, const gf_kf_memo **fac)
 {
     if (!motion->g || !motion->R || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    return gf_kfc_noise(motion->R, n, Rf, Rd, work->k, work);
+    return gf_kfc_noise(motion->R, n, work, fac);
 }
 
 // mu_bar = g(u, mu) and G from the callback (mu_bar preset to mu, G to the
@@ -54,10 +54,10 @@ gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
     if (!ekf || !motion || !work) {
         return GF_ERR_ARG;
     }
-    gf_real *Rd = GF_KFC_D(work);
-    const gf_status st = ekf_motion_check(ekf->n, motion, work->v, Rd, work);
+    const gf_kf_memo *r = NULL;
+    const gf_status st = ekf_motion_check(ekf->n, motion, work, &r);
     return st != GF_OK ? st
-                       : ekf_predict_step(ekf, motion, u, work->v, Rd, work);
+                       : ekf_predict_step(ekf, motion, u, r->F, r->d, work);
 }
 
 gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
@@ -66,14 +66,14 @@ gf_status gf_ekf_prepare_motion(gf_ekf_pmotion *pm, unsigned n,
     if (!pm || !motion || !work) {
         return GF_ERR_ARG;
     }
-    gf_real *Rd = GF_KFC_D(work);
-    const gf_status st = ekf_motion_check(n, motion, work->v, Rd, work);
+    const gf_kf_memo *r = NULL;
+    const gf_status st = ekf_motion_check(n, motion, work, &r);
     if (st != GF_OK) {
         return st;
     }
     pm->motion = *motion;
     pm->n = n;
-    gf_kfc_keep(n, pm->Rf, pm->Rd, NULL, work);
+    gf_kfc_keep(r, n, pm->Rf, pm->Rd, NULL);
     return GF_OK;
 }
 
@@ -129,11 +129,11 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         ekf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = GF_KFC_D(work);
-    const gf_status st = gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate,
-                                           z, work->v, Qe, work->k, work);
+    const gf_kf_memo *q = NULL;
+    const gf_status st =
+        gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
     return st != GF_OK ? st
-                       : ekf_update_step(ekf, meas, z, work->v, Qe, work->k,
+                       : ekf_update_step(ekf, meas, z, q->F, q->d, q->order,
                                          info, work);
 }
 
@@ -143,15 +143,15 @@ gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work || !meas->h || n < 1u || n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = GF_KFC_D(work);
-    const gf_status st = gf_kfc_meas_check(n, meas->m, meas->Q, meas->gate,
-                                           NULL, work->v, Qe, work->k, work);
+    const gf_kf_memo *q = NULL;
+    const gf_status st =
+        gf_kfc_meas_check(n, meas->m, meas->Q, meas->gate, NULL, work, &q);
     if (st != GF_OK) {
         return st;
     }
     pq->meas = *meas;
     pq->n = n;
-    gf_kfc_keep(meas->m, pq->Qf, pq->Qe, pq->Qorder, work);
+    gf_kfc_keep(q, meas->m, pq->Qf, pq->Qe, pq->Qorder);
     return GF_OK;
 }
 

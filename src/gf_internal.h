@@ -21,8 +21,8 @@
 
 // Before each loop over states or measured quantities: unrolled where the
 // trip count is known (a filter's own n), at -Os too (docs/performance.md
-// has what it costs and saves); clang unrolls such loops by itself. A
-// source whose n is known only at run time defines it empty first.
+// has what it costs and saves); clang unrolls such loops by itself. A loop
+// whose count is known only at run time stays a loop at -Os.
 #ifndef GF_UNROLL
 #if defined(__GNUC__) && !defined(__clang__)
 #define GF_UNROLL _Pragma("GCC unroll 6")

@@ -3,6 +3,7 @@
 // core of src/udu.h for n states, 1 <= n <= GF_KF_NMAX, with the scratch
 // that grows with n^2 in the caller's gf_kf_work.
 #include <stddef.h>
+#include <stdint.h>
 
 #include "gaussfilt/kf.h"
 
@@ -10,9 +11,62 @@
 
 // ---- shared with ekf.c ---------------------------------------------------
 
-gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
-                       unsigned *order, gf_kf_work *work)
+// *dst = *src for the parts an n-state belief uses (n, angles, mu, the
+// factors and the permutation): the rest of dst is left as it is.
+static void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
 {
+    const unsigned n = src->n;
+    dst->n = n;
+    dst->angles = src->angles;
+    for (unsigned i = 0; i < n; i++) {
+        dst->mu[i] = src->mu[i];
+    }
+    for (unsigned k = 0; k < GF_KF_TRI(n); k++) {
+        dst->ud[k] = src->ud[k];
+    }
+    for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
+        dst->perm[k] = src->perm[k];
+    }
+}
+
+// The bits of x (a union reads them: defined in C99, no aliasing).
+#ifdef GF_SINGLE_PRECISION
+typedef uint32_t kfc_bits;
+#else
+typedef uint64_t kfc_bits;
+#endif
+static kfc_bits kfc_bits_of(gf_real x)
+{
+    union {
+        gf_real r;
+        kfc_bits u;
+    } b;
+    b.r = x;
+    return b.u;
+}
+
+// 1 if a and b (k entries) hold the same numbers bit for bit.
+static int kfc_same(const gf_real *a, const gf_real *b, unsigned k)
+{
+    for (unsigned i = 0; i < k; i++) {
+        if (kfc_bits_of(a[i]) != kfc_bits_of(b[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
+                       const gf_kf_memo **fac)
+{
+    // A matrix accepted before, bit for bit (so finite): its factors
+    for (unsigned t = 0; fac && t < 2u; t++) {
+        const gf_kf_memo *mm = &work->memo[t];
+        if (mm->tag == GF_KF_MEMO_TAG + n && kfc_same(mm->s, s, n * n)) {
+            *fac = mm;
+            return GF_OK;
+        }
+    }
     gf_real z = GF_R(0.0);
     for (unsigned i = 0; i < n * n; i++) {
         z += s[i] * GF_R(0.0);
@@ -20,8 +74,24 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
     if (!gf_sum_finite(z)) {
         return GF_ERR_NONFINITE;
     }
-    return gf_cov_factor_n(s, n, n, F, d, order, work->x,
-                           &work->k[(size_t)GF_KF_NMAX]);
+    unsigned *p = &work->k[(size_t)GF_KF_NMAX];
+    if (!fac) {
+        return gf_cov_factor_n(s, n, n, NULL, NULL, NULL, work->x, p);
+    }
+    const unsigned t = work->memo_next & 1u;
+    gf_kf_memo *mm = &work->memo[t];
+    mm->tag = 0;
+    const gf_status st =
+        gf_cov_factor_n(s, n, n, mm->F, mm->d, mm->order, work->x, p);
+    if (st == GF_OK) {
+        for (unsigned k = 0; k < n * n; k++) {
+            mm->s[k] = s[k];
+        }
+        mm->tag = GF_KF_MEMO_TAG + n;
+        work->memo_next = t ^ 1u;
+        *fac = mm;
+    }
+    return st;
 }
 
 gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
@@ -33,7 +103,7 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), mu, n))) {
         return GF_ERR_NONFINITE;
     }
-    const gf_status st = gf_kfc_noise(sigma, n, NULL, NULL, NULL, work);
+    const gf_status st = gf_kfc_noise(sigma, n, work, NULL);
     if (st != GF_OK) {
         return st;
     }
@@ -57,24 +127,66 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     return GF_OK;
 }
 
+// The factored steps, specialised for n = 2 and 3 (the loops unrolled)
+// and for any n.
+static void kfc_udu_predict(unsigned n, gf_real *ud, const unsigned char *perm,
+                            const gf_real *G, const gf_real *Rf,
+                            const gf_real *Rd, gf_kf_work *work)
+{
+    gf_real *wd = GF_KFC_S(work, 2);
+    if (n == 2u) {
+        gf_udu_predict(2u, ud, perm, G, Rf, Rd, work->w, wd);
+    } else if (n == 3u) {
+        gf_udu_predict(3u, ud, perm, G, Rf, Rd, work->w, wd);
+    } else {
+        gf_udu_predict(n, ud, perm, G, Rf, Rd, work->w, wd);
+    }
+}
+
+static gf_status kfc_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
+                                 unsigned m, const gf_real *hw,
+                                 const gf_real *e, const gf_real *yw,
+                                 gf_real *dx, gf_real *nis, gf_kf_work *work)
+{
+    gf_real *wd = GF_KFC_S(work, 2);
+    if (n == 2u) {
+        return gf_udu_correct(2u, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+    }
+    if (n == 3u) {
+        return gf_udu_correct(3u, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+    }
+    return gf_udu_correct(n, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+}
+
 gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
                          const gf_real *Rf, const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = kf->n;
     gf_kf *nb = &work->b;
-    *nb = *kf;
+    kfc_copy(nb, kf);
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] =
             ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i]) : mu_bar[i];
     }
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
-    gf_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work->w, GF_KFC_S(work, 2));
+    kfc_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work);
     if (!gf_sum_finite(
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
-    *kf = *nb;
+    kfc_copy(kf, nb);
     return GF_OK;
+}
+
+// *info = *in (if info is not NULL), the entries of y past m zero.
+static void kfc_info(gf_kf_innovation *info, gf_kf_innovation *in)
+{
+    if (info) {
+        for (unsigned i = in->m; i < GF_KF_NMAX; i++) {
+            in->y[i] = 0;
+        }
+        *info = *in;
+    }
 }
 
 gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
@@ -85,8 +197,8 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
     const unsigned n = kf->n;
     gf_kf_innovation in;
     in.m = m;
-    for (unsigned i = 0; i < GF_KF_NMAX; i++) {
-        in.y[i] = i < m ? y[i] : GF_R(0.0);
+    for (unsigned i = 0; i < m; i++) {
+        in.y[i] = y[i];
     }
     // y_w = F_Q^-1 y, H_w = F_Q^-1 H (H already whitened when prepared)
     gf_real *yw = &work->s[0];
@@ -109,9 +221,9 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
         }
     }
     gf_kf *nb = &work->b;
-    *nb = *kf;
-    const gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx,
-                                        &in.nis, work->w, GF_KFC_S(work, 2));
+    kfc_copy(nb, kf);
+    const gf_status st =
+        kfc_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx, &in.nis, work);
     if (st != GF_OK) {
         return st;
     }
@@ -119,9 +231,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
         return GF_ERR_NONFINITE;
     }
     if (gate > 0 && in.nis > gate) {
-        if (info) {
-            *info = in;
-        }
+        kfc_info(info, &in);
         return GF_ERR_GATED;
     }
     for (unsigned i = 0; i < n; i++) {
@@ -134,16 +244,14 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE;
     }
-    *kf = *nb;
-    if (info) {
-        *info = in;
-    }
+    kfc_copy(kf, nb);
+    kfc_info(info, &in);
     return GF_OK;
 }
 
 gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
-                            gf_real gate, const gf_real *z, gf_real *Qf,
-                            gf_real *Qe, unsigned *Qorder, gf_kf_work *work)
+                            gf_real gate, const gf_real *z, gf_kf_work *work,
+                            const gf_kf_memo **fac)
 {
     if (!Q || m < 1u || m > n) {
         return GF_ERR_ARG;
@@ -158,19 +266,19 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
     if (gate < 0) {
         return GF_ERR_ARG;
     }
-    return gf_kfc_noise(Q, m, Qf, Qe, Qorder, work);
+    return gf_kfc_noise(Q, m, work, fac);
 }
 
-void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,
-                 const gf_kf_work *work)
+void gf_kfc_keep(const gf_kf_memo *fac, unsigned m, gf_real *F, gf_real *d,
+                 unsigned *order)
 {
     for (unsigned k = 0; k < m * m; k++) {
-        F[k] = work->v[k];
+        F[k] = fac->F[k];
     }
     for (unsigned k = 0; k < m; k++) {
-        d[k] = GF_KFC_D(work)[k];
+        d[k] = fac->d[k];
         if (order) {
-            order[k] = work->k[k];
+            order[k] = fac->order[k];
         }
     }
 }
@@ -196,8 +304,8 @@ gf_status gf_kf_cov(const gf_kf *kf, gf_real *sigma)
 // the order of gf_kf_predict's statuses; on GF_OK, Rf and Rd hold R's
 // factors.
 static gf_status kf_model_check(unsigned n, const gf_kf_model *model,
-                                const gf_real *u, gf_real *Rf, gf_real *Rd,
-                                gf_kf_work *work)
+                                const gf_real *u, gf_kf_work *work,
+                                const gf_kf_memo **fac)
 {
     if (!model->A || !model->R || (model->nu > 0u && !model->B) || n < 1u ||
         n > GF_KF_NMAX) {
@@ -216,7 +324,7 @@ static gf_status kf_model_check(unsigned n, const gf_kf_model *model,
     if (!gf_sum_finite(z)) {
         return GF_ERR_NONFINITE;
     }
-    return gf_kfc_noise(model->R, n, Rf, Rd, work->k, work);
+    return gf_kfc_noise(model->R, n, work, fac);
 }
 
 // mu_bar = A mu + B u + c, into work->s, then the factored prediction.
@@ -251,11 +359,9 @@ gf_status gf_kf_predict(gf_kf *kf, const gf_kf_model *model, const gf_real *u,
     if (!kf || !model || !work) {
         return GF_ERR_ARG;
     }
-    const gf_status st =
-        kf_model_check(kf->n, model, u, work->v, GF_KFC_D(work), work);
-    return st != GF_OK
-               ? st
-               : kf_predict_step(kf, model, u, work->v, GF_KFC_D(work), work);
+    const gf_kf_memo *r = NULL;
+    const gf_status st = kf_model_check(kf->n, model, u, work, &r);
+    return st != GF_OK ? st : kf_predict_step(kf, model, u, r->F, r->d, work);
 }
 
 gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
@@ -264,14 +370,14 @@ gf_status gf_kf_prepare_model(gf_kf_pmodel *pm, unsigned n,
     if (!pm || !model || !work) {
         return GF_ERR_ARG;
     }
-    const gf_status st =
-        kf_model_check(n, model, NULL, work->v, GF_KFC_D(work), work);
+    const gf_kf_memo *r = NULL;
+    const gf_status st = kf_model_check(n, model, NULL, work, &r);
     if (st != GF_OK) {
         return st;
     }
     pm->model = *model;
     pm->n = n;
-    gf_kfc_keep(n, pm->Rf, pm->Rd, NULL, work);
+    gf_kfc_keep(r, n, pm->Rf, pm->Rd, NULL);
     return GF_OK;
 }
 
@@ -292,8 +398,8 @@ gf_status gf_kf_predict_prepared(gf_kf *kf, const gf_kf_pmodel *pm,
 // in the order of gf_kf_update's statuses; on GF_OK, Q's factors are in
 // Qf, Qe, Qorder and F_Q^-1 C in Cw.
 static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
-                               const gf_real *z, gf_real *Qf, gf_real *Qe,
-                               unsigned *Qorder, gf_real *Cw, gf_kf_work *work)
+                               const gf_real *z, gf_real *Cw, gf_kf_work *work,
+                               const gf_kf_memo **fac)
 {
     const unsigned m = meas->m;
     if (!meas->C || m < 1u || m > n) {
@@ -307,7 +413,7 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
         return GF_ERR_NONFINITE;
     }
     const gf_status st =
-        gf_kfc_meas_check(n, m, meas->Q, meas->gate, z, Qf, Qe, Qorder, work);
+        gf_kfc_meas_check(n, m, meas->Q, meas->gate, z, work, fac);
     if (st != GF_OK) {
         return st;
     }
@@ -317,7 +423,7 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
     }
     if (m > 1u) {
         for (unsigned j = 0; j < n; j++) {
-            gf_udu_whiten(Qf, Qorder, m, &Cw[j], n);
+            gf_udu_whiten((*fac)->F, (*fac)->order, m, &Cw[j], n);
         }
     }
     return GF_OK;
@@ -350,16 +456,15 @@ gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
     if (!kf || !meas || !z || !work || kf->n < 1u || kf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = GF_KFC_D(work);
     gf_real *Cw = work->x;
     // the whitened rows live where gf_kfc_update would whiten H: it is
     // told they are whitened already
-    const gf_status st =
-        kf_meas_check(kf->n, meas, z, work->v, Qe, work->k, Cw, work);
+    const gf_kf_memo *q = NULL;
+    const gf_status st = kf_meas_check(kf->n, meas, z, Cw, work, &q);
     if (st != GF_OK) {
         return st;
     }
-    return kf_update_step(kf, meas, z, work->v, Qe, work->k, Cw, info, work);
+    return kf_update_step(kf, meas, z, q->F, q->d, q->order, Cw, info, work);
 }
 
 gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
@@ -368,15 +473,14 @@ gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work) {
         return GF_ERR_ARG;
     }
-    gf_real *Qe = GF_KFC_D(work);
-    const gf_status st =
-        kf_meas_check(n, meas, NULL, work->v, Qe, work->k, work->x, work);
+    const gf_kf_memo *q = NULL;
+    const gf_status st = kf_meas_check(n, meas, NULL, work->x, work, &q);
     if (st != GF_OK) {
         return st;
     }
     pq->meas = *meas;
     pq->n = n;
-    gf_kfc_keep(meas->m, pq->Qf, pq->Qe, pq->Qorder, work);
+    gf_kfc_keep(q, meas->m, pq->Qf, pq->Qe, pq->Qorder);
     for (unsigned k = 0; k < meas->m * n; k++) {
         pq->Cw[k] = work->x[k];
     }

@@ -7,18 +7,22 @@
 
 #include "gaussfilt/ekf.h"
 
-// n is known only at run time here: the loops stay loops.
-#define GF_UNROLL
+// The steps are compiled for n = 2 and 3, where the loops unroll, and
+// for any n, where they stay loops (gcc unrolls no loop of unknown count
+// at -Os).
+#define GF_UNROLL _Pragma("GCC unroll 6")
 #ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX GF_KF_NMAX
 #endif
 #include "udu.h"
 
 // The verdict on an n x n covariance s passed in (finite, symmetric, PSD)
-// and, where F is not NULL, its factors F diag(d) F^T with their pivot
-// order (gf_cov_factor's); the Schur complements in work->x.
-gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_real *F, gf_real *d,
-                       unsigned *order, gf_kf_work *work);
+// and, where fac is not NULL, its factors F diag(d) F^T with their pivot
+// order (gf_cov_factor's), kept in one of work's two memo slots (*fac
+// points there on GF_OK): a matrix bitwise the same as one a slot holds
+// is not judged again. The Schur complements in work->x.
+gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
+                       const gf_kf_memo **fac);
 
 // Checks n and mu, judges sigma, and sets *kf to N(mu, sigma) factored,
 // the states in `angles` wrapped; kf untouched on failure.
@@ -33,10 +37,10 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
                          gf_kf_work *work);
 
 // The checks of m, Q, the gate and z (if not NULL), in the order of the
-// update's statuses; on GF_OK, Q's factors in Qf (m x m), Qe, Qorder.
+// update's statuses; on GF_OK, *fac holds Q's factors (gf_kfc_noise).
 gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
-                            gf_real gate, const gf_real *z, gf_real *Qf,
-                            gf_real *Qe, unsigned *Qorder, gf_kf_work *work);
+                            gf_real gate, const gf_real *z, gf_kf_work *work,
+                            const gf_kf_memo **fac);
 
 // The correction once the measurement is checked: innovation y (m), the
 // rows H (m x n; whitened here if whiten_h, else already F_Q^-1 H), Q's
@@ -47,15 +51,12 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
                         const unsigned *Qorder, int whiten_h, gf_real gate,
                         gf_kf_innovation *info, gf_kf_work *work);
 
-// Where a check leaves a noise's factors in work: F (m x m) in work->v, d
-// in work->s from GF_KF_NMAX * 5, the pivot order in work->k.
-#define GF_KFC_D(work) GF_KFC_S(work, 5)
-
 // The vector k (0..7) of n entries in work->s.
 #define GF_KFC_S(work, k) (&(work)->s[(size_t)(k)*GF_KF_NMAX])
 
-// Copies them into a prepared model's arrays (order may be NULL).
-void gf_kfc_keep(unsigned m, gf_real *F, gf_real *d, unsigned *order,
-                 const gf_kf_work *work);
+// Copies a noise's factors (m x m) into a prepared model's arrays (order
+// may be NULL).
+void gf_kfc_keep(const gf_kf_memo *fac, unsigned m, gf_real *F, gf_real *d,
+                 unsigned *order);
 
 #endif

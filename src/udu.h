@@ -306,35 +306,47 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 // n x n, rows of n, by state; a column of zero weight adds nothing), then
 // gf_mwgs. a: n x n, rows of n, by state. w: scratch of n rows of 2n, wd:
 // scratch of 2n (caller-owned).
-static inline void gf_udu_predict(unsigned n, gf_real *ud,
-                                  const unsigned char *perm, const gf_real *a,
-                                  const gf_real *fr, const gf_real *dr,
-                                  gf_real *w, gf_real *wd)
+GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, gf_real *ud,
+                                     const unsigned char *perm,
+                                     const gf_real *a, const gf_real *fr,
+                                     const gf_real *dr, gf_real *w, gf_real *wd)
 {
     const unsigned stride = 2u * n;
-    // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         wd[j] = ud[GF_UD(j, j)];
         wd[n + j] = dr[j];
+    }
+    // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        const gf_real *ai = &a[perm[i] * n];
+        const gf_real *fi = &fr[perm[i] * n];
+        gf_real *wi = &w[i * stride];
+        gf_real ap[GF_UDU_NMAX]; // row i of P^T A P
         GF_UNROLL
-        for (unsigned i = 0; i < n; i++) {
-            const gf_real *ai = &a[perm[i] * n];
-            gf_real acc = ai[perm[j]];
+        for (unsigned l = 0; l < n; l++) {
+            ap[l] = ai[perm[l]];
+        }
+        GF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real *uj = &ud[GF_UD(0, j)];
+            gf_real acc = ap[j];
             GF_UNROLL
             for (unsigned l = 0; l < j; l++) {
-                acc += ai[perm[l]] * ud[GF_UD(l, j)];
+                acc += ap[l] * uj[l];
             }
-            w[i * stride + j] = acc;
-            w[i * stride + n + j] = fr[perm[i] * n + j];
+            wi[j] = acc;
+            wi[n + j] = fi[j];
         }
     }
     gf_mwgs(n, stride, w, wd, ud);
 }
 
 // The state measured by the row h (by state) with the largest share of
-// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal (by
-// state), sum_(k >= i) U_ik^2 d_k for the state perm[i].
+// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal in the
+// factors' order: sigma_d[i] = sum_(k >= i) U_ik^2 d_k, the variance of
+// the state perm[i].
 GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
                                             const unsigned char *perm,
                                             const gf_real *h, gf_real *sigma_d)
@@ -349,7 +361,7 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
             v += ud[GF_UD(i, k)] * ud[GF_UD(i, k)] * ud[GF_UD(k, k)];
         }
         const unsigned s = perm[i];
-        sigma_d[s] = v;
+        sigma_d[i] = v;
         const gf_real part = h[s] * h[s] * v;
         if (part > most) {
             most = part;
@@ -539,27 +551,29 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
 // scalar NIS, which is y^T S^-1 y. w, wd: scratch as gf_udu_predict's.
 // Statuses as gf_udu_update.
-static inline gf_status gf_udu_correct(unsigned n, gf_real *ud,
-                                       unsigned char *perm, unsigned m,
-                                       const gf_real *hw, const gf_real *e,
-                                       const gf_real *yw, gf_real *dx,
-                                       gf_real *nis, gf_real *w, gf_real *wd)
+GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
+                                          unsigned char *perm, unsigned m,
+                                          const gf_real *hw, const gf_real *e,
+                                          const gf_real *yw, gf_real *dx,
+                                          gf_real *nis, gf_real *w, gf_real *wd)
 {
-    gf_real sd[GF_UDU_NMAX] = {0}, tell[GF_UDU_NMAX] = {0}, v[GF_UDU_NMAX];
+    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     unsigned main = gf_udu_main_state(n, ud, perm, hw, sd);
     for (unsigned i = 0; i < m; i++) {
         gf_real acc = 0;
         GF_UNROLL
-        for (unsigned s = 0; s < n; s++) {
-            acc += hw[i * n + s] * hw[i * n + s] * sd[s];
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real h = hw[i * n + perm[j]];
+            acc += h * h * sd[j];
         }
         v[i] = acc;
         rank[i] = i;
-    }
-    for (unsigned i = 0; i < m && m > 1u; i++) {
-        tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
+        // (one quantity needs no ranking)
+        tell[i] = (m < 2u)     ? GF_R(0.0)
+                  : (e[i] > 0) ? v[i] / e[i]
+                               : (gf_real)INFINITY;
     }
     for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
         for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];

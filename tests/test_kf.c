@@ -50,6 +50,7 @@
 // 4. Arguments: sizes out of range, m out of 1..n, NULL pointers give
 //    GF_ERR_ARG; a callback's error is passed on; every failed call leaves
 //    the belief (and info) bit-for-bit as it was.
+#include <math.h>
 #include <stdlib.h>
 
 #include "gf_test.h"
@@ -1717,6 +1718,152 @@ static void prepared_same_as_plain(void **state)
     assert_true(gated > 0u);
 }
 
+// ---- the workspace's memo of R and Q ------------------------------------
+
+// The parts of an n-state belief a step writes, compared bit for bit.
+static int memo_same(const gf_kf *a, const gf_kf *b)
+{
+    const unsigned n = a->n;
+    return a->n == b->n && memcmp(a->mu, b->mu, n * sizeof a->mu[0]) == 0 &&
+           memcmp(a->ud, b->ud, GF_KF_TRI(n) * sizeof a->ud[0]) == 0 &&
+           memcmp(a->perm, b->perm, sizeof a->perm) == 0;
+}
+
+// The next gf_real after x towards `to`.
+static gf_real memo_next(gf_real x, gf_real to)
+{
+#ifdef GF_SINGLE_PRECISION
+    return nextafterf(x, to);
+#else
+    return nextafter(x, to);
+#endif
+}
+
+// A random symmetric PSD n x n matrix: F F^T, F with entries N(0, 1), a
+// block of `zeros` leading states uncoupled from the rest (exact zeros).
+static void memo_cov(gf_rng *r, unsigned n, unsigned zeros, gf_real *s)
+{
+    gf_real f[TN * TN];
+    for (unsigned i = 0; i < n * n; i++) {
+        f[i] = gf_rng_normal(r);
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            gf_real acc = 0;
+            for (unsigned k = 0; k < n; k++) {
+                acc += f[i * n + k] * f[j * n + k];
+            }
+            const int cut = (i < zeros) != (j < zeros);
+            s[i * n + j] = cut ? GF_R(0.0) : acc;
+        }
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < i; j++) {
+            s[i * n + j] = s[j * n + i];
+        }
+    }
+}
+
+// Filter a steps through a workspace shared with filter c (another size,
+// so the memo's two slots keep changing hands); filter b through a
+// workspace filled with garbage before every call (never a memo hit). R
+// and Q change between steps among matrices that differ in one bit, in
+// the sign of a zero, not at all, by a NaN or by a negative variance:
+// statuses and beliefs of a and b must be the same bits at every step.
+static void memo_never_stale(void **state)
+{
+    (void)state;
+    static gf_kf_work shared, fresh;
+    gf_rng rng;
+    gf_rng_seed(&rng, 20261202u);
+    unsigned calls = 0, refused = 0, held = 0;
+    for (unsigned n = 1; n <= TN; n++) {
+        const unsigned m = (n + 1u) / 2u, nc = n % TN + 1u;
+        gf_real A[TN * TN], C[TN * TN], R[5][TN * TN], Q[5][TN * TN];
+        gf_real Ac[TN * TN], Rc[TN * TN], Sc[TN * TN], mu0[TN], S0[TN * TN];
+        for (unsigned i = 0; i < n * n; i++) {
+            A[i] = (i % (n + 1u) == 0u ? GF_R(1.0) : GF_R(0.0)) +
+                   GF_R(0.05) * gf_rng_normal(&rng);
+        }
+        for (unsigned i = 0; i < m * n; i++) {
+            C[i] = gf_rng_normal(&rng);
+        }
+        for (unsigned i = 0; i < nc * nc; i++) {
+            Ac[i] = i % (nc + 1u) == 0u ? GF_R(1.0) : GF_R(0.0);
+        }
+        memo_cov(&rng, nc, 0, Rc);
+        memo_cov(&rng, nc, 0, Sc);
+        memo_cov(&rng, n, n / 2u, R[0]);
+        memo_cov(&rng, m, m / 2u, Q[0]);
+        for (unsigned v = 1; v < 5u; v++) {
+            memcpy(R[v], R[0], sizeof R[0]);
+            memcpy(Q[v], Q[0], sizeof Q[0]);
+        }
+        // 1: the last bit of a variance; 2: -0 for a zero coupling (or,
+        // with none, the last bit again); 3: a NaN; 4: a negative variance
+        R[1][0] = memo_next(R[0][0], GF_R(10.0));
+        Q[1][0] = memo_next(Q[0][0], GF_R(10.0));
+        if (n > 1u && n / 2u > 0u && n / 2u < n) {
+            R[2][n - 1u] = R[2][(n - 1u) * n] = -GF_R(0.0);
+        } else {
+            R[2][0] = memo_next(R[0][0], GF_R(0.0));
+        }
+        if (m > 1u) {
+            Q[2][m - 1u] = Q[2][(m - 1u) * m] = -GF_R(0.0);
+        } else {
+            Q[2][0] = memo_next(Q[0][0], GF_R(0.0));
+        }
+        R[3][0] = Q[3][0] = (gf_real)NAN;
+        R[4][0] = Q[4][0] = -GF_R(1.0);
+        for (unsigned i = 0; i < n; i++) {
+            mu0[i] = gf_rng_normal(&rng);
+        }
+        memo_cov(&rng, n, 0, S0);
+        gf_kf a, b, c;
+        assert_int_equal(gf_kf_init(&a, n, mu0, S0, &shared), GF_OK);
+        assert_int_equal(gf_kf_init(&b, n, mu0, S0, &fresh), GF_OK);
+        assert_int_equal(gf_kf_init(&c, nc, mu0, Sc, &fresh), GF_OK);
+        for (unsigned step = 0; step < 60u; step++) {
+            // mostly unchanged (memo hits), now and then another matrix
+            const unsigned vr = (step % 7u == 6u) ? step / 7u % 5u : 0u;
+            const unsigned vq = (step % 5u == 4u) ? step / 5u % 5u : 0u;
+            const gf_kf_model mo = {0, A, NULL, R[vr], NULL};
+            const gf_kf_model moc = {0, Ac, NULL, Rc, NULL};
+            const gf_kf_meas me = {m, C, Q[vq], NULL, 0};
+            gf_real z[TN];
+            for (unsigned i = 0; i < m; i++) {
+                z[i] = gf_rng_normal(&rng);
+            }
+            memset(&fresh, 0xa5, sizeof fresh);
+            const gf_status sb = gf_kf_predict(&b, &mo, NULL, &fresh);
+            const gf_status sa = gf_kf_predict(&a, &mo, NULL, &shared);
+            assert_int_equal(sa, sb);
+            assert_true(memo_same(&a, &b));
+            if (step % 3u == 0u) {
+                assert_int_equal(gf_kf_predict(&c, &moc, NULL, &shared), GF_OK);
+            }
+            memset(&fresh, 0xa5, sizeof fresh);
+            const gf_status ub = gf_kf_update(&b, &me, z, NULL, &fresh);
+            const gf_status ua = gf_kf_update(&a, &me, z, NULL, &shared);
+            assert_int_equal(ua, ub);
+            assert_true(memo_same(&a, &b));
+            calls += 2u;
+            refused += (sa != GF_OK) + (ua != GF_OK);
+            // the memo holds this step's Q (if accepted) in one slot
+            for (unsigned t = 0; t < 2u && ua == GF_OK; t++) {
+                held += shared.memo[t].tag == GF_KF_MEMO_TAG + m &&
+                        memcmp(shared.memo[t].s, Q[vq],
+                               m * m * sizeof Q[vq][0]) == 0;
+            }
+        }
+    }
+    print_message("memo: %u calls through a shared workspace the same bit "
+                  "for bit as through a fresh one (%u refused, %u held)\n",
+                  calls, refused, held);
+    assert_true(refused > 0u);
+    assert_true(held > 0u);
+}
+
 // ---- n = 2 and 3: KF2 and EKF3 bit for bit -----------------------------
 
 // The mean and gf_kf_cov's Sigma of kf equal those of a 2- or 3-state
@@ -2452,6 +2599,7 @@ int main(void)
         cmocka_unit_test(random_kf),
         cmocka_unit_test(random_ekf),
         cmocka_unit_test(prepared_same_as_plain),
+        cmocka_unit_test(memo_never_stale),
         cmocka_unit_test(same_as_kf2),
         cmocka_unit_test(same_as_ekf3),
     };

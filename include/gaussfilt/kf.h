@@ -45,14 +45,30 @@ typedef struct gf_kf {
     unsigned char perm[GF_KF_PERM_BYTES];
 } gf_kf;
 
-// The steps' scratch: caller-owned, contents meaningless between calls.
+// A noise covariance judged and factored by a step, kept with its
+// factors so that the next step given bitwise the same matrix reuses them.
+typedef struct gf_kf_memo {
+    unsigned tag;                       // GF_KF_MEMO_TAG + its size, if held
+    gf_real s[GF_KF_NMAX * GF_KF_NMAX]; // the covariance (rows of its size)
+    gf_real F[GF_KF_NMAX * GF_KF_NMAX]; // its factors F diag(d) F^T
+    gf_real d[GF_KF_NMAX];
+    unsigned order[GF_KF_NMAX]; // F's pivot order
+} gf_kf_memo;
+
+#define GF_KF_MEMO_TAG 0x474b0000u
+
+// The steps' scratch: caller-owned, needs no set-up. Between calls it holds
+// only the last two noise covariances the plain steps accepted (R and Q),
+// with their factors: a step given bitwise the same R or Q skips judging
+// and factoring it again (the prepared path's cost, less a comparison).
 typedef struct gf_kf_work {
     gf_kf b;                                // the new belief, until it is whole
     gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX]; // Gram-Schmidt rows
-    gf_real v[GF_KF_NMAX * GF_KF_NMAX];     // noise factors
     gf_real x[GF_KF_NMAX * GF_KF_NMAX];     // Jacobians, whitened rows
     gf_real s[8 * GF_KF_NMAX];              // vectors
     unsigned k[2 * GF_KF_NMAX];             // pivot orders
+    gf_kf_memo memo[2];                     // the last R and Q accepted
+    unsigned memo_next;                     // the slot the next one takes
 } gf_kf_work;
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
-# Another project takes gaussfilt the ways README.md's "Vendoring" shows,
-# each with the README's own text (taken out between its marker comments,
-# so the README cannot drift from what is tested):
+# Another project takes gaussfilt the ways README.md's "Vendoring" and
+# docs/firmware.md's show, each with their own text (taken out between its
+# marker comments, so the docs cannot drift from what is tested):
 #   - the README's examples (KF2, EKF3 with a callback, a 4-state gf_kf) as
 #     C99 and as C++17,
 #     -Wall -Wextra -Wpedantic -Werror, printing what the README says;
@@ -51,17 +51,17 @@ vendor_copy() {
     cp -r src "$1/"
 }
 
-gf_log "consumer: README's CMake snippet, add_subdirectory() of a copy"
+gf_log "consumer: docs/firmware.md's CMake snippet, add_subdirectory() of a copy"
 v=$b/vendored
 mkdir -p "$v/src"
 vendor_copy "$v/src/gaussfilt"
 gf_readme_block vendor-cmake >"$v/src/CMakeLists.txt"
 cp "$b/examples/kf2.c" "$v/src/main.c"
 cmake -S "$v/src" -B "$v/build" -DCMAKE_BUILD_TYPE=Release >"$v/configure.log" 2>&1 ||
-    gf_die "the README's snippet does not configure (see $v/configure.log)"
+    gf_die "the documented CMake snippet does not configure (see $v/configure.log)"
 cmake --build "$v/build" >"$v/build.log" 2>&1 ||
-    gf_die "the README's snippet does not build (see $v/build.log)"
-expect_prints "README snippet" "$v/build/app" kf2
+    gf_die "the documented CMake snippet does not build (see $v/build.log)"
+expect_prints "CMake snippet" "$v/build/app" kf2
 grep -q 'GAUSSFILT_BUILD_TESTS:BOOL=OFF' "$v/build/CMakeCache.txt" ||
     gf_die "add_subdirectory: GAUSSFILT_BUILD_TESTS is not OFF by default"
 cmake --install "$v/build" --prefix "$v/prefix" >/dev/null
@@ -69,16 +69,16 @@ cmake --install "$v/build" --prefix "$v/prefix" >/dev/null
     gf_die "add_subdirectory: the parent's cmake --install installed gaussfilt"
 echo "add_subdirectory(): no tests built, nothing of gaussfilt installed by the parent"
 
-gf_log "consumer: README's host compiler line on copied sources"
+gf_log "consumer: docs/firmware.md's host compiler line on copied sources"
 c=$b/copied
 mkdir -p "$c"
 vendor_copy "$c/gaussfilt"
 line=$(gf_readme_block vendor-cc | sed -n '1,/^$/p' | sed '/^$/d')
-[ "${line%% *}" = cc ] || gf_die "the README's first compiler line is not cc's: $line"
+[ "${line%% *}" = cc ] || gf_die "docs/firmware.md's first compiler line is not cc's: $line"
 echo "$line"
 for ex in kf2 ekf3 kf4; do
     cp "$b/examples/$ex.c" "$c/main.c"
-    (cd "$c" && bash -euc "$line") || gf_die "the README's compiler line failed on the $ex example"
+    (cd "$c" && bash -euc "$line") || gf_die "docs/firmware.md's compiler line failed on the $ex example"
     mv "$c/app" "$c/app-$ex"
     expect_prints "copied sources" "$c/app-$ex" "$ex"
 done

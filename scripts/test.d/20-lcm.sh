@@ -3,14 +3,17 @@
 # Stage lcm: the LCM message types, filter node and simulators (sim/),
 # built against PyPI lcm 1.5 in .venv, and their tests: encode/decode of
 # every type, the node's handling (duplicates, order, malformed, non-finite,
-# track limit), its models and edges (configuration, model_t, range-bearing,
-# channel spelling, sequence resync, PF no_summary), its UKF3 and PF3 robot
-# filters in process, memq:// in process, and real processes over udpm
-# (Tables 1.1, 2.1, 4.2 from the wire, malformed packets, exercise 4
-# through EKF, UKF and PF nodes, log replay, a configured node's NEES/NIS
-# consistency, a run-time model, the Python example on a replayed log, the
-# Java types decoding a demo-like log), in a private network namespace when
-# root.
+# track limit), its models and edges (configuration and its errors' lines,
+# linear models of any size, model_t, range-bearing, channel spelling,
+# sequence resync, PF no_summary, --strict, other nodes' beliefs), its UKF3
+# and PF3 robot filters in process, memq:// in process, and real processes
+# over udpm (Tables 1.1, 2.1, 4.2 from the wire, malformed packets,
+# exercise 4 through EKF, UKF and PF nodes, log replay, configured car,
+# robot and linear (n = 4, 6) nodes' NEES/NIS consistency and scripts/nees
+# on their logs, a run-time model, --strict, two nodes on one track,
+# docs/node.md's quick start as written, the Python example on a replayed
+# log, the Java types decoding a demo-like log), in a private network
+# namespace when root.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$(dirname "$0")/../lcm.sh"

@@ -5,7 +5,9 @@
 # draws every figure, exits 0 and names each table that differs from the
 # book with the option that made it differ; scripts/demo --core with
 # another z and number of steps draws the same figures from the in-process
-# run; scripts/plot draws from the demo's log. Output in build/demo-test/.
+# run; scripts/plot draws from the demo's log, and scripts/nees reads it
+# (the random car's and robot's NEES and NIS against their truth). Output
+# in build/demo-test/.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
@@ -60,13 +62,25 @@ plot() {
         [ -s "$GF_DEMO_OUT/plot/ex4_three_ways.png" ]
 }
 
+nees() {
+    scripts/nees "$GF_DEMO_OUT/gaussfilt-demo.lcmlog" --plot "$GF_DEMO_OUT/nees.png" \
+        >"$GF_DEMO_OUT/nees.out" || { cat "$GF_DEMO_OUT/nees.out"; return 1; }
+    cat "$GF_DEMO_OUT/nees.out"
+    grep -Eq '^track 10 \(car, n=2, m=1\): 100 updates: NEES [0-9.]+ .*; NIS [0-9.]+ ' \
+        "$GF_DEMO_OUT/nees.out" &&
+        grep -Eq '^track 11 \(robot, n=3, m=1\): 100 updates: NEES ' "$GF_DEMO_OUT/nees.out" &&
+        [ -s "$GF_DEMO_OUT/nees.png" ]
+}
+
 if [ "$(id -u)" -eq 0 ]; then
     gf_log "demo: streaming, exercise 2's variance 4 and exercise 4's heading variance 100"
     check demo_changed streaming
     gf_log "demo: scripts/plot on the demo's log"
     check plot_log plot
+    gf_log "demo: scripts/nees on the demo's log"
+    check nees_log nees
 else
-    echo "demo: the streaming demo and scripts/plot on its log are skipped:" \
+    echo "demo: the streaming demo, scripts/plot and scripts/nees on its log are skipped:" \
         "they need root (a private network namespace) here"
 fi
 gf_log "demo: --core, exercise 2's z = 3 after 8 steps"

@@ -7,7 +7,7 @@
 # project takes gaussfilt by add_subdirectory() and links no libm of its own:
 # the gaussfilt target brings it.
 #
-# Then README.md's vendoring routes for a Cortex-M4F, with the README's own
+# Then docs/firmware.md's vendoring routes for a Cortex-M4F, with the page's own
 # text: gaussfilt configured with only the toolchain file (no cmocka, no
 # option); the CMake snippet cross-built (Release and MinSizeRel); and the
 # arm-none-eabi-gcc line on copied sources. Each links a bare-metal image
@@ -59,7 +59,7 @@ grep -q 'GAUSSFILT_BUILD_TESTS:BOOL=OFF' "$b/top/CMakeCache.txt" ||
     gf_die "cross-compiling: GAUSSFILT_BUILD_TESTS is not OFF by default"
 echo "configured and built with defaults: tests and examples off, libgaussfilt.a built"
 
-gf_log "cross: README's CMake snippet, add_subdirectory() of a copy (Cortex-M4F)"
+gf_log "cross: docs/firmware.md's CMake snippet, add_subdirectory() of a copy (Cortex-M4F)"
 v=$b/snippet
 mkdir -p "$v/src/gaussfilt/include"
 cp "$GF_ROOT/CMakeLists.txt" "$v/src/gaussfilt/"
@@ -73,21 +73,21 @@ for type in Release MinSizeRel; do
         -DCMAKE_BUILD_TYPE=$type -DGAUSSFILT_SINGLE_PRECISION=ON \
         -DCMAKE_EXE_LINKER_FLAGS="-nostartfiles -T $ld --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections" \
         >"$v/$type.log" 2>&1 ||
-        gf_die "the README's snippet does not configure for Cortex-M4F (see $v/$type.log)"
+        gf_die "the documented CMake snippet does not configure for Cortex-M4F (see $v/$type.log)"
     cmake --build "$v/$type" >>"$v/$type.log" 2>&1 ||
-        gf_die "the README's snippet does not build for Cortex-M4F at $type (see $v/$type.log)"
-    bare_metal_check "README snippet, Cortex-M4F, $type" "$v/$type/app"
+        gf_die "the documented CMake snippet does not build for Cortex-M4F at $type (see $v/$type.log)"
+    bare_metal_check "CMake snippet, Cortex-M4F, $type" "$v/$type/app"
 done
 
-gf_log "cross: README's arm-none-eabi-gcc line on copied sources"
+gf_log "cross: docs/firmware.md's arm-none-eabi-gcc line on copied sources"
 c=$b/copied
 mkdir -p "$c/gaussfilt/include"
 cp -r "$GF_ROOT/include/gaussfilt" "$c/gaussfilt/include/"
 cp -r "$GF_ROOT/src" "$c/gaussfilt/"
 cp "$GF_ROOT/tests/consumer/bare_metal.c" "$c/main.c"
 line=$(gf_readme_block vendor-cc | sed -n '/^arm-none-eabi-gcc/,/^$/p' | sed '/^$/d')
-[ -n "$line" ] || gf_die "README.md's vendor-cc block has no arm-none-eabi-gcc line"
+[ -n "$line" ] || gf_die "docs/firmware.md's vendor-cc block has no arm-none-eabi-gcc line"
 echo "$line"
 (cd "$c" && STARTUP=$startup LDSCRIPT=$ld bash -euc "$line") ||
-    gf_die "the README's arm-none-eabi-gcc line failed"
-bare_metal_check "copied sources, README's compiler line, Cortex-M4F" "$c/app.elf"
+    gf_die "the docs/firmware.md's arm-none-eabi-gcc line failed"
+bare_metal_check "copied sources, the documented compiler line, Cortex-M4F" "$c/app.elf"

@@ -69,7 +69,7 @@ for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
 done
 
 gf_log "analysis: $(clang-format --version | grep -o 'clang-format version [0-9.]*') over the tree"
-fmt=$(git ls-files -- src include sim tests bench fuzz examples firmware |
+fmt=$(git ls-files -- src include sim tests bench fuzz examples firmware python |
     grep -E '\.(c|h|cpp|hpp)$' || true)
 # shellcheck disable=SC2086
 if clang-format --dry-run --Werror $fmt; then

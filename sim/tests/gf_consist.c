@@ -27,18 +27,48 @@
 
 #include <lcm/lcm.h>
 
-#include "gaussfilt_lcm_belief_t.h"
-#include "gaussfilt_lcm_groundtruth_t.h"
+#include "gf_wire.h"
 #include "trust.h"
 
 #define MAX_RUNS 64
-#define MAX_STEPS 1000
+#define MAX_STEPS 200
+#define NMAX GF_WIRE_NMAX
 
 typedef struct step {
     int have_truth, have_belief;
-    double truth[3];
-    gaussfilt_lcm_belief_t b;
+    double truth[NMAX];
+    gf_wire_belief b;
 } step;
+
+// x^T S^-1 x for S n x n positive definite (Cholesky); NaN if it is not.
+static double quad_form(double s[NMAX][NMAX], const double *x, int n)
+{
+    double l[NMAX][NMAX], y[NMAX], q = 0.0;
+    int i, j, k;
+    for (j = 0; j < n; j++) {
+        double d = s[j][j];
+        for (k = 0; k < j; k++)
+            d -= l[j][k] * l[j][k];
+        if (!(d > 0.0))
+            return (double)NAN;
+        l[j][j] = sqrt(d);
+        for (i = j + 1; i < n; i++) {
+            double v = s[i][j];
+            for (k = 0; k < j; k++)
+                v -= l[i][k] * l[j][k];
+            l[i][j] = v / l[j][j];
+        }
+    }
+    // L y = x, q = |y|^2
+    for (i = 0; i < n; i++) {
+        double v = x[i];
+        for (k = 0; k < i; k++)
+            v -= l[i][k] * y[k];
+        y[i] = v / l[i][i];
+        q += y[i] * y[i];
+    }
+    return q;
+}
 
 typedef struct data {
     long first, runs, steps;
@@ -56,11 +86,10 @@ static step *find(data *d, int32_t track, long t)
 static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
                       void *user)
 {
-    gaussfilt_lcm_belief_t b;
+    gf_wire_belief b;
     step *s;
     (void)channel;
-    if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size,
-                                      &b) != (int)rbuf->data_size)
+    if (gf_wire_belief_decode(rbuf->data, rbuf->data_size, &b) != 0)
         return;
     // step t: control seq 2t - 1, measurement seq 2t
     if (b.stage != GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE || b.input_seq % 2)
@@ -75,16 +104,15 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
 static void on_truth(const lcm_recv_buf_t *rbuf, const char *channel,
                      void *user)
 {
-    gaussfilt_lcm_groundtruth_t g;
+    gf_wire_truth g;
     step *s;
     int i;
     (void)channel;
-    if (gaussfilt_lcm_groundtruth_t_decode(rbuf->data, 0, (int)rbuf->data_size,
-                                           &g) != (int)rbuf->data_size)
+    if (gf_wire_truth_decode(rbuf->data, rbuf->data_size, &g) != 0)
         return;
     s = find(user, g.track, (long)((g.seq + 1) / 2));
     if (s != NULL) {
-        for (i = 0; i < g.n && i < 3; i++)
+        for (i = 0; i < g.n; i++)
             s->truth[i] = g.state[i];
         s->have_truth = 1;
     }
@@ -173,7 +201,7 @@ int main(int argc, char **argv)
     for (r = 0; r < d.runs; r++)
         for (t = skip + 1; t <= d.steps; t++) {
             step *s = &d.s[r][t];
-            double e[3];
+            double e[NMAX];
             int k;
             if (!s->have_truth || !s->have_belief || s->b.status != 0) {
                 fprintf(stderr, "gf_consist: track %ld step %ld: %s\n",
@@ -187,9 +215,9 @@ int main(int argc, char **argv)
             m = s->b.m;
             for (k = 0; k < n; k++)
                 e[k] = s->truth[k] - s->b.mean[k];
-            if (n == 3)
+            if (s->b.model == 2) // the robot's heading
                 e[2] = trust_wrap(e[2]);
-            nees[t] += trust_quad_form(s->b.cov, e, n);
+            nees[t] += quad_form(s->b.cov, e, n);
             nis[t] += s->b.nis;
         }
     ok = judge(label, "NEES", nees, skip + 1, d.steps, d.runs, n, 0);

@@ -71,6 +71,7 @@ int main(int argc, char **argv)
         failed |= lcm_publish(lcm, meas_ch, junk, len);
 
         memset(&b, 0, sizeof(b));
+        b.node = (char *)"";
         b.track = (int32_t)track;
         m.len =
             gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);

@@ -13,6 +13,7 @@
 #include "gaussfilt_lcm_measurement_t.h"
 #include "gaussfilt_lcm_particles_t.h"
 #include "gf_channels.h"
+#include "gf_wire.h"
 
 // Tolerance of the sim tests, relative to max(1, |want|): the node's filter
 // runs in gf_real (as the core's tests: 1e-12 double, 2e-5 float).
@@ -27,7 +28,7 @@
 
 typedef struct gf_msg {
     char channel[GF_CHANNEL_MAX];
-    uint8_t data[256];
+    uint8_t data[64 + 8 * (GF_WIRE_NMAX + GF_WIRE_NMAX * GF_WIRE_NMAX)];
     int len;
 } gf_msg;
 
@@ -36,7 +37,7 @@ static inline gf_msg gf_msg_ctrl(int32_t track, int8_t model, int64_t seq,
                                  int64_t utime, int n, double u0, double u1)
 {
     gf_msg m;
-    gaussfilt_lcm_control_t c;
+    gf_wire_ctrl c;
     memset(&m, 0, sizeof(m));
     memset(&c, 0, sizeof(c));
     c.utime = utime;
@@ -48,18 +49,18 @@ static inline gf_msg gf_msg_ctrl(int32_t track, int8_t model, int64_t seq,
     c.u[1] = u1;
     snprintf(m.channel, sizeof(m.channel), "%s%ld", GF_CHANNEL_CTRL,
              (long)track);
-    m.len = gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof(m.data), &c);
+    m.len = gf_wire_ctrl_encode(m.data, (int)sizeof(m.data), &c);
     return m;
 }
 
-// A measurement of m = 1..3 quantities z with independent variances q of
-// `track`.
+// A measurement of m = 1..GF_WIRE_NMAX quantities z with independent
+// variances q of `track`.
 static inline gf_msg gf_msg_meas_m(int32_t track, int8_t model, int64_t seq,
                                    int64_t utime, int m, const double *z,
                                    const double *q)
 {
     gf_msg msg;
-    gaussfilt_lcm_measurement_t x;
+    gf_wire_meas x;
     memset(&msg, 0, sizeof(msg));
     memset(&x, 0, sizeof(x));
     x.utime = utime;
@@ -73,8 +74,7 @@ static inline gf_msg gf_msg_meas_m(int32_t track, int8_t model, int64_t seq,
     }
     snprintf(msg.channel, sizeof(msg.channel), "%s%ld", GF_CHANNEL_MEAS,
              (long)track);
-    msg.len = gaussfilt_lcm_measurement_t_encode(msg.data, 0,
-                                                 (int)sizeof(msg.data), &x);
+    msg.len = gf_wire_meas_encode(msg.data, (int)sizeof(msg.data), &x);
     return msg;
 }
 
@@ -88,7 +88,7 @@ static inline gf_msg gf_msg_meas(int32_t track, int8_t model, int64_t seq,
 // The beliefs a node published, in order.
 #define GF_SINK_MAX 256
 typedef struct gf_sink {
-    gaussfilt_lcm_belief_t b[GF_SINK_MAX];
+    gf_wire_belief b[GF_SINK_MAX];
     char channel[GF_SINK_MAX][GF_CHANNEL_MAX];
     int n;
     int undecodable;
@@ -99,8 +99,7 @@ static inline void gf_sink_add(gf_sink *s, const char *channel,
 {
     if (s->n >= GF_SINK_MAX)
         return;
-    if (gaussfilt_lcm_belief_t_decode(data, 0, (int)len, &s->b[s->n]) !=
-        (int)len) {
+    if (gf_wire_belief_decode(data, len, &s->b[s->n]) != 0) {
         s->undecodable++;
         return;
     }

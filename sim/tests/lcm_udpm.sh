@@ -25,6 +25,27 @@
 #              all with --config), M = 50 runs of each model streamed by
 #              gf_sim over udpm, every input applied, and the NEES and NIS
 #              of the beliefs consistent (gf_consist, 95% bounds per step)
+#   linear     node_test.conf's linear models (gf_kf): a 2-D constant-
+#              velocity target (n = 4), the same in constant acceleration
+#              (n = 6), a 3-D drone with commanded accelerations (n = 6, B,
+#              m = 3); one node each (--strict), 50 runs of 100 steps,
+#              every input applied, NEES and NIS consistent (gf_consist),
+#              and sim/tools/gf_nees.py finds the same means in the logs,
+#              inside its 95% bounds, and draws them
+#   strict     a configuration error names the file and the key's line;
+#              a --strict node refuses exercise 1's unnamed track 1
+#              (no_model, said once) and runs the configured car on 100; a
+#              node without --strict runs exercise 2 on the preset book-car
+#              and says so (gf_check: Table 2.1)
+#   peers      two nodes (--name a, --name b) on the same tracks: each
+#              warns once that the other publishes beliefs of track 1,
+#              and counts them (peer_beliefs)
+#   quickstart docs/node.md's quick start, its commands as written (the
+#              block between <!-- quickstart --> and <!-- /quickstart -->;
+#              README.md's copy of its commands checked line by line),
+#              run by bash in a folder that holds build/sim/sim/bin, .venv
+#              and examples/: every input applied, none lost before the
+#              node was ready, beliefs.py's 201 beliefs and its plot
 #   model      a node without a configuration; gf_setmodel gives track 150
 #              the car100 model at run time; after it, every belief of the
 #              track (gf_record records them from the wire) equals that of
@@ -159,7 +180,7 @@ replay)
     recorded recorder
     "$bin/gf_logcmp" --prefix GF_ --expect 768 "$work/in.lcmlog"
     for run in a b; do
-        "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" \
+        "$bin/gf_node" --url "file://$work/in.lcmlog?speed=0" --name replay \
             --out-url "file://$work/out-$run.lcmlog?mode=w" | tee "$work/node-$run.out"
         grep -q 'received=518 applied=518 published=523 ' "$work/node-$run.out" ||
             { echo "lcm_udpm: replay $run did not apply all 518 inputs" >&2; exit 1; }
@@ -228,7 +249,7 @@ config)
             --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
         ready "node$k"
     done
-    grep -q 'models=3 config=' "$work/node1.out" ||
+    grep -q 'models=6 config=' "$work/node1.out" ||
         { echo "lcm_udpm: the ready line does not name the models" >&2; exit 1; }
     for spec in car100:1 rover-xy:2 rover-landmark:3; do
         m=${spec%:*} k=${spec#*:}
@@ -260,13 +281,181 @@ config)
             { echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
     done
     ;;
+linear)
+    conf=$(dirname "$0")/node_test.conf
+    runs=50 steps=100
+    models="target2d:4 target2d-ca:5 drone3d:6"
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        start "node$k" "$bin/gf_node" --config "$conf" --strict \
+            --url "$URL&recv_buf_size=4194304" \
+            --channels "GF_(MEAS|CTRL|MODEL)_${k}[0-9][0-9]" \
+            --out-url "file://$work/beliefs-$m.lcmlog?mode=w"
+        ready "node$k"
+    done
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
+            "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
+                --track "${k}00" --runs $runs --steps $steps --seed $k \
+                --session 1 --rate 100
+        done
+    done
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        node_pid=$(eval echo "\$node${k}_pid")
+        kill -TERM "$node_pid"
+        wait "$node_pid" || { echo "lcm_udpm: node $k exit status $?" >&2; exit 1; }
+        summary=$(grep 'gf_node: summary' "$work/node$k.out")
+        echo "node $k: $summary"
+        expect received $((2 * runs * steps))
+        expect applied $((2 * runs * steps))
+        expect gaps 0
+        expect dropped 0
+        expect no_model 0
+        expect tracks $runs
+        grep -q "^gf_node: track ${k}00 (linear, gf_kf): model $m, its channels" \
+            "$work/node$k.out" ||
+            { echo "lcm_udpm: node $k did not say track ${k}00's model" >&2; exit 1; }
+    done
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    tools=$(cd "$(dirname "$0")/../tools" && pwd)
+    for spec in $models; do
+        m=${spec%:*} k=${spec#*:}
+        cons=$("$bin/gf_consist" --url "file://$work/truth-$m.lcmlog?speed=0" \
+            --url "file://$work/beliefs-$m.lcmlog?speed=0" --first "${k}00" \
+            --runs $runs --steps $steps --label "$m") ||
+            { echo "$cons"; echo "lcm_udpm: $m is not consistent through the node" >&2; exit 1; }
+        echo "$cons"
+        # the log tool finds the same means, inside its 95% bounds
+        nees=$(sed -n 's/.* NEES dof=.* mean=\([0-9.]*\) .*/\1/p' <<<"$cons")
+        nis=$(sed -n 's/.* NIS dof=.* mean=\([0-9.]*\) .*/\1/p' <<<"$cons")
+        MPLCONFIGDIR=$work/mpl "$py" "$tools/gf_nees.py" "$work/truth-$m.lcmlog" \
+            "$work/beliefs-$m.lcmlog" --plot "$work/nees-$m.png" >"$work/nees-$m.out"
+        grep '^all ' "$work/nees-$m.out"
+        grep -Eq "^all $runs linear tracks .*: NEES $nees \(95% bounds [0-9.]+\.\.[0-9.]+, inside\); NIS $nis \(95% bounds [0-9.]+\.\.[0-9.]+, inside\)$" \
+            "$work/nees-$m.out" && [ -s "$work/nees-$m.png" ] ||
+            { echo "lcm_udpm: gf_nees.py does not agree with gf_consist on $m" >&2; exit 1; }
+    done
+    ;;
+strict)
+    conf=$(dirname "$0")/node_test.conf
+    printf '[model a]\ntype = linear\nmotion = cv cv\nC = 1 0 0 0\n\nQ = -1\n' \
+        >"$work/bad.conf"
+    if "$bin/gf_node" --config "$work/bad.conf" --url "$URL" 2>"$work/bad.err"; then
+        echo "lcm_udpm: the node started with a bad configuration" >&2
+        exit 1
+    fi
+    cat "$work/bad.err"
+    grep -qxF "gf_node: $work/bad.conf: line 6: model a: Q must be symmetric positive semidefinite (and C finite)" \
+        "$work/bad.err" || { echo "lcm_udpm: the error does not name Q's line" >&2; exit 1; }
+    # 1 initial belief + 10 of the car100 track; Table 2.1 of the preset
+    start check100 "$bin/gf_check" --url "$URL" --count 11 --track 100
+    start check2 "$bin/gf_check" --url "$URL" --table 2.1 --track 2
+    ready check100
+    ready check2
+    start node "$bin/gf_node" --config "$conf" --strict --name strict \
+        --url "$URL" --channels 'GF_(MEAS|CTRL|MODEL)_(1|100)'
+    start lax "$bin/gf_node" --config "$conf" --name lax --url "$URL" \
+        --channels 'GF_(MEAS|CTRL|MODEL)_2'
+    ready node
+    ready lax
+    "$bin/gf_sim" --url "$URL" --exercise 1 --track 1
+    "$bin/gf_sim" --url "$URL" --exercise 2 --track 2
+    "$bin/gf_sim" --url "$URL" --config "$conf" --model car100 --track 100 \
+        --steps 5 --seed 3 --session 1
+    for c in check100 check2; do
+        v=${c}_pid
+        wait "${!v}" || { cat "$work/$c.out"; echo "lcm_udpm: $c failed" >&2; exit 1; }
+    done
+    for n in node lax; do
+        v=${n}_pid
+        kill -TERM "${!v}"
+        wait "${!v}" || { echo "lcm_udpm: $n exit status $?" >&2; exit 1; }
+    done
+    summary=$(grep 'gf_node: summary' "$work/node.out")
+    echo "strict: $summary"
+    expect received 20
+    expect applied 10
+    expect no_model 10
+    [ "$(grep -c 'refused' "$work/node.out")" -eq 1 ] &&
+        grep -qxF 'gf_node: track 1 (car) refused (strict): no configured model'"'"'s channels name GF_MEAS_1 or GF_CTRL_1' \
+            "$work/node.out" &&
+        grep -qxF 'gf_node: track 100 (car): model car100, its channels GF_(MEAS|CTRL|MODEL)_1[0-9][0-9] name it' \
+            "$work/node.out" || { cat "$work/node.out"; echo "lcm_udpm: the strict node's track lines" >&2; exit 1; }
+    summary=$(grep 'gf_node: summary' "$work/lax.out")
+    echo "lax: $summary"
+    expect applied 6
+    grep -qxF 'gf_node: track 2 (car): the preset book-car: no configured model'"'"'s channels name GF_MEAS_2 or GF_CTRL_2 (strict refuses such a track)' \
+        "$work/lax.out" || { cat "$work/lax.out"; echo "lcm_udpm: no preset line" >&2; exit 1; }
+    ;;
+peers)
+    # 11 beliefs of exercise 1's track from each node
+    start recorder "$bin/gf_record" --url "$URL" --channels GF_BELIEF_1 \
+        --count 22 "$work/beliefs.lcmlog"
+    ready recorder
+    for n in a b; do
+        start "node_$n" "$bin/gf_node" --name "$n" --url "$URL"
+        ready "node_$n"
+    done
+    "$bin/gf_sim" --url "$URL" --exercise 1 --track 1
+    recorded recorder
+    wait_line node_a 'warning: node "b" also publishes beliefs of track 1 '
+    wait_line node_b 'warning: node "a" also publishes beliefs of track 1 '
+    for n in a b; do
+        v=node_${n}_pid
+        kill -TERM "${!v}"
+        wait "${!v}" || { echo "lcm_udpm: node $n exit status $?" >&2; exit 1; }
+        summary=$(grep 'gf_node: summary' "$work/node_$n.out")
+        echo "node $n: $summary"
+        expect applied 10
+        grep -Eq ' peer_beliefs=([1-9]|1[01]) ' <<<"$summary" ||
+            { echo "lcm_udpm: node $n counted no peer belief" >&2; exit 1; }
+        [ "$(grep -c 'warning: node' "$work/node_$n.out")" -eq 1 ] ||
+            { echo "lcm_udpm: node $n did not warn exactly once" >&2; exit 1; }
+    done
+    ;;
+quickstart)
+    root=$(cd "$(dirname "$0")/../.." && pwd)
+    venv=$(cd "$lcmbin/../../../.." && pwd)
+    here=$work/clone
+    mkdir -p "$here/build/sim/sim"
+    ln -s "$bin" "$here/build/sim/sim/bin"
+    ln -s "$venv" "$here/.venv"
+    ln -s "$root/examples" "$here/examples"
+    sed -n '/^<!-- quickstart -->$/,/^<!-- \/quickstart -->$/p' "$root/docs/node.md" |
+        sed -n '/^```/,/^```/p' | sed '1d;$d' >"$work/quickstart.sh"
+    [ -s "$work/quickstart.sh" ] || { echo "lcm_udpm: no quick start in docs/node.md" >&2; exit 1; }
+    cat "$work/quickstart.sh"
+    # README.md shows the quick start's commands: each line as here
+    sed -n '/^    B=build\/sim\/sim\/bin$/,/^$/p' "$root/README.md" | sed 's/^    //; /^$/d' >"$work/readme.sh"
+    [ "$(wc -l <"$work/readme.sh")" -ge 3 ] || { echo "lcm_udpm: no quick start in README.md" >&2; exit 1; }
+    while IFS= read -r line; do
+        grep -qxF -- "$line" "$work/quickstart.sh" ||
+            { echo "lcm_udpm: README.md's '$line' is not docs/node.md's quick start" >&2; exit 1; }
+    done <"$work/readme.sh"
+    # outside a namespace, the test's own port instead of LCM's default
+    [ -n "${GF_IN_NETNS:-}" ] || export LCM_DEFAULT_URL=$URL
+    (cd "$here" && MPLCONFIGDIR=$work/mpl timeout 120 bash -e "$work/quickstart.sh") \
+        >"$work/quickstart.out" 2>&1 || { cat "$work/quickstart.out"; echo "lcm_udpm: the quick start failed" >&2; exit 1; }
+    cat "$work/quickstart.out"
+    summary=$(grep 'gf_node: summary' "$here/node.out") ||
+        { echo "lcm_udpm: no node summary in node.out" >&2; exit 1; }
+    expect received 200
+    expect applied 200
+    expect lost_before_first 0
+    grep -q '^201 beliefs$' "$here/beliefs.out" ||
+        { echo "lcm_udpm: beliefs.py did not get 201 beliefs" >&2; exit 1; }
+    grep -q '^drew target.png (201 beliefs, 100 truths)' "$here/beliefs.out" &&
+        [ -s "$here/target.png" ] || { echo "lcm_udpm: no plot with the truth" >&2; exit 1; }
+    ;;
 model)
     conf=$(dirname "$0")/node_test.conf
     # 1 initial belief (the model message's) + 100
     start recorder "$bin/gf_record" --url "$URL" --channels GF_BELIEF_150 \
         --count 101 "$work/beliefs-set.lcmlog"
     ready recorder
-    start node "$bin/gf_node" --url "$URL"
+    start node "$bin/gf_node" --url "$URL" --name n150
     ready node
     # the node's socket keeps the order of sending: the model first
     "$bin/gf_setmodel" --url "$URL" --config "$conf" --model car100 \
@@ -282,7 +471,7 @@ model)
     "$bin/gf_sim" --url "file://$work/in.lcmlog?mode=w" --config "$conf" \
         --model car100 --track 150 --steps 50 --seed 5 --session 1
     "$bin/gf_node" --config "$conf" --url "file://$work/in.lcmlog?speed=0" \
-        --out-url "file://$work/beliefs-conf.lcmlog?mode=w" >"$work/node-conf.out"
+        --name n150 --out-url "file://$work/beliefs-conf.lcmlog?mode=w" >"$work/node-conf.out"
     cat "$work/node-conf.out"
     # 1 initial belief (the model message's) + 100
     "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect 101 \

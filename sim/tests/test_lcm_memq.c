@@ -88,7 +88,7 @@ static int teardown(void **state)
 static void exercises_through_memq(void **state)
 {
     world *w = *state;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     int64_t t;
     int i, found2 = 0, found4 = 0;
     for (t = 1; t <= 5; t++)

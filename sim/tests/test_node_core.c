@@ -73,7 +73,7 @@ static void exercise_2(fixture *f, int32_t track)
 static void table_2_1_in_process(void **state)
 {
     fixture *f = *state;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     const double s = 51.25;
     int i;
     exercise_2(f, 2);
@@ -104,7 +104,7 @@ static void table_2_1_in_process(void **state)
 static void table_4_2_in_process(void **state)
 {
     fixture *f = *state;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     assert_int_equal(feed(f, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
                      GF_NODE_APPLIED);
     assert_int_equal(feed(f, gf_msg_meas(4, GF_ROBOT, 2, 1, -0.7, 0.01)),
@@ -208,6 +208,7 @@ static void malformed_and_type_mismatch(void **state)
         gf_node_handle(&f->node, "GF_MEAS_1", ctrl.data, (size_t)ctrl.len, 0),
         GF_NODE_TYPE_MISMATCH);
     memset(&b, 0, sizeof(b));
+    b.node = (char *)"";
     m.len = gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);
     assert_int_equal(
         gf_node_handle(&f->node, "GF_MEAS_1", m.data, (size_t)m.len, 0),
@@ -231,22 +232,47 @@ static void bad_fields_and_channels(void **state)
     m = gf_msg_meas(1, GF_CAR, 1, 0, 1.0, 10.0);
     snprintf(m.channel, sizeof(m.channel), "GF_MEAS_2");
     assert_int_equal(feed(f, m), GF_NODE_BAD_FIELD);
+    assert_int_equal(feed(f, gf_msg_ctrl(1, 4, 1, 0, 0, 0, 0)),
+                     GF_NODE_BAD_FIELD); // no model 4
     assert_int_equal(feed(f, gf_msg_ctrl(1, 3, 1, 0, 0, 0, 0)),
-                     GF_NODE_BAD_FIELD); // no model 3
+                     GF_NODE_NO_MODEL); // linear: no preset, none named
     assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 0, 1, 0, 0)),
                      GF_NODE_BAD_FIELD); // car takes n = 0 or 2
     assert_int_equal(feed(f, gf_msg_ctrl(1, GF_ROBOT, 1, 0, 0, 0, 0)),
                      GF_NODE_BAD_FIELD); // robot needs u = (d, phi)
     {
-        gaussfilt_lcm_measurement_t z;
-        memset(&z, 0, sizeof(z));
-        z.track = 1;
-        z.model = GF_CAR;
-        z.m = 3;
-        m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0,
-                                                   (int)sizeof(m.data), &z);
-        snprintf(m.channel, sizeof(m.channel), "GF_MEAS_1");
+        const double z3[3] = {1, 2, 3}, q3[3] = {1, 1, 1};
+        m = gf_msg_meas_m(1, GF_CAR, 1, 0, 3, z3, q3);
         assert_int_equal(feed(f, m), GF_NODE_BAD_FIELD); // m = 3
+    }
+    {
+        // m = 13 (beyond GF_NODE_NMAX), a whole message: bad_field; the
+        // same bytes with m = -1: malformed
+        static uint8_t big[64 + 8 * (13 + 169)];
+        double z[13], q[13][13], *rows[13];
+        gaussfilt_lcm_measurement_t x;
+        int len, k;
+        memset(&x, 0, sizeof(x));
+        memset(q, 0, sizeof q);
+        for (k = 0; k < 13; k++) {
+            z[k] = k;
+            q[k][k] = 1.0;
+            rows[k] = q[k];
+        }
+        x.track = 1;
+        x.model = 3;
+        x.m = 13;
+        x.z = z;
+        x.q = rows;
+        len = gaussfilt_lcm_measurement_t_encode(big, 0, (int)sizeof big, &x);
+        assert_true(len > 0);
+        assert_int_equal(
+            gf_node_handle(&f->node, "GF_MEAS_1", big, (size_t)len, 0),
+            GF_NODE_BAD_FIELD);
+        big[8 + 8 + 8 + 8 + 4 + 1] = 0xff; // m = -1
+        assert_int_equal(
+            gf_node_handle(&f->node, "GF_MEAS_1", big, (size_t)len, 0),
+            GF_NODE_MALFORMED);
     }
     assert_int_equal(f->node.ntracks, 0);
     // A track keeps its model.
@@ -270,7 +296,7 @@ static void bad_fields_and_channels(void **state)
                      GF_NODE_UNKNOWN_CHANNEL);
     assert_int_equal(gf_node_handle(&f->node, NULL, m.data, (size_t)m.len, 0),
                      GF_NODE_UNKNOWN_CHANNEL);
-    assert_int_equal(f->node.counts.by_result[GF_NODE_BAD_FIELD], 6);
+    assert_int_equal(f->node.counts.by_result[GF_NODE_BAD_FIELD], 7);
     assert_int_equal(f->node.counts.by_result[GF_NODE_UNKNOWN_CHANNEL], 5);
     check_counts(&f->node);
 }
@@ -279,7 +305,7 @@ static void nonfinite_reported_nothing_changed(void **state)
 {
     fixture *f = *state;
     gf_node_track before;
-    const gaussfilt_lcm_belief_t *prev, *b;
+    const gf_wire_belief *prev, *b;
     int n;
     exercise_2(f, 2);
     memcpy(&before, gf_node_find(&f->node, 2), sizeof(before));
@@ -339,12 +365,14 @@ static gf_msg in_session(gf_msg m, int64_t session)
         c.session = session;
         m.len =
             gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof(m.data), &c);
+        gaussfilt_lcm_control_t_decode_cleanup(&c);
     } else {
         assert_int_equal(
             gaussfilt_lcm_measurement_t_decode(m.data, 0, m.len, &z), m.len);
         z.session = session;
         m.len = gaussfilt_lcm_measurement_t_encode(m.data, 0,
                                                    (int)sizeof(m.data), &z);
+        gaussfilt_lcm_measurement_t_decode_cleanup(&z);
     }
     return m;
 }
@@ -355,7 +383,7 @@ static gf_msg in_session(gf_msg m, int64_t session)
 static void simulator_restart_resyncs(void **state)
 {
     fixture *f = *state;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     const gf_node_track *t;
     gf_kf2 before;
     assert_int_equal(

@@ -117,7 +117,7 @@ static void options_parse(void **state)
 static void ukf_exercise_4(void **state)
 {
     fixture *f = fresh(GF_NODE_FILTER_UKF, 1);
-    const gaussfilt_lcm_belief_t *b = f->c.sink.b;
+    const gf_wire_belief *b = f->c.sink.b;
     int i;
     (void)state;
     exercise_4(f, 4);
@@ -137,7 +137,7 @@ static void ukf_exercise_4(void **state)
 static void pf_exercise_4(void **state)
 {
     fixture *f = fresh(GF_NODE_FILTER_PF, 1);
-    const gaussfilt_lcm_belief_t *b = f->c.sink.b;
+    const gf_wire_belief *b = f->c.sink.b;
     const gaussfilt_lcm_particles_t *c = f->c.cloud;
     int i;
     (void)state;

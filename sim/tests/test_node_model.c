@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The node's models as data (node_model.h) and its edges (node_core.h), in
-// process: the configuration file and its errors, a run-time model_t
+// process: the configuration file and its errors (each naming the line of
+// the key at fault), linear models (dt-built axes, a track against gf_kf
+// run directly), strict refusal, another node's beliefs, a run-time model_t
 // between two steps against the core run directly with the new model, the
 // range-bearing measurement against the core with a callback written
 // here, one channel spelling per track, sequence resync at the range's
@@ -174,13 +176,13 @@ static void config_errors(void **state)
         const char *text, *err;
     } bad[] = {
         {"dt = 1\n", "line 1: a key before the first [model NAME]"},
-        {"[model a]\ntype = boat\n", "line 2: type is car or robot"},
+        {"[model a]\ntype = boat\n", "line 2: type is car, robot or linear"},
         {"[model a]\ndt = 1\n", "line 2: type or base first"},
         {"[model a]\ntype = car\nspeed = 3\n", "line 3: unknown key speed"},
         {"[model a]\ntype = car\ndt = 0\n",
-         "line 1: model a: dt must be a finite number > 0"},
+         "line 3: model a: dt must be a finite number > 0"},
         {"[model a]\ntype = car\nprior_cov = 1 2 3 1\n",
-         "line 1: model a: prior_cov must be symmetric positive semidefinite"},
+         "line 3: model a: prior_cov must be symmetric positive semidefinite"},
         {"[model a]\ntype = robot\nprior_cov = 1 1\n",
          "line 3: prior_cov takes 3 or 9 numbers"},
         {"[model a]\ntype = robot\nodometry = 1 2 3\n",
@@ -190,7 +192,7 @@ static void config_errors(void **state)
         {"[model a]\ntype = car\nlandmark = 1 2\n",
          "line 3: a car has no landmark"},
         {"[model a]\ntype = car\nchannels = GF_(\n",
-         "line 1: model a: bad channels regex GF_("},
+         "line 3: model a: bad channels regex GF_("},
         {"[model a]\ntype = car\n[model a]\n", "line 3: model a defined twice"},
         {"[model a]\nbase = nothing\n", "line 2: no model nothing before this"},
         {"[model a]\ntype = car\ndt = 1x\n", "line 3: dt takes 1 number"},
@@ -218,7 +220,7 @@ static void model_between_steps(void **state)
     gf_kf2_model mot;
     gf_kf2_meas meas;
     gf_vec2 z;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     const double dt = 0.1, q = 2.0;
     const gf_vec2 mu0 = {{GF_R(0.0), GF_R(0.0)}};
     const gf_mat2 sigma0 = {{{GF_R(0.0), GF_R(0.0)}, {GF_R(0.0), GF_R(0.0)}}};
@@ -350,7 +352,7 @@ static void range_bearing(void **state)
                              {GF_R(0.0), GF_R(0.02), GF_R(0.0)},
                              {GF_R(0.0), GF_R(0.0), GF_R(0.03)}}};
     gf_mat3 sigma;
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     double vd = 0.0025, vp = 0.0001 * 0.2 * 0.2, c = cos(0.5), s = sin(0.5);
     int i, j;
     (void)state;
@@ -470,7 +472,7 @@ static void sequence_resync(void **state)
 
 static void pf_no_summary(void **state)
 {
-    const gaussfilt_lcm_belief_t *b;
+    const gf_wire_belief *b;
     const gf_node_track *t;
     char line[1024];
     (void)state;
@@ -509,6 +511,7 @@ static void pf_no_summary(void **state)
         c.session = 2;
         m.len =
             gaussfilt_lcm_control_t_encode(m.data, 0, (int)sizeof m.data, &c);
+        gaussfilt_lcm_control_t_decode_cleanup(&c);
         assert_int_equal(feed(m), GF_NODE_APPLIED);
     }
     b = &fx.c.sink.b[fx.c.sink.n - 1];
@@ -516,6 +519,337 @@ static void pf_no_summary(void **state)
     assert_true(isfinite(b->mean[0]));
     assert_true(gf_node_summary(&fx.node, line, sizeof line) > 0);
     assert_non_null(strstr(line, " no_summary=2"));
+}
+
+// ---- linear models --------------------------------------------------------
+
+// The node's log lines, kept.
+typedef struct said_ {
+    char line[8][256];
+    int n;
+} said_;
+
+static void keep_line(void *ctx, const char *line)
+{
+    said_ *s = ctx;
+    if (s->n < 8)
+        snprintf(s->line[s->n], sizeof s->line[0], "%s", line);
+    s->n++;
+}
+
+static const char linear_conf[] =
+    "[model cvca]\n"
+    "type = linear\n"
+    "channels = GF_(MEAS|CTRL|MODEL)_4[0-9][0-9]\n"
+    "motion = cv ca\n"
+    "dt = 0.5\n"
+    "accel_var = 2 3\n"
+    "C = 1 0 0 0 0 ; 0 0 1 0 0\n"
+    "Q = 0.09 0.04\n"
+    "prior_cov = 1 1 1 1 1\n"
+    "[model pushed]\n"
+    "type = linear\n"
+    "channels = GF_(MEAS|CTRL)_5[0-9][0-9]\n"
+    "n = 2\n"
+    "A = 1 0.1 ; 0 1\n"
+    "B = 0.005 ; 0.1\n"
+    "R = 0.001 0.0005 0.0005 0.002\n"
+    "C = 1 0\n"
+    "Q = 0.25\n"
+    "prior_mean = 1 -1\n"
+    "prior_cov = 0.5 0.1 0.1 0.3\n"
+    "gate = 9\n"
+    "[model pushed2]\n"
+    "base = pushed\n"
+    "channels = GF_(MEAS|CTRL)_6[0-9][0-9]\n"
+    "Q = 4\n";
+
+static void linear_config(void **state)
+{
+    static gf_node_config cfg;
+    char err[160];
+    const gf_node_model *m;
+    const gf_node_linear *l;
+    const double dt = 0.5, h = 0.5 * dt * dt;
+    // cv block (x, vx): A = ((1, dt), (0, 1)), R = 2 g g^T, g = (h, dt);
+    // ca block (y, vy, ay): A = ((1, dt, h), (0, 1, dt), (0, 0, 1)),
+    // R = 3 g g^T, g = (h, dt, 1)
+    const double A[25] = {1,  dt, 0, 0, 0, 0, 1,  0, 0, 0, 0, 0, 1,
+                          dt, h,  0, 0, 0, 1, dt, 0, 0, 0, 0, 1};
+    const double g[5] = {h, dt, h, dt, 1}, q[5] = {2, 2, 3, 3, 3};
+    unsigned i, j;
+    (void)state;
+    assert_int_equal(gf_node_config_parse(&cfg, linear_conf, err, sizeof err),
+                     0);
+    m = gf_node_config_named(&cfg, 401, GF_NODE_KIND_LINEAR);
+    assert_non_null(m);
+    assert_string_equal(m->name, "cvca");
+    l = m->lin;
+    assert_int_equal(l->n, 5);
+    assert_int_equal(l->m, 2);
+    assert_int_equal(l->nu, 0);
+    for (i = 0; i < 5; i++)
+        for (j = 0; j < 5; j++) {
+            int same = (i < 2) == (j < 2);
+            check_close(l->A[i * 5 + j], A[i * 5 + j]);
+            check_close(l->R[i * 5 + j], same ? q[i] * g[i] * g[j] : 0.0);
+        }
+    check_close(l->C[0 * 5 + 0], 1.0);
+    check_close(l->C[1 * 5 + 2], 1.0);
+    check_close(l->Q[3], 0.04);
+    // explicit numbers, B, and a model on its base with its own Q
+    m = gf_node_config_named(&cfg, 650, GF_NODE_KIND_LINEAR);
+    assert_non_null(m);
+    assert_string_equal(m->name, "pushed2");
+    assert_int_equal(m->lin->nu, 1);
+    check_close(m->lin->B[1], 0.1);
+    check_close(m->lin->Q[0], 4.0);
+    check_close(gf_node_config_find(&cfg, "pushed")->lin->Q[0], 0.25);
+    check_close(m->gate, 9.0);
+    // no preset stands in for a linear track
+    assert_null(gf_node_config_lookup(&cfg, 7, GF_NODE_KIND_LINEAR));
+    assert_null(gf_node_config_named(&cfg, 7, GF_NODE_KIND_CAR));
+    gf_node_config_free(&cfg);
+}
+
+static void linear_errors(void **state)
+{
+    static const struct {
+        const char *text, *err;
+    } bad[] = {
+        {"[model a]\ntype = linear\nA = 1\n", "line 3: n (or motion) first"},
+        {"[model a]\ntype = linear\nn = 2\nA = 1 0 0\n",
+         "line 4: A takes 4 numbers (n = 2)"},
+        {"[model a]\ntype = linear\nn = 13\n",
+         "line 3: n takes a number 1..12"},
+        {"[model a]\ntype = linear\nn = 2\nQ = 1\n",
+         "line 4: Q after C (its rows give m)"},
+        {"[model a]\ntype = linear\nn = 2\naccel_var = 1\n",
+         "line 4: accel_var needs motion first"},
+        {"[model a]\ntype = linear\nmotion = cv xx\n",
+         "line 3: motion takes axes: cv (position, velocity) or ca "
+         "(position, velocity, acceleration)"},
+        {"[model a]\ntype = linear\nodometry = 1 2 3 4\n",
+         "line 3: a linear model has no odometry"},
+        {"[model a]\ntype = linear\nn = 2\nC = 1 0 0\n",
+         "line 4: C takes m*n numbers, one row of n = 2 per measured quantity "
+         "(m <= n)"},
+        // found when the section ends: the line of the key at fault
+        {"[model a]\ntype = linear\nn = 2\nR = 1 2 3 1\nC = 1 0\nQ = 1\n",
+         "line 4: model a: R must be symmetric positive semidefinite (and A, "
+         "B, R finite)"},
+        {"[model a]\ntype = linear\nn = 2\nC = 1 0\n\nQ = -1\n",
+         "line 6: model a: Q must be symmetric positive semidefinite (and C "
+         "finite)"},
+        {"[model a]\ntype = linear\nn = 2\nC = 1 0\nprior_cov = 1 -1\n",
+         "line 5: model a: prior_cov must be symmetric positive semidefinite "
+         "(as gf_kf_init takes it)"},
+        {"[model a]\ntype = linear\nn = 2\n",
+         "line 2: model a: C: a linear model measures 1 to n quantities (C = "
+         "m*n numbers)"},
+        {"[model a]\ntype = linear\nmotion = cv\nA = 1 0 0 1\nC = 1 0\n",
+         "line 4: model a: A or motion, not both"},
+        // a key the model keeps from its base: the base line
+        {"[model a]\ntype = car\n[model b]\nbase = a\n# x\ndt = 0\n",
+         "line 6: model b: dt must be a finite number > 0"},
+        {"[model a]\ntype = car\nmeasure = position\n[model b]\nbase = a\n"
+         "meas_cov = -1\n",
+         "line 6: model b: meas_cov must be symmetric positive semidefinite"},
+    };
+    static gf_node_config cfg;
+    char err[200];
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        if (gf_node_config_parse(&cfg, bad[i].text, err, sizeof err) == 0)
+            fail_msg("no error for %s", bad[i].text);
+        if (strcmp(err, bad[i].err) != 0)
+            fail_msg("for %s\n said: %s\n want: %s", bad[i].text, err,
+                     bad[i].err);
+        gf_node_config_free(&cfg);
+    }
+}
+
+static const gf_node_model *named_lookup(const void *ctx, int32_t id,
+                                         int8_t kind)
+{
+    return gf_node_config_named((const gf_node_config *)ctx, id, kind);
+}
+
+// A linear track through the node equals gf_kf run directly with the
+// model's A, B, R, C and the measurement's z, Q; its first input after
+// two never seen is counted and said.
+static void linear_track(void **state)
+{
+    static gf_node_config cfg;
+    static gf_node node;
+    static catch_ c;
+    static gf_kf_work work;
+    said_ said;
+    char err[160], line[1024];
+    gf_kf kf;
+    const gf_real mu0[2] = {GF_R(1.0), GF_R(-1.0)},
+                  P0[4] = {GF_R(0.5), GF_R(0.1), GF_R(0.1), GF_R(0.3)},
+                  A[4] = {GF_R(1.0), GF_R(0.1), GF_R(0.0), GF_R(1.0)},
+                  B[2] = {GF_R(0.005), GF_R(0.1)},
+                  R[4] = {GF_R(0.001), GF_R(0.0005), GF_R(0.0005), GF_R(0.002)},
+                  C[2] = {GF_R(1.0), GF_R(0.0)}, Q[1] = {GF_R(0.3)};
+    const gf_real u[1] = {GF_R(2.0)}, z[1] = {GF_R(1.4)};
+    gf_kf_model km = {1, A, B, R, NULL};
+    gf_kf_meas mm = {1, C, Q, NULL, GF_R(9.0)};
+    gf_kf_innovation info;
+    gf_real sigma[4];
+    const gf_wire_belief *b;
+    const double zq = 0.3, zz = 1.4;
+    unsigned i, j;
+    (void)state;
+    memset(&c, 0, sizeof c);
+    memset(&said, 0, sizeof said);
+    assert_int_equal(gf_node_config_parse(&cfg, linear_conf, err, sizeof err),
+                     0);
+    gf_node_init(&node, on_publish, &c);
+    gf_node_set_models(&node, named_lookup, &cfg);
+    gf_node_set_log(&node, keep_line, &said);
+    gf_node_set_id(&node, "test-node");
+    // seq 3 first: 1 and 2 never arrived
+    {
+        gf_msg m = gf_msg_ctrl(500, 3, 3, 100, 1, 2.0, 0.0);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_APPLIED);
+        m = gf_msg_meas_m(500, 3, 4, 100, 1, &zz, &zq);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_APPLIED);
+        // m = 2 for a model of m = 1; a control of 2 for nu = 1
+        m = msg_meas2(500, 3, 5, 100, 1, 1, 1, 1);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_BAD_FIELD);
+        m = gf_msg_ctrl(500, 3, 5, 100, 2, 2.0, 0.0);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_BAD_FIELD);
+        // a linear track nothing names: refused, said once
+        m = gf_msg_ctrl(7, 3, 1, 0, 0, 0, 0);
+        for (i = 0; i < 2; i++)
+            assert_int_equal(
+                gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                GF_NODE_NO_MODEL);
+    }
+    assert_int_equal(gf_kf_init(&kf, 2, mu0, P0, &work), GF_OK);
+    assert_int_equal(gf_kf_predict(&kf, &km, u, &work), GF_OK);
+    assert_int_equal(gf_kf_update(&kf, &mm, z, &info, &work), GF_OK);
+    assert_int_equal(gf_kf_cov(&kf, sigma), GF_OK);
+    assert_int_equal(c.sink.n, 3); // init, predict, update
+    b = &c.sink.b[2];
+    assert_string_equal(b->node, "test-node");
+    assert_int_equal(b->model, 3);
+    assert_int_equal(b->filter, GAUSSFILT_LCM_BELIEF_T_FILTER_KF);
+    assert_int_equal(b->n, 2);
+    assert_int_equal(b->m, 1);
+    for (i = 0; i < 2; i++) {
+        check_close(b->mean[i], (double)kf.mu[i]);
+        for (j = 0; j < 2; j++)
+            check_close(b->cov[i][j], (double)sigma[i * 2 + j]);
+    }
+    check_close(b->innovation[0], (double)info.y[0]);
+    check_close(b->nis, (double)info.nis);
+    assert_int_equal(node.counts.lost_before_first, 2);
+    assert_int_equal(said.n, 3);
+    assert_string_equal(said.line[0],
+                        "track 500 (linear, gf_kf): model pushed, its "
+                        "channels GF_(MEAS|CTRL)_5[0-9][0-9] name it");
+    assert_string_equal(said.line[1],
+                        "track 500: its first input has seq 3: 2 earlier "
+                        "inputs never reached this node (sent before it was "
+                        "ready?)");
+    assert_string_equal(said.line[2],
+                        "track 7 (linear) refused: no configured linear "
+                        "model's channels name GF_MEAS_7 or GF_CTRL_7 (a "
+                        "linear track has no preset)");
+    assert_true(gf_node_summary(&node, line, sizeof line) > 0);
+    assert_non_null(strstr(line, " lost_before_first=2 "));
+    assert_non_null(strstr(line, " no_model=2"));
+    gf_node_config_free(&cfg);
+}
+
+// --strict refuses what no pattern names (said once per track); without
+// it the preset runs, and says so. Another node's belief of one of its
+// tracks is counted and warned about once.
+static void strict_and_peers(void **state)
+{
+    static gf_node node;
+    static catch_ c;
+    said_ said;
+    gf_msg m;
+    uint8_t buf[512];
+    gaussfilt_lcm_belief_t b;
+    int len, strict;
+    (void)state;
+    for (strict = 1; strict >= 0; strict--) {
+        memset(&c, 0, sizeof c);
+        memset(&said, 0, sizeof said);
+        gf_node_init(&node, on_publish, &c);
+        gf_node_set_models(&node, named_lookup, &fx.cfg);
+        gf_node_set_log(&node, keep_line, &said);
+        gf_node_set_strict(&node, strict);
+        m = gf_msg_ctrl(7, GF_CAR, 1, 0, 0, 0, 0);
+        {
+            gf_node_result r1 =
+                gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0);
+            m = gf_msg_ctrl(7, GF_CAR, 2, 1, 0, 0, 0);
+            gf_node_result r2 =
+                gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0);
+            assert_int_equal(r1, strict ? GF_NODE_NO_MODEL : GF_NODE_APPLIED);
+            assert_int_equal(r2, strict ? GF_NODE_NO_MODEL : GF_NODE_APPLIED);
+        }
+        m = gf_msg_ctrl(150, GF_CAR, 1, 0, 0, 0, 0);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_APPLIED);
+        assert_int_equal(said.n, 2);
+        assert_string_equal(
+            said.line[0],
+            strict ? "track 7 (car) refused (strict): no configured model's "
+                     "channels name GF_MEAS_7 or GF_CTRL_7"
+                   : "track 7 (car): the preset book-car: no configured "
+                     "model's channels name GF_MEAS_7 or GF_CTRL_7 (strict "
+                     "refuses such a track)");
+        assert_string_equal(said.line[1],
+                            "track 150 (car): model car100, its channels "
+                            "GF_(MEAS|CTRL|MODEL)_1[0-9][0-9] name it");
+        assert_int_equal(node.counts.by_result[GF_NODE_NO_MODEL],
+                         strict ? 2 : 0);
+    }
+    // peers: this node is "me"; beliefs of track 150 from "other"
+    gf_node_set_id(&node, "me");
+    memset(&b, 0, sizeof b);
+    b.track = 150;
+    b.node = (char *)"other";
+    len = gaussfilt_lcm_belief_t_encode(buf, 0, (int)sizeof buf, &b);
+    assert_true(len > 0);
+    assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 1);
+    assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 1);
+    assert_int_equal(node.counts.peer_beliefs, 2);
+    assert_int_equal(said.n, 3); // once per track
+    assert_string_equal(said.line[2],
+                        "warning: node \"other\" also publishes beliefs of "
+                        "track 150 (this node is \"me\"): two nodes filter "
+                        "the same track; give each its own tracks "
+                        "(--channels)");
+    // its own, a track it does not hold, junk: not counted
+    b.node = (char *)"me";
+    len = gaussfilt_lcm_belief_t_encode(buf, 0, (int)sizeof buf, &b);
+    assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 0);
+    b.node = (char *)"other";
+    b.track = 151;
+    len = gaussfilt_lcm_belief_t_encode(buf, 0, (int)sizeof buf, &b);
+    assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 0);
+    assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len - 1), 0);
+    buf[0] ^= 1;
+    assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 0);
+    assert_int_equal(node.counts.peer_beliefs, 2);
 }
 
 int main(void)
@@ -528,6 +862,10 @@ int main(void)
         cmocka_unit_test_setup_teardown(one_channel_spelling, setup, teardown),
         cmocka_unit_test_setup_teardown(sequence_resync, setup, teardown),
         cmocka_unit_test_setup_teardown(pf_no_summary, setup, teardown),
+        cmocka_unit_test(linear_config),
+        cmocka_unit_test(linear_errors),
+        cmocka_unit_test(linear_track),
+        cmocka_unit_test_setup_teardown(strict_and_peers, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,9 +20,10 @@ writes PNGs (the figures of a changed exercise say its own numbers):
                           (42) and particle filter (43, beliefs and the
                           particle clouds of GF_PARTICLES_43)
 
-Ellipses are computed here from the covariances on the wire (eigenvectors of
-the 2-D marginal, k^2 = -2 ln(1 - 0.68)), the same construction as the core's
-gf_cov2_ellipse, which gf_check prints for Table 1.1.
+Ellipses, marginals and correlations are computed from the covariances on
+the wire by the library itself (gf_cov2_ellipse, gf_cov2_marginal and
+gf_cov2_correlation through the Python package gaussfilt, float64;
+docs/python.md), not by a second implementation here.
 """
 import math
 import os
@@ -35,6 +36,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Ellipse  # noqa: E402
+
+import gaussfilt  # noqa: E402
+from gaussfilt import float64 as gf  # noqa: E402
 
 # belief_t's stages (lcm_types/belief_t.lcm)
 STAGE_INIT, STAGE_PREDICT, STAGE_UPDATE = 0, 1, 2
@@ -106,18 +110,19 @@ def read(path, clouds=None, meas=None):
 
 
 def marginal(b, i, j):
-    c = b.cov
-    return np.array([[c[i][i], c[i][j]], [c[j][i], c[j][j]]])
+    """The 2x2 covariance of states i and j of belief b (gf_cov2_marginal
+    for a 3-state belief)."""
+    c = np.array(b.cov, dtype=float)
+    if c.shape == (3, 3):
+        return gf.marginal(c, i, j)
+    return c[np.ix_([i, j], [i, j])]
 
 
 def ellipse(ax, b, i=0, j=1, fill_alpha=0.0, **kw):
-    """The 68% ellipse of the (i, j) marginal of belief b; a dot if it is
-    degenerate in both axes. Returns its semi-axes (a >= b)."""
-    s = marginal(b, i, j)
-    lam, vec = np.linalg.eigh(s)
-    lam = np.clip(lam, 0.0, None)
-    a, bb = K * math.sqrt(lam[1]), K * math.sqrt(lam[0])
-    angle = math.degrees(math.atan2(vec[1, 1], vec[0, 1]))
+    """The 68% ellipse of the (i, j) marginal of belief b (gf_cov2_ellipse);
+    a dot if it is degenerate in both axes. Returns its semi-axes (a >= b)."""
+    a, bb, angle = gf.ellipse(marginal(b, i, j), P)
+    angle = math.degrees(angle)
     centre = (b.mean[i], b.mean[j])
     colour = kw.pop("edgecolor", "k")
     label = kw.pop("label", None)
@@ -134,10 +139,12 @@ def ellipse(ax, b, i=0, j=1, fill_alpha=0.0, **kw):
 
 
 def rho(b):
-    s00, s11 = b.cov[0][0], b.cov[1][1]
-    if s00 <= 0.0 or s11 <= 0.0:
-        return float("nan")  # undefined (t = 0)
-    return b.cov[0][1] / math.sqrt(s00 * s11)
+    """The correlation of states 0 and 1 (gf_cov2_correlation); nan where
+    it is undefined (t = 0: both variances zero)."""
+    try:
+        return gf.correlation(marginal(b, 0, 1))
+    except gaussfilt.Undefined:
+        return float("nan")
 
 
 def car_ellipses(ax, bs, colours, lo=0.1, hi=0.85):

@@ -26,7 +26,10 @@ trap gf_procs_cleanup EXIT
 start() {
     local name=$1
     shift
-    "$@" >"$GF_PROC_DIR/$name.out" 2>&1 &
+    # emptied here, before the job starts: a ready line left by an earlier
+    # process of the same name must not pass for this one's
+    : >"$GF_PROC_DIR/$name.out"
+    "$@" >>"$GF_PROC_DIR/$name.out" 2>&1 &
     gf_pids+=($!)
     printf -v "${name}_pid" '%s' $!
 }

@@ -97,6 +97,7 @@ int main(int argc, char **argv)
             for (k = 0; k < tracks; k++) {
                 gaussfilt_lcm_control_t c;
                 gaussfilt_lcm_measurement_t z;
+                double z0, q00 = 10.0, *q0 = &q00; // m = 1
                 int len;
                 double a = noise();
                 x[k][0] += x[k][1] + 0.5 * a;
@@ -117,8 +118,9 @@ int main(int argc, char **argv)
                 z.track = c.track;
                 z.model = c.model;
                 z.m = 1;
-                z.z[0] = x[k][0] + sqrt(10.0) * noise();
-                z.q[0][0] = 10.0;
+                z0 = x[k][0] + sqrt(10.0) * noise();
+                z.z = &z0;
+                z.q = &q0;
                 snprintf(ch, sizeof(ch), "%s%ld", GF_CHANNEL_MEAS, first + k);
                 len =
                     gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof(buf), &z);

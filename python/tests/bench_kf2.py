@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""The package's speed, printed (never asserted): KF2 on the C benchmark's
+workload (Table 1.1's car, a position measurement of variance 10 at every
+step; python/tests/replay/replay.c --bench-kf2 is the C loop):
+
+- the C loop, ns per predict + update (gf_replay --bench-kf2);
+- the package, one predict and one update call per step, and its
+  overhead over the C step;
+- the package's batch entry, KF2.run, over arrays of z;
+- FilterPy's KalmanFilter, predict + update, on the same workload.
+
+    python python/tests/bench_kf2.py [--replay PATH_TO_gf_replay] [--steps N]
+
+scripts/bench-python builds gf_replay (double) and runs this.
+"""
+import argparse
+import subprocess
+import time
+
+import numpy as np
+
+from gaussfilt import float64 as gf
+
+
+def best_of(fn, repeat=5):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--replay", help="gf_replay (double) for the C loop")
+    ap.add_argument("--steps", type=int, default=200000)
+    a = ap.parse_args()
+    N = a.steps
+    z = (np.arange(N) % 17 - 8.0).reshape(N, 1)
+
+    car = gf.KF2Model(A=[[1, 1], [0, 1]], R=[[0.25, 0.5], [0.5, 1]])
+    gps = gf.KF2Meas(C=[[1, 0]], Q=[[10]])
+    zs = [np.array(r) for r in z]
+
+    def steps():
+        kf = gf.KF2([0, 0], np.eye(2))
+        predict, update = kf.predict, kf.update
+        for zk in zs:
+            predict(car)
+            update(gps, zk)
+
+    def batch():
+        gf.KF2([0, 0], np.eye(2)).run(car, gps, z=z)
+
+    c_ns = None
+    if a.replay:
+        out = subprocess.run([a.replay, "--bench-kf2", str(N)], check=True,
+                             capture_output=True, text=True).stdout
+        c_ns = min(float(subprocess.run(
+            [a.replay, "--bench-kf2", str(N)], check=True, capture_output=True,
+            text=True).stdout.split(":")[1].split()[0]) for _ in range(5))
+        print(out.strip())
+    py_ns = best_of(steps) / N * 1e9
+    batch_ns = best_of(batch) / N * 1e9
+
+    from filterpy.kalman import KalmanFilter
+    fk = KalmanFilter(dim_x=2, dim_z=1)
+    fk.F = np.array([[1.0, 1], [0, 1]])
+    fk.Q = np.array([[0.25, 0.5], [0.5, 1]])   # FilterPy's Q: process noise
+    fk.H = np.array([[1.0, 0]])
+    fk.R = np.array([[10.0]])                   # FilterPy's R: measurement
+    M = min(N, 20000)
+
+    def filterpy_steps():
+        fk.x, fk.P = np.zeros(2), np.eye(2)
+        for zk in zs[:M]:
+            fk.predict()
+            fk.update(zk)
+    fp_ns = best_of(filterpy_steps, 3) / M * 1e9
+
+    print("KF2, predict + update, %d steps (best of 5):" % N)
+    if c_ns is not None:
+        print("  C loop (gf_replay --bench-kf2)   %8.3f us per step" % (c_ns / 1e3))
+    print("  Python, a call each              %8.3f us per step" % (py_ns / 1e3))
+    if c_ns is not None:
+        print("    its overhead over the C step   %8.3f us" % ((py_ns - c_ns) / 1e3))
+    print("  Python, KF2.run (batch)          %8.3f us per step" % (batch_ns / 1e3))
+    if c_ns is not None:
+        print("    batch / C loop                 %8.2f x" % (batch_ns / c_ns))
+    print("  FilterPy KalmanFilter            %8.3f us per step" % (fp_ns / 1e3))
+    print("    FilterPy / Python calls        %8.1f x" % (fp_ns / py_ns))
+    print("    FilterPy / batch               %8.1f x" % (fp_ns / batch_ns))
+
+
+if __name__ == "__main__":
+    main()

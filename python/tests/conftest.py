@@ -1,0 +1,64 @@
+# SPDX-License-Identifier: MIT
+"""Shared fixtures: the checkout, the build folder, and the C programs the
+bit-identity tests compare the package with (built here with CMake).
+
+GF_BUILD (default: the checkout's build/) says where to build. With
+GF_PY_REQUIRE_FIRMWARE=1 (scripts/test python sets it after installing the
+Arm toolchain and QEMU) a missing tool fails the QEMU test instead of
+skipping it.
+"""
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BUILD = pathlib.Path(os.environ.get("GF_BUILD", ROOT / "build"))
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+
+
+def run(cmd, **kw):
+    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if r.returncode != 0:
+        raise RuntimeError("%s failed (%d):\n%s%s" % (
+            " ".join(map(str, cmd)), r.returncode, r.stdout, r.stderr))
+    return r
+
+
+@pytest.fixture(scope="session")
+def replay_bin():
+    """gf_replay for the host, per precision ("float" or "double"): the
+    library at -O2, as a project takes it by add_subdirectory()."""
+    made = {}
+
+    def get(prec):
+        if prec not in made:
+            d = BUILD / "py" / ("replay-" + prec)
+            run(["cmake", "-S", ROOT / "python/tests/replay", "-B", d,
+                 "-DCMAKE_BUILD_TYPE=RelWithDebInfo",
+                 "-DGAUSSFILT_SINGLE_PRECISION=" +
+                 ("ON" if prec == "float" else "OFF")])
+            run(["cmake", "--build", d, "--parallel", "2"])
+            made[prec] = d
+        return made[prec]
+    return get
+
+
+@pytest.fixture(scope="session")
+def firmware_replay():
+    """The Cortex-M4F replay image (float, -Os) and the QEMU to run it."""
+    need = ["arm-none-eabi-gcc", "arm-none-eabi-objdump", "qemu-system-arm"]
+    missing = [t for t in need if not shutil.which(t)]
+    if missing:
+        msg = "missing %s (scripts/test python installs them)" % " ".join(missing)
+        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    r = run(["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
+             'GF_FW_VARIANT=replay gf_fw_build cortex-m4f float '
+             '-DGF_FW_REPLAY=ON | tail -1'], cwd=ROOT,
+            env=dict(os.environ, GF_BUILD=str(BUILD)))
+    return pathlib.Path(r.stdout.strip())
