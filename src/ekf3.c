@@ -118,7 +118,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!ekf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 3);
+    const gf_status st = gf_prior3_check(mu, sigma);
     if (st != GF_OK) {
         return st;
     }

@@ -11,17 +11,26 @@
 
 #include "udu.h"
 
-// The checks every init makes of the prior it is given (mu: n entries;
-// sigma: n x n, rows of n), in the order of the status rules:
-// GF_ERR_NONFINITE (mu, then sigma), then sigma's verdict
-// (gf_cov_factor: GF_ERR_NOT_PSD), else GF_OK.
-GF_ALWAYS_INLINE gf_status gf_prior_check(const gf_real *mu,
-                                          const gf_real *sigma, unsigned n)
+// The checks every init makes of the prior it is given, in the order of
+// the status rules: GF_ERR_NONFINITE (mu, then sigma), then sigma's
+// verdict (GF_ERR_NOT_PSD), else GF_OK; one helper in the two sizes of
+// mat.h. 2 x 2: the verdict in closed form (gf_cov_factor for n = 2: no
+// gf_ldl call, so no stack beyond the caller's frame); 3 x 3: mat.c's
+// (gf_mat3_check_psd), one copy for every filter.
+static inline gf_status gf_prior2_check(const gf_vec2 *mu, const gf_mat2 *sigma)
 {
-    if (!gf_all_finite(mu, n) || !gf_all_finite(sigma, n * n)) {
+    if (!gf_all_finite(mu->v, 2) || !gf_all_finite(sigma->m[0], 4)) {
         return GF_ERR_NONFINITE;
     }
-    return gf_cov_factor(sigma, n, n, NULL, NULL, NULL);
+    return gf_cov_factor(sigma->m[0], 2, 2, NULL, NULL, NULL);
+}
+
+static inline gf_status gf_prior3_check(const gf_vec3 *mu, const gf_mat3 *sigma)
+{
+    if (!gf_vec3_is_finite_n(mu, 3)) {
+        return GF_ERR_NONFINITE;
+    }
+    return gf_mat3_check_psd(sigma, 3);
 }
 
 // The checks every update with an EKF3 measurement model starts with, in

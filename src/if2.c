@@ -8,7 +8,7 @@ gf_status gf_if2_init(gf_if2 *inf, const gf_mat2 *omega, const gf_vec2 *xi)
     if (!inf || !omega || !xi) {
         return GF_ERR_ARG;
     }
-    const gf_status st = gf_prior_check(xi->v, omega->m[0], 2);
+    const gf_status st = gf_prior2_check(xi, omega);
     if (st != GF_OK) {
         return st;
     }
@@ -24,7 +24,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
     if (!inf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_prior_check(mu->v, sigma->m[0], 2);
+    gf_status st = gf_prior2_check(mu, sigma);
     if (st != GF_OK) {
         return st;
     }

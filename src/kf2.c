@@ -66,7 +66,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
-    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 2);
+    const gf_status st = gf_prior2_check(mu, sigma);
     if (st != GF_OK) {
         return st;
     }

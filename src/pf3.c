@@ -67,7 +67,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     if (!pf || !particles || !mu || !sigma || n < 1 || n > GF_PF3_MAX_N) {
         return GF_ERR_ARG;
     }
-    const gf_status st = gf_prior_check(mu->v, sigma->m[0], 3);
+    const gf_status st = gf_prior3_check(mu, sigma);
     if (st != GF_OK) {
         return st;
     }
