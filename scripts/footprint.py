@@ -44,7 +44,7 @@ TARGETS = [
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
 # The modules: every src/*.c the build compiled, in this order first.
-MODULE_ORDER = ["mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3",
+MODULE_ORDER = ["ldl", "mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3",
                 "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
