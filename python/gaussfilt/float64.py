@@ -4,20 +4,7 @@
 Arrays given to it are rounded to numpy.float64; arrays it returns are
 numpy.float64. See the package's docstring and docs/python.md.
 """
-from ._errors import (BadArgument, GaussfiltError, Gated, ModelError,
-                      NonFinite, NotPSD, Singular, Undefined)
-from ._f64 import (EKF, EKF3, KF, KF2, NMAX, PD_RTOL, REAL_SIZE, EKF3Meas,
-                   EKF3Motion, EKFMeas, EKFMotion, KF2Meas, KF2Model, KFMeas,
-                   KFModel, correlation, ellipse, forward_turn, marginal,
-                   meas_x, meas_xy)
-import numpy as _np
+from . import _f64
+from ._build import fill as _fill
 
-#: the numpy type of this build's gf_real
-dtype = _np.dtype(_np.float64)
-
-__all__ = ["KF2", "KF2Model", "KF2Meas", "EKF3", "EKF3Motion", "EKF3Meas",
-           "KF", "KFModel", "KFMeas", "EKF", "EKFMotion", "EKFMeas",
-           "forward_turn", "meas_x", "meas_xy", "ellipse", "correlation",
-           "marginal", "dtype", "NMAX", "PD_RTOL", "REAL_SIZE",
-           "GaussfiltError", "BadArgument", "NonFinite", "NotPSD",
-           "Singular", "Gated", "Undefined", "ModelError"]
+_fill(globals(), _f64, "float64")

@@ -12,6 +12,29 @@ from gaussfilt import float32, float64
 MODS = [pytest.param(float64, id="float64"), pytest.param(float32, id="float32")]
 
 
+def run_and_steps(mod, make, model, meas, u, z):
+    """Runs a fresh filter over u and z, steps another one call per step,
+    and checks that each step's status, mu, Sigma and NIS are the same
+    bits. Returns (the run's filter, the stepped one, status, nis)."""
+    a = make()
+    mu, sigma, nis, status = a.run(model, meas, u=u, z=z)
+    b = make()
+    for k in range(len(u)):
+        b.predict(model, u[k])
+        want_nis, st = np.nan, 0
+        if not np.isnan(z[k, 0]):
+            try:
+                b.update(meas, z[k])
+                want_nis = b.nis
+            except gaussfilt.Gated as e:
+                st, want_nis = e.status, e.nis
+        assert status[k] == st, k
+        assert mu[k].tobytes() == b.mu.tobytes(), k
+        assert sigma[k].tobytes() == b.sigma().tobytes(), k
+        assert np.array_equal(nis[k], mod.dtype.type(want_nis), equal_nan=True)
+    return a, b, status, nis
+
+
 @pytest.mark.parametrize("mod", MODS)
 @pytest.mark.parametrize("n", [2, 4])
 def test_run_equals_the_steps(mod, n):
@@ -31,23 +54,7 @@ def test_run_equals_the_steps(mod, n):
     z = rng.normal(size=(N, 1)) * 2
     z[::7] = np.nan   # no measurement
     z[5::11] += 40    # gated
-    a = make()
-    mu, sigma, nis, status = a.run(model, meas, u=u, z=z)
-    b = make()
-    for k in range(N):
-        b.predict(model, u[k])
-        want_nis = np.nan
-        st = 0
-        if not np.isnan(z[k, 0]):
-            try:
-                b.update(meas, z[k])
-                want_nis = b.nis
-            except gaussfilt.Gated as e:
-                st, want_nis = e.status, e.nis
-        assert status[k] == st
-        assert mu[k].tobytes() == b.mu.tobytes()
-        assert sigma[k].tobytes() == b.sigma().tobytes()
-        assert np.array_equal(nis[k], mod.dtype.type(want_nis), equal_nan=True)
+    a, b, status, nis = run_and_steps(mod, make, model, meas, u, z)
     assert (status == -5).sum() > 5 and np.isnan(nis).sum() > 20
     assert a.mu.tobytes() == b.mu.tobytes() and a.nis == b.nis
 
@@ -119,22 +126,7 @@ def ekf_setup(mod, family, python_models):
     ("EKF3", False), ("EKF3", True), ("EKF", True)])
 def test_ekf_run_equals_the_steps(mod, family, python_models):
     make, motion, meas, u, z = ekf_setup(mod, family, python_models)
-    a = make()
-    mu, sigma, nis, status = a.run(motion, meas, u=u, z=z)
-    b = make()
-    for k in range(len(u)):
-        b.predict(motion, u[k])
-        want_nis, st = np.nan, 0
-        if not np.isnan(z[k, 0]):
-            try:
-                b.update(meas, z[k])
-                want_nis = b.nis
-            except gaussfilt.Gated as e:
-                st, want_nis = e.status, e.nis
-        assert status[k] == st
-        assert mu[k].tobytes() == b.mu.tobytes(), k
-        assert sigma[k].tobytes() == b.sigma().tobytes(), k
-        assert np.array_equal(nis[k], mod.dtype.type(want_nis), equal_nan=True)
+    a, b, status, nis = run_and_steps(mod, make, motion, meas, u, z)
     assert (status == -5).sum() > 3 and np.isnan(nis).sum() > 15
     assert a.mu.tobytes() == b.mu.tobytes() and a.nis == b.nis
     assert a.innovation.tobytes() == b.innovation.tobytes()

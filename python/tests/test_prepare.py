@@ -23,33 +23,30 @@ def kinds(mod, n):
     A = np.eye(n)
     C = np.eye(2, n)
 
-    def run_kf_model(model):
-        f = mod.KF(np.zeros(n), np.eye(n))
-        f.predict(model)
-        return f.sigma().tobytes()
+    def predicted(belief):
+        """Predicts a fresh belief with the model: Sigma's bytes."""
+        def run(model):
+            f = belief(np.zeros(n), np.eye(n))
+            f.predict(model)
+            return f.sigma().tobytes()
+        return run
 
-    def run_kf_meas(meas):
-        f = mod.KF(np.zeros(n), np.eye(n))
-        f.update(meas, [1, 2])
-        return f.mu.tobytes() + f.sigma().tobytes()
-
-    def run_ekf_motion(motion):
-        f = mod.EKF(np.zeros(n), np.eye(n))
-        f.predict(motion)
-        return f.sigma().tobytes()
-
-    def run_ekf_meas(meas):
-        f = mod.EKF(np.zeros(n), np.eye(n))
-        f.update(meas, [1, 2])
-        return f.mu.tobytes() + f.sigma().tobytes()
+    def updated(belief):
+        """Updates a fresh belief with the measurement: mu's and Sigma's
+        bytes."""
+        def run(meas):
+            f = belief(np.zeros(n), np.eye(n))
+            f.update(meas, [1, 2])
+            return f.mu.tobytes() + f.sigma().tobytes()
+        return run
 
     return [
-        ("KFModel", lambda: mod.KFModel(A, R), run_kf_model),
-        ("KFMeas", lambda: mod.KFMeas(C, Q), run_kf_meas),
+        ("KFModel", lambda: mod.KFModel(A, R), predicted(mod.KF)),
+        ("KFMeas", lambda: mod.KFMeas(C, Q), updated(mod.KF)),
         ("EKFMotion", lambda: mod.EKFMotion(lambda mu, u: (mu, A), R),
-         run_ekf_motion),
+         predicted(mod.EKF)),
         ("EKFMeas", lambda: mod.EKFMeas(lambda mu: (mu[:2], C), Q, n=n),
-         run_ekf_meas),
+         updated(mod.EKF)),
     ]
 
 
