@@ -17,6 +17,7 @@
 #include <numpy/arrayobject.h>
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "gaussfilt/cov2.h"
@@ -392,488 +393,144 @@ static PyObject *new_builtin(gf_ekf3_motion_fn g, gf_ekf3_meas_fn h, unsigned m,
     return (PyObject *)b;
 }
 
-// ---- KF2 ------------------------------------------------------------------
+// ---- what the filters and models share -----------------------------------
 
-typedef struct {
-    PyObject_HEAD gf_kf2_pmodel pm;
-} KF2ModelObj;
-
-typedef struct {
-    PyObject_HEAD gf_kf2_pmeas pq;
-} KF2MeasObj;
-
-typedef struct {
-    PyObject_HEAD gf_kf2 kf;
-    gf_innovation last; // the last accepted update's
-    int has_last;
-} KF2Obj;
-
-static PyTypeObject KF2Model_Type, KF2Meas_Type, KF2_Type;
-
-static int KF2Model_init(PyObject *self_, PyObject *args, PyObject *kw)
+// The argument o is given (present and not None).
+static int given(PyObject *o)
 {
-    static char *names[] = {"A", "R", "B", "c", NULL};
-    PyObject *A, *R, *B = Py_None, *c = Py_None;
-    gf_kf2_model m;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KF2Model", names, &A, &R,
-                                     &B, &c)) {
-        return -1;
+    return o && o != Py_None;
+}
+
+// 0 when st is GF_OK; else st's exception, named `where`, and -1.
+static int check(gf_status st, const char *where)
+{
+    if (st == GF_OK) {
+        return 0;
     }
-    memset(&m, 0, sizeof m);
-    if (read_real(A, "KF2Model: A", 2, 2, &m.A.m[0][0]) < 0 ||
-        read_real(R, "KF2Model: R", 2, 2, &m.R.m[0][0]) < 0 ||
-        (B != Py_None && read_real(B, "KF2Model: B", 2, 2, &m.B.m[0][0]) < 0) ||
-        (c != Py_None && read_real(c, "KF2Model: c", 0, 2, m.c.v) < 0)) {
-        return -1;
+    raise_status(st, where, NULL, NULL, 0, 0);
+    return -1;
+}
+
+// 0 when o is a t; else GF_ERR_ARG's exception "who: arg must be a T, not
+// <o's type>" ("who: arg must be a T or None" when or_none) and -1.
+static int check_type(PyObject *o, PyTypeObject *t, const char *who,
+                      const char *arg, int or_none)
+{
+    if (PyObject_TypeCheck(o, t)) {
+        return 0;
     }
-    gf_status st = gf_kf2_prepare_model(&((KF2ModelObj *)self_)->pm, &m);
-    if (st != GF_OK) {
-        raise_status(st, "KF2Model", NULL, NULL, 0, 0);
-        return -1;
+    const char *name = strrchr(t->tp_name, '.') + 1;
+    const char *an = strchr("AEIOU", name[0]) ? "an" : "a";
+    if (or_none) {
+        bad_arg("%s: %s must be %s %s or None", who, arg, an, name);
+    } else {
+        bad_arg("%s: %s must be %s %s, not %s", who, arg, an, name,
+                Py_TYPE(o)->tp_name);
     }
+    return -1;
+}
+
+// 0 when a model or measurement (what) for got states fits a filter of n;
+// else GF_ERR_ARG's exception and -1.
+static int check_n(const char *who, const char *what, unsigned got, unsigned n)
+{
+    if (got == n) {
+        return 0;
+    }
+    bad_arg("%s: the %s is for %u states, the filter has %u", who, what, got,
+            n);
+    return -1;
+}
+
+// A workspace for a model's prepare call, zeroed (the library needs no
+// set-up of it; zeroed memory keeps every run of the package the same).
+// NULL with MemoryError; free with PyMem_Free.
+static gf_kf_work *new_work(void)
+{
+    gf_kf_work *w = PyMem_Calloc(1, sizeof *w);
+    if (!w) {
+        PyErr_NoMemory();
+    }
+    return w;
+}
+
+// Frees the workspace w of a prepare call that returned st: check(st, who).
+static int prepared(gf_status st, gf_kf_work *w, const char *who)
+{
+    PyMem_Free(w);
+    return check(st, who);
+}
+
+// An EKF model's Python side, first in EKF3Motion, EKF3Meas, EKFMotion and
+// EKFMeas: the callable g or h (a Builtin: its C function is in the
+// prepared model) and, for a motion, the step's u while the step runs.
+typedef struct {
+    PyObject_HEAD PyObject *fn;
+    PyObject *cur_u;
+} CallbackObj;
+
+static int Callback_traverse(PyObject *self, visitproc visit, void *arg)
+{
+    Py_VISIT(((CallbackObj *)self)->fn);
     return 0;
 }
-
-static PyObject *KF2Model_get(PyObject *self_, void *which)
+static int Callback_clear(PyObject *self)
 {
-    const gf_kf2_model *m = &((KF2ModelObj *)self_)->pm.model;
-    switch ((int)(size_t)which) {
-    case 0:
-        return new_array(2, 2, &m->A.m[0][0]);
-    case 1:
-        return new_array(2, 2, &m->R.m[0][0]);
-    case 2:
-        return new_array(2, 2, &m->B.m[0][0]);
-    default:
-        return new_array(2, 0, m->c.v);
-    }
-}
-
-static PyGetSetDef KF2Model_getset[] = {
-    {"A", KF2Model_get, NULL, "state transition (2, 2)", (void *)0},
-    {"R", KF2Model_get, NULL, "process noise covariance (2, 2)", (void *)1},
-    {"B", KF2Model_get, NULL, "control matrix (2, 2)", (void *)2},
-    {"c", KF2Model_get, NULL, "constant motion term (2,)", (void *)3},
-    {NULL, NULL, NULL, NULL, NULL},
-};
-
-static int KF2Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
-{
-    static char *names[] = {"C", "Q", "c", "gate", NULL};
-    PyObject *C, *Q, *c = Py_None, *gate = NULL;
-    gf_kf2_meas m;
-    npy_intp rows, cols;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KF2Meas", names, &C, &Q,
-                                     &c, &gate)) {
-        return -1;
-    }
-    memset(&m, 0, sizeof m);
-    if (shape_of(C, "KF2Meas: C", 1, &rows, &cols) < 0) {
-        return -1;
-    }
-    if (rows < 1 || rows > 2 || cols != 2) {
-        bad_arg("KF2Meas: C must have shape (1, 2) or (2, 2), got (%ld, %ld)",
-                (long)rows, (long)cols);
-        return -1;
-    }
-    m.m = (unsigned)rows;
-    gf_real Cv[4], Qv[4];
-    if (read_real(C, "KF2Meas: C", rows, 2, Cv) < 0 ||
-        read_real(Q, "KF2Meas: Q", rows, rows, Qv) < 0 ||
-        (c != Py_None && read_real(c, "KF2Meas: c", 0, rows, m.c.v) < 0) ||
-        read_gate(gate, "KF2Meas", &m.gate) < 0) {
-        return -1;
-    }
-    for (unsigned i = 0; i < m.m; i++) {
-        for (unsigned j = 0; j < 2; j++) {
-            m.C.m[i][j] = Cv[2 * i + j];
-        }
-        for (unsigned j = 0; j < m.m; j++) {
-            m.Q.m[i][j] = Qv[m.m * i + j];
-        }
-    }
-    gf_status st = gf_kf2_prepare_meas(&((KF2MeasObj *)self_)->pq, &m);
-    if (st != GF_OK) {
-        raise_status(st, "KF2Meas", NULL, NULL, 0, 0);
-        return -1;
-    }
+    Py_CLEAR(((CallbackObj *)self)->fn);
     return 0;
 }
-
-static PyObject *KF2Meas_get(PyObject *self_, void *which)
+static void Callback_dealloc(PyObject *self)
 {
-    const gf_kf2_meas *m = &((KF2MeasObj *)self_)->pq.meas;
-    gf_real v[4];
-    switch ((int)(size_t)which) {
-    case 0:
-        for (unsigned i = 0; i < m->m; i++) {
-            v[2 * i] = m->C.m[i][0];
-            v[2 * i + 1] = m->C.m[i][1];
-        }
-        return new_array(m->m, 2, v);
-    case 1:
-        for (unsigned i = 0; i < m->m; i++) {
-            for (unsigned j = 0; j < m->m; j++) {
-                v[m->m * i + j] = m->Q.m[i][j];
-            }
-        }
-        return new_array(m->m, m->m, v);
-    case 2:
-        return new_array(m->m, 0, m->c.v);
-    case 3:
-        return PyFloat_FromDouble((double)m->gate);
-    default:
-        return PyLong_FromUnsignedLong(m->m);
-    }
+    PyObject_GC_UnTrack(self);
+    Callback_clear(self);
+    Py_TYPE(self)->tp_free(self);
 }
 
-static PyGetSetDef KF2Meas_getset[] = {
-    {"C", KF2Meas_get, NULL, "measurement matrix (m, 2)", (void *)0},
-    {"Q", KF2Meas_get, NULL, "measurement noise covariance (m, m)", (void *)1},
-    {"c", KF2Meas_get, NULL, "constant measurement term (m,)", (void *)2},
-    {"gate", KF2Meas_get, NULL, "chi-square gate on the NIS (0: none)",
-     (void *)3},
-    {"m", KF2Meas_get, NULL, "measured quantities (1 or 2)", (void *)4},
-    {NULL, NULL, NULL, NULL, NULL},
-};
-
-static int KF2_init(PyObject *self_, PyObject *args, PyObject *kw)
+// The getter of g or h.
+static PyObject *Callback_fn(PyObject *self, void *unused)
 {
-    static char *names[] = {"mu", "sigma", NULL};
-    PyObject *mu, *sigma;
-    gf_vec2 m;
-    gf_mat2 s;
-    KF2Obj *self = (KF2Obj *)self_;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:KF2", names, &mu, &sigma)) {
-        return -1;
-    }
-    if (read_real(mu, "KF2: mu", 0, 2, m.v) < 0 ||
-        read_real(sigma, "KF2: sigma", 2, 2, &s.m[0][0]) < 0) {
-        return -1;
-    }
-    gf_status st = gf_kf2_init(&self->kf, &m, &s);
-    if (st != GF_OK) {
-        raise_status(st, "KF2", NULL, NULL, 0, 0);
-        return -1;
-    }
-    self->has_last = 0;
-    return 0;
-}
-
-static PyObject *KF2_predict(PyObject *self_, PyObject *const *args,
-                             Py_ssize_t nargs, PyObject *kwnames)
-{
-    static const char *const names[] = {"model", "u"};
-    PyObject *a[2];
-    gf_vec2 u;
-    if (get_args("predict", args, nargs, kwnames, names, 1, 2, a) < 0) {
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(a[0], &KF2Model_Type)) {
-        return bad_arg("KF2.predict: model must be a KF2Model, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    if (a[1] && a[1] != Py_None &&
-        read_real(a[1], "KF2.predict: u", 0, 2, u.v) < 0) {
-        return NULL;
-    }
-    gf_status st = gf_kf2_predict_prepared(
-        &((KF2Obj *)self_)->kf, &((KF2ModelObj *)a[0])->pm,
-        (a[1] && a[1] != Py_None) ? &u : NULL);
-    if (st != GF_OK) {
-        return raise_status(st, "KF2.predict", NULL, NULL, 0, 0);
-    }
-    Py_RETURN_NONE;
-}
-
-static PyObject *KF2_update(PyObject *self_, PyObject *const *args,
-                            Py_ssize_t nargs, PyObject *kwnames)
-{
-    static const char *const names[] = {"meas", "z"};
-    PyObject *a[2];
-    KF2Obj *self = (KF2Obj *)self_;
-    gf_vec2 z = {{0, 0}};
-    gf_innovation info;
-    if (get_args("update", args, nargs, kwnames, names, 2, 2, a) < 0) {
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(a[0], &KF2Meas_Type)) {
-        return bad_arg("KF2.update: meas must be a KF2Meas, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    const gf_kf2_pmeas *pq = &((KF2MeasObj *)a[0])->pq;
-    if (read_real(a[1], "KF2.update: z", 0, pq->meas.m, z.v) < 0) {
-        return NULL;
-    }
-    gf_status st = gf_kf2_update_prepared(&self->kf, pq, &z, &info);
-    if (st == GF_ERR_GATED) {
-        return raise_status(st, "KF2.update", NULL, info.y, info.m, info.nis);
-    }
-    if (st != GF_OK) {
-        return raise_status(st, "KF2.update", NULL, NULL, 0, 0);
-    }
-    self->last = info;
-    self->has_last = 1;
-    Py_RETURN_NONE;
-}
-
-// Sigma of a KF2 or EKF3 as an (n, n) array.
-static PyObject *KF2_sigma(PyObject *self_, PyObject *unused)
-{
-    gf_mat2 s;
+    PyObject *fn = ((CallbackObj *)self)->fn;
     (void)unused;
-    gf_status st = gf_kf2_cov(&((KF2Obj *)self_)->kf, &s);
-    if (st != GF_OK) {
-        return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
+    if (!fn) {
+        Py_RETURN_NONE;
     }
-    return new_array(2, 2, &s.m[0][0]);
+    Py_INCREF(fn);
+    return fn;
 }
 
-static PyObject *KF2_get(PyObject *self_, void *which)
+// Keeps fn as the model's callable (after a successful prepare).
+static void set_fn(CallbackObj *self, PyObject *fn)
 {
-    KF2Obj *self = (KF2Obj *)self_;
-    switch ((int)(size_t)which) {
-    case 0:
-        return new_array(2, 0, self->kf.mu.v);
-    case 1:
-        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
-                                                 : (double)NAN);
-    default:
-        if (!self->has_last) {
-            Py_RETURN_NONE;
-        }
-        return new_array(self->last.m, 0, self->last.y);
-    }
+    Py_INCREF(fn);
+    Py_XSETREF(self->fn, fn);
 }
 
-// run(): the batch entry of KF2, see its docstring. On a failure other
-// than a gate the belief is put back as it was before the call.
-static PyObject *KF2_run(PyObject *self_, PyObject *const *args,
-                         Py_ssize_t nargs, PyObject *kwnames)
+// 0 when fn is callable; else GF_ERR_ARG's exception and -1.
+static int check_callable(PyObject *fn, const char *who, const char *arg)
 {
-    static const char *const names[] = {"model", "meas", "u", "z", "steps"};
-    PyObject *a[5], *U = NULL, *Z = NULL, *mu_o = NULL, *sg_o = NULL,
-                    *nis_o = NULL, *st_o = NULL, *out = NULL;
-    KF2Obj *self = (KF2Obj *)self_;
-    const gf_kf2_pmodel *pm = NULL;
-    const gf_kf2_pmeas *pq = NULL;
-    npy_intp N = -1;
-    unsigned m = 0;
-    if (get_args("run", args, nargs, kwnames, names, 0, 5, a) < 0) {
-        return NULL;
+    if (PyCallable_Check(fn)) {
+        return 0;
     }
-    if (a[0] && a[0] != Py_None) {
-        if (!PyObject_TypeCheck(a[0], &KF2Model_Type)) {
-            return bad_arg("KF2.run: model must be a KF2Model or None");
-        }
-        pm = &((KF2ModelObj *)a[0])->pm;
-    }
-    if (a[1] && a[1] != Py_None) {
-        if (!PyObject_TypeCheck(a[1], &KF2Meas_Type)) {
-            return bad_arg("KF2.run: meas must be a KF2Meas or None");
-        }
-        pq = &((KF2MeasObj *)a[1])->pq;
-        m = pq->meas.m;
-    }
-    if (a[4] && a[4] != Py_None) {
-        N = (npy_intp)PyLong_AsSsize_t(a[4]);
-        if (N == -1 && PyErr_Occurred()) {
-            return NULL;
-        }
-        if (N < 0) {
-            return bad_arg("KF2.run: steps must be >= 0");
-        }
-    }
-    if (a[2] && a[2] != Py_None) {
-        U = PyArray_FROMANY(a[2], NPY_GF, 2, 2,
-                            NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
-        if (!U) {
-            PyErr_Clear();
-            return bad_arg("KF2.run: u must be an (N, 2) array");
-        }
-        if (PyArray_DIM((PyArrayObject *)U, 1) != 2 ||
-            (N >= 0 && PyArray_DIM((PyArrayObject *)U, 0) != N)) {
-            Py_DECREF(U);
-            return bad_arg("KF2.run: u must have shape (steps, 2)");
-        }
-        N = PyArray_DIM((PyArrayObject *)U, 0);
-    }
-    if (a[3] && a[3] != Py_None) {
-        if (!pq) {
-            Py_XDECREF(U);
-            return bad_arg("KF2.run: z without meas");
-        }
-        Z = PyArray_FROMANY(a[3], NPY_GF, 1, 2,
-                            NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
-        if (!Z) {
-            PyErr_Clear();
-            Py_XDECREF(U);
-            return bad_arg("KF2.run: z must be an (N, m) array");
-        }
-        npy_intp zc = PyArray_NDIM((PyArrayObject *)Z) == 2
-                          ? PyArray_DIM((PyArrayObject *)Z, 1)
-                          : 1;
-        if (zc != (npy_intp)m ||
-            (PyArray_NDIM((PyArrayObject *)Z) == 1 && m != 1) ||
-            (N >= 0 && PyArray_DIM((PyArrayObject *)Z, 0) != N)) {
-            Py_XDECREF(U);
-            Py_DECREF(Z);
-            return bad_arg("KF2.run: z must have shape (steps, %u)", m);
-        }
-        N = PyArray_DIM((PyArrayObject *)Z, 0);
-    }
-    if (N < 0) {
-        return bad_arg("KF2.run: give u, z or steps");
-    }
-    npy_intp d3[3] = {N, 2, 2};
-    mu_o = PyArray_SimpleNew(2, d3, NPY_GF);
-    sg_o = PyArray_SimpleNew(3, d3, NPY_GF);
-    nis_o = PyArray_SimpleNew(1, d3, NPY_GF);
-    st_o = PyArray_SimpleNew(1, d3, NPY_INT8);
-    if (!mu_o || !sg_o || !nis_o || !st_o) {
-        goto done;
-    }
-    {
-        const gf_real *u =
-            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
-        const gf_real *z =
-            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
-        gf_real *mo = (gf_real *)PyArray_DATA((PyArrayObject *)mu_o);
-        gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)sg_o);
-        gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)nis_o);
-        signed char *sto = (signed char *)PyArray_DATA((PyArrayObject *)st_o);
-        const gf_kf2 saved = self->kf;
-        const gf_innovation saved_last = self->last;
-        const int saved_has = self->has_last;
-        for (npy_intp k = 0; k < N; k++) {
-            gf_status st = GF_OK;
-            gf_innovation info;
-            no[k] = (gf_real)NAN;
-            if (pm) {
-                st = gf_kf2_predict_prepared(
-                    &self->kf, pm, u ? (const gf_vec2 *)(u + 2 * k) : NULL);
-            }
-            if (st == GF_OK && z) {
-                const gf_real *zk = z + (npy_intp)m * k;
-                int present = 1;
-                for (unsigned i = 0; i < m; i++) {
-                    present &= !isnan(zk[i]);
-                }
-                if (present) {
-                    gf_vec2 zv = {{zk[0], m > 1 ? zk[1] : GF_R(0.0)}};
-                    st = gf_kf2_update_prepared(&self->kf, pq, &zv, &info);
-                    if (st == GF_OK || st == GF_ERR_GATED) {
-                        no[k] = info.nis;
-                    }
-                    if (st == GF_OK) {
-                        self->last = info;
-                        self->has_last = 1;
-                    }
-                }
-            }
-            if (st != GF_OK && st != GF_ERR_GATED) {
-                self->kf = saved;
-                self->last = saved_last;
-                self->has_last = saved_has;
-                raise_status(st, "KF2.run", NULL, NULL, 0, 0);
-                set_step(k);
-                goto done;
-            }
-            sto[k] = (signed char)st;
-            memcpy(mo + 2 * k, self->kf.mu.v, 2 * sizeof(gf_real));
-            gf_kf2_cov(&self->kf, (gf_mat2 *)(so + 4 * k));
-        }
-    }
-    out = PyTuple_Pack(4, mu_o, sg_o, nis_o, st_o);
-done:
-    Py_XDECREF(U);
-    Py_XDECREF(Z);
-    Py_XDECREF(mu_o);
-    Py_XDECREF(sg_o);
-    Py_XDECREF(nis_o);
-    Py_XDECREF(st_o);
-    return out;
+    bad_arg("%s: %s must be callable", who, arg);
+    return -1;
 }
 
-static PyMethodDef KF2_methods[] = {
-    {"predict", (PyCFunction)(void (*)(void))KF2_predict,
-     METH_FASTCALL | METH_KEYWORDS,
-     "predict(model, u=None)\n\n"
-     "Prediction (Table 3.1, lines 2-3):\n"
-     "    mu_bar = A mu + B u + c,   Sigma_bar = A Sigma A^T + R\n"
-     "on the factors U D U^T of Sigma. u None: no control. Raises the\n"
-     "status's GaussfiltError (NonFinite: u not finite); the belief is\n"
-     "unchanged then."},
-    {"update", (PyCFunction)(void (*)(void))KF2_update,
-     METH_FASTCALL | METH_KEYWORDS,
-     "update(meas, z)\n\n"
-     "Correction (Table 3.1, lines 4-6) with m = meas.m values z:\n"
-     "    y = z - c - C mu_bar,   S = C Sigma_bar C^T + Q,\n"
-     "    K = Sigma_bar C^T S^-1,  mu = mu_bar + K y,  Sigma = (I - K C) "
-     "Sigma_bar\n"
-     "(Bierman's scalar updates on the whitened rows), NIS = y^T S^-1 y.\n"
-     "Gated (NIS > meas.gate) carries the innovation and NIS; every error\n"
-     "leaves the belief unchanged."},
-    {"sigma", KF2_sigma, METH_NOARGS,
-     "sigma() -> (2, 2) array: Sigma = U D U^T, exactly symmetric."},
-    {"run", (PyCFunction)(void (*)(void))KF2_run, METH_FASTCALL | METH_KEYWORDS,
-     "run(model=None, meas=None, u=None, z=None, steps=None)\n"
-     "    -> (mu (N, 2), sigma (N, 2, 2), nis (N,), status (N,))\n\n"
-     "N steps in one call, each predict(model, u[k]) (when model is given)\n"
-     "then update(meas, z[k]) (when z is given and z[k] has no NaN: a NaN\n"
-     "row is a step without a measurement). A gated update is recorded\n"
-     "(status -5 and its NIS) and the run goes on from the prediction;\n"
-     "nis is NaN where no update ran. Any other failure raises with\n"
-     "exc.step = k and puts the belief back as it was before the call."},
-    {NULL, NULL, 0, NULL},
-};
-
-static PyGetSetDef KF2_getset[] = {
-    {"mu", KF2_get, NULL, "the mean, a (2,) copy", (void *)0},
-    {"nis", KF2_get, NULL,
-     "NIS = y^T S^-1 y of the last accepted update (nan before any)",
-     (void *)1},
-    {"innovation", KF2_get, NULL,
-     "y = z - c - C mu_bar of the last accepted update (None before any)",
-     (void *)2},
-    {NULL, NULL, NULL, NULL, NULL},
-};
-
-// ---- EKF3 -----------------------------------------------------------------
-
-typedef struct {
-    PyObject_HEAD gf_ekf3_pmotion pm;
-    PyObject *g;     // the callable (a Builtin: its C function is in pm)
-    PyObject *cur_u; // the step's u, while the step runs
-} EKF3MotionObj;
-
-typedef struct {
-    PyObject_HEAD gf_ekf3_pmeas pq;
-    PyObject *h;
-} EKF3MeasObj;
-
-typedef struct {
-    PyObject_HEAD gf_ekf3 ekf;
-    gf_innovation last;
-    int has_last;
-    int busy; // a step is running (its callback may not step this filter)
-} EKF3Obj;
-
-static PyTypeObject EKF3Motion_Type, EKF3Meas_Type, EKF3_Type;
-
-// The Python motion g(mu, u) -> (mu_bar, G) behind EKF3's C callback.
-static gf_status ekf3_g_py(void *ctx, const gf_vec3 *mu, const gf_real *u,
-                           gf_vec3 *mu_bar, gf_mat3 *G)
+// Calls a Python model of an EKF of the family ("EKF3" or "EKF") on x (n
+// entries, handed over as a fresh array): a motion g(x, u) (u NULL: None)
+// when motion, else a measurement h(x). Reads what it returns, (value,
+// Jacobian), into out (rows,) and J (rows, n). GF_ERR_MODEL, with the
+// exception set, when it raises or returns anything else.
+static gf_status call_model(PyObject *fn, int motion, PyObject *u,
+                            const gf_real *x, unsigned n, unsigned rows,
+                            gf_real *out, gf_real *J, const char *family)
 {
-    EKF3MotionObj *mo = (EKF3MotionObj *)ctx;
-    PyObject *mu_a = new_array(3, 0, mu->v), *r, *seq;
-    (void)u;
-    if (!mu_a) {
+    PyObject *x_a = new_array(n, 0, x), *r, *seq;
+    if (!x_a) {
         return GF_ERR_MODEL;
     }
-    r = PyObject_CallFunctionObjArgs(mo->g, mu_a,
-                                     mo->cur_u ? mo->cur_u : Py_None, NULL);
-    Py_DECREF(mu_a);
+    r = motion ? PyObject_CallFunctionObjArgs(fn, x_a, u ? u : Py_None, NULL)
+               : PyObject_CallFunctionObjArgs(fn, x_a, NULL);
+    Py_DECREF(x_a);
     if (!r) {
         return GF_ERR_MODEL;
     }
@@ -882,360 +539,203 @@ static gf_status ekf3_g_py(void *ctx, const gf_vec3 *mu, const gf_real *u,
     if (!seq || PySequence_Fast_GET_SIZE(seq) != 2) {
         Py_XDECREF(seq);
         PyErr_Clear();
-        bad_arg("EKF3 motion g must return (mu_bar, G)");
+        if (motion) {
+            bad_arg("%s motion g must return (mu_bar, G)", family);
+        } else {
+            bad_arg("%s measurement h must return (z_hat, H)", family);
+        }
         return GF_ERR_MODEL;
     }
-    int bad = read_real(PySequence_Fast_GET_ITEM(seq, 0), "g's mu_bar", 0, 3,
-                        mu_bar->v) < 0 ||
-              read_real(PySequence_Fast_GET_ITEM(seq, 1), "g's G", 3, 3,
-                        &G->m[0][0]) < 0;
+    int bad =
+        read_real(PySequence_Fast_GET_ITEM(seq, 0),
+                  motion ? "g's mu_bar" : "h's z_hat", 0, rows, out) < 0 ||
+        read_real(PySequence_Fast_GET_ITEM(seq, 1), motion ? "g's G" : "h's H",
+                  rows, n, J) < 0;
     Py_DECREF(seq);
     return bad ? GF_ERR_MODEL : GF_OK;
 }
 
-// The Python measurement h(mu_bar) -> (z_hat, H) behind EKF3's callback.
-static gf_status ekf3_h_py(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
-                           gf_mat3 *H)
+// The head of every belief object (KF2, EKF3, KF, EKF): the last accepted
+// update's innovation, and whether a step is running (its callback may not
+// step this filter).
+typedef struct {
+    PyObject_HEAD gf_kf_innovation last;
+    int has_last;
+    int busy;
+} FilterObj;
+
+// RuntimeError's messages for a filter stepped or initialised from its own
+// callback (check_idle's fmt).
+static const char called_back[] = "%s called from this filter's own callback";
+static const char reinit_back[] = "%s: re-initialised from its own callback";
+
+// 0 when no step of f runs; else RuntimeError (fmt naming who) and -1.
+static int check_idle(const FilterObj *f, const char *fmt, const char *who)
 {
-    EKF3MeasObj *me = (EKF3MeasObj *)ctx;
-    unsigned m = me->pq.meas.m;
-    gf_real Hv[9];
-    PyObject *mu_a = new_array(3, 0, mu_bar->v), *r, *seq;
-    if (!mu_a) {
-        return GF_ERR_MODEL;
+    if (!f->busy) {
+        return 0;
     }
-    r = PyObject_CallFunctionObjArgs(me->h, mu_a, NULL);
-    Py_DECREF(mu_a);
-    if (!r) {
-        return GF_ERR_MODEL;
-    }
-    seq = PySequence_Fast(r, "");
-    Py_DECREF(r);
-    if (!seq || PySequence_Fast_GET_SIZE(seq) != 2) {
-        Py_XDECREF(seq);
-        PyErr_Clear();
-        bad_arg("EKF3 measurement h must return (z_hat, H)");
-        return GF_ERR_MODEL;
-    }
-    int bad =
-        read_real(PySequence_Fast_GET_ITEM(seq, 0), "h's z_hat", 0, m,
-                  z_hat->v) < 0 ||
-        read_real(PySequence_Fast_GET_ITEM(seq, 1), "h's H", m, 3, Hv) < 0;
-    Py_DECREF(seq);
-    if (bad) {
-        return GF_ERR_MODEL;
-    }
-    for (unsigned i = 0; i < m; i++) {
-        memcpy(H->m[i], Hv + 3 * i, 3 * sizeof(gf_real));
-    }
-    return GF_OK;
+    PyErr_Format(PyExc_RuntimeError, fmt, who);
+    return -1;
 }
 
-static int EKF3Motion_init(PyObject *self_, PyObject *args, PyObject *kw)
+// KF2's and EKF3's innovation (in) as the filters keep it (out).
+static void innovation_of(const gf_innovation *in, gf_kf_innovation *out)
 {
-    static char *names[] = {"g", "R", NULL};
-    EKF3MotionObj *self = (EKF3MotionObj *)self_;
-    PyObject *g, *R;
-    gf_ekf3_motion mo;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3Motion", names, &g,
-                                     &R)) {
-        return -1;
-    }
-    if (!PyCallable_Check(g)) {
-        bad_arg("EKF3Motion: g must be callable");
-        return -1;
-    }
-    memset(&mo, 0, sizeof mo);
-    if (read_real(R, "EKF3Motion: R", 3, 3, &mo.R.m[0][0]) < 0) {
-        return -1;
-    }
-    if (PyObject_TypeCheck(g, &Builtin_Type)) {
-        if (!((BuiltinObj *)g)->g) {
-            bad_arg("EKF3Motion: %s is a measurement", ((BuiltinObj *)g)->name);
-            return -1;
-        }
-        mo.g = ((BuiltinObj *)g)->g;
-    } else {
-        mo.g = ekf3_g_py;
-        mo.ctx = self;
-    }
-    gf_status st = gf_ekf3_prepare_motion(&self->pm, &mo);
-    if (st != GF_OK) {
-        raise_status(st, "EKF3Motion", NULL, NULL, 0, 0);
-        return -1;
-    }
-    Py_INCREF(g);
-    Py_XSETREF(self->g, g);
-    return 0;
+    out->m = in->m;
+    memcpy(out->y, in->y, in->m * sizeof(gf_real));
+    out->nis = in->nis;
 }
 
-static int EKF3Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
+// The getters of nis and innovation.
+static PyObject *Filter_nis(PyObject *self_, void *unused)
 {
-    static char *names[] = {"h", "Q", "angle_mask", "gate", NULL};
-    EKF3MeasObj *self = (EKF3MeasObj *)self_;
-    PyObject *h, *Q, *gate = NULL;
-    unsigned angle_mask = 0;
-    gf_ekf3_meas me;
-    npy_intp rows, cols;
-    gf_real Qv[9];
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|IO:EKF3Meas", names, &h, &Q,
-                                     &angle_mask, &gate)) {
-        return -1;
-    }
-    if (!PyCallable_Check(h)) {
-        bad_arg("EKF3Meas: h must be callable");
-        return -1;
-    }
-    memset(&me, 0, sizeof me);
-    if (shape_of(Q, "EKF3Meas: Q", 1, &rows, &cols) < 0) {
-        return -1;
-    }
-    if (rows != cols || rows < 1 || rows > 3) {
-        bad_arg("EKF3Meas: Q must be m x m with m = 1..3, got (%ld, %ld)",
-                (long)rows, (long)cols);
-        return -1;
-    }
-    me.m = (unsigned)rows;
-    if (read_real(Q, "EKF3Meas: Q", rows, rows, Qv) < 0 ||
-        read_gate(gate, "EKF3Meas", &me.gate) < 0) {
-        return -1;
-    }
-    for (unsigned i = 0; i < me.m; i++) {
-        for (unsigned j = 0; j < me.m; j++) {
-            me.Q.m[i][j] = Qv[me.m * i + j];
-        }
-    }
-    me.angle_mask = angle_mask;
-    if (PyObject_TypeCheck(h, &Builtin_Type)) {
-        BuiltinObj *b = (BuiltinObj *)h;
-        if (!b->h) {
-            bad_arg("EKF3Meas: %s is a motion", b->name);
-            return -1;
-        }
-        if (b->m != me.m) {
-            bad_arg("EKF3Meas: %s measures %u quantities, Q is %u x %u",
-                    b->name, b->m, me.m, me.m);
-            return -1;
-        }
-        me.h = b->h;
-    } else {
-        me.h = ekf3_h_py;
-        me.ctx = self;
-    }
-    gf_status st = gf_ekf3_prepare_meas(&self->pq, &me);
-    if (st != GF_OK) {
-        raise_status(st, "EKF3Meas", NULL, NULL, 0, 0);
-        return -1;
-    }
-    Py_INCREF(h);
-    Py_XSETREF(self->h, h);
-    return 0;
+    FilterObj *self = (FilterObj *)self_;
+    (void)unused;
+    return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
+                                             : (double)NAN);
 }
 
-static int EKF3Motion_traverse(PyObject *self, visitproc visit, void *arg)
+static PyObject *Filter_innovation(PyObject *self_, void *unused)
 {
-    Py_VISIT(((EKF3MotionObj *)self)->g);
-    return 0;
-}
-static int EKF3Motion_clear(PyObject *self)
-{
-    Py_CLEAR(((EKF3MotionObj *)self)->g);
-    return 0;
-}
-static void EKF3Motion_dealloc(PyObject *self)
-{
-    PyObject_GC_UnTrack(self);
-    EKF3Motion_clear(self);
-    Py_TYPE(self)->tp_free(self);
-}
-static int EKF3Meas_traverse(PyObject *self, visitproc visit, void *arg)
-{
-    Py_VISIT(((EKF3MeasObj *)self)->h);
-    return 0;
-}
-static int EKF3Meas_clear(PyObject *self)
-{
-    Py_CLEAR(((EKF3MeasObj *)self)->h);
-    return 0;
-}
-static void EKF3Meas_dealloc(PyObject *self)
-{
-    PyObject_GC_UnTrack(self);
-    EKF3Meas_clear(self);
-    Py_TYPE(self)->tp_free(self);
-}
-
-static PyObject *EKF3Motion_get(PyObject *self_, void *which)
-{
-    EKF3MotionObj *self = (EKF3MotionObj *)self_;
-    if (which) {
-        return new_array(3, 3, &self->pm.motion.R.m[0][0]);
-    }
-    if (!self->g) {
+    FilterObj *self = (FilterObj *)self_;
+    (void)unused;
+    if (!self->has_last) {
         Py_RETURN_NONE;
     }
-    Py_INCREF(self->g);
-    return self->g;
+    return new_array(self->last.m, 0, self->last.y);
 }
 
-static PyObject *EKF3Meas_get(PyObject *self_, void *which)
+// One family of filters (KF2, EKF3, KF or EKF) as the shared entries
+// predict_entry, update_entry and run_entry step it.
+typedef struct {
+    const char *name;                     // "KF2": messages' prefix
+    const char *predict_name, *u_name;    // "KF2.predict", "KF2.predict: u"
+    const char *update_name, *z_name;     // "KF2.update", "KF2.update: z"
+    const char *run_name;                 // "KF2.run"
+    PyTypeObject *model_type, *meas_type; // predict's and update's
+    int ekf;             // the model is a motion g, u handed to it as given
+    int u_min_nd;        // run's u: 2 dimensions, or 1 as well (one column)
+    const char *u_shape; // run's u in messages: "(N, 2)"
+    size_t belief_offset, belief_size; // the library's belief in the object
+    unsigned (*states)(PyObject *f);
+    // model: its states n, u's entries nu (0: any or none; NULL model: the
+    // family's u without one), and whether g is a Python function
+    void (*model_size)(PyObject *model, unsigned *n, npy_intp *nu,
+                       int *python_g);
+    void (*meas_size)(PyObject *meas, unsigned *n, npy_intp *m);
+    // a prediction with u (NULL: none); u_obj is u as an array for a
+    // Python g (NULL: None)
+    gf_status (*predict)(PyObject *f, PyObject *model, const gf_real *u,
+                         PyObject *u_obj);
+    // an update with z (meas's m entries); info: its innovation when
+    // accepted or gated
+    gf_status (*update)(PyObject *f, PyObject *meas, const gf_real *z,
+                        gf_kf_innovation *info);
+    // mu (n,) and Sigma (n, n) into mu and sigma
+    void (*record)(PyObject *f, gf_real *mu, gf_real *sigma);
+} Family;
+
+// predict(model, u=None) of any family, see the methods' docstrings. An
+// EKF's u goes to g as a fresh array (a built-in motion's entries
+// checked); a KF's is read as the model's nu entries.
+static PyObject *predict_entry(const Family *fam, PyObject *self_,
+                               PyObject *const *args, Py_ssize_t nargs,
+                               PyObject *kwnames)
 {
-    EKF3MeasObj *self = (EKF3MeasObj *)self_;
-    const gf_ekf3_meas *me = &self->pq.meas;
-    gf_real v[9];
-    switch ((int)(size_t)which) {
-    case 0:
-        if (!self->h) {
-            Py_RETURN_NONE;
-        }
-        Py_INCREF(self->h);
-        return self->h;
-    case 1:
-        for (unsigned i = 0; i < me->m; i++) {
-            for (unsigned j = 0; j < me->m; j++) {
-                v[me->m * i + j] = me->Q.m[i][j];
-            }
-        }
-        return new_array(me->m, me->m, v);
-    case 2:
-        return PyLong_FromUnsignedLong(me->m);
-    case 3:
-        return PyLong_FromUnsignedLong(me->angle_mask);
-    default:
-        return PyFloat_FromDouble((double)me->gate);
-    }
-}
-
-static PyGetSetDef EKF3Motion_getset[] = {
-    {"g", EKF3Motion_get, NULL, "the motion g(mu, u) -> (mu_bar, G)", NULL},
-    {"R", EKF3Motion_get, NULL, "process noise covariance (3, 3)", (void *)1},
-    {NULL, NULL, NULL, NULL, NULL},
-};
-
-static PyGetSetDef EKF3Meas_getset[] = {
-    {"h", EKF3Meas_get, NULL, "the measurement h(mu_bar) -> (z_hat, H)",
-     (void *)0},
-    {"Q", EKF3Meas_get, NULL, "measurement noise covariance (m, m)", (void *)1},
-    {"m", EKF3Meas_get, NULL, "measured quantities (1..3)", (void *)2},
-    {"angle_mask", EKF3Meas_get, NULL, "bit i: residual i is an angle",
-     (void *)3},
-    {"gate", EKF3Meas_get, NULL, "chi-square gate on the NIS (0: none)",
-     (void *)4},
-    {NULL, NULL, NULL, NULL, NULL},
-};
-
-static int EKF3_init(PyObject *self_, PyObject *args, PyObject *kw)
-{
-    static char *names[] = {"mu", "sigma", NULL};
-    PyObject *mu, *sigma;
-    gf_vec3 m;
-    gf_mat3 s;
-    EKF3Obj *self = (EKF3Obj *)self_;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3", names, &mu, &sigma)) {
-        return -1;
-    }
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF3: re-initialised from its own callback");
-        return -1;
-    }
-    if (read_real(mu, "EKF3: mu", 0, 3, m.v) < 0 ||
-        read_real(sigma, "EKF3: sigma", 3, 3, &s.m[0][0]) < 0) {
-        return -1;
-    }
-    gf_status st = gf_ekf3_init(&self->ekf, &m, &s);
-    if (st != GF_OK) {
-        raise_status(st, "EKF3", NULL, NULL, 0, 0);
-        return -1;
-    }
-    self->has_last = 0;
-    return 0;
-}
-
-static PyObject *EKF3_predict(PyObject *self_, PyObject *const *args,
-                              Py_ssize_t nargs, PyObject *kwnames)
-{
-    static const char *const names[] = {"motion", "u"};
+    static const char *const kf_names[] = {"model", "u"};
+    static const char *const ekf_names[] = {"motion", "u"};
+    const char *what = fam->ekf ? "motion" : "model";
+    FilterObj *self = (FilterObj *)self_;
     PyObject *a[2], *U = NULL;
-    EKF3Obj *self = (EKF3Obj *)self_;
-    if (get_args("predict", args, nargs, kwnames, names, 1, 2, a) < 0) {
+    gf_real u[NMAX];
+    const gf_real *up = NULL;
+    unsigned n;
+    npy_intp nu;
+    int python_g;
+    if (get_args("predict", args, nargs, kwnames,
+                 fam->ekf ? ekf_names : kf_names, 1, 2, a) < 0 ||
+        check_type(a[0], fam->model_type, fam->predict_name, what, 0) < 0) {
         return NULL;
     }
-    if (!PyObject_TypeCheck(a[0], &EKF3Motion_Type)) {
-        return bad_arg("EKF3.predict: motion must be an EKF3Motion, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    EKF3MotionObj *mo = (EKF3MotionObj *)a[0];
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF3.predict called from this filter's own callback");
+    fam->model_size(a[0], &n, &nu, &python_g);
+    if (check_n(fam->predict_name, what, n, fam->states(self_)) < 0) {
         return NULL;
     }
-    int builtin = mo->pm.motion.g != ekf3_g_py;
-    if (a[1] && a[1] != Py_None) {
-        U = PyArray_FROMANY(a[1], NPY_GF, 0, 1,
-                            NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST |
-                                NPY_ARRAY_ENSURECOPY);
-        if (!U) {
-            PyErr_Clear();
-            return bad_arg("EKF3.predict: u must be a vector of numbers");
+    if (fam->ekf) {
+        if (check_idle(self, called_back, fam->predict_name) < 0) {
+            return NULL;
         }
+        if (given(a[1])) {
+            U = PyArray_FROMANY(a[1], NPY_GF, 0, 1,
+                                NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST |
+                                    NPY_ARRAY_ENSURECOPY);
+            if (!U) {
+                PyErr_Clear();
+                return bad_arg("%s: u must be a vector of numbers",
+                               fam->predict_name);
+            }
+            up = (const gf_real *)PyArray_DATA((PyArrayObject *)U);
+        }
+        if (nu && (!U || PyArray_SIZE((PyArrayObject *)U) != nu)) {
+            Py_XDECREF(U);
+            return bad_arg("%s: u must have %ld entries for %s",
+                           fam->predict_name, (long)nu,
+                           ((BuiltinObj *)((CallbackObj *)a[0])->fn)->name);
+        }
+    } else if (given(a[1])) {
+        if (!nu) {
+            return bad_arg("%s: u given, the model has no B",
+                           fam->predict_name);
+        }
+        if (read_real(a[1], fam->u_name, 0, nu, u) < 0) {
+            return NULL;
+        }
+        up = u;
     }
-    if (builtin && (!U || PyArray_SIZE((PyArrayObject *)U) != 2)) {
-        Py_XDECREF(U);
-        return bad_arg("EKF3.predict: u must have 2 entries for %s",
-                       ((BuiltinObj *)mo->g)->name);
-    }
-    PyObject *prev_u = mo->cur_u;
-    mo->cur_u = U;
     self->busy = 1;
-    gf_status st = gf_ekf3_predict_prepared(
-        &self->ekf, &mo->pm,
-        U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL);
+    gf_status st = fam->predict(self_, a[0], up, U);
     self->busy = 0;
-    mo->cur_u = prev_u;
     Py_XDECREF(U);
     if (st != GF_OK) {
         if (PyErr_Occurred()) {
             return NULL;
         }
-        return raise_status(st, "EKF3.predict", NULL, NULL, 0, 0);
+        return raise_status(st, fam->predict_name, NULL, NULL, 0, 0);
     }
     Py_RETURN_NONE;
 }
 
-static PyObject *EKF3_update(PyObject *self_, PyObject *const *args,
-                             Py_ssize_t nargs, PyObject *kwnames)
+// update(meas, z) of any family, see the methods' docstrings.
+static PyObject *update_entry(const Family *fam, PyObject *self_,
+                              PyObject *const *args, Py_ssize_t nargs,
+                              PyObject *kwnames)
 {
     static const char *const names[] = {"meas", "z"};
+    FilterObj *self = (FilterObj *)self_;
     PyObject *a[2];
-    EKF3Obj *self = (EKF3Obj *)self_;
-    gf_vec3 z = {{0, 0, 0}};
-    gf_innovation info;
-    if (get_args("update", args, nargs, kwnames, names, 2, 2, a) < 0) {
+    gf_real z[NMAX];
+    gf_kf_innovation info;
+    unsigned n;
+    npy_intp m;
+    if (get_args("update", args, nargs, kwnames, names, 2, 2, a) < 0 ||
+        check_type(a[0], fam->meas_type, fam->update_name, "meas", 0) < 0) {
         return NULL;
     }
-    if (!PyObject_TypeCheck(a[0], &EKF3Meas_Type)) {
-        return bad_arg("EKF3.update: meas must be an EKF3Meas, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF3.update called from this filter's own callback");
-        return NULL;
-    }
-    const gf_ekf3_pmeas *pq = &((EKF3MeasObj *)a[0])->pq;
-    if (read_real(a[1], "EKF3.update: z", 0, pq->meas.m, z.v) < 0) {
+    fam->meas_size(a[0], &n, &m);
+    if (check_n(fam->update_name, "measurement", n, fam->states(self_)) < 0 ||
+        check_idle(self, called_back, fam->update_name) < 0 ||
+        read_real(a[1], fam->z_name, 0, m, z) < 0) {
         return NULL;
     }
     self->busy = 1;
-    gf_status st = gf_ekf3_update_prepared(&self->ekf, pq, &z, &info);
+    gf_status st = fam->update(self_, a[0], z, &info);
     self->busy = 0;
     if (st != GF_OK) {
         if (PyErr_Occurred()) {
             return NULL;
         }
-        return raise_status(st, "EKF3.update", NULL,
+        return raise_status(st, fam->update_name, NULL,
                             st == GF_ERR_GATED ? info.y : NULL, info.m,
                             info.nis);
     }
@@ -1244,18 +744,21 @@ static PyObject *EKF3_update(PyObject *self_, PyObject *const *args,
     Py_RETURN_NONE;
 }
 
-// The arrays of an EKF3 or EKF batch: u (N, k) or (N,) as (N, 1), k = nu
-// when nu > 0 (a built-in motion's entries); z (N, m) or, when m is 1,
-// (N,); N from them or from steps. m = 0: no measurement, z refused. 0, or
-// -1 with GF_ERR_ARG's exception and nothing held.
-static int ekf_run_arrays(const char *who, PyObject *u_o, PyObject *z_o,
-                          PyObject *steps_o, npy_intp nu, npy_intp m,
-                          PyObject **U, PyObject **Z, npy_intp *N, npy_intp *k)
+// The arrays of a batch: u (N, k), or (N,) as (N, 1) when min_nd is 1; k =
+// nu when nu > 0; N from u, z or steps. u_required: u must be given (a
+// built-in motion); u_refused (a message): u may not be. z (N, m) or, when
+// m is 1, (N,); m = 0: no measurement, z refused. 0, or -1 with
+// GF_ERR_ARG's exception and nothing held.
+static int run_arrays(const Family *fam, PyObject *u_o, PyObject *z_o,
+                      PyObject *steps_o, npy_intp nu, int u_required,
+                      const char *u_refused, npy_intp m, PyObject **U,
+                      PyObject **Z, npy_intp *N, npy_intp *k)
 {
+    const char *who = fam->run_name;
     *U = *Z = NULL;
     *N = -1;
     *k = 0;
-    if (steps_o && steps_o != Py_None) {
+    if (given(steps_o)) {
         *N = (npy_intp)PyLong_AsSsize_t(steps_o);
         if (*N == -1 && PyErr_Occurred()) {
             return -1;
@@ -1265,12 +768,16 @@ static int ekf_run_arrays(const char *who, PyObject *u_o, PyObject *z_o,
             return -1;
         }
     }
-    if (u_o && u_o != Py_None) {
-        *U = PyArray_FROMANY(u_o, NPY_GF, 1, 2,
+    if (given(u_o)) {
+        if (u_refused) {
+            bad_arg("%s: %s", who, u_refused);
+            return -1;
+        }
+        *U = PyArray_FROMANY(u_o, NPY_GF, fam->u_min_nd, 2,
                              NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
         if (!*U) {
             PyErr_Clear();
-            bad_arg("%s: u must be an (N, k) array", who);
+            bad_arg("%s: u must be an %s array", who, fam->u_shape);
             return -1;
         }
         PyArrayObject *a = (PyArrayObject *)*U;
@@ -1285,12 +792,12 @@ static int ekf_run_arrays(const char *who, PyObject *u_o, PyObject *z_o,
             return -1;
         }
         *N = PyArray_DIM(a, 0);
-    } else if (nu) {
+    } else if (u_required) {
         bad_arg("%s: u must have shape (steps, %ld) for a built-in motion", who,
                 (long)nu);
         return -1;
     }
-    if (z_o && z_o != Py_None) {
+    if (given(z_o)) {
         if (!m) {
             Py_CLEAR(*U);
             bad_arg("%s: z without meas", who);
@@ -1306,8 +813,7 @@ static int ekf_run_arrays(const char *who, PyObject *u_o, PyObject *z_o,
         }
         PyArrayObject *a = (PyArrayObject *)*Z;
         npy_intp zc = PyArray_NDIM(a) == 2 ? PyArray_DIM(a, 1) : 1;
-        if (zc != m || (PyArray_NDIM(a) == 1 && m != 1) ||
-            (*N >= 0 && PyArray_DIM(a, 0) != *N)) {
+        if (zc != m || (*N >= 0 && PyArray_DIM(a, 0) != *N)) {
             Py_CLEAR(*U);
             Py_CLEAR(*Z);
             bad_arg("%s: z must have shape (steps, %ld)", who, (long)m);
@@ -1358,117 +864,735 @@ static PyObject *u_row(PyObject *U, npy_intp k, npy_intp cols)
         cols, 0, (const gf_real *)PyArray_DATA((PyArrayObject *)U) + cols * k);
 }
 
-// run(): the batch entry of EKF3, see its docstring. On a failure other
-// than a gate the belief is put back as it was before the call.
-static PyObject *EKF3_run(PyObject *self_, PyObject *const *args,
-                          Py_ssize_t nargs, PyObject *kwnames)
+// The steps of a batch: N of them on self, each the model's prediction
+// with u's row (when model is not NULL; a Python g gets the row as a fresh
+// array) and meas's update with z's row (when z is given and the row has
+// no NaN). A gated update is recorded and the run goes on; any other
+// failure puts the belief back as it was, raises with exc.step and gives
+// NULL. U (k columns) and Z (m) are NULL or arrays of N rows.
+static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
+                           PyObject *meas, int python_g, PyObject *U,
+                           PyObject *Z, npy_intp N, npy_intp k, npy_intp m)
 {
-    static const char *const names[] = {"motion", "meas", "u", "z", "steps"};
-    PyObject *a[5], *U = NULL, *Z = NULL, *o[4] = {NULL, NULL, NULL, NULL},
-                    *out = NULL;
-    EKF3Obj *self = (EKF3Obj *)self_;
-    EKF3MotionObj *mo = NULL;
-    const gf_ekf3_pmeas *pq = NULL;
-    npy_intp N, k, m = 0;
-    int builtin = 0;
-    if (get_args("run", args, nargs, kwnames, names, 0, 5, a) < 0) {
+    FilterObj *self = (FilterObj *)self_;
+    const npy_intp n = fam->states(self_);
+    PyObject *o[4] = {NULL, NULL, NULL, NULL}, *out = NULL;
+    char *belief = (char *)self_ + fam->belief_offset;
+    void *saved = PyMem_Malloc(fam->belief_size);
+    if (!saved) {
+        PyErr_NoMemory();
         return NULL;
     }
-    if (a[0] && a[0] != Py_None) {
-        if (!PyObject_TypeCheck(a[0], &EKF3Motion_Type)) {
-            return bad_arg("EKF3.run: motion must be an EKF3Motion or None");
-        }
-        mo = (EKF3MotionObj *)a[0];
-        builtin = mo->pm.motion.g != ekf3_g_py;
-    }
-    if (a[1] && a[1] != Py_None) {
-        if (!PyObject_TypeCheck(a[1], &EKF3Meas_Type)) {
-            return bad_arg("EKF3.run: meas must be an EKF3Meas or None");
-        }
-        pq = &((EKF3MeasObj *)a[1])->pq;
-        m = pq->meas.m;
-    }
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF3.run called from this filter's own callback");
+    if (run_outputs(N, n, o) < 0) {
+        PyMem_Free(saved);
         return NULL;
     }
-    if (!mo && a[2] && a[2] != Py_None) {
-        return bad_arg("EKF3.run: u without motion");
-    }
-    if (ekf_run_arrays("EKF3.run", a[2], a[3], a[4], builtin ? 2 : 0, m, &U, &Z,
-                       &N, &k) < 0 ||
-        run_outputs(N, 3, o) < 0) {
-        goto done;
-    }
-    {
-        const gf_real *u =
-            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
-        const gf_real *z =
-            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
-        gf_real *mo_ = (gf_real *)PyArray_DATA((PyArrayObject *)o[0]);
-        gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
-        gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
-        signed char *sto = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
-        const gf_ekf3 saved = self->ekf;
-        const gf_innovation saved_last = self->last;
-        const int saved_has = self->has_last;
-        PyObject *prev_u = mo ? mo->cur_u : NULL;
-        self->busy = 1;
-        for (npy_intp t = 0; t < N; t++) {
-            gf_status st = GF_OK;
-            gf_innovation info;
-            no[t] = (gf_real)NAN;
-            if (mo) {
-                PyObject *ut = NULL;
-                if (U && !builtin && !(ut = u_row(U, t, k))) {
-                    st = GF_ERR_MODEL;
-                } else {
-                    mo->cur_u = ut;
-                    st = gf_ekf3_predict_prepared(&self->ekf, &mo->pm,
-                                                  u ? u + k * t : NULL);
-                    mo->cur_u = prev_u;
-                    Py_XDECREF(ut);
-                }
+    const gf_real *u =
+        U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
+    const gf_real *z =
+        Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
+    gf_real *mu_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[0]);
+    gf_real *sg_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
+    gf_real *nis_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
+    signed char *st_o = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
+    const gf_kf_innovation saved_last = self->last;
+    const int saved_has = self->has_last;
+    memcpy(saved, belief, fam->belief_size);
+    self->busy = 1;
+    for (npy_intp t = 0; t < N; t++) {
+        gf_status st = GF_OK;
+        gf_kf_innovation info;
+        nis_o[t] = (gf_real)NAN;
+        if (model) {
+            PyObject *ut = NULL;
+            if (U && python_g && !(ut = u_row(U, t, k))) {
+                st = GF_ERR_MODEL;
+            } else {
+                st = fam->predict(self_, model, u ? u + k * t : NULL, ut);
+                Py_XDECREF(ut);
             }
-            if (st == GF_OK && z && z_present(z + m * t, m)) {
-                const gf_real *zt = z + m * t;
-                gf_vec3 zv = {{zt[0], m > 1 ? zt[1] : GF_R(0.0),
-                               m > 2 ? zt[2] : GF_R(0.0)}};
-                st = gf_ekf3_update_prepared(&self->ekf, pq, &zv, &info);
-                if (st == GF_OK || st == GF_ERR_GATED) {
-                    no[t] = info.nis;
-                }
-                if (st == GF_OK) {
-                    self->last = info;
-                    self->has_last = 1;
-                }
-            }
-            if (st != GF_OK && st != GF_ERR_GATED) {
-                self->busy = 0;
-                self->ekf = saved;
-                self->last = saved_last;
-                self->has_last = saved_has;
-                if (!PyErr_Occurred()) {
-                    raise_status(st, "EKF3.run", NULL, NULL, 0, 0);
-                }
-                set_step(t);
-                goto done;
-            }
-            sto[t] = (signed char)st;
-            memcpy(mo_ + 3 * t, self->ekf.mu.v, 3 * sizeof(gf_real));
-            gf_ekf3_cov(&self->ekf, (gf_mat3 *)(so + 9 * t));
         }
-        self->busy = 0;
+        if (st == GF_OK && z && z_present(z + m * t, m)) {
+            st = fam->update(self_, meas, z + m * t, &info);
+            if (st == GF_OK || st == GF_ERR_GATED) {
+                nis_o[t] = info.nis;
+            }
+            if (st == GF_OK) {
+                self->last = info;
+                self->has_last = 1;
+            }
+        }
+        if (st != GF_OK && st != GF_ERR_GATED) {
+            self->busy = 0;
+            memcpy(belief, saved, fam->belief_size);
+            self->last = saved_last;
+            self->has_last = saved_has;
+            if (!PyErr_Occurred()) {
+                raise_status(st, fam->run_name, NULL, NULL, 0, 0);
+            }
+            set_step(t);
+            goto done;
+        }
+        st_o[t] = (signed char)st;
+        fam->record(self_, mu_o + n * t, sg_o + n * n * t);
     }
+    self->busy = 0;
     out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
 done:
-    Py_XDECREF(U);
-    Py_XDECREF(Z);
+    PyMem_Free(saved);
     for (int i = 0; i < 4; i++) {
         Py_XDECREF(o[i]);
     }
     return out;
+}
+
+// run(model=None, meas=None, u=None, z=None, steps=None) of any family (an
+// EKF's first argument is motion), see the methods' docstrings.
+static PyObject *run_entry(const Family *fam, PyObject *self_,
+                           PyObject *const *args, Py_ssize_t nargs,
+                           PyObject *kwnames)
+{
+    static const char *const kf_names[] = {"model", "meas", "u", "z", "steps"};
+    static const char *const ekf_names[] = {"motion", "meas", "u", "z",
+                                            "steps"};
+    const char *what = fam->ekf ? "motion" : "model";
+    PyObject *a[5], *U, *Z, *out;
+    PyObject *model = NULL, *meas = NULL;
+    const unsigned n = fam->states(self_);
+    unsigned got;
+    npy_intp N, k, nu = 0, m = 0;
+    int python_g = 0;
+    if (get_args("run", args, nargs, kwnames, fam->ekf ? ekf_names : kf_names,
+                 0, 5, a) < 0) {
+        return NULL;
+    }
+    if (given(a[0])) {
+        if (check_type(a[0], fam->model_type, fam->run_name, what, 1) < 0) {
+            return NULL;
+        }
+        model = a[0];
+        fam->model_size(model, &got, &nu, &python_g);
+        if (check_n(fam->run_name, what, got, n) < 0) {
+            return NULL;
+        }
+    } else {
+        fam->model_size(NULL, &got, &nu, &python_g);
+    }
+    if (given(a[1])) {
+        if (check_type(a[1], fam->meas_type, fam->run_name, "meas", 1) < 0) {
+            return NULL;
+        }
+        meas = a[1];
+        fam->meas_size(meas, &got, &m);
+        if (check_n(fam->run_name, "measurement", got, n) < 0) {
+            return NULL;
+        }
+    }
+    if (fam->ekf) {
+        if (check_idle((FilterObj *)self_, called_back, fam->run_name) < 0) {
+            return NULL;
+        }
+        if (!model && given(a[2])) {
+            return bad_arg("%s: u without motion", fam->run_name);
+        }
+    }
+    if (run_arrays(fam, a[2], a[3], a[4], nu, fam->ekf && nu,
+                   !fam->ekf && !nu ? "u given, the model has no B" : NULL, m,
+                   &U, &Z, &N, &k) < 0) {
+        return NULL;
+    }
+    out = run_steps(fam, self_, model, meas, python_g, U, Z, N, k, m);
+    Py_XDECREF(U);
+    Py_XDECREF(Z);
+    return out;
+}
+
+// ---- KF2 ------------------------------------------------------------------
+
+typedef struct {
+    PyObject_HEAD gf_kf2_pmodel pm;
+} KF2ModelObj;
+
+typedef struct {
+    PyObject_HEAD gf_kf2_pmeas pq;
+} KF2MeasObj;
+
+typedef struct {
+    FilterObj f;
+    gf_kf2 kf;
+} KF2Obj;
+
+static PyTypeObject KF2Model_Type, KF2Meas_Type, KF2_Type;
+
+static int KF2Model_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"A", "R", "B", "c", NULL};
+    PyObject *A, *R, *B = Py_None, *c = Py_None;
+    gf_kf2_model m;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KF2Model", names, &A, &R,
+                                     &B, &c)) {
+        return -1;
+    }
+    memset(&m, 0, sizeof m);
+    if (read_real(A, "KF2Model: A", 2, 2, &m.A.m[0][0]) < 0 ||
+        read_real(R, "KF2Model: R", 2, 2, &m.R.m[0][0]) < 0 ||
+        (B != Py_None && read_real(B, "KF2Model: B", 2, 2, &m.B.m[0][0]) < 0) ||
+        (c != Py_None && read_real(c, "KF2Model: c", 0, 2, m.c.v) < 0)) {
+        return -1;
+    }
+    return check(gf_kf2_prepare_model(&((KF2ModelObj *)self_)->pm, &m),
+                 "KF2Model");
+}
+
+static PyObject *KF2Model_get(PyObject *self_, void *which)
+{
+    const gf_kf2_model *m = &((KF2ModelObj *)self_)->pm.model;
+    switch ((int)(size_t)which) {
+    case 0:
+        return new_array(2, 2, &m->A.m[0][0]);
+    case 1:
+        return new_array(2, 2, &m->R.m[0][0]);
+    case 2:
+        return new_array(2, 2, &m->B.m[0][0]);
+    default:
+        return new_array(2, 0, m->c.v);
+    }
+}
+
+static PyGetSetDef KF2Model_getset[] = {
+    {"A", KF2Model_get, NULL, "state transition (2, 2)", (void *)0},
+    {"R", KF2Model_get, NULL, "process noise covariance (2, 2)", (void *)1},
+    {"B", KF2Model_get, NULL, "control matrix (2, 2)", (void *)2},
+    {"c", KF2Model_get, NULL, "constant motion term (2,)", (void *)3},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
+// KF2Meas's C (m, 2) and Q (m, m), m = 1 or 2, are read into and given
+// from the first m rows of the 2x2 C and Q as they are: with 2 columns
+// (or m = 1), the rows of a 2x2 matrix are those of the packed one.
+static int KF2Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"C", "Q", "c", "gate", NULL};
+    PyObject *C, *Q, *c = Py_None, *gate = NULL;
+    gf_kf2_meas m;
+    npy_intp rows, cols;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KF2Meas", names, &C, &Q,
+                                     &c, &gate)) {
+        return -1;
+    }
+    memset(&m, 0, sizeof m);
+    if (shape_of(C, "KF2Meas: C", 1, &rows, &cols) < 0) {
+        return -1;
+    }
+    if (rows < 1 || rows > 2 || cols != 2) {
+        bad_arg("KF2Meas: C must have shape (1, 2) or (2, 2), got (%ld, %ld)",
+                (long)rows, (long)cols);
+        return -1;
+    }
+    m.m = (unsigned)rows;
+    if (read_real(C, "KF2Meas: C", rows, 2, &m.C.m[0][0]) < 0 ||
+        read_real(Q, "KF2Meas: Q", rows, rows, &m.Q.m[0][0]) < 0 ||
+        (c != Py_None && read_real(c, "KF2Meas: c", 0, rows, m.c.v) < 0) ||
+        read_gate(gate, "KF2Meas", &m.gate) < 0) {
+        return -1;
+    }
+    return check(gf_kf2_prepare_meas(&((KF2MeasObj *)self_)->pq, &m),
+                 "KF2Meas");
+}
+
+static PyObject *KF2Meas_get(PyObject *self_, void *which)
+{
+    const gf_kf2_meas *m = &((KF2MeasObj *)self_)->pq.meas;
+    switch ((int)(size_t)which) {
+    case 0:
+        return new_array(m->m, 2, &m->C.m[0][0]);
+    case 1:
+        return new_array(m->m, m->m, &m->Q.m[0][0]);
+    case 2:
+        return new_array(m->m, 0, m->c.v);
+    case 3:
+        return PyFloat_FromDouble((double)m->gate);
+    default:
+        return PyLong_FromUnsignedLong(m->m);
+    }
+}
+
+static PyGetSetDef KF2Meas_getset[] = {
+    {"C", KF2Meas_get, NULL, "measurement matrix (m, 2)", (void *)0},
+    {"Q", KF2Meas_get, NULL, "measurement noise covariance (m, m)", (void *)1},
+    {"c", KF2Meas_get, NULL, "constant measurement term (m,)", (void *)2},
+    {"gate", KF2Meas_get, NULL, "chi-square gate on the NIS (0: none)",
+     (void *)3},
+    {"m", KF2Meas_get, NULL, "measured quantities (1 or 2)", (void *)4},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
+static int KF2_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"mu", "sigma", NULL};
+    PyObject *mu, *sigma;
+    gf_vec2 m;
+    gf_mat2 s;
+    KF2Obj *self = (KF2Obj *)self_;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:KF2", names, &mu, &sigma)) {
+        return -1;
+    }
+    if (read_real(mu, "KF2: mu", 0, 2, m.v) < 0 ||
+        read_real(sigma, "KF2: sigma", 2, 2, &s.m[0][0]) < 0 ||
+        check(gf_kf2_init(&self->kf, &m, &s), "KF2") < 0) {
+        return -1;
+    }
+    self->f.has_last = 0;
+    return 0;
+}
+
+// KF2's steps for the shared entries (Family).
+static unsigned kf2_states(PyObject *f)
+{
+    (void)f;
+    return 2;
+}
+
+static void kf2_model_size(PyObject *model, unsigned *n, npy_intp *nu,
+                           int *python_g)
+{
+    (void)model;
+    *n = 2;
+    *nu = 2;
+    *python_g = 0;
+}
+
+static void kf2_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
+{
+    *n = 2;
+    *m = ((KF2MeasObj *)meas)->pq.meas.m;
+}
+
+static gf_status kf2_predict(PyObject *f, PyObject *model, const gf_real *u,
+                             PyObject *u_obj)
+{
+    (void)u_obj;
+    return gf_kf2_predict_prepared(
+        &((KF2Obj *)f)->kf, &((KF2ModelObj *)model)->pm, (const gf_vec2 *)u);
+}
+
+static gf_status kf2_update(PyObject *f, PyObject *meas, const gf_real *z,
+                            gf_kf_innovation *info)
+{
+    const gf_kf2_pmeas *pq = &((KF2MeasObj *)meas)->pq;
+    gf_vec2 zv = {{z[0], pq->meas.m > 1 ? z[1] : GF_R(0.0)}};
+    gf_innovation in;
+    gf_status st = gf_kf2_update_prepared(&((KF2Obj *)f)->kf, pq, &zv, &in);
+    if (st == GF_OK || st == GF_ERR_GATED) {
+        innovation_of(&in, info);
+    }
+    return st;
+}
+
+static void kf2_record(PyObject *f, gf_real *mu, gf_real *sigma)
+{
+    const gf_kf2 *kf = &((KF2Obj *)f)->kf;
+    memcpy(mu, kf->mu.v, 2 * sizeof(gf_real));
+    gf_kf2_cov(kf, (gf_mat2 *)sigma);
+}
+
+static const Family kf2_family = {
+    "KF2",
+    "KF2.predict",
+    "KF2.predict: u",
+    "KF2.update",
+    "KF2.update: z",
+    "KF2.run",
+    &KF2Model_Type,
+    &KF2Meas_Type,
+    0,
+    2,
+    "(N, 2)",
+    offsetof(KF2Obj, kf),
+    sizeof(gf_kf2),
+    kf2_states,
+    kf2_model_size,
+    kf2_meas_size,
+    kf2_predict,
+    kf2_update,
+    kf2_record,
+};
+
+static PyObject *KF2_predict(PyObject *self, PyObject *const *args,
+                             Py_ssize_t nargs, PyObject *kwnames)
+{
+    return predict_entry(&kf2_family, self, args, nargs, kwnames);
+}
+
+static PyObject *KF2_update(PyObject *self, PyObject *const *args,
+                            Py_ssize_t nargs, PyObject *kwnames)
+{
+    return update_entry(&kf2_family, self, args, nargs, kwnames);
+}
+
+// run(): the batch entry of KF2, see its docstring. On a failure other
+// than a gate the belief is put back as it was before the call.
+static PyObject *KF2_run(PyObject *self, PyObject *const *args,
+                         Py_ssize_t nargs, PyObject *kwnames)
+{
+    return run_entry(&kf2_family, self, args, nargs, kwnames);
+}
+
+// Sigma of a KF2 or EKF3 as an (n, n) array.
+static PyObject *KF2_sigma(PyObject *self_, PyObject *unused)
+{
+    gf_mat2 s;
+    (void)unused;
+    gf_status st = gf_kf2_cov(&((KF2Obj *)self_)->kf, &s);
+    if (st != GF_OK) {
+        return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
+    }
+    return new_array(2, 2, &s.m[0][0]);
+}
+
+static PyObject *KF2_mu(PyObject *self, void *unused)
+{
+    (void)unused;
+    return new_array(2, 0, ((KF2Obj *)self)->kf.mu.v);
+}
+
+static PyMethodDef KF2_methods[] = {
+    {"predict", (PyCFunction)(void (*)(void))KF2_predict,
+     METH_FASTCALL | METH_KEYWORDS,
+     "predict(model, u=None)\n\n"
+     "Prediction (Table 3.1, lines 2-3):\n"
+     "    mu_bar = A mu + B u + c,   Sigma_bar = A Sigma A^T + R\n"
+     "on the factors U D U^T of Sigma. u None: no control. Raises the\n"
+     "status's GaussfiltError (NonFinite: u not finite); the belief is\n"
+     "unchanged then."},
+    {"update", (PyCFunction)(void (*)(void))KF2_update,
+     METH_FASTCALL | METH_KEYWORDS,
+     "update(meas, z)\n\n"
+     "Correction (Table 3.1, lines 4-6) with m = meas.m values z:\n"
+     "    y = z - c - C mu_bar,   S = C Sigma_bar C^T + Q,\n"
+     "    K = Sigma_bar C^T S^-1,  mu = mu_bar + K y,  Sigma = (I - K C) "
+     "Sigma_bar\n"
+     "(Bierman's scalar updates on the whitened rows), NIS = y^T S^-1 y.\n"
+     "Gated (NIS > meas.gate) carries the innovation and NIS; every error\n"
+     "leaves the belief unchanged."},
+    {"sigma", KF2_sigma, METH_NOARGS,
+     "sigma() -> (2, 2) array: Sigma = U D U^T, exactly symmetric."},
+    {"run", (PyCFunction)(void (*)(void))KF2_run, METH_FASTCALL | METH_KEYWORDS,
+     "run(model=None, meas=None, u=None, z=None, steps=None)\n"
+     "    -> (mu (N, 2), sigma (N, 2, 2), nis (N,), status (N,))\n\n"
+     "N steps in one call, each predict(model, u[k]) (when model is given)\n"
+     "then update(meas, z[k]) (when z is given and z[k] has no NaN: a NaN\n"
+     "row is a step without a measurement). A gated update is recorded\n"
+     "(status -5 and its NIS) and the run goes on from the prediction;\n"
+     "nis is NaN where no update ran. Any other failure raises with\n"
+     "exc.step = k and puts the belief back as it was before the call."},
+    {NULL, NULL, 0, NULL},
+};
+
+static PyGetSetDef KF2_getset[] = {
+    {"mu", KF2_mu, NULL, "the mean, a (2,) copy", NULL},
+    {"nis", Filter_nis, NULL,
+     "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
+    {"innovation", Filter_innovation, NULL,
+     "y = z - c - C mu_bar of the last accepted update (None before any)",
+     NULL},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
+// ---- EKF3 -----------------------------------------------------------------
+
+typedef struct {
+    CallbackObj cb;
+    gf_ekf3_pmotion pm;
+} EKF3MotionObj;
+
+typedef struct {
+    CallbackObj cb;
+    gf_ekf3_pmeas pq;
+} EKF3MeasObj;
+
+typedef struct {
+    FilterObj f;
+    gf_ekf3 ekf;
+} EKF3Obj;
+
+static PyTypeObject EKF3Motion_Type, EKF3Meas_Type, EKF3_Type;
+
+// The Python motion g(mu, u) -> (mu_bar, G) behind EKF3's C callback.
+static gf_status ekf3_g_py(void *ctx, const gf_vec3 *mu, const gf_real *u,
+                           gf_vec3 *mu_bar, gf_mat3 *G)
+{
+    CallbackObj *cb = (CallbackObj *)ctx;
+    (void)u;
+    return call_model(cb->fn, 1, cb->cur_u, mu->v, 3, 3, mu_bar->v, &G->m[0][0],
+                      "EKF3");
+}
+
+// The Python measurement h(mu_bar) -> (z_hat, H) behind EKF3's callback;
+// H's m rows of 3 are the first rows of the 3x3 H.
+static gf_status ekf3_h_py(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                           gf_mat3 *H)
+{
+    EKF3MeasObj *me = (EKF3MeasObj *)ctx;
+    return call_model(me->cb.fn, 0, NULL, mu_bar->v, 3, me->pq.meas.m, z_hat->v,
+                      &H->m[0][0], "EKF3");
+}
+
+static int EKF3Motion_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"g", "R", NULL};
+    EKF3MotionObj *self = (EKF3MotionObj *)self_;
+    PyObject *g, *R;
+    gf_ekf3_motion mo;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3Motion", names, &g,
+                                     &R)) {
+        return -1;
+    }
+    if (check_callable(g, "EKF3Motion", "g") < 0) {
+        return -1;
+    }
+    memset(&mo, 0, sizeof mo);
+    if (read_real(R, "EKF3Motion: R", 3, 3, &mo.R.m[0][0]) < 0) {
+        return -1;
+    }
+    if (PyObject_TypeCheck(g, &Builtin_Type)) {
+        if (!((BuiltinObj *)g)->g) {
+            bad_arg("EKF3Motion: %s is a measurement", ((BuiltinObj *)g)->name);
+            return -1;
+        }
+        mo.g = ((BuiltinObj *)g)->g;
+    } else {
+        mo.g = ekf3_g_py;
+        mo.ctx = self;
+    }
+    if (check(gf_ekf3_prepare_motion(&self->pm, &mo), "EKF3Motion") < 0) {
+        return -1;
+    }
+    set_fn(&self->cb, g);
+    return 0;
+}
+
+// Q (m, m) packed row by row to or from the m x m block of a 3x3 matrix.
+static void q3_copy(gf_real *dst, unsigned dst_cols, const gf_real *src,
+                    unsigned src_cols, unsigned m)
+{
+    for (unsigned i = 0; i < m; i++) {
+        for (unsigned j = 0; j < m; j++) {
+            dst[dst_cols * i + j] = src[src_cols * i + j];
+        }
+    }
+}
+
+static int EKF3Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"h", "Q", "angle_mask", "gate", NULL};
+    EKF3MeasObj *self = (EKF3MeasObj *)self_;
+    PyObject *h, *Q, *gate = NULL;
+    unsigned angle_mask = 0;
+    gf_ekf3_meas me;
+    npy_intp rows, cols;
+    gf_real Qv[9];
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|IO:EKF3Meas", names, &h, &Q,
+                                     &angle_mask, &gate)) {
+        return -1;
+    }
+    if (check_callable(h, "EKF3Meas", "h") < 0) {
+        return -1;
+    }
+    memset(&me, 0, sizeof me);
+    if (shape_of(Q, "EKF3Meas: Q", 1, &rows, &cols) < 0) {
+        return -1;
+    }
+    if (rows != cols || rows < 1 || rows > 3) {
+        bad_arg("EKF3Meas: Q must be m x m with m = 1..3, got (%ld, %ld)",
+                (long)rows, (long)cols);
+        return -1;
+    }
+    me.m = (unsigned)rows;
+    if (read_real(Q, "EKF3Meas: Q", rows, rows, Qv) < 0 ||
+        read_gate(gate, "EKF3Meas", &me.gate) < 0) {
+        return -1;
+    }
+    q3_copy(&me.Q.m[0][0], 3, Qv, me.m, me.m);
+    me.angle_mask = angle_mask;
+    if (PyObject_TypeCheck(h, &Builtin_Type)) {
+        BuiltinObj *b = (BuiltinObj *)h;
+        if (!b->h) {
+            bad_arg("EKF3Meas: %s is a motion", b->name);
+            return -1;
+        }
+        if (b->m != me.m) {
+            bad_arg("EKF3Meas: %s measures %u quantities, Q is %u x %u",
+                    b->name, b->m, me.m, me.m);
+            return -1;
+        }
+        me.h = b->h;
+    } else {
+        me.h = ekf3_h_py;
+        me.ctx = self;
+    }
+    if (check(gf_ekf3_prepare_meas(&self->pq, &me), "EKF3Meas") < 0) {
+        return -1;
+    }
+    set_fn(&self->cb, h);
+    return 0;
+}
+
+static PyObject *EKF3Motion_R(PyObject *self, void *unused)
+{
+    (void)unused;
+    return new_array(3, 3, &((EKF3MotionObj *)self)->pm.motion.R.m[0][0]);
+}
+
+static PyObject *EKF3Meas_get(PyObject *self_, void *which)
+{
+    const gf_ekf3_meas *me = &((EKF3MeasObj *)self_)->pq.meas;
+    gf_real v[9];
+    switch ((int)(size_t)which) {
+    case 1:
+        q3_copy(v, me->m, &me->Q.m[0][0], 3, me->m);
+        return new_array(me->m, me->m, v);
+    case 2:
+        return PyLong_FromUnsignedLong(me->m);
+    case 3:
+        return PyLong_FromUnsignedLong(me->angle_mask);
+    default:
+        return PyFloat_FromDouble((double)me->gate);
+    }
+}
+
+static PyGetSetDef EKF3Motion_getset[] = {
+    {"g", Callback_fn, NULL, "the motion g(mu, u) -> (mu_bar, G)", NULL},
+    {"R", EKF3Motion_R, NULL, "process noise covariance (3, 3)", NULL},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
+static PyGetSetDef EKF3Meas_getset[] = {
+    {"h", Callback_fn, NULL, "the measurement h(mu_bar) -> (z_hat, H)", NULL},
+    {"Q", EKF3Meas_get, NULL, "measurement noise covariance (m, m)", (void *)1},
+    {"m", EKF3Meas_get, NULL, "measured quantities (1..3)", (void *)2},
+    {"angle_mask", EKF3Meas_get, NULL, "bit i: residual i is an angle",
+     (void *)3},
+    {"gate", EKF3Meas_get, NULL, "chi-square gate on the NIS (0: none)",
+     (void *)4},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
+static int EKF3_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"mu", "sigma", NULL};
+    PyObject *mu, *sigma;
+    gf_vec3 m;
+    gf_mat3 s;
+    EKF3Obj *self = (EKF3Obj *)self_;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3", names, &mu, &sigma)) {
+        return -1;
+    }
+    if (check_idle(&self->f, reinit_back, "EKF3") < 0 ||
+        read_real(mu, "EKF3: mu", 0, 3, m.v) < 0 ||
+        read_real(sigma, "EKF3: sigma", 3, 3, &s.m[0][0]) < 0 ||
+        check(gf_ekf3_init(&self->ekf, &m, &s), "EKF3") < 0) {
+        return -1;
+    }
+    self->f.has_last = 0;
+    return 0;
+}
+
+// EKF3's steps for the shared entries (Family).
+static unsigned ekf3_states(PyObject *f)
+{
+    (void)f;
+    return 3;
+}
+
+// A built-in motion takes u = (d, phi).
+static void ekf3_model_size(PyObject *model, unsigned *n, npy_intp *nu,
+                            int *python_g)
+{
+    int builtin = model && ((EKF3MotionObj *)model)->pm.motion.g != ekf3_g_py;
+    *n = 3;
+    *nu = builtin ? 2 : 0;
+    *python_g = model && !builtin;
+}
+
+static void ekf3_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
+{
+    *n = 3;
+    *m = ((EKF3MeasObj *)meas)->pq.meas.m;
+}
+
+static gf_status ekf3_predict(PyObject *f, PyObject *model, const gf_real *u,
+                              PyObject *u_obj)
+{
+    EKF3MotionObj *mo = (EKF3MotionObj *)model;
+    PyObject *prev_u = mo->cb.cur_u;
+    mo->cb.cur_u = u_obj;
+    gf_status st = gf_ekf3_predict_prepared(&((EKF3Obj *)f)->ekf, &mo->pm, u);
+    mo->cb.cur_u = prev_u;
+    return st;
+}
+
+static gf_status ekf3_update(PyObject *f, PyObject *meas, const gf_real *z,
+                             gf_kf_innovation *info)
+{
+    const gf_ekf3_pmeas *pq = &((EKF3MeasObj *)meas)->pq;
+    unsigned m = pq->meas.m;
+    gf_vec3 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0), m > 2 ? z[2] : GF_R(0.0)}};
+    gf_innovation in;
+    gf_status st = gf_ekf3_update_prepared(&((EKF3Obj *)f)->ekf, pq, &zv, &in);
+    if (st == GF_OK || st == GF_ERR_GATED) {
+        innovation_of(&in, info);
+    }
+    return st;
+}
+
+static void ekf3_record(PyObject *f, gf_real *mu, gf_real *sigma)
+{
+    const gf_ekf3 *ekf = &((EKF3Obj *)f)->ekf;
+    memcpy(mu, ekf->mu.v, 3 * sizeof(gf_real));
+    gf_ekf3_cov(ekf, (gf_mat3 *)sigma);
+}
+
+static const Family ekf3_family = {
+    "EKF3",
+    "EKF3.predict",
+    "EKF3.predict: u",
+    "EKF3.update",
+    "EKF3.update: z",
+    "EKF3.run",
+    &EKF3Motion_Type,
+    &EKF3Meas_Type,
+    1,
+    1,
+    "(N, k)",
+    offsetof(EKF3Obj, ekf),
+    sizeof(gf_ekf3),
+    ekf3_states,
+    ekf3_model_size,
+    ekf3_meas_size,
+    ekf3_predict,
+    ekf3_update,
+    ekf3_record,
+};
+
+static PyObject *EKF3_predict(PyObject *self, PyObject *const *args,
+                              Py_ssize_t nargs, PyObject *kwnames)
+{
+    return predict_entry(&ekf3_family, self, args, nargs, kwnames);
+}
+
+static PyObject *EKF3_update(PyObject *self, PyObject *const *args,
+                             Py_ssize_t nargs, PyObject *kwnames)
+{
+    return update_entry(&ekf3_family, self, args, nargs, kwnames);
+}
+
+// run(): the batch entry of EKF3, see its docstring. On a failure other
+// than a gate the belief is put back as it was before the call.
+static PyObject *EKF3_run(PyObject *self, PyObject *const *args,
+                          Py_ssize_t nargs, PyObject *kwnames)
+{
+    return run_entry(&ekf3_family, self, args, nargs, kwnames);
 }
 
 static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
@@ -1482,21 +1606,10 @@ static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
     return new_array(3, 3, &s.m[0][0]);
 }
 
-static PyObject *EKF3_get(PyObject *self_, void *which)
+static PyObject *EKF3_mu(PyObject *self, void *unused)
 {
-    EKF3Obj *self = (EKF3Obj *)self_;
-    switch ((int)(size_t)which) {
-    case 0:
-        return new_array(3, 0, self->ekf.mu.v);
-    case 1:
-        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
-                                                 : (double)NAN);
-    default:
-        if (!self->has_last) {
-            Py_RETURN_NONE;
-        }
-        return new_array(self->last.m, 0, self->last.y);
-    }
+    (void)unused;
+    return new_array(3, 0, ((EKF3Obj *)self)->ekf.mu.v);
 }
 
 static PyMethodDef EKF3_methods[] = {
@@ -1534,13 +1647,11 @@ static PyMethodDef EKF3_methods[] = {
 };
 
 static PyGetSetDef EKF3_getset[] = {
-    {"mu", EKF3_get, NULL, "the mean (x, y, theta), a (3,) copy", (void *)0},
-    {"nis", EKF3_get, NULL,
-     "NIS = y^T S^-1 y of the last accepted update (nan before any)",
-     (void *)1},
-    {"innovation", EKF3_get, NULL,
-     "y = z - h(mu_bar) of the last accepted update (None before any)",
-     (void *)2},
+    {"mu", EKF3_mu, NULL, "the mean (x, y, theta), a (3,) copy", NULL},
+    {"nis", Filter_nis, NULL,
+     "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
+    {"innovation", Filter_innovation, NULL,
+     "y = z - h(mu_bar) of the last accepted update (None before any)", NULL},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
@@ -1557,26 +1668,23 @@ typedef struct {
 } KFMeasObj;
 
 typedef struct {
-    PyObject_HEAD gf_ekf_pmotion pm;
+    CallbackObj cb;
+    gf_ekf_pmotion pm;
     gf_real R[NMAX * NMAX];
-    PyObject *g;
-    PyObject *cur_u;
 } EKFMotionObj;
 
 typedef struct {
-    PyObject_HEAD gf_ekf_pmeas pq;
+    CallbackObj cb;
+    gf_ekf_pmeas pq;
     gf_real Q[NMAX * NMAX];
-    PyObject *h;
 } EKFMeasObj;
 
-// KF and EKF share it: the belief, the workspace its steps use (its own,
-// so that a callback may step another filter) and the last update's.
+// KF and EKF share it: the belief and the workspace its steps use (its
+// own, so that a callback may step another filter).
 typedef struct {
-    PyObject_HEAD gf_kf kf;
+    FilterObj f;
+    gf_kf kf;
     gf_kf_work work;
-    gf_kf_innovation last;
-    int has_last;
-    int busy;
 } KFObj;
 
 typedef KFObj EKFObj;
@@ -1598,18 +1706,6 @@ static int square_size(PyObject *obj, const char *name, npy_intp *n)
     }
     *n = r;
     return 0;
-}
-
-// A workspace for a model's prepare call, zeroed (the library needs no
-// set-up of it; zeroed memory keeps every run of the package the same).
-// NULL with MemoryError; free with PyMem_Free.
-static gf_kf_work *new_work(void)
-{
-    gf_kf_work *w = PyMem_Calloc(1, sizeof *w);
-    if (!w) {
-        PyErr_NoMemory();
-    }
-    return w;
 }
 
 static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
@@ -1651,16 +1747,9 @@ static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
     m.R = self->R;
     m.c = c != Py_None ? self->c : NULL;
     gf_kf_work *w = new_work();
-    if (!w) {
-        return -1;
-    }
-    gf_status st = gf_kf_prepare_model(&self->pm, (unsigned)n, &m, w);
-    PyMem_Free(w);
-    if (st != GF_OK) {
-        raise_status(st, "KFModel", NULL, NULL, 0, 0);
-        return -1;
-    }
-    return 0;
+    return w ? prepared(gf_kf_prepare_model(&self->pm, (unsigned)n, &m, w), w,
+                        "KFModel")
+             : -1;
 }
 
 static PyObject *KFModel_get(PyObject *self_, void *which)
@@ -1731,16 +1820,9 @@ static int KFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     me.Q = self->Q;
     me.c = c != Py_None ? self->c : NULL;
     gf_kf_work *w = new_work();
-    if (!w) {
-        return -1;
-    }
-    gf_status st = gf_kf_prepare_meas(&self->pq, (unsigned)n, &me, w);
-    PyMem_Free(w);
-    if (st != GF_OK) {
-        raise_status(st, "KFMeas", NULL, NULL, 0, 0);
-        return -1;
-    }
-    return 0;
+    return w ? prepared(gf_kf_prepare_meas(&self->pq, (unsigned)n, &me, w), w,
+                        "KFMeas")
+             : -1;
 }
 
 static PyObject *KFMeas_get(PyObject *self_, void *which)
@@ -1782,60 +1864,17 @@ static PyGetSetDef KFMeas_getset[] = {
 static gf_status ekf_g_py(void *ctx, unsigned n, const gf_real *mu,
                           const gf_real *u, gf_real *mu_bar, gf_real *G)
 {
-    EKFMotionObj *mo = (EKFMotionObj *)ctx;
-    PyObject *mu_a = new_array(n, 0, mu), *r, *seq;
+    CallbackObj *cb = (CallbackObj *)ctx;
     (void)u;
-    if (!mu_a) {
-        return GF_ERR_MODEL;
-    }
-    r = PyObject_CallFunctionObjArgs(mo->g, mu_a,
-                                     mo->cur_u ? mo->cur_u : Py_None, NULL);
-    Py_DECREF(mu_a);
-    if (!r) {
-        return GF_ERR_MODEL;
-    }
-    seq = PySequence_Fast(r, "");
-    Py_DECREF(r);
-    if (!seq || PySequence_Fast_GET_SIZE(seq) != 2) {
-        Py_XDECREF(seq);
-        PyErr_Clear();
-        bad_arg("EKF motion g must return (mu_bar, G)");
-        return GF_ERR_MODEL;
-    }
-    int bad = read_real(PySequence_Fast_GET_ITEM(seq, 0), "g's mu_bar", 0, n,
-                        mu_bar) < 0 ||
-              read_real(PySequence_Fast_GET_ITEM(seq, 1), "g's G", n, n, G) < 0;
-    Py_DECREF(seq);
-    return bad ? GF_ERR_MODEL : GF_OK;
+    return call_model(cb->fn, 1, cb->cur_u, mu, n, n, mu_bar, G, "EKF");
 }
 
 // The Python measurement h(mu_bar) -> (z_hat, H) behind gf_ekf's callback.
 static gf_status ekf_h_py(void *ctx, unsigned n, unsigned m,
                           const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
 {
-    EKFMeasObj *me = (EKFMeasObj *)ctx;
-    PyObject *mu_a = new_array(n, 0, mu_bar), *r, *seq;
-    if (!mu_a) {
-        return GF_ERR_MODEL;
-    }
-    r = PyObject_CallFunctionObjArgs(me->h, mu_a, NULL);
-    Py_DECREF(mu_a);
-    if (!r) {
-        return GF_ERR_MODEL;
-    }
-    seq = PySequence_Fast(r, "");
-    Py_DECREF(r);
-    if (!seq || PySequence_Fast_GET_SIZE(seq) != 2) {
-        Py_XDECREF(seq);
-        PyErr_Clear();
-        bad_arg("EKF measurement h must return (z_hat, H)");
-        return GF_ERR_MODEL;
-    }
-    int bad = read_real(PySequence_Fast_GET_ITEM(seq, 0), "h's z_hat", 0, m,
-                        z_hat) < 0 ||
-              read_real(PySequence_Fast_GET_ITEM(seq, 1), "h's H", m, n, H) < 0;
-    Py_DECREF(seq);
-    return bad ? GF_ERR_MODEL : GF_OK;
+    CallbackObj *cb = (CallbackObj *)ctx;
+    return call_model(cb->fn, 0, NULL, mu_bar, n, m, z_hat, H, "EKF");
 }
 
 static int EKFMotion_init(PyObject *self_, PyObject *args, PyObject *kw)
@@ -1848,11 +1887,8 @@ static int EKFMotion_init(PyObject *self_, PyObject *args, PyObject *kw)
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKFMotion", names, &g, &R)) {
         return -1;
     }
-    if (!PyCallable_Check(g)) {
-        bad_arg("EKFMotion: g must be callable");
-        return -1;
-    }
-    if (square_size(R, "EKFMotion: R", &n) < 0 ||
+    if (check_callable(g, "EKFMotion", "g") < 0 ||
+        square_size(R, "EKFMotion: R", &n) < 0 ||
         read_real(R, "EKFMotion: R", n, n, self->R) < 0) {
         return -1;
     }
@@ -1860,17 +1896,11 @@ static int EKFMotion_init(PyObject *self_, PyObject *args, PyObject *kw)
     mo.ctx = self;
     mo.R = self->R;
     gf_kf_work *w = new_work();
-    if (!w) {
+    if (!w || prepared(gf_ekf_prepare_motion(&self->pm, (unsigned)n, &mo, w), w,
+                       "EKFMotion") < 0) {
         return -1;
     }
-    gf_status st = gf_ekf_prepare_motion(&self->pm, (unsigned)n, &mo, w);
-    PyMem_Free(w);
-    if (st != GF_OK) {
-        raise_status(st, "EKFMotion", NULL, NULL, 0, 0);
-        return -1;
-    }
-    Py_INCREF(g);
-    Py_XSETREF(self->g, g);
+    set_fn(&self->cb, g);
     return 0;
 }
 
@@ -1886,11 +1916,8 @@ static int EKFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
                                      &n, &angle_mask, &gate)) {
         return -1;
     }
-    if (!PyCallable_Check(h)) {
-        bad_arg("EKFMeas: h must be callable");
-        return -1;
-    }
-    if (square_size(Q, "EKFMeas: Q", &m) < 0 ||
+    if (check_callable(h, "EKFMeas", "h") < 0 ||
+        square_size(Q, "EKFMeas: Q", &m) < 0 ||
         read_real(Q, "EKFMeas: Q", m, m, self->Q) < 0 ||
         read_gate(gate, "EKFMeas", &me.gate) < 0) {
         return -1;
@@ -1901,68 +1928,21 @@ static int EKFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     me.Q = self->Q;
     me.angle_mask = angle_mask;
     gf_kf_work *w = new_work();
-    if (!w) {
+    if (!w ||
+        prepared(gf_ekf_prepare_meas(&self->pq, n, &me, w), w, "EKFMeas") < 0) {
         return -1;
     }
-    gf_status st = gf_ekf_prepare_meas(&self->pq, n, &me, w);
-    PyMem_Free(w);
-    if (st != GF_OK) {
-        raise_status(st, "EKFMeas", NULL, NULL, 0, 0);
-        return -1;
-    }
-    Py_INCREF(h);
-    Py_XSETREF(self->h, h);
+    set_fn(&self->cb, h);
     return 0;
-}
-
-static int EKFMotion_traverse(PyObject *self, visitproc visit, void *arg)
-{
-    Py_VISIT(((EKFMotionObj *)self)->g);
-    return 0;
-}
-static int EKFMotion_clear(PyObject *self)
-{
-    Py_CLEAR(((EKFMotionObj *)self)->g);
-    return 0;
-}
-static void EKFMotion_dealloc(PyObject *self)
-{
-    PyObject_GC_UnTrack(self);
-    EKFMotion_clear(self);
-    Py_TYPE(self)->tp_free(self);
-}
-static int EKFMeas_traverse(PyObject *self, visitproc visit, void *arg)
-{
-    Py_VISIT(((EKFMeasObj *)self)->h);
-    return 0;
-}
-static int EKFMeas_clear(PyObject *self)
-{
-    Py_CLEAR(((EKFMeasObj *)self)->h);
-    return 0;
-}
-static void EKFMeas_dealloc(PyObject *self)
-{
-    PyObject_GC_UnTrack(self);
-    EKFMeas_clear(self);
-    Py_TYPE(self)->tp_free(self);
 }
 
 static PyObject *EKFMotion_get(PyObject *self_, void *which)
 {
     EKFMotionObj *self = (EKFMotionObj *)self_;
-    switch ((int)(size_t)which) {
-    case 0:
-        if (!self->g) {
-            Py_RETURN_NONE;
-        }
-        Py_INCREF(self->g);
-        return self->g;
-    case 1:
-        return new_array(self->pm.n, self->pm.n, self->R);
-    default:
+    if (which) {
         return PyLong_FromUnsignedLong(self->pm.n);
     }
+    return new_array(self->pm.n, self->pm.n, self->R);
 }
 
 static PyObject *EKFMeas_get(PyObject *self_, void *which)
@@ -1970,12 +1950,6 @@ static PyObject *EKFMeas_get(PyObject *self_, void *which)
     EKFMeasObj *self = (EKFMeasObj *)self_;
     const gf_ekf_meas *me = &self->pq.meas;
     switch ((int)(size_t)which) {
-    case 0:
-        if (!self->h) {
-            Py_RETURN_NONE;
-        }
-        Py_INCREF(self->h);
-        return self->h;
     case 1:
         return new_array(me->m, me->m, self->Q);
     case 2:
@@ -1990,15 +1964,14 @@ static PyObject *EKFMeas_get(PyObject *self_, void *which)
 }
 
 static PyGetSetDef EKFMotion_getset[] = {
-    {"g", EKFMotion_get, NULL, "the motion g(mu, u) -> (mu_bar, G)", (void *)0},
-    {"R", EKFMotion_get, NULL, "process noise covariance (n, n)", (void *)1},
-    {"n", EKFMotion_get, NULL, "states", (void *)2},
+    {"g", Callback_fn, NULL, "the motion g(mu, u) -> (mu_bar, G)", NULL},
+    {"R", EKFMotion_get, NULL, "process noise covariance (n, n)", NULL},
+    {"n", EKFMotion_get, NULL, "states", (void *)1},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
 static PyGetSetDef EKFMeas_getset[] = {
-    {"h", EKFMeas_get, NULL, "the measurement h(mu_bar) -> (z_hat, H)",
-     (void *)0},
+    {"h", Callback_fn, NULL, "the measurement h(mu_bar) -> (z_hat, H)", NULL},
     {"Q", EKFMeas_get, NULL, "measurement noise covariance (m, m)", (void *)1},
     {"m", EKFMeas_get, NULL, "measured quantities", (void *)2},
     {"n", EKFMeas_get, NULL, "states", (void *)3},
@@ -2014,14 +1987,8 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
 {
     gf_real m[NMAX], s[NMAX * NMAX];
     npy_intp n, r;
-    if (self->busy) {
-        PyErr_Format(PyExc_RuntimeError,
-                     "%s: re-initialised from its own "
-                     "callback",
-                     who);
-        return -1;
-    }
-    if (shape_of(mu, who, 0, &n, &r) < 0) {
+    if (check_idle(&self->f, reinit_back, who) < 0 ||
+        shape_of(mu, who, 0, &n, &r) < 0) {
         return -1;
     }
     if (r != 1 || n < 1 || n > NMAX) {
@@ -2040,11 +2007,10 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
     gf_status st =
         ekf ? gf_ekf_init(&self->kf, (unsigned)n, m, s, angles, &self->work)
             : gf_kf_init(&self->kf, (unsigned)n, m, s, &self->work);
-    if (st != GF_OK) {
-        raise_status(st, who, NULL, NULL, 0, 0);
+    if (check(st, who) < 0) {
         return -1;
     }
-    self->has_last = 0;
+    self->f.has_last = 0;
     return 0;
 }
 
@@ -2070,463 +2036,166 @@ static int EKF_init(PyObject *self_, PyObject *args, PyObject *kw)
     return KF_init_common((KFObj *)self_, mu, sigma, angles, 1, "EKF");
 }
 
-static PyObject *KF_predict(PyObject *self_, PyObject *const *args,
-                            Py_ssize_t nargs, PyObject *kwnames)
+// KF's and EKF's steps for the shared entries (Family).
+static unsigned kf_states(PyObject *f)
 {
-    static const char *const names[] = {"model", "u"};
-    PyObject *a[2];
-    KFObj *self = (KFObj *)self_;
-    gf_real u[NMAX];
-    if (get_args("predict", args, nargs, kwnames, names, 1, 2, a) < 0) {
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(a[0], &KFModel_Type)) {
-        return bad_arg("KF.predict: model must be a KFModel, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    const gf_kf_pmodel *pm = &((KFModelObj *)a[0])->pm;
-    if (pm->n != self->kf.n) {
-        return bad_arg("KF.predict: the model is for %u states, the filter "
-                       "has %u",
-                       pm->n, self->kf.n);
-    }
-    int has_u = a[1] && a[1] != Py_None;
-    if (has_u && !pm->model.nu) {
-        return bad_arg("KF.predict: u given, the model has no B");
-    }
-    if (has_u && read_real(a[1], "KF.predict: u", 0, pm->model.nu, u) < 0) {
-        return NULL;
-    }
-    gf_status st =
-        gf_kf_predict_prepared(&self->kf, pm, has_u ? u : NULL, &self->work);
-    if (st != GF_OK) {
-        return raise_status(st, "KF.predict", NULL, NULL, 0, 0);
-    }
-    Py_RETURN_NONE;
+    return ((KFObj *)f)->kf.n;
 }
 
-static PyObject *KF_update(PyObject *self_, PyObject *const *args,
+// No model: no u.
+static void kf_model_size(PyObject *model, unsigned *n, npy_intp *nu,
+                          int *python_g)
+{
+    const gf_kf_pmodel *pm = model ? &((KFModelObj *)model)->pm : NULL;
+    *n = pm ? pm->n : 0;
+    *nu = pm ? pm->model.nu : 0;
+    *python_g = 0;
+}
+
+static void kf_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
+{
+    *n = ((KFMeasObj *)meas)->pq.n;
+    *m = ((KFMeasObj *)meas)->pq.meas.m;
+}
+
+static gf_status kf_predict(PyObject *f, PyObject *model, const gf_real *u,
+                            PyObject *u_obj)
+{
+    KFObj *self = (KFObj *)f;
+    (void)u_obj;
+    return gf_kf_predict_prepared(&self->kf, &((KFModelObj *)model)->pm, u,
+                                  &self->work);
+}
+
+static gf_status kf_update(PyObject *f, PyObject *meas, const gf_real *z,
+                           gf_kf_innovation *info)
+{
+    KFObj *self = (KFObj *)f;
+    return gf_kf_update_prepared(&self->kf, &((KFMeasObj *)meas)->pq, z, info,
+                                 &self->work);
+}
+
+static void kf_record(PyObject *f, gf_real *mu, gf_real *sigma)
+{
+    const gf_kf *kf = &((KFObj *)f)->kf;
+    memcpy(mu, kf->mu, kf->n * sizeof(gf_real));
+    gf_kf_cov(kf, sigma);
+}
+
+// g's u as given.
+static void ekf_model_size(PyObject *model, unsigned *n, npy_intp *nu,
+                           int *python_g)
+{
+    *n = model ? ((EKFMotionObj *)model)->pm.n : 0;
+    *nu = 0;
+    *python_g = 1;
+}
+
+static void ekf_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
+{
+    *n = ((EKFMeasObj *)meas)->pq.n;
+    *m = ((EKFMeasObj *)meas)->pq.meas.m;
+}
+
+static gf_status ekf_predict(PyObject *f, PyObject *model, const gf_real *u,
+                             PyObject *u_obj)
+{
+    KFObj *self = (KFObj *)f;
+    EKFMotionObj *mo = (EKFMotionObj *)model;
+    PyObject *prev_u = mo->cb.cur_u;
+    mo->cb.cur_u = u_obj;
+    gf_status st = gf_ekf_predict_prepared(&self->kf, &mo->pm, u, &self->work);
+    mo->cb.cur_u = prev_u;
+    return st;
+}
+
+static gf_status ekf_update(PyObject *f, PyObject *meas, const gf_real *z,
+                            gf_kf_innovation *info)
+{
+    KFObj *self = (KFObj *)f;
+    return gf_ekf_update_prepared(&self->kf, &((EKFMeasObj *)meas)->pq, z, info,
+                                  &self->work);
+}
+
+static const Family kf_family = {
+    "KF",
+    "KF.predict",
+    "KF.predict: u",
+    "KF.update",
+    "KF.update: z",
+    "KF.run",
+    &KFModel_Type,
+    &KFMeas_Type,
+    0,
+    1,
+    "(N, nu)",
+    offsetof(KFObj, kf),
+    sizeof(gf_kf),
+    kf_states,
+    kf_model_size,
+    kf_meas_size,
+    kf_predict,
+    kf_update,
+    kf_record,
+};
+
+static const Family ekf_family = {
+    "EKF",
+    "EKF.predict",
+    "EKF.predict: u",
+    "EKF.update",
+    "EKF.update: z",
+    "EKF.run",
+    &EKFMotion_Type,
+    &EKFMeas_Type,
+    1,
+    1,
+    "(N, k)",
+    offsetof(KFObj, kf),
+    sizeof(gf_kf),
+    kf_states,
+    ekf_model_size,
+    ekf_meas_size,
+    ekf_predict,
+    ekf_update,
+    kf_record,
+};
+
+static PyObject *KF_predict(PyObject *self, PyObject *const *args,
+                            Py_ssize_t nargs, PyObject *kwnames)
+{
+    return predict_entry(&kf_family, self, args, nargs, kwnames);
+}
+
+static PyObject *KF_update(PyObject *self, PyObject *const *args,
                            Py_ssize_t nargs, PyObject *kwnames)
 {
-    static const char *const names[] = {"meas", "z"};
-    PyObject *a[2];
-    KFObj *self = (KFObj *)self_;
-    gf_real z[NMAX];
-    gf_kf_innovation info;
-    if (get_args("update", args, nargs, kwnames, names, 2, 2, a) < 0) {
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(a[0], &KFMeas_Type)) {
-        return bad_arg("KF.update: meas must be a KFMeas, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    const gf_kf_pmeas *pq = &((KFMeasObj *)a[0])->pq;
-    if (pq->n != self->kf.n) {
-        return bad_arg("KF.update: the measurement is for %u states, the "
-                       "filter has %u",
-                       pq->n, self->kf.n);
-    }
-    if (read_real(a[1], "KF.update: z", 0, pq->meas.m, z) < 0) {
-        return NULL;
-    }
-    gf_status st = gf_kf_update_prepared(&self->kf, pq, z, &info, &self->work);
-    if (st != GF_OK) {
-        return raise_status(st, "KF.update", NULL,
-                            st == GF_ERR_GATED ? info.y : NULL, info.m,
-                            info.nis);
-    }
-    self->last = info;
-    self->has_last = 1;
-    Py_RETURN_NONE;
+    return update_entry(&kf_family, self, args, nargs, kwnames);
 }
 
-static PyObject *KF_run(PyObject *self_, PyObject *const *args,
-                        Py_ssize_t nargs, PyObject *kwnames)
+static PyObject *KF_run(PyObject *self, PyObject *const *args, Py_ssize_t nargs,
+                        PyObject *kwnames)
 {
-    static const char *const names[] = {"model", "meas", "u", "z", "steps"};
-    PyObject *a[5], *U = NULL, *Z = NULL, *mu_o = NULL, *sg_o = NULL,
-                    *nis_o = NULL, *st_o = NULL, *out = NULL;
-    KFObj *self = (KFObj *)self_;
-    const gf_kf_pmodel *pm = NULL;
-    const gf_kf_pmeas *pq = NULL;
-    npy_intp N = -1, n = self->kf.n, nu = 0, m = 0;
-    if (get_args("run", args, nargs, kwnames, names, 0, 5, a) < 0) {
-        return NULL;
-    }
-    if (a[0] && a[0] != Py_None) {
-        if (!PyObject_TypeCheck(a[0], &KFModel_Type)) {
-            return bad_arg("KF.run: model must be a KFModel or None");
-        }
-        pm = &((KFModelObj *)a[0])->pm;
-        if ((npy_intp)pm->n != n) {
-            return bad_arg("KF.run: the model is for %u states, the filter "
-                           "has %ld",
-                           pm->n, (long)n);
-        }
-        nu = pm->model.nu;
-    }
-    if (a[1] && a[1] != Py_None) {
-        if (!PyObject_TypeCheck(a[1], &KFMeas_Type)) {
-            return bad_arg("KF.run: meas must be a KFMeas or None");
-        }
-        pq = &((KFMeasObj *)a[1])->pq;
-        if ((npy_intp)pq->n != n) {
-            return bad_arg("KF.run: the measurement is for %u states, the "
-                           "filter has %ld",
-                           pq->n, (long)n);
-        }
-        m = pq->meas.m;
-    }
-    if (a[4] && a[4] != Py_None) {
-        N = (npy_intp)PyLong_AsSsize_t(a[4]);
-        if (N == -1 && PyErr_Occurred()) {
-            return NULL;
-        }
-        if (N < 0) {
-            return bad_arg("KF.run: steps must be >= 0");
-        }
-    }
-    if (a[2] && a[2] != Py_None) {
-        if (!nu) {
-            return bad_arg("KF.run: u given, the model has no B");
-        }
-        U = PyArray_FROMANY(a[2], NPY_GF, 1, 2,
-                            NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
-        if (!U) {
-            PyErr_Clear();
-            return bad_arg("KF.run: u must be an (N, nu) array");
-        }
-        npy_intp uc = PyArray_NDIM((PyArrayObject *)U) == 2
-                          ? PyArray_DIM((PyArrayObject *)U, 1)
-                          : 1;
-        if (uc != nu || (PyArray_NDIM((PyArrayObject *)U) == 1 && nu != 1) ||
-            (N >= 0 && PyArray_DIM((PyArrayObject *)U, 0) != N)) {
-            Py_DECREF(U);
-            return bad_arg("KF.run: u must have shape (steps, %ld)", (long)nu);
-        }
-        N = PyArray_DIM((PyArrayObject *)U, 0);
-    }
-    if (a[3] && a[3] != Py_None) {
-        if (!pq) {
-            Py_XDECREF(U);
-            return bad_arg("KF.run: z without meas");
-        }
-        Z = PyArray_FROMANY(a[3], NPY_GF, 1, 2,
-                            NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
-        if (!Z) {
-            PyErr_Clear();
-            Py_XDECREF(U);
-            return bad_arg("KF.run: z must be an (N, m) array");
-        }
-        npy_intp zc = PyArray_NDIM((PyArrayObject *)Z) == 2
-                          ? PyArray_DIM((PyArrayObject *)Z, 1)
-                          : 1;
-        if (zc != m || (PyArray_NDIM((PyArrayObject *)Z) == 1 && m != 1) ||
-            (N >= 0 && PyArray_DIM((PyArrayObject *)Z, 0) != N)) {
-            Py_XDECREF(U);
-            Py_DECREF(Z);
-            return bad_arg("KF.run: z must have shape (steps, %ld)", (long)m);
-        }
-        N = PyArray_DIM((PyArrayObject *)Z, 0);
-    }
-    if (N < 0) {
-        return bad_arg("KF.run: give u, z or steps");
-    }
-    npy_intp d3[3] = {N, n, n};
-    mu_o = PyArray_SimpleNew(2, d3, NPY_GF);
-    sg_o = PyArray_SimpleNew(3, d3, NPY_GF);
-    nis_o = PyArray_SimpleNew(1, d3, NPY_GF);
-    st_o = PyArray_SimpleNew(1, d3, NPY_INT8);
-    gf_kf *saved = PyMem_Malloc(sizeof *saved);
-    if (!mu_o || !sg_o || !nis_o || !st_o || !saved) {
-        if (!saved) {
-            PyErr_NoMemory();
-        }
-        goto done;
-    }
-    {
-        const gf_real *u =
-            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
-        const gf_real *z =
-            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
-        gf_real *mo = (gf_real *)PyArray_DATA((PyArrayObject *)mu_o);
-        gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)sg_o);
-        gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)nis_o);
-        signed char *sto = (signed char *)PyArray_DATA((PyArrayObject *)st_o);
-        const gf_kf_innovation saved_last = self->last;
-        const int saved_has = self->has_last;
-        *saved = self->kf;
-        for (npy_intp k = 0; k < N; k++) {
-            gf_status st = GF_OK;
-            gf_kf_innovation info;
-            no[k] = (gf_real)NAN;
-            if (pm) {
-                st = gf_kf_predict_prepared(&self->kf, pm,
-                                            u ? u + nu * k : NULL, &self->work);
-            }
-            if (st == GF_OK && z) {
-                const gf_real *zk = z + m * k;
-                int present = 1;
-                for (npy_intp i = 0; i < m; i++) {
-                    present &= !isnan(zk[i]);
-                }
-                if (present) {
-                    st = gf_kf_update_prepared(&self->kf, pq, zk, &info,
-                                               &self->work);
-                    if (st == GF_OK || st == GF_ERR_GATED) {
-                        no[k] = info.nis;
-                    }
-                    if (st == GF_OK) {
-                        self->last = info;
-                        self->has_last = 1;
-                    }
-                }
-            }
-            if (st != GF_OK && st != GF_ERR_GATED) {
-                self->kf = *saved;
-                self->last = saved_last;
-                self->has_last = saved_has;
-                raise_status(st, "KF.run", NULL, NULL, 0, 0);
-                set_step(k);
-                goto done;
-            }
-            sto[k] = (signed char)st;
-            memcpy(mo + n * k, self->kf.mu, (size_t)n * sizeof(gf_real));
-            gf_kf_cov(&self->kf, so + n * n * k);
-        }
-    }
-    out = PyTuple_Pack(4, mu_o, sg_o, nis_o, st_o);
-done:
-    PyMem_Free(saved);
-    Py_XDECREF(U);
-    Py_XDECREF(Z);
-    Py_XDECREF(mu_o);
-    Py_XDECREF(sg_o);
-    Py_XDECREF(nis_o);
-    Py_XDECREF(st_o);
-    return out;
+    return run_entry(&kf_family, self, args, nargs, kwnames);
 }
 
-static PyObject *EKF_predict(PyObject *self_, PyObject *const *args,
+static PyObject *EKF_predict(PyObject *self, PyObject *const *args,
                              Py_ssize_t nargs, PyObject *kwnames)
 {
-    static const char *const names[] = {"motion", "u"};
-    PyObject *a[2], *U = NULL;
-    KFObj *self = (KFObj *)self_;
-    if (get_args("predict", args, nargs, kwnames, names, 1, 2, a) < 0) {
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(a[0], &EKFMotion_Type)) {
-        return bad_arg("EKF.predict: motion must be an EKFMotion, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    EKFMotionObj *mo = (EKFMotionObj *)a[0];
-    if (mo->pm.n != self->kf.n) {
-        return bad_arg("EKF.predict: the motion is for %u states, the filter "
-                       "has %u",
-                       mo->pm.n, self->kf.n);
-    }
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF.predict called from this filter's own callback");
-        return NULL;
-    }
-    if (a[1] && a[1] != Py_None) {
-        U = PyArray_FROMANY(a[1], NPY_GF, 0, 1,
-                            NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST |
-                                NPY_ARRAY_ENSURECOPY);
-        if (!U) {
-            PyErr_Clear();
-            return bad_arg("EKF.predict: u must be a vector of numbers");
-        }
-    }
-    PyObject *prev_u = mo->cur_u;
-    mo->cur_u = U;
-    self->busy = 1;
-    gf_status st = gf_ekf_predict_prepared(
-        &self->kf, &mo->pm,
-        U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL,
-        &self->work);
-    self->busy = 0;
-    mo->cur_u = prev_u;
-    Py_XDECREF(U);
-    if (st != GF_OK) {
-        if (PyErr_Occurred()) {
-            return NULL;
-        }
-        return raise_status(st, "EKF.predict", NULL, NULL, 0, 0);
-    }
-    Py_RETURN_NONE;
+    return predict_entry(&ekf_family, self, args, nargs, kwnames);
 }
 
-static PyObject *EKF_update(PyObject *self_, PyObject *const *args,
+static PyObject *EKF_update(PyObject *self, PyObject *const *args,
                             Py_ssize_t nargs, PyObject *kwnames)
 {
-    static const char *const names[] = {"meas", "z"};
-    PyObject *a[2];
-    KFObj *self = (KFObj *)self_;
-    gf_real z[NMAX];
-    gf_kf_innovation info;
-    if (get_args("update", args, nargs, kwnames, names, 2, 2, a) < 0) {
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(a[0], &EKFMeas_Type)) {
-        return bad_arg("EKF.update: meas must be an EKFMeas, not %s",
-                       Py_TYPE(a[0])->tp_name);
-    }
-    const gf_ekf_pmeas *pq = &((EKFMeasObj *)a[0])->pq;
-    if (pq->n != self->kf.n) {
-        return bad_arg("EKF.update: the measurement is for %u states, the "
-                       "filter has %u",
-                       pq->n, self->kf.n);
-    }
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF.update called from this filter's own callback");
-        return NULL;
-    }
-    if (read_real(a[1], "EKF.update: z", 0, pq->meas.m, z) < 0) {
-        return NULL;
-    }
-    self->busy = 1;
-    gf_status st = gf_ekf_update_prepared(&self->kf, pq, z, &info, &self->work);
-    self->busy = 0;
-    if (st != GF_OK) {
-        if (PyErr_Occurred()) {
-            return NULL;
-        }
-        return raise_status(st, "EKF.update", NULL,
-                            st == GF_ERR_GATED ? info.y : NULL, info.m,
-                            info.nis);
-    }
-    self->last = info;
-    self->has_last = 1;
-    Py_RETURN_NONE;
+    return update_entry(&ekf_family, self, args, nargs, kwnames);
 }
 
 // run(): the batch entry of EKF, as EKF3.run.
-static PyObject *EKF_run(PyObject *self_, PyObject *const *args,
+static PyObject *EKF_run(PyObject *self, PyObject *const *args,
                          Py_ssize_t nargs, PyObject *kwnames)
 {
-    static const char *const names[] = {"motion", "meas", "u", "z", "steps"};
-    PyObject *a[5], *U = NULL, *Z = NULL, *o[4] = {NULL, NULL, NULL, NULL},
-                    *out = NULL;
-    KFObj *self = (KFObj *)self_;
-    EKFMotionObj *mo = NULL;
-    const gf_ekf_pmeas *pq = NULL;
-    const npy_intp n = self->kf.n;
-    npy_intp N, k, m = 0;
-    gf_kf *saved = NULL;
-    if (get_args("run", args, nargs, kwnames, names, 0, 5, a) < 0) {
-        return NULL;
-    }
-    if (a[0] && a[0] != Py_None) {
-        if (!PyObject_TypeCheck(a[0], &EKFMotion_Type)) {
-            return bad_arg("EKF.run: motion must be an EKFMotion or None");
-        }
-        mo = (EKFMotionObj *)a[0];
-        if ((npy_intp)mo->pm.n != n) {
-            return bad_arg("EKF.run: the motion is for %u states, the filter "
-                           "has %ld",
-                           mo->pm.n, (long)n);
-        }
-    }
-    if (a[1] && a[1] != Py_None) {
-        if (!PyObject_TypeCheck(a[1], &EKFMeas_Type)) {
-            return bad_arg("EKF.run: meas must be an EKFMeas or None");
-        }
-        pq = &((EKFMeasObj *)a[1])->pq;
-        if ((npy_intp)pq->n != n) {
-            return bad_arg("EKF.run: the measurement is for %u states, the "
-                           "filter has %ld",
-                           pq->n, (long)n);
-        }
-        m = pq->meas.m;
-    }
-    if (self->busy) {
-        PyErr_SetString(PyExc_RuntimeError,
-                        "EKF.run called from this filter's own callback");
-        return NULL;
-    }
-    if (!mo && a[2] && a[2] != Py_None) {
-        return bad_arg("EKF.run: u without motion");
-    }
-    if (ekf_run_arrays("EKF.run", a[2], a[3], a[4], 0, m, &U, &Z, &N, &k) < 0 ||
-        run_outputs(N, n, o) < 0) {
-        goto done;
-    }
-    saved = PyMem_Malloc(sizeof *saved);
-    if (!saved) {
-        PyErr_NoMemory();
-        goto done;
-    }
-    {
-        const gf_real *u =
-            U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
-        const gf_real *z =
-            Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
-        gf_real *mo_ = (gf_real *)PyArray_DATA((PyArrayObject *)o[0]);
-        gf_real *so = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
-        gf_real *no = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
-        signed char *sto = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
-        const gf_kf_innovation saved_last = self->last;
-        const int saved_has = self->has_last;
-        PyObject *prev_u = mo ? mo->cur_u : NULL;
-        *saved = self->kf;
-        self->busy = 1;
-        for (npy_intp t = 0; t < N; t++) {
-            gf_status st = GF_OK;
-            gf_kf_innovation info;
-            no[t] = (gf_real)NAN;
-            if (mo) {
-                PyObject *ut = NULL;
-                if (U && !(ut = u_row(U, t, k))) {
-                    st = GF_ERR_MODEL;
-                } else {
-                    mo->cur_u = ut;
-                    st = gf_ekf_predict_prepared(
-                        &self->kf, &mo->pm, u ? u + k * t : NULL, &self->work);
-                    mo->cur_u = prev_u;
-                    Py_XDECREF(ut);
-                }
-            }
-            if (st == GF_OK && z && z_present(z + m * t, m)) {
-                st = gf_ekf_update_prepared(&self->kf, pq, z + m * t, &info,
-                                            &self->work);
-                if (st == GF_OK || st == GF_ERR_GATED) {
-                    no[t] = info.nis;
-                }
-                if (st == GF_OK) {
-                    self->last = info;
-                    self->has_last = 1;
-                }
-            }
-            if (st != GF_OK && st != GF_ERR_GATED) {
-                self->busy = 0;
-                self->kf = *saved;
-                self->last = saved_last;
-                self->has_last = saved_has;
-                if (!PyErr_Occurred()) {
-                    raise_status(st, "EKF.run", NULL, NULL, 0, 0);
-                }
-                set_step(t);
-                goto done;
-            }
-            sto[t] = (signed char)st;
-            memcpy(mo_ + n * t, self->kf.mu, (size_t)n * sizeof(gf_real));
-            gf_kf_cov(&self->kf, so + n * n * t);
-        }
-        self->busy = 0;
-    }
-    out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
-done:
-    PyMem_Free(saved);
-    Py_XDECREF(U);
-    Py_XDECREF(Z);
-    for (int i = 0; i < 4; i++) {
-        Py_XDECREF(o[i]);
-    }
-    return out;
+    return run_entry(&ekf_family, self, args, nargs, kwnames);
 }
 
 static PyObject *KF_sigma(PyObject *self_, PyObject *unused)
@@ -2546,14 +2215,6 @@ static PyObject *KF_get(PyObject *self_, void *which)
     switch ((int)(size_t)which) {
     case 0:
         return new_array(self->kf.n, 0, self->kf.mu);
-    case 1:
-        return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
-                                                 : (double)NAN);
-    case 2:
-        if (!self->has_last) {
-            Py_RETURN_NONE;
-        }
-        return new_array(self->last.m, 0, self->last.y);
     case 3:
         return PyLong_FromUnsignedLong(self->kf.n);
     default:
@@ -2623,12 +2284,10 @@ static PyMethodDef EKF_methods[] = {
 
 static PyGetSetDef KF_getset[] = {
     {"mu", KF_get, NULL, "the mean, an (n,) copy", (void *)0},
-    {"nis", KF_get, NULL,
-     "NIS = y^T S^-1 y of the last accepted update (nan before any)",
-     (void *)1},
-    {"innovation", KF_get, NULL,
-     "the innovation y of the last accepted update (None before any)",
-     (void *)2},
+    {"nis", Filter_nis, NULL,
+     "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
+    {"innovation", Filter_innovation, NULL,
+     "the innovation y of the last accepted update (None before any)", NULL},
     {"n", KF_get, NULL, "states", (void *)3},
     {"angles", KF_get, NULL, "bit i: state i is an angle (EKF)", (void *)4},
     {NULL, NULL, NULL, NULL, NULL},
@@ -2731,9 +2390,9 @@ static PyMethodDef module_methods[] = {
         .tp_new = PyType_GenericNew,                                           \
         .tp_init = init,                                                       \
         .tp_getset = getset,                                                   \
-        .tp_traverse = T##_traverse,                                           \
-        .tp_clear = T##_clear,                                                 \
-        .tp_dealloc = T##_dealloc,                                             \
+        .tp_traverse = Callback_traverse,                                      \
+        .tp_clear = Callback_clear,                                            \
+        .tp_dealloc = Callback_dealloc,                                        \
     }
 
 GF_TYPE(KF2Model, "KF2Model",
