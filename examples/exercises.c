@@ -79,35 +79,35 @@ static void put_ekf3(int track, int seq, int stage, const gf_ekf3 *e)
 
 // One number, computed, and printed by the worked solutions with `digits`
 // decimals.
-static void cell(double got, double seed, int digits)
+static void cell(double got, double worked, int digits)
 {
     double half_ulp = 0.5 * pow(10.0, -digits) + 1e-12;
-    int ok = !g_compare || fabs(got - seed) <= half_ulp;
+    int ok = !g_compare || fabs(got - worked) <= half_ulp;
     mismatches += !ok;
     printf(" %10.*f%s", digits + 2, got, ok ? " " : "!");
 }
 
-static void row2(const char *label, const gf_kf2 *kf, const double seed_mu[2],
-                 const double seed_s[3], int digits)
+static void row2(const char *label, const gf_kf2 *kf, const double worked_mu[2],
+                 const double worked_s[3], int digits)
 {
     const gf_mat2 s = sigma2(kf);
     printf("  %-8s mu =", label);
-    cell((double)kf->mu.v[0], seed_mu[0], digits);
-    cell((double)kf->mu.v[1], seed_mu[1], digits);
+    cell((double)kf->mu.v[0], worked_mu[0], digits);
+    cell((double)kf->mu.v[1], worked_mu[1], digits);
     printf("   Sigma =");
-    cell((double)s.m[0][0], seed_s[0], digits);
-    cell((double)s.m[0][1], seed_s[1], digits);
-    cell((double)s.m[1][1], seed_s[2], digits);
+    cell((double)s.m[0][0], worked_s[0], digits);
+    cell((double)s.m[0][1], worked_s[1], digits);
+    cell((double)s.m[1][1], worked_s[2], digits);
     printf("\n");
     if (!g_compare) {
         return;
     }
-    printf("  %-8s seed  %10.*f  %10.*f           %10.*f  %10.*f  %10.*f\n", "",
-           digits, seed_mu[0], digits, seed_mu[1], digits, seed_s[0], digits,
-           seed_s[1], digits, seed_s[2]);
+    printf("  %-6s worked  %10.*f  %10.*f           %10.*f  %10.*f  %10.*f\n",
+           "", digits, worked_mu[0], digits, worked_mu[1], digits, worked_s[0],
+           digits, worked_s[1], digits, worked_s[2]);
 }
 
-static void row3(const char *label, const gf_ekf3 *b, const double seed[9])
+static void row3(const char *label, const gf_ekf3 *b, const double worked[9])
 {
     // mu (3), then Sigma's upper triangle: xx xy xt yy yt tt
     const gf_mat3 s = sigma3(b);
@@ -117,15 +117,15 @@ static void row3(const char *label, const gf_ekf3 *b, const double seed[9])
         (double)s.m[1][1],  (double)s.m[1][2],  (double)s.m[2][2]};
     printf("  %-9s", label);
     for (int i = 0; i < 9; i++) {
-        cell(got[i], seed[i], i == 3 ? 3 : 2);
+        cell(got[i], worked[i], i == 3 ? 3 : 2);
     }
     printf("\n");
     if (!g_compare) {
         return;
     }
-    printf("  %-9s", "seed");
+    printf("  %-9s", "worked");
     for (int i = 0; i < 9; i++) {
-        printf(" %11.*f", i == 3 ? 3 : 2, seed[i]);
+        printf(" %11.*f", i == 3 ? 3 : 2, worked[i]);
     }
     printf("\n");
 }
@@ -195,7 +195,7 @@ int main(int argc, char **argv)
     }
 
     printf("\nFigure 1.2: correlation of position and velocity\n");
-    static const double rho_seed[4] = {0, 1.0, 0.894, 0.878};
+    static const double rho_worked[4] = {0, 1.0, 0.894, 0.878};
     gf_kf2_init(&kf, &mu0, &s0);
     for (int t = 0; t <= GF_BOOK_EX1_STEPS; t++) {
         gf_real rho;
@@ -210,9 +210,9 @@ int main(int argc, char **argv)
         }
         printf("  t = %2d  rho =", t);
         if (t < 4 || t == 10) {
-            double seed = t < 4 ? rho_seed[t] : 0.867;
-            cell((double)rho, seed, 3);
-            printf("  seed %.3f", seed);
+            double worked = t < 4 ? rho_worked[t] : 0.867;
+            cell((double)rho, worked, 3);
+            printf("  worked %.3f", worked);
         } else {
             printf(" %10.5f ", (double)rho);
         }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // gf_check: listens to one track's beliefs on the wire and checks them
-// against a table of the seed (Probabilistic Robotics, chapter 3 exercises).
-// Prints the beliefs beside the seed's values; exit 0 only if they agree.
+// against a table of the worked solutions (docs/exercises.md).
+// Prints the beliefs beside the worked solutions' values; exit 0 only if they agree.
 //
 //   gf_check --table 1.1|2.1|4.2 --track N [--url URL] [--timeout-ms MS]
 //   gf_check --count N --track N [--url URL] [--timeout-ms MS]
@@ -13,7 +13,7 @@
 // --count N only waits for N beliefs of the track and prints them.
 //
 // Tolerance: 1e-12 relative to max(1, |value|) against the exact values of
-// the tables (2e-5 when the node is built in float); the seed's printed
+// the tables (2e-5 when the node is built in float); the worked solutions' printed
 // values are shown beside them.
 // Prints "gf_check: ready" once subscribed.
 #include <math.h>
@@ -63,7 +63,7 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
     }
 }
 
-// ---- the seed's tables, in exact form --------------------------------------
+// ---- the worked solutions' tables, in exact form -------------------------
 
 typedef struct want {
     const char *label;
@@ -71,7 +71,7 @@ typedef struct want {
     int n;
     double mean[3];
     double cov[3][3];
-    const char *seed; // as the seed prints it
+    const char *worked; // as the worked solutions print it
 } want;
 
 static int close_to(double got, double want_v, double tol)
@@ -120,7 +120,7 @@ static int run_rows(const check *c, const want *w, const int *seq, int rows)
         printf("  %-9s wire: ", w[r].label);
         print_belief(b);
         if (g_differs[0] == '\0') {
-            printf("\n  %-9s seed: %s  %s\n", "", w[r].seed,
+            printf("\n  %-7s worked: %s  %s\n", "", w[r].worked,
                    ok ? "[match]" : "[MISMATCH]");
         } else {
             printf("\n  %-9s want: ", "");
@@ -148,12 +148,12 @@ static int table_1_1(const check *c)
     static const double s[6][3] = {{0, 0, 0},   {0.25, 0.5, 1},
                                    {2.5, 2, 2}, {8.75, 4.5, 3},
                                    {21, 8, 4},  {41.25, 12.5, 5}};
-    static const char *seed[6] = {"mu = (0 0)  Sigma = (0 0; 0 0)",
-                                  "mu = (0 0)  Sigma = (0.25 0.5; 0.5 1)",
-                                  "mu = (0 0)  Sigma = (2.5 2; 2 2)",
-                                  "mu = (0 0)  Sigma = (8.75 4.5; 4.5 3)",
-                                  "mu = (0 0)  Sigma = (21 8; 8 4)",
-                                  "mu = (0 0)  Sigma = (41.25 12.5; 12.5 5)"};
+    static const char *worked[6] = {"mu = (0 0)  Sigma = (0 0; 0 0)",
+                                    "mu = (0 0)  Sigma = (0.25 0.5; 0.5 1)",
+                                    "mu = (0 0)  Sigma = (2.5 2; 2 2)",
+                                    "mu = (0 0)  Sigma = (8.75 4.5; 4.5 3)",
+                                    "mu = (0 0)  Sigma = (21 8; 8 4)",
+                                    "mu = (0 0)  Sigma = (41.25 12.5; 12.5 5)"};
     static const char *label[6] = {"t = 0", "t = 1", "t = 2",
                                    "t = 3", "t = 4", "t = 5"};
     want w[6];
@@ -167,7 +167,7 @@ static int table_1_1(const check *c)
         w[t].cov[0][0] = s[t][0];
         w[t].cov[0][1] = w[t].cov[1][0] = s[t][1];
         w[t].cov[1][1] = s[t][2];
-        w[t].seed = seed[t];
+        w[t].worked = worked[t];
         seq[t] = t;
     }
     printf("Table 1.1: the car's belief, prediction only (from the wire)\n");
@@ -206,7 +206,7 @@ static int table_1_1(const check *c)
     }
     if (c->count < 11)
         fails++;
-    printf("  seed: rho starts at 1 (t = 1) and converges to 0.87 "
+    printf("  worked: rho starts at 1 (t = 1) and converges to 0.87 "
            "(sqrt(3)/2 = 0.866)\n");
     return fails;
 }
@@ -237,7 +237,7 @@ static int table_2_1(const check *c, const gf_book *bk)
     w[0].cov[0][0] = sx;
     w[0].cov[0][1] = w[0].cov[1][0] = sxv;
     w[0].cov[1][1] = sv;
-    w[0].seed = "mu = (0 0)  cov = (41.25 12.5; 12.5 5)";
+    w[0].worked = "mu = (0 0)  cov = (41.25 12.5; 12.5 5)";
     w[1].label = "After";
     w[1].stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
     w[1].n = 2;
@@ -246,7 +246,7 @@ static int table_2_1(const check *c, const gf_book *bk)
     w[1].cov[0][0] = sx * q / s;
     w[1].cov[0][1] = w[1].cov[1][0] = sxv * q / s;
     w[1].cov[1][1] = sv - sxv * sxv / s;
-    w[1].seed = "mu = (4.02 1.22)  cov = (8.05 2.44; 2.44 1.95)";
+    w[1].worked = "mu = (4.02 1.22)  cov = (8.05 2.44; 2.44 1.95)";
     printf("Table 2.1: the car at t = %d before and after z = %g "
            "(variance %g, from the wire)\n",
            n, z, q);
@@ -272,10 +272,10 @@ static int table_4_2(const check *c, const gf_book *bk)
         w[r].cov[1][2] = w[r].cov[2][1] = r == 0 ? 0.0 : d * h;
     }
     w[0].label = "Init";
-    w[0].seed = "mu = (0 0 0)  cov = (0.01 0 0; 0 0.01 0; 0 0 10000)";
+    w[0].worked = "mu = (0 0 0)  cov = (0.01 0 0; 0 0.01 0; 0 0 10000)";
     w[1].label = "Predicted";
-    w[1].seed = "mu = (1 0 0)  cov = (0.01 0 0; 0 10000.01 10000; "
-                "0 10000 10000)";
+    w[1].worked = "mu = (1 0 0)  cov = (0.01 0 0; 0 10000.01 10000; "
+                  "0 10000 10000)";
     w[2].label = "Corrected";
     w[1].mean[0] = d;
     {
@@ -283,8 +283,8 @@ static int table_4_2(const check *c, const gf_book *bk)
         w[2].mean[0] = d + k * (GF_BOOK_EX4_Z - d);
         w[2].cov[0][0] = (1 - k) * (1 - k) * xy + k * k * q; // Joseph form
     }
-    w[2].seed = "mu = (0.15 0 0)  cov = (0.005 0 0; 0 10000.01 10000; "
-                "0 10000 10000)";
+    w[2].worked = "mu = (0.15 0 0)  cov = (0.005 0 0; 0 10000.01 10000; "
+                  "0 10000 10000)";
     printf("Table 4.2: the robot, EKF (from the wire)\n");
     return run_rows(c, w, seq, 3) + (c->count < 3);
 }

@@ -73,7 +73,7 @@ extern "C" {
 // The robot's filter (gf_node_set_filter; gf_node --filter ekf|ukf|pf).
 // The car is always KF2.
 typedef enum gf_node_filter {
-    GF_NODE_FILTER_EKF = 0, // EKF3 (the default): the seed's Table 4.2
+    GF_NODE_FILTER_EKF = 0, // EKF3 (the default): Table 4.2
     GF_NODE_FILTER_UKF,     // UKF3, alpha = 1, beta = 2, kappa = 0
     GF_NODE_FILTER_PF       // PF3 from the node's particle pool
 } gf_node_filter;

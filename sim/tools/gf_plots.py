@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Draws the seed's figures from an LCM log recorded by scripts/demo, or
+"""Draws the worked solutions' figures from an LCM log recorded by scripts/demo, or
 from the beliefs examples/exercises --beliefs wrote (scripts/demo --core).
 
     python gf_plots.py LOG OUT_DIR        (scripts/plot LOG [DIR])
