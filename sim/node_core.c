@@ -397,6 +397,54 @@ int gf_node_belief_origin(const void *data, size_t len, int32_t *track,
     return 0;
 }
 
+// The warning, once per track, that node `id` publishes beliefs of t too.
+static void peer_warn(gf_node *node, gf_node_track *t, const char *id)
+{
+    if (!t->peer_warned) {
+        t->peer_warned = 1;
+        say(node,
+            "warning: node \"%s\" also publishes beliefs of track %ld "
+            "(this node is \"%s\"): two nodes filter the same track; give "
+            "each its own tracks (--channels)",
+            id, (long)t->id, node->id);
+    }
+}
+
+// Another node's belief of a track this node has not made (yet): kept in
+// the ring of peer_early, one entry per track and node.
+static void peer_remember(gf_node *node, int32_t track, const char *id)
+{
+    unsigned i, n = node->npeer_early < GF_NODE_PEER_EARLY ? node->npeer_early
+                                                           : GF_NODE_PEER_EARLY;
+    for (i = 0; i < n; i++) {
+        if (node->peer_early[i].track == track &&
+            strcmp(node->peer_early[i].id, id) == 0) {
+            node->peer_early[i].count++;
+            return;
+        }
+    }
+    i = node->npeer_early++ % GF_NODE_PEER_EARLY;
+    node->peer_early[i].track = track;
+    node->peer_early[i].count = 1;
+    memcpy(node->peer_early[i].id, id, strlen(id) + 1);
+}
+
+// A new track: the beliefs of it other nodes published before it was
+// made count now, and are warned about.
+static void peer_early_track(gf_node *node, gf_node_track *t)
+{
+    unsigned i, n = node->npeer_early < GF_NODE_PEER_EARLY ? node->npeer_early
+                                                           : GF_NODE_PEER_EARLY;
+    for (i = 0; i < n; i++) {
+        if (node->peer_early[i].track == t->id &&
+            node->peer_early[i].count > 0) {
+            node->counts.peer_beliefs += node->peer_early[i].count;
+            node->peer_early[i].count = 0;
+            peer_warn(node, t, node->peer_early[i].id);
+        }
+    }
+}
+
 int gf_node_peer_belief(gf_node *node, const void *data, size_t len)
 {
     char id[GF_NODE_ID_MAX];
@@ -407,17 +455,12 @@ int gf_node_peer_belief(gf_node *node, const void *data, size_t len)
         strcmp(id, node->id) == 0)
         return 0;
     t = (gf_node_track *)(uintptr_t)gf_node_find(node, track);
-    if (t == NULL)
+    if (t == NULL) {
+        peer_remember(node, track, id);
         return 0;
-    node->counts.peer_beliefs++;
-    if (!t->peer_warned) {
-        t->peer_warned = 1;
-        say(node,
-            "warning: node \"%s\" also publishes beliefs of track %ld "
-            "(this node is \"%s\"): two nodes filter the same track; give "
-            "each its own tracks (--channels)",
-            id, (long)track, node->id);
     }
+    node->counts.peer_beliefs++;
+    peer_warn(node, t, id);
     return 1;
 }
 
@@ -814,6 +857,7 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
             "name %s%ld or %s%ld (strict refuses such a track)",
             (long)id, kind_name(model), use->name, GF_CHANNEL_MEAS, (long)id,
             GF_CHANNEL_CTRL, (long)id);
+    peer_early_track(node, t);
     belief_fill(node, t, &b);
     b.utime = utime;
     b.input_seq = -1;

@@ -218,6 +218,7 @@ typedef struct gf_node_track {
 
 // The longest node id (gf_node_set_id) carried in belief_t.node.
 #define GF_NODE_ID_MAX 64
+#define GF_NODE_PEER_EARLY 16
 
 // Log callback: one line of what the node did with a track (no newline).
 typedef void (*gf_node_log_fn)(void *ctx, const char *line);
@@ -242,7 +243,16 @@ typedef struct gf_node {
     gf_node_model_fn models;     // NULL: the presets
     const void *models_ctx;
     char id[GF_NODE_ID_MAX]; // belief_t.node ("" until gf_node_set_id)
-    int strict;              // refuse tracks no model names
+    // other nodes' beliefs of tracks this node has not made yet (the
+    // latest GF_NODE_PEER_EARLY, oldest overwritten): a track made later
+    // is warned about then (gf_node_peer_belief)
+    struct {
+        int32_t track;
+        uint32_t count;
+        char id[GF_NODE_ID_MAX];
+    } peer_early[GF_NODE_PEER_EARLY];
+    unsigned npeer_early;
+    int strict; // refuse tracks no model names
     gf_node_log_fn log;
     void *log_ctx;
     // ids refused as no_model, each said once (the first
@@ -305,7 +315,9 @@ int gf_node_belief_origin(const void *data, size_t len, int32_t *track,
 // A belief seen on GF_BELIEF_<id> (the node's own come back over udpm):
 // one of another node (another id) for a track this node holds is counted
 // in peer_beliefs and said once per track through the log callback: two
-// nodes filter the same track. Returns 1 for such a belief, else 0.
+// nodes filter the same track. One for a track this node has not made yet
+// is kept (peer_early) and counted and said when it makes the track.
+// Returns 1 for a belief of a track this node holds, else 0.
 int gf_node_peer_belief(gf_node *node, const void *data, size_t len);
 
 // "ekf", "ukf" or "pf" -> the filter; returns 0, or -1 if unknown.

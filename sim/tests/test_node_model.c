@@ -850,6 +850,20 @@ static void strict_and_peers(void **state)
     buf[0] ^= 1;
     assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 0);
     assert_int_equal(node.counts.peer_beliefs, 2);
+    assert_int_equal(said.n, 3);
+    // the two beliefs of track 151 whose origin could be read (the whole
+    // one and the one cut short: its track and node come first) came
+    // before this node made the track: counted and said when it does
+    m = gf_msg_ctrl(151, GF_CAR, 1, 0, 0, 0, 0);
+    assert_int_equal(gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                     GF_NODE_APPLIED);
+    assert_int_equal(node.counts.peer_beliefs, 4);
+    assert_int_equal(said.n, 5);
+    assert_string_equal(said.line[4],
+                        "warning: node \"other\" also publishes beliefs of "
+                        "track 151 (this node is \"me\"): two nodes filter "
+                        "the same track; give each its own tracks "
+                        "(--channels)");
 }
 
 int main(void)
