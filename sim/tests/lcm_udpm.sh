@@ -128,6 +128,23 @@ expect() {
         { echo "lcm_udpm: expected $1=$2 in the summary" >&2; exit 1; }
 }
 
+# node_done K: stops node K and reads its summary line into $summary: it
+# received and applied every input of $runs runs of $steps steps (a
+# control and a measurement each), with no gap, no drop, a track per run
+node_done() {
+    local node_pid
+    node_pid=$(eval echo "\$node${1}_pid")
+    kill -TERM "$node_pid"
+    wait "$node_pid" || { echo "lcm_udpm: node $1 exit status $?" >&2; exit 1; }
+    summary=$(grep 'gf_node: summary' "$work/node$1.out")
+    echo "node $1: $summary"
+    expect received $((2 * runs * steps))
+    expect applied $((2 * runs * steps))
+    expect gaps 0
+    expect dropped 0
+    expect tracks "$runs"
+}
+
 # exercise TABLE EXERCISE TRACK APPLIED
 exercise() {
     start check "$bin/gf_check" --url "$URL" --table "$1" --track "$3"
@@ -262,16 +279,7 @@ config)
         done
     done
     for k in 1 2 3; do
-        node_pid=$(eval echo "\$node${k}_pid")
-        kill -TERM "$node_pid"
-        wait "$node_pid" || { echo "lcm_udpm: node $k exit status $?" >&2; exit 1; }
-        summary=$(grep 'gf_node: summary' "$work/node$k.out")
-        echo "node $k: $summary"
-        expect received $((2 * runs * steps))
-        expect applied $((2 * runs * steps))
-        expect gaps 0
-        expect dropped 0
-        expect tracks $runs
+        node_done "$k"
     done
     for spec in car100:1 rover-xy:2 rover-landmark:3; do
         m=${spec%:*} k=${spec#*:}
@@ -303,17 +311,8 @@ linear)
     done
     for spec in $models; do
         m=${spec%:*} k=${spec#*:}
-        node_pid=$(eval echo "\$node${k}_pid")
-        kill -TERM "$node_pid"
-        wait "$node_pid" || { echo "lcm_udpm: node $k exit status $?" >&2; exit 1; }
-        summary=$(grep 'gf_node: summary' "$work/node$k.out")
-        echo "node $k: $summary"
-        expect received $((2 * runs * steps))
-        expect applied $((2 * runs * steps))
-        expect gaps 0
-        expect dropped 0
+        node_done "$k"
         expect no_model 0
-        expect tracks $runs
         grep -q "^gf_node: track ${k}00 (linear, gf_kf): model $m, its channels" \
             "$work/node$k.out" ||
             { echo "lcm_udpm: node $k did not say track ${k}00's model" >&2; exit 1; }
