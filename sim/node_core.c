@@ -410,12 +410,18 @@ static void peer_warn(gf_node *node, gf_node_track *t, const char *id)
     }
 }
 
+// How many entries of the ring peer_early hold a belief.
+static unsigned peer_early_held(const gf_node *node)
+{
+    return node->npeer_early < GF_NODE_PEER_EARLY ? node->npeer_early
+                                                  : GF_NODE_PEER_EARLY;
+}
+
 // Another node's belief of a track this node has not made (yet): kept in
 // the ring of peer_early, one entry per track and node.
 static void peer_remember(gf_node *node, int32_t track, const char *id)
 {
-    unsigned i, n = node->npeer_early < GF_NODE_PEER_EARLY ? node->npeer_early
-                                                           : GF_NODE_PEER_EARLY;
+    unsigned i, n = peer_early_held(node);
     for (i = 0; i < n; i++) {
         if (node->peer_early[i].track == track &&
             strcmp(node->peer_early[i].id, id) == 0) {
@@ -433,8 +439,7 @@ static void peer_remember(gf_node *node, int32_t track, const char *id)
 // made count now, and are warned about.
 static void peer_early_track(gf_node *node, gf_node_track *t)
 {
-    unsigned i, n = node->npeer_early < GF_NODE_PEER_EARLY ? node->npeer_early
-                                                           : GF_NODE_PEER_EARLY;
+    unsigned i, n = peer_early_held(node);
     for (i = 0; i < n; i++) {
         if (node->peer_early[i].track == t->id &&
             node->peer_early[i].count > 0) {

@@ -128,6 +128,18 @@ expect() {
         { echo "lcm_udpm: expected $1=$2 in the summary" >&2; exit 1; }
 }
 
+# stream MODEL K: gf_sim's $runs runs of $steps steps of MODEL on track K00,
+# the same stream twice: over udpm to the node, and into a file for its
+# truths (truth-MODEL.lcmlog)
+stream() {
+    local out
+    for out in "$URL" "file://$work/truth-$1.lcmlog?mode=w"; do
+        "$bin/gf_sim" --url "$out" --config "$conf" --model "$1" \
+            --track "${2}00" --runs "$runs" --steps "$steps" --seed "$2" \
+            --session 1 --rate 100
+    done
+}
+
 # node_done K: stops node K and reads its summary line into $summary: it
 # received and applied every input of $runs runs of $steps steps (a
 # control and a measurement each), with no gap, no drop, a track per run
@@ -269,14 +281,7 @@ config)
     grep -q 'models=6 config=' "$work/node1.out" ||
         { echo "lcm_udpm: the ready line does not name the models" >&2; exit 1; }
     for spec in car100:1 rover-xy:2 rover-landmark:3; do
-        m=${spec%:*} k=${spec#*:}
-        # the same stream twice: over udpm to the node, and into a file
-        # for its truths
-        for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
-            "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
-                --track "${k}00" --runs $runs --steps $steps --seed $k \
-                --session 1 --rate 100
-        done
+        stream "${spec%:*}" "${spec#*:}"
     done
     for k in 1 2 3; do
         node_done "$k"
@@ -302,12 +307,7 @@ linear)
         ready "node$k"
     done
     for spec in $models; do
-        m=${spec%:*} k=${spec#*:}
-        for out in "$URL" "file://$work/truth-$m.lcmlog?mode=w"; do
-            "$bin/gf_sim" --url "$out" --config "$conf" --model "$m" \
-                --track "${k}00" --runs $runs --steps $steps --seed $k \
-                --session 1 --rate 100
-        done
+        stream "${spec%:*}" "${spec#*:}"
     done
     for spec in $models; do
         m=${spec%:*} k=${spec#*:}
