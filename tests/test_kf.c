@@ -1814,7 +1814,7 @@ static void work_carries_nothing(void **state)
         }
         R[3][0] = Q[3][0] = (gf_real)NAN;
         R[4][0] = Q[4][0] = -GF_R(1.0);
-        for (unsigned i = 0; i < n; i++) {
+        for (unsigned i = 0; i < TN; i++) { // a's n, and c's nc
             mu0[i] = gf_rng_normal(&rng);
         }
         random_cov(&rng, n, 0, S0);
