@@ -158,7 +158,7 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     // does an overflow: one test of the result stands for all.
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     gf_real w[3 * 6], wd[6];
-    gf_udu_predict(3, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
+    gf_udu_predict(3, nb.ud, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
     if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }

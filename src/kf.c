@@ -86,17 +86,18 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
 
 // The factored steps, specialised for n = 2 and 3 (the loops unrolled)
 // and for any n.
-static void kfc_udu_predict(unsigned n, gf_real *ud, const unsigned char *perm,
-                            const gf_real *G, const gf_real *Rf,
-                            const gf_real *Rd, gf_kf_work *work)
+static void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
+                            const unsigned char *perm, const gf_real *G,
+                            const gf_real *Rf, const gf_real *Rd,
+                            gf_kf_work *work)
 {
     gf_real *wd = GF_KFC_S(work, 2);
     if (n == 2u) {
-        gf_udu_predict(2u, ud, perm, G, Rf, Rd, work->w, wd);
+        gf_udu_predict(2u, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
     } else if (n == 3u) {
-        gf_udu_predict(3u, ud, perm, G, Rf, Rd, work->w, wd);
+        gf_udu_predict(3u, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
     } else {
-        gf_udu_predict(n, ud, perm, G, Rf, Rd, work->w, wd);
+        gf_udu_predict(n, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
     }
 }
 
@@ -120,13 +121,17 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
 {
     const unsigned n = kf->n;
     gf_kf *nb = &work->b;
-    kfc_copy(nb, kf);
+    nb->n = n;
+    nb->angles = kf->angles;
+    for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
+        nb->perm[k] = kf->perm[k];
+    }
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] =
             ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i]) : mu_bar[i];
     }
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
-    kfc_udu_predict(n, nb->ud, nb->perm, G, Rf, Rd, work);
+    kfc_udu_predict(n, kf->ud, nb->ud, kf->perm, G, Rf, Rd, work);
     if (!gf_sum_finite(
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
@@ -139,10 +144,11 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
 static void kfc_info(gf_kf_innovation *info, gf_kf_innovation *in)
 {
     if (info) {
-        for (unsigned i = in->m; i < GF_KF_NMAX; i++) {
-            in->y[i] = 0;
+        info->m = in->m;
+        info->nis = in->nis;
+        for (unsigned i = 0; i < GF_KF_NMAX; i++) {
+            info->y[i] = i < in->m ? in->y[i] : GF_R(0.0);
         }
-        *info = *in;
     }
 }
 
@@ -171,9 +177,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
             for (unsigned k = 0; k < m * n; k++) {
                 x[k] = H[k];
             }
-            for (unsigned j = 0; j < n; j++) {
-                gf_udu_whiten(Qf, Qorder, m, &x[j], n);
-            }
+            gf_udu_whiten_rows(Qf, Qorder, m, x, n);
             hw = x;
         }
     }
@@ -379,9 +383,7 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
         Cw[k] = meas->C[k];
     }
     if (m > 1u) {
-        for (unsigned j = 0; j < n; j++) {
-            gf_udu_whiten((*fac)->F, (*fac)->order, m, &Cw[j], n);
-        }
+        gf_udu_whiten_rows((*fac)->F, (*fac)->order, m, Cw, n);
     }
     return GF_OK;
 }

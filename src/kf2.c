@@ -105,7 +105,7 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
         nb.mu.v[i] = acc;
     }
     gf_real w[2 * 4], wd[4];
-    gf_udu_predict(2, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
+    gf_udu_predict(2, nb.ud, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
     if (!gf_belief_finite(nb.mu.v, nb.ud, 2)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }

@@ -240,15 +240,22 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
                               const gf_real *wd, gf_real *ud)
 {
     const unsigned stride = 2u * n;
+    // (cols >= 1: the column loops run a pointer to its end and test it at
+    // the bottom, one branch per column fewer where they stay loops)
     GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
         gf_real c[2u * GF_UDU_NMAX];
         gf_real *wj = &w[j * stride];
+        const gf_real *const cend = &c[cols];
         gf_real dj = 0;
-        GF_UNROLL
-        for (unsigned k = 0; k < cols; k++) {
-            c[k] = wd[k] * wj[k];
-            dj += wj[k] * c[k];
+        {
+            gf_real *ck = c;
+            const gf_real *wk = wj, *dk = wd;
+            GF_UNROLL
+            do {
+                *ck = *dk++ * *wk;
+                dj += *wk++ * *ck++;
+            } while (ck != cend);
         }
         if (!(dj >= GF_REAL_MIN)) {
             dj = 0;
@@ -258,15 +265,19 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
         for (unsigned i = 0; i < j; i++) {
             gf_real *wi = &w[i * stride];
             gf_real acc = 0;
+            const gf_real *ck = c, *wk = wi;
             GF_UNROLL
-            for (unsigned k = 0; k < cols; k++) {
-                acc += wi[k] * c[k];
-            }
+            do {
+                acc += *wk++ * *ck++;
+            } while (ck != cend);
             const gf_real uij = acc * inv;
+            gf_real *xk = wi;
+            const gf_real *const xend = &wi[cols];
+            wk = wj;
             GF_UNROLL
-            for (unsigned k = 0; k < cols; k++) {
-                wi[k] -= uij * wj[k];
-            }
+            do {
+                *xk -= uij * *wk++;
+            } while (++xk != xend);
             ud[GF_UD(i, j)] = uij;
         }
         ud[GF_UD(j, j)] = dj;
@@ -277,10 +288,11 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 //   Sigma_bar = W diag(w_d) W^T,  W = [P^T A P U | P^T F_R],  w_d = [D | D_R],
 // with R = F_R diag(D_R) F_R^T given by its factors (gf_cov_factor: fr
 // n x n, rows of n, by state; a column of zero weight adds nothing), then
-// gf_mwgs. a: n x n, rows of n, by state. w: scratch of n rows of 2n, wd:
-// scratch of 2n (caller-owned).
-GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, gf_real *ud,
-                                     const unsigned char *perm,
+// gf_mwgs into ud_new (ud itself, or another belief's factors). a: n x n,
+// rows of n, by state. w: scratch of n rows of 2n, wd: scratch of 2n
+// (caller-owned).
+GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
+                                     gf_real *ud_new, const unsigned char *perm,
                                      const gf_real *a, const gf_real *fr,
                                      const gf_real *dr, gf_real *w, gf_real *wd)
 {
@@ -300,20 +312,21 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, gf_real *ud,
         GF_UNROLL
         for (unsigned l = 0; l < n; l++) {
             ap[l] = ai[perm[l]];
+            wi[n + l] = fi[l];
         }
+        const gf_real *uj = ud; // column j of U: uj[l] = U_lj
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            const gf_real *uj = &ud[GF_UD(0, j)];
             gf_real acc = ap[j];
             GF_UNROLL
             for (unsigned l = 0; l < j; l++) {
                 acc += ap[l] * uj[l];
             }
             wi[j] = acc;
-            wi[n + j] = fi[j];
+            uj += j + 1u;
         }
     }
-    gf_mwgs(n, stride, w, wd, ud);
+    gf_mwgs(n, stride, w, wd, ud_new);
 }
 
 // The state measured by the row h (by state) with the largest share of
@@ -504,6 +517,9 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
         for (unsigned u = 0; u < t; u++) {
             const unsigned k = order[u];
             const gf_real fik = f[order[t] * m + k];
+            if (!(GF_FABS(fik) > 0)) {
+                continue; // (x finite: subtracting 0 x changes nothing)
+            }
             GF_UNROLL
             for (unsigned c = 0; c < cols; c++) {
                 xi[c] -= fik * x[k * cols + c];
