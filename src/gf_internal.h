@@ -19,6 +19,14 @@
 #define GF_ALWAYS_INLINE static inline
 #endif
 
+// Kept a function of its own, for a loop nest that runs faster with the
+// registers to itself than inlined into a caller that keeps values live.
+#if defined(__GNUC__)
+#define GF_NOINLINE static __attribute__((noinline))
+#else
+#define GF_NOINLINE static
+#endif
+
 // Before each loop over states or measured quantities: unrolled where the
 // trip count is known (a filter's own n), at -Os too (docs/performance.md
 // has what it costs and saves); clang unrolls such loops by itself. A loop

@@ -12,8 +12,14 @@
 
 #include "gaussfilt/config.h"
 
-// udu.h: defined in mat.c
+// ldl.h: defined in ldl.c
 #define gf_ldl GF_NAME(gf_ldl)
+
+// steps.h: defined in steps.c
+#define gf_udu_correct2 GF_NAME(gf_udu_correct2)
+#define gf_udu_correct3 GF_NAME(gf_udu_correct3)
+#define gf_udu_predict2 GF_NAME(gf_udu_predict2)
+#define gf_udu_predict3 GF_NAME(gf_udu_predict3)
 
 // kf_core.h: defined in kf.c
 #define gf_kfc_init GF_NAME(gf_kfc_init)

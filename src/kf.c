@@ -7,6 +7,7 @@
 #include "gaussfilt/kf.h"
 
 #include "kf_core.h"
+#include "steps.h"
 
 // ---- shared with ekf.c ---------------------------------------------------
 
@@ -84,34 +85,35 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     return GF_OK;
 }
 
-// The factored steps, specialised for n = 2 and 3 (the loops unrolled)
-// and for any n.
-static void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
-                            const unsigned char *perm, const gf_real *G,
-                            const gf_real *Rf, const gf_real *Rd,
-                            gf_kf_work *work)
+// The factored steps: KF2's and EKF3's for n = 2 and 3 (steps.c, the loops
+// unrolled), compiled here for any other n.
+GF_NOINLINE void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
+                                 const unsigned char *perm, const gf_real *G,
+                                 const gf_real *Rf, const gf_real *Rd,
+                                 gf_kf_work *work)
 {
     gf_real *wd = GF_KFC_S(work, 2);
     if (n == 2u) {
-        gf_udu_predict(2u, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
+        gf_udu_predict2(ud, ud_new, perm, G, Rf, Rd);
     } else if (n == 3u) {
-        gf_udu_predict(3u, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
+        gf_udu_predict3(ud, ud_new, perm, G, Rf, Rd);
     } else {
         gf_udu_predict(n, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
     }
 }
 
-static gf_status kfc_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
-                                 unsigned m, const gf_real *hw,
-                                 const gf_real *e, const gf_real *yw,
-                                 gf_real *dx, gf_real *nis, gf_kf_work *work)
+GF_NOINLINE gf_status kfc_udu_correct(unsigned n, gf_real *ud,
+                                      unsigned char *perm, unsigned m,
+                                      const gf_real *hw, const gf_real *e,
+                                      const gf_real *yw, gf_real *dx,
+                                      gf_real *nis, gf_kf_work *work)
 {
     gf_real *wd = GF_KFC_S(work, 2);
     if (n == 2u) {
-        return gf_udu_correct(2u, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+        return gf_udu_correct2(ud, perm, m, hw, e, yw, dx, nis);
     }
     if (n == 3u) {
-        return gf_udu_correct(3u, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+        return gf_udu_correct3(ud, perm, m, hw, e, yw, dx, nis);
     }
     return gf_udu_correct(n, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
 }

@@ -4,6 +4,7 @@
 #include "gaussfilt/kf2.h"
 
 #include "gf_filter.h"
+#include "steps.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
@@ -104,8 +105,7 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
         }
         nb.mu.v[i] = acc;
     }
-    gf_real w[2 * 4], wd[4];
-    gf_udu_predict(2, nb.ud, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
+    gf_udu_predict2(nb.ud, nb.ud, nb.perm, model->A.m[0], rf, rd);
     if (!gf_belief_finite(nb.mu.v, nb.ud, 2)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
@@ -141,9 +141,9 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
         gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, yw, 1);
     }
     gf_kf2 nb = *kf;
-    gf_real dx[2] = {0, 0}, w[2 * 4], wd[4];
-    gf_status st = gf_udu_correct(2, nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe, yw,
-                                  dx, &in.nis, w, wd);
+    gf_real dx[2] = {0, 0};
+    gf_status st = gf_udu_correct2(nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe, yw,
+                                   dx, &in.nis);
     if (st != GF_OK) {
         return st;
     }

@@ -415,7 +415,7 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud, unsigned char *perm,
 // and s is zero relative to its terms before cancellation,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
 // ud and dx are partly written then.
-static inline gf_status gf_udu_update(unsigned n, gf_real *ud,
+GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
                                       const gf_real *hp, gf_real r, gf_real y,
                                       gf_real *dx, gf_real *nis)
 {
