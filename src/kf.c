@@ -32,13 +32,6 @@ static void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
                        const gf_kf_factors **fac)
 {
-    gf_real z = GF_R(0.0);
-    for (unsigned i = 0; i < n * n; i++) {
-        z += s[i] * GF_R(0.0);
-    }
-    if (!gf_sum_finite(z)) {
-        return GF_ERR_NONFINITE;
-    }
     unsigned *p = &work->k[(size_t)GF_KF_NMAX];
     if (!fac) {
         return gf_cov_factor_n(s, n, n, NULL, NULL, NULL, work->x, p);

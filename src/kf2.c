@@ -13,7 +13,6 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
 {
     gf_real z = gf_nan_sum(GF_R(0.0), model->A.m[0], 4);
     z = gf_nan_sum(z, model->B.m[0], 4);
-    z = gf_nan_sum(z, model->R.m[0], 4);
     z = gf_nan_sum(z, model->c.v, 2);
     if (u) {
         z = gf_nan_sum(z, u->v, 2);
@@ -45,9 +44,6 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     }
     if (meas->gate < 0) {
         return GF_ERR_ARG;
-    }
-    if (!gf_all_finite(meas->Q.m[0], m * m)) { // the m x m block
-        return GF_ERR_NONFINITE;
     }
     const gf_status st =
         gf_cov_factor(meas->Q.m[0], 2, m, pq->Qf, pq->Qe, pq->Qorder);

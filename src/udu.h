@@ -52,32 +52,54 @@
 #define GF_UDU_NMAX 3u
 #endif
 
-// The verdict on a finite covariance passed in (R, Q, a prior) and, where
-// F, d and order are not NULL, its factors as gf_ldl's (a, p: its
-// scratch): symmetric within GF_SYM_RTOL (|s_ij - s_ji| <= GF_SYM_RTOL
-// (|s_ij| + |s_ji|), the same for any scale), no negative variance, then
-// gf_ldl's verdict; a diagonal
-// matrix (the usual noise) is its own factorisation (F = I). Else
-// GF_ERR_NOT_PSD.
+// The verdict on a covariance passed in (R, Q, a prior) and, where F, d
+// and order are not NULL, its factors as gf_ldl's (a, p: its scratch):
+// GF_ERR_NONFINITE if an entry is not finite (the test rides on the
+// symmetry pass), else symmetric within GF_SYM_RTOL (|s_ij - s_ji| <=
+// GF_SYM_RTOL (|s_ij| + |s_ji|), the same for any scale), no negative
+// variance, then gf_ldl's verdict; a diagonal matrix (the usual noise) is
+// its own factorisation (F = I). Else GF_ERR_NOT_PSD.
 GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
                                            unsigned n, gf_real *F, gf_real *d,
                                            unsigned *order, gf_real *a,
                                            unsigned *p)
 {
     gf_real off = 0; // the sum of |off-diagonal entries|
+    gf_real z = 0;   // gf_nan_sum's test of every entry
+    gf_status st = GF_OK;
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
+        const gf_real sii = s[i * stride + i];
+        z += sii * GF_R(0.0);
         GF_UNROLL
         for (unsigned j = i + 1u; j < n; j++) {
             const gf_real x = s[i * stride + j], y = s[j * stride + i];
-            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
-                return GF_ERR_NOT_PSD;
+            const gf_real ax = GF_FABS(x), ay = GF_FABS(y);
+            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (ax + ay))) {
+                st = GF_ERR_NOT_PSD;
+                break;
             }
-            off += GF_FABS(x) + GF_FABS(y);
+            z += x * GF_R(0.0) + y * GF_R(0.0);
+            off += ax + ay;
         }
-        if (s[i * stride + i] < 0) {
-            return GF_ERR_NOT_PSD;
+        if (sii < 0) {
+            st = GF_ERR_NOT_PSD;
         }
+        if (st != GF_OK) {
+            break;
+        }
+    }
+    if (st != GF_OK) {
+        // (a NaN or an infinity fails the symmetry test too)
+        for (unsigned i = 0; i < n; i++) {
+            z = gf_nan_sum(z, &s[i * stride], n);
+        }
+    }
+    if (!gf_sum_finite(z)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (st != GF_OK) {
+        return st;
     }
     if (off > 0 && n == 2u) {
         // gf_ldl's arithmetic for 2 x 2, in closed form: the first state
@@ -416,8 +438,8 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud, unsigned char *perm,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
 // ud and dx are partly written then.
 GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
-                                      const gf_real *hp, gf_real r, gf_real y,
-                                      gf_real *dx, gf_real *nis)
+                                         const gf_real *hp, gf_real r,
+                                         gf_real y, gf_real *dx, gf_real *nis)
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
     // f = U^T hp
