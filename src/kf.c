@@ -115,12 +115,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
                          const gf_real *Rf, const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = kf->n;
-    gf_kf *nb = &work->b;
-    nb->n = n;
-    nb->angles = kf->angles;
-    for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
-        nb->perm[k] = kf->perm[k];
-    }
+    gf_kf *nb = &work->b; // its mu and factors (the order stays kf's)
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] =
             ((kf->angles >> i) & 1u) ? gf_angle_wrap(mu_bar[i]) : mu_bar[i];
@@ -131,7 +126,12 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
-    kfc_copy(kf, nb);
+    for (unsigned i = 0; i < n; i++) {
+        kf->mu[i] = nb->mu[i];
+    }
+    for (unsigned k = 0; k < GF_KF_TRI(n); k++) {
+        kf->ud[k] = nb->ud[k];
+    }
     return GF_OK;
 }
 
