@@ -6,8 +6,10 @@
 #include "udu.h"
 
 // The verdict on a covariance passed in (n x n block, rows of stride):
-// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_cov_factor), else GF_OK.
-static gf_status psd_check(const gf_real *s, unsigned stride, unsigned n)
+// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_cov_factor), else GF_OK. Inlined,
+// so that n = 2 (gf_cov_factor's closed form) makes no call.
+GF_ALWAYS_INLINE gf_status psd_check(const gf_real *s, unsigned stride,
+                                     unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
         if (!gf_all_finite(&s[(size_t)i * stride], n)) {

@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: MIT
+// The verdict on a covariance passed in, two ways: gf_ldl for n <= 3 with
+// no scratch (ldl.c's scalar form, the one every fixed-size filter
+// reaches) against gf_ldl with its scratch given (the loop every n takes),
+// bit for bit, factors included; and gf_mat2_check_psd / gf_mat3_check_psd
+// against gf_cov_factor_n with scratch. On seeded random matrices and edge
+// cases: zero variances, rank-deficient, near-singular, indefinite, scaled
+// by 2^-60 and 2^60, asymmetric beyond the tolerance, negative variances,
+// signed zeros, infinities and NaNs in the triangle read.
+#include <math.h>
+
+#include "gf_test.h"
+
+#include "ldl.h"
+#include "udu.h"
+
+#define DRAWS 60000
+
+// A sentinel byte pattern for the outputs, so that an entry one path
+// writes and the other does not shows.
+#define SENTINEL 0x5a
+
+typedef struct {
+    gf_real F[9], d[3];
+    unsigned order[3];
+} factors;
+
+// A random n x n matrix (rows of stride) of one of several kinds.
+static void draw(gf_rng *rng, unsigned n, unsigned stride, gf_real *s)
+{
+    const unsigned kind = gf_rng_u32(rng) % 8u;
+    // W W^T of rank r <= n, rows of W zero at random (zero variances)
+    double w[3][3] = {{0}};
+    const unsigned r = gf_rng_u32(rng) % (n + 1u);
+    for (unsigned i = 0; i < n; i++) {
+        const int zero_row = gf_rng_u32(rng) % 4u == 0u;
+        for (unsigned k = 0; k < r; k++) {
+            w[i][k] = zero_row ? 0.0 : gf_test_uniform(rng, -1.0, 1.0);
+        }
+    }
+    const double scale = ldexp(1.0, (int)(gf_rng_u32(rng) % 121u) - 60);
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < stride; j++) {
+            double acc = 0.0;
+            for (unsigned k = 0; k < n && j < n; k++) {
+                acc += w[i][k] * w[j][k];
+            }
+            s[i * stride + j] = (gf_real)(acc * scale);
+        }
+    }
+    const unsigned i = gf_rng_u32(rng) % n, j = gf_rng_u32(rng) % n;
+    switch (kind) {
+    case 0: // as it is: positive semidefinite, often singular
+        break;
+    case 1: { // near-singular: a perturbation at the tolerance's scale
+        const gf_real e = (gf_real)(gf_test_uniform(rng, -1.0, 1.0) * 64.0 *
+                                    (double)GF_REAL_EPSILON * scale);
+        s[i * stride + j] += e;
+        s[j * stride + i] = s[i * stride + j];
+        break;
+    }
+    case 2: // a coupling removed: block-diagonal, often indefinite
+        s[i * stride + j] = 0;
+        s[j * stride + i] = 0;
+        break;
+    case 3: // a variance negative or zero
+        s[i * stride + i] = (gf_rng_u32(rng) % 2u) ? -s[i * stride + i] : 0;
+        break;
+    case 4: // the lower triangle off from the upper
+        if (i != j) {
+            s[(i > j ? i : j) * stride + (i > j ? j : i)] *=
+                (gf_real)gf_test_uniform(rng, 0.5, 1.5);
+        }
+        break;
+    default: { // random entries, some of them extreme
+        static const double special[] = {0.0,  -0.0, 1.0,      -1.0,
+                                         1e-7, 3e38, INFINITY, NAN};
+        for (unsigned a = 0; a < n; a++) {
+            for (unsigned b = 0; b < n; b++) {
+                const unsigned c = gf_rng_u32(rng) % 12u;
+                s[a * stride + b] =
+                    (gf_real)((c < 8u)
+                                  ? special[c]
+                                  : gf_test_uniform(rng, -1.0, 1.0) * scale);
+            }
+        }
+        if (kind == 5u) { // no negative variance, no NaN on the diagonal
+            for (unsigned a = 0; a < n; a++) {
+                const gf_real v = s[a * stride + a];
+                s[a * stride + a] = (v == v) ? (gf_real)fabs((double)v) : 0;
+            }
+        }
+        break;
+    }
+    }
+}
+
+// gf_ldl both ways on s: the same status and the same bytes in every
+// output (a NULL output left out on both).
+static void check_both_ways(const gf_real *s, unsigned stride, unsigned n,
+                            unsigned outputs)
+{
+    factors a, b;
+    memset(&a, SENTINEL, sizeof a);
+    memset(&b, SENTINEL, sizeof b);
+    gf_real scratch[9];
+    unsigned p[3];
+    const int wf = (outputs & 1u) != 0u, wd = (outputs & 2u) != 0u,
+              wo = (outputs & 4u) != 0u;
+    const gf_status st_core =
+        gf_ldl(s, stride, n, wf ? a.F : NULL, wd ? a.d : NULL,
+               wo ? a.order : NULL, scratch, p);
+    const gf_status st_small =
+        gf_ldl(s, stride, n, wf ? b.F : NULL, wd ? b.d : NULL,
+               wo ? b.order : NULL, NULL, NULL);
+    if (st_core != st_small || memcmp(&a, &b, sizeof a) != 0) {
+        print_error("n = %u, stride %u, outputs %u: status %d (scratch) vs "
+                    "%d (none); s =",
+                    n, stride, outputs, (int)st_core, (int)st_small);
+        for (unsigned i = 0; i < n; i++) {
+            for (unsigned j = 0; j < n; j++) {
+                print_error(" %a", (double)s[i * stride + j]);
+            }
+        }
+        print_error("\n");
+        fail();
+    }
+}
+
+// gf_ldl without scratch is gf_ldl with it, bit for bit.
+static void small_matches_core(void **state)
+{
+    (void)state;
+    gf_rng rng;
+    gf_rng_seed(&rng, 20261202u);
+    unsigned ok = 0, not_psd = 0;
+    for (unsigned t = 0; t < DRAWS; t++) {
+        const unsigned n = 1u + t % 3u;
+        const unsigned stride = (t / 3u) % 2u ? 3u : n;
+        gf_real s[9];
+        draw(&rng, n, stride, s);
+        check_both_ways(s, stride, n, gf_rng_u32(&rng) % 8u);
+        gf_real a[9];
+        unsigned p[3];
+        if (gf_ldl(s, stride, n, NULL, NULL, NULL, a, p) == GF_OK) {
+            ok++;
+        } else {
+            not_psd++;
+        }
+    }
+    // both verdicts well represented
+    assert_true(ok > DRAWS / 5u);
+    assert_true(not_psd > DRAWS / 5u);
+}
+
+// The edge cases by hand: zero, one or all variances zero, coupled or
+// not; a coupling at the bound; the pivot's choice tied.
+static void small_edge_cases(void **state)
+{
+    (void)state;
+    const gf_real m = GF_REAL_MIN, big = GF_R(1e30);
+    const gf_real cases[][9] = {
+        {0, 0, 0, 0, 0, 0, 0, 0, 0},
+        {0, 1, 0, 1, 0, 0, 0, 0, 0},
+        {0, 0, 0, 0, 1, 1, 0, 1, 1},
+        {0, 0, 0, 0, 0, 0, 0, 0, 1},
+        {0, 0, 1, 0, 0, 0, 1, 0, 1},
+        {1, 1, 1, 1, 1, 1, 1, 1, 1},
+        {1, 1, 0, 1, 1, 0, 0, 0, 0},
+        {4, 2, 2, 2, 1, 1, 2, 1, 1},
+        {1, 0, 0, 0, 1, 0, 0, 0, 1},
+        {1, 0, 0, 0, 0, 0, 0, 0, 1},
+        {1, 0, 1, 0, 1, 0, 1, 0, 1},
+        {1, 0, 1, 0, 1, 1, 1, 1, 1},
+        {2, 1, 1, 1, 2, 1, 1, 1, 2},
+        {1, 2, 0, 2, 1, 0, 0, 0, 1},
+        {m, m, m, m, m, m, m, m, m},
+        {big, big, 0, big, big, 0, 0, 0, big},
+        {1, -0.0, -0.0, -0.0, 1, -0.0, -0.0, -0.0, 1},
+        {-1, 0, 0, 0, 1, 0, 0, 0, 1},
+        {1, 0, 0, 0, -1, 0, 0, 0, 1},
+        {0, 0, 0, 0, 1, 0, 0, 0, -1},
+    };
+    for (unsigned c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        for (unsigned n = 1; n <= 3; n++) {
+            for (unsigned outputs = 0; outputs < 8u; outputs++) {
+                check_both_ways(cases[c], 3, n, outputs);
+            }
+        }
+    }
+}
+
+// The verdict of gf_cov_factor_n with scratch (the symmetry and variance
+// checks, then gf_ldl's loop), after gf_mat3_check_psd's finiteness check.
+static gf_status reference_verdict(const gf_real *s, unsigned stride,
+                                   unsigned n)
+{
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            if (!isfinite((double)s[i * stride + j])) {
+                return GF_ERR_NONFINITE;
+            }
+        }
+    }
+    gf_real a[9];
+    unsigned p[3];
+    return gf_cov_factor_n(s, stride, n, NULL, NULL, NULL, a, p);
+}
+
+// s (n x n, rows of 3) times 2^e into z.
+static void scale_by(const gf_mat3 *s, int e, gf_mat3 *z)
+{
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = 0; j < 3; j++) {
+            z->m[i][j] = (gf_real)ldexp((double)s->m[i][j], e);
+        }
+    }
+}
+
+// gf_mat2_check_psd and gf_mat3_check_psd give the reference's verdict;
+// and the same one for a matrix of moderate spread (its nonzero entries
+// within 2^14 of the largest, so that no product the verdict forms
+// underflows or overflows in either precision) scaled by 2^-60 and 2^60.
+static void check_psd_matches_reference(void **state)
+{
+    (void)state;
+    gf_rng rng;
+    gf_rng_seed(&rng, 7u);
+    unsigned scaled = 0;
+    for (unsigned t = 0; t < DRAWS; t++) {
+        const unsigned n = 1u + t % 3u;
+        gf_mat3 s3 = {{{0}}};
+        draw(&rng, n, 3, s3.m[0]);
+        if (t % 5u == 0u && n > 1u) { // asymmetric near the tolerance
+            const double x = (double)s3.m[0][1];
+            const double e = gf_test_uniform(&rng, -4.0, 4.0) * 1024.0 *
+                             (double)GF_REAL_EPSILON;
+            s3.m[1][0] = (gf_real)(x * (1.0 + e));
+        }
+        const gf_status want = reference_verdict(s3.m[0], 3, n);
+        assert_int_equal(gf_mat3_check_psd(&s3, n), want);
+        if (n == 2u) {
+            const gf_mat2 s2 = {
+                {{s3.m[0][0], s3.m[0][1]}, {s3.m[1][0], s3.m[1][1]}}};
+            assert_int_equal(gf_mat2_check_psd(&s2),
+                             reference_verdict(s2.m[0], 2, 2));
+        }
+        // the scale: the largest entry brought to [1, 2), then the spread
+        double top = 0.0, low = INFINITY;
+        for (unsigned i = 0; i < n; i++) {
+            for (unsigned j = 0; j < n; j++) {
+                const double x = fabs((double)s3.m[i][j]);
+                top = (x > top) ? x : top;
+                low = (x > 0.0 && x < low) ? x : low;
+            }
+        }
+        if (want == GF_ERR_NONFINITE || !(top > 0.0) ||
+            !(low >= ldexp(top, -14))) {
+            continue;
+        }
+        gf_mat3 base, z;
+        scale_by(&s3, -ilogb(top), &base);
+        const gf_status verdict = gf_mat3_check_psd(&base, n);
+        assert_int_equal(verdict, want);
+        for (int e = -60; e <= 60; e += 120) {
+            scale_by(&base, e, &z);
+            assert_int_equal(gf_mat3_check_psd(&z, n), verdict);
+        }
+        scaled++;
+    }
+    assert_true(scaled > DRAWS / 4u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(small_matches_core),
+        cmocka_unit_test(small_edge_cases),
+        cmocka_unit_test(check_psd_matches_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
