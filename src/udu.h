@@ -52,13 +52,70 @@
 #define GF_UDU_NMAX 3u
 #endif
 
+// F = I and d = the variances of s: a diagonal covariance's factors, and
+// where gf_cov_pair starts.
+GF_ALWAYS_INLINE void gf_cov_identity(unsigned n, gf_real *F, gf_real *d,
+                                      const gf_real *s, unsigned stride)
+{
+    GF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        d[i] = s[i * stride + i];
+        GF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            F[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
+        }
+    }
+}
+
+// gf_ldl's arithmetic on the 2 x 2 block of states a < b alone, in closed
+// form: the first of positive variance the pivot j, then
+// s_kk - (s_jk / s_jj) s_jk, zero up to GF_PD_RTOL s_kk. Writes F's entries
+// (k, j), (j, k), d_j, d_k and order[0..1] = j, k (where F is not NULL);
+// GF_ERR_NOT_PSD if the block is not PSD.
+GF_ALWAYS_INLINE gf_status gf_cov_pair(const gf_real *s, unsigned stride,
+                                       unsigned n, unsigned a, unsigned b,
+                                       gf_real *F, gf_real *d, unsigned *order)
+{
+    unsigned j = b, k = a;
+    if (s[a * stride + a] > 0) {
+        j = a;
+        k = b;
+    }
+    const gf_real sjj = s[j * stride + j], skk = s[k * stride + k];
+    const gf_real sjk = s[a * stride + b];
+    if (!(sjj > 0)) {
+        return GF_ERR_NOT_PSD; // both variances zero, coupled
+    }
+    const gf_real l = sjk / sjj;
+    gf_real dk = skk - l * sjk;
+    if (!(dk >= -GF_PD_RTOL * skk)) {
+        return GF_ERR_NOT_PSD;
+    }
+    if (!(dk > GF_PD_RTOL * skk)) {
+        dk = 0;
+    }
+    if (F) {
+        F[k * n + j] = l;
+        F[j * n + k] = 0;
+        d[j] = sjj;
+        d[k] = dk;
+        if (order) {
+            order[0] = j;
+            order[1] = k;
+        }
+    }
+    return GF_OK;
+}
+
 // The verdict on a covariance passed in (R, Q, a prior) and, where F, d
 // and order are not NULL, its factors as gf_ldl's (a, p: its scratch):
 // GF_ERR_NONFINITE if an entry is not finite (the test rides on the
 // symmetry pass), else symmetric within GF_SYM_RTOL (|s_ij - s_ji| <=
 // GF_SYM_RTOL (|s_ij| + |s_ji|), the same for any scale), no negative
 // variance, then gf_ldl's verdict; a diagonal matrix (the usual noise) is
-// its own factorisation (F = I). Else GF_ERR_NOT_PSD.
+// its own factorisation (F = I), and one of more than 3 states each
+// coupled to at most one other is factored pair by pair (gf_cov_pair: the
+// verdict gf_ldl gives each pair alone). Else GF_ERR_NOT_PSD.
 GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
                                            unsigned n, gf_real *F, gf_real *d,
                                            unsigned *order, gf_real *a,
@@ -67,6 +124,14 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
     gf_real off = 0; // the sum of |off-diagonal entries|
     gf_real z = 0;   // gf_nan_sum's test of every entry
     gf_status st = GF_OK;
+    // For n > 3: whether each state is coupled (a non-zero entry) to at
+    // most one other, p[i] the state i is coupled to (i itself if none).
+    int pairs = n > 3u;
+    if (pairs) {
+        for (unsigned i = 0; i < n; i++) {
+            p[i] = i;
+        }
+    }
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         const gf_real sii = s[i * stride + i];
@@ -81,6 +146,11 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
             }
             z += x * GF_R(0.0) + y * GF_R(0.0);
             off += ax + ay;
+            if (pairs && ax > 0) {
+                pairs = p[i] == i && p[j] == j;
+                p[i] = j;
+                p[j] = i;
+            }
         }
         if (sii < 0) {
             st = GF_ERR_NOT_PSD;
@@ -102,35 +172,33 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
         return st;
     }
     if (off > 0 && n == 2u) {
-        // gf_ldl's arithmetic for 2 x 2, in closed form: the first state
-        // of positive variance the pivot, then s_kk - (s_jk / s_jj) s_jk
-        unsigned j = 1u, k = 0u;
-        if (s[0] > 0) {
-            j = 0u;
-            k = 1u;
-        }
-        const gf_real sjj = s[j * stride + j], skk = s[k * stride + k];
-        const gf_real sjk = s[1];
-        if (!(sjj > 0)) {
-            return GF_ERR_NOT_PSD; // both variances zero, coupled
-        }
-        const gf_real l = sjk / sjj;
-        gf_real dk = skk - l * sjk;
-        if (!(dk >= -GF_PD_RTOL * skk)) {
-            return GF_ERR_NOT_PSD;
-        }
-        if (!(dk > GF_PD_RTOL * skk)) {
-            dk = 0;
-        }
         if (F) {
-            F[j * 2u + j] = 1;
-            F[k * 2u + k] = 1;
-            F[k * 2u + j] = l;
-            F[j * 2u + k] = 0;
-            d[j] = sjj;
-            d[k] = dk;
-            order[0] = j;
-            order[1] = k;
+            gf_cov_identity(n, F, d, s, stride);
+        }
+        return gf_cov_pair(s, stride, n, 0u, 1u, F, d, order);
+    }
+    if (off > 0 && pairs) {
+        // Each state coupled to at most one other (independent axes, a
+        // clock's bias and drift): the pairs one at a time, each as
+        // gf_ldl would factor it alone.
+        if (F) {
+            gf_cov_identity(n, F, d, s, stride);
+        }
+        unsigned t = 0;
+        for (unsigned i = 0; i < n; i++) {
+            if (p[i] == i) {
+                if (order) {
+                    order[t] = i;
+                }
+                t++;
+            } else if (p[i] > i) {
+                const gf_status pst = gf_cov_pair(s, stride, n, i, p[i], F, d,
+                                                  order ? &order[t] : NULL);
+                if (pst != GF_OK) {
+                    return pst;
+                }
+                t += 2u;
+            }
         }
         return GF_OK;
     }
@@ -138,14 +206,10 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
         return gf_ldl(s, stride, n, F, d, order, a, p);
     }
     if (F) {
+        gf_cov_identity(n, F, d, s, stride);
         GF_UNROLL
         for (unsigned i = 0; i < n; i++) {
-            d[i] = s[i * stride + i];
             order[i] = i;
-            GF_UNROLL
-            for (unsigned j = 0; j < n; j++) {
-                F[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
-            }
         }
     }
     return GF_OK;
@@ -442,15 +506,18 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
                                          gf_real y, gf_real *dx, gf_real *nis)
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
+    // (uj: column j of the packed factors, uj[i] = U_ij, uj[j] = d_j)
     // f = U^T hp
+    gf_real *uj = ud;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         gf_real acc = hp[j];
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            acc += ud[GF_UD(i, j)] * hp[i];
+            acc += uj[i] * hp[i];
         }
         f[j] = acc;
+        uj += j + 1u;
     }
     // An exact quantity's scale: h Sigma h^T without its cancellations
     gf_real scale = 0;
@@ -466,26 +533,28 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
         }
     }
     gf_real alpha = r, inv_prev = 0;
+    uj = ud;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        const gf_real d = ud[GF_UD(j, j)];
+        const gf_real d = uj[j];
         const gf_real fj = f[j], gj = d * fj;
         const gf_real a1 = alpha + fj * gj;
         gf_real inv = 0;
         if (a1 >= GF_REAL_MIN) { // (a smaller one is zero: 1 / a1 overflows)
             inv = GF_R(1.0) / a1;
-            ud[GF_UD(j, j)] = d * (alpha * inv);
+            uj[j] = d * (alpha * inv);
         }
         const gf_real p = -fj * inv_prev;
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            const gf_real uij = ud[GF_UD(i, j)];
-            ud[GF_UD(i, j)] = uij + b[i] * p;
+            const gf_real uij = uj[i];
+            uj[i] = uij + b[i] * p;
             b[i] += uij * gj;
         }
         b[j] = gj;
         alpha = a1;
         inv_prev = inv;
+        uj += j + 1u;
     }
     if (!GF_ISFINITE(alpha)) {
         return GF_ERR_NONFINITE;
@@ -495,16 +564,17 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
     }
     const gf_real k = y * inv_prev; // y / s
     *nis += y * k;
+    uj = ud;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dx[j] += b[j] * k;
-        if (!(ud[GF_UD(j, j)] >= GF_REAL_MIN)) {
-            ud[GF_UD(j, j)] = 0;
+        if (!(uj[j] >= GF_REAL_MIN)) {
             GF_UNROLL
-            for (unsigned i = 0; i < j; i++) {
-                ud[GF_UD(i, j)] = 0;
+            for (unsigned i = 0; i <= j; i++) {
+                uj[i] = 0;
             }
         }
+        uj += j + 1u;
     }
     return GF_OK;
 }

@@ -271,12 +271,137 @@ static void check_psd_matches_reference(void **state)
     assert_true(scaled > DRAWS / 4u);
 }
 
+// A covariance of n states, each coupled to at most one other (random
+// pairs, random units per pair): each pair positive definite, exactly
+// singular (powers of two), zero, indefinite, or of a zero and a positive
+// variance coupled (not PSD).
+#define PAIRS_NMAX 12u
+static void draw_pairs(gf_rng *rng, unsigned n, gf_real *s)
+{
+    unsigned perm[PAIRS_NMAX];
+    for (unsigned i = 0; i < n; i++) {
+        perm[i] = i;
+    }
+    for (unsigned i = n; i-- > 1u;) {
+        const unsigned k = gf_rng_u32(rng) % (i + 1u), t = perm[i];
+        perm[i] = perm[k];
+        perm[k] = t;
+    }
+    for (unsigned k = 0; k < n * n; k++) {
+        s[k] = 0;
+    }
+    for (unsigned i = 0; i < n; i += 2u) {
+        const double u = ldexp(1.0, (int)(gf_rng_u32(rng) % 81u) - 40);
+        const unsigned a = perm[i];
+        const int single = i + 1u == n || gf_rng_u32(rng) % 4u == 0u;
+        if (single) {
+            s[a * n + a] = (gf_real)(gf_rng_u32(rng) % 5u == 0u
+                                         ? 0.0
+                                         : u * gf_test_uniform(rng, 0.1, 2.0));
+            i--; // (the next state starts the next pair)
+            continue;
+        }
+        const unsigned b = perm[i + 1u];
+        double saa = 0, sbb = 0, sab = 0;
+        switch (gf_rng_u32(rng) % 5u) {
+        case 0:
+        case 1: { // positive definite, correlation up to 0.99
+            const double r = gf_test_uniform(rng, -0.99, 0.99);
+            saa = u * gf_test_uniform(rng, 0.5, 2.0);
+            sbb = u * 0x1p-10 * gf_test_uniform(rng, 0.5, 2.0);
+            sab = r * sqrt(saa * sbb);
+            break;
+        }
+        case 2: // exactly singular: (2, 1) (2, 1)^T u
+            saa = 4.0 * u;
+            sbb = u;
+            sab = 2.0 * u;
+            break;
+        case 3: // indefinite: correlation 1.5
+            saa = u;
+            sbb = 4.0 * u;
+            sab = 3.0 * u;
+            break;
+        default: // a zero variance coupled to a positive one
+            saa = 0;
+            sbb = u;
+            sab = 0.5 * u;
+            break;
+        }
+        s[a * n + a] = (gf_real)saa;
+        s[b * n + b] = (gf_real)sbb;
+        s[a * n + b] = (gf_real)sab;
+        s[b * n + a] = (gf_real)sab;
+    }
+}
+
+// gf_cov_factor_n on covariances of more than 3 states, each coupled to at
+// most one other (factored pair by pair): the verdict gf_ldl gives the
+// whole matrix, and on GF_OK factors in their pivot order (F unit lower
+// triangular there, d >= 0) whose F diag(d) F^T is the matrix.
+static void pairs_match_ldl(void **state)
+{
+    (void)state;
+    gf_rng rng;
+    gf_rng_seed(&rng, 20261203u);
+    unsigned ok = 0, not_psd = 0;
+    for (unsigned t = 0; t < DRAWS / 10u; t++) {
+        const unsigned n = 4u + t % (PAIRS_NMAX - 3u);
+        gf_real s[PAIRS_NMAX * PAIRS_NMAX], F[PAIRS_NMAX * PAIRS_NMAX];
+        gf_real d[PAIRS_NMAX], a[PAIRS_NMAX * PAIRS_NMAX];
+        unsigned order[PAIRS_NMAX], p[PAIRS_NMAX];
+        draw_pairs(&rng, n, s);
+        const gf_status want = gf_ldl(s, n, n, NULL, NULL, NULL, a, p);
+        const gf_status got = gf_cov_factor_n(s, n, n, F, d, order, a, p);
+        assert_int_equal(got, want);
+        if (got != GF_OK) {
+            not_psd++;
+            continue;
+        }
+        ok++;
+        unsigned at[PAIRS_NMAX]; // the step of each state
+        for (unsigned u = 0; u < n; u++) {
+            assert_true(order[u] < n);
+            at[order[u]] = u;
+        }
+        for (unsigned i = 0; i < n; i++) {
+            assert_true(d[i] >= 0);
+            for (unsigned j = 0; j < n; j++) {
+                if (i == j) {
+                    assert_true(F[i * n + j] == GF_R(1.0));
+                } else if (at[i] < at[j]) {
+                    assert_true(F[i * n + j] == GF_R(0.0));
+                }
+            }
+        }
+        for (unsigned i = 0; i < n; i++) {
+            for (unsigned j = 0; j < n; j++) {
+                long double acc = 0;
+                for (unsigned k = 0; k < n; k++) {
+                    acc += (long double)F[i * n + k] * d[k] * F[j * n + k];
+                }
+                const double tol =
+                    8.0 * (double)GF_REAL_EPSILON *
+                    sqrt((double)s[i * n + i] * (double)s[j * n + j]);
+                if (!(fabsl(acc - (long double)s[i * n + j]) <= tol)) {
+                    print_error("n = %u, (%u, %u): F diag(d) F^T %Lg, s %g\n",
+                                n, i, j, acc, (double)s[i * n + j]);
+                    fail();
+                }
+            }
+        }
+    }
+    assert_true(ok > DRAWS / 100u);
+    assert_true(not_psd > DRAWS / 100u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(small_matches_core),
         cmocka_unit_test(small_edge_cases),
         cmocka_unit_test(check_psd_matches_reference),
+        cmocka_unit_test(pairs_match_ldl),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
