@@ -15,11 +15,13 @@
 // ldl.h: defined in ldl.c
 #define gf_ldl GF_NAME(gf_ldl)
 
-// steps.h: defined in steps.c
+// steps.h: defined in steps.c and steps4.c
 #define gf_udu_correct2 GF_NAME(gf_udu_correct2)
 #define gf_udu_correct3 GF_NAME(gf_udu_correct3)
+#define gf_udu_correct4 GF_NAME(gf_udu_correct4)
 #define gf_udu_predict2 GF_NAME(gf_udu_predict2)
 #define gf_udu_predict3 GF_NAME(gf_udu_predict3)
+#define gf_udu_predict4 GF_NAME(gf_udu_predict4)
 
 // kf_core.h: defined in kf.c
 #define gf_kfc_init GF_NAME(gf_kfc_init)

@@ -11,19 +11,26 @@
 
 // ---- shared with ekf.c ---------------------------------------------------
 
-// *dst = *src for the parts an n-state belief uses (n, angles, mu, the
-// factors and the permutation): the rest of dst is left as it is.
-static void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
+// dst's mu and factors = src's, for n states (the order left as it is).
+GF_NOINLINE void kfc_copy_moments(gf_kf *restrict dst,
+                                  const gf_kf *restrict src, unsigned n)
 {
-    const unsigned n = src->n;
-    dst->n = n;
-    dst->angles = src->angles;
     for (unsigned i = 0; i < n; i++) {
         dst->mu[i] = src->mu[i];
     }
     for (unsigned k = 0; k < GF_KF_TRI(n); k++) {
         dst->ud[k] = src->ud[k];
     }
+}
+
+// *dst = *src for the parts an n-state belief uses (n, angles, mu, the
+// factors and the permutation): the rest of dst is left as it is.
+GF_NOINLINE void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
+{
+    const unsigned n = src->n;
+    dst->n = n;
+    dst->angles = src->angles;
+    kfc_copy_moments(dst, src, n);
     for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
         dst->perm[k] = src->perm[k];
     }
@@ -78,8 +85,8 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     return GF_OK;
 }
 
-// The factored steps: KF2's and EKF3's for n = 2 and 3 (steps.c, the loops
-// unrolled), compiled here for any other n.
+// The factored steps: KF2's and EKF3's for n = 2 and 3, and those for 4
+// (steps.c, steps4.c: the loops unrolled), compiled here for any other n.
 GF_NOINLINE void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
                                  const unsigned char *perm, const gf_real *G,
                                  const gf_real *Rf, const gf_real *Rd,
@@ -90,6 +97,8 @@ GF_NOINLINE void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
         gf_udu_predict2(ud, ud_new, perm, G, Rf, Rd);
     } else if (n == 3u) {
         gf_udu_predict3(ud, ud_new, perm, G, Rf, Rd);
+    } else if (n == 4u) {
+        gf_udu_predict4(ud, ud_new, perm, G, Rf, Rd);
     } else {
         gf_udu_predict(n, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
     }
@@ -107,6 +116,9 @@ GF_NOINLINE gf_status kfc_udu_correct(unsigned n, gf_real *ud,
     }
     if (n == 3u) {
         return gf_udu_correct3(ud, perm, m, hw, e, yw, dx, nis);
+    }
+    if (n == 4u) {
+        return gf_udu_correct4(ud, perm, m, hw, e, yw, dx, nis);
     }
     return gf_udu_correct(n, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
 }
@@ -126,12 +138,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
             gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
-    for (unsigned i = 0; i < n; i++) {
-        kf->mu[i] = nb->mu[i];
-    }
-    for (unsigned k = 0; k < GF_KF_TRI(n); k++) {
-        kf->ud[k] = nb->ud[k];
-    }
+    kfc_copy_moments(kf, nb, n);
     return GF_OK;
 }
 
