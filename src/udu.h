@@ -418,13 +418,14 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
 // The state measured by the row h (by state) with the largest share of
 // h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal in the
 // factors' order: sigma_d[i] = sum_(k >= i) U_ik^2 d_k, the variance of
-// the state perm[i].
+// the state perm[i]; *total the sum of the shares, in the factors' order.
 GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
                                             const unsigned char *perm,
-                                            const gf_real *h, gf_real *sigma_d)
+                                            const gf_real *h, gf_real *sigma_d,
+                                            gf_real *total)
 {
     unsigned best = 0;
-    gf_real most = -1;
+    gf_real most = -1, acc = 0;
     GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         gf_real v = ud[GF_UD(i, i)];
@@ -435,11 +436,13 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
         const unsigned s = perm[i];
         sigma_d[i] = v;
         const gf_real part = h[s] * h[s] * v;
+        acc += part;
         if (part > most) {
             most = part;
             best = s;
         }
     }
+    *total = acc;
     return best;
 }
 
@@ -641,8 +644,12 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
     gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
-    unsigned main = gf_udu_main_state(n, ud, perm, hw, sd);
-    for (unsigned i = 0; i < m; i++) {
+    // (one quantity needs no ranking)
+    gf_real v0;
+    unsigned main = gf_udu_main_state(n, ud, perm, hw, sd, &v0);
+    v[0] = v0;
+    rank[0] = 0;
+    for (unsigned i = 1; i < m; i++) {
         gf_real acc = 0;
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
@@ -651,10 +658,9 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         }
         v[i] = acc;
         rank[i] = i;
-        // (one quantity needs no ranking)
-        tell[i] = (m < 2u)     ? GF_R(0.0)
-                  : (e[i] > 0) ? v[i] / e[i]
-                               : (gf_real)INFINITY;
+    }
+    for (unsigned i = 0; i < m && m > 1u; i++) {
+        tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
     }
     for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
         for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
@@ -678,7 +684,8 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         // alone); one that tells less loses fewer digits than that ratio.
         if (v[i] > GF_UDU_ROOT_TELL * e[i]) {
             if (t > 0u || i != 0u) {
-                main = gf_udu_main_state(n, ud, perm, &hw[i * n], sd);
+                gf_real vi;
+                main = gf_udu_main_state(n, ud, perm, &hw[i * n], sd, &vi);
             }
             if (perm[n - 1u] != main) {
                 gf_real dxs[GF_UDU_NMAX];
