@@ -57,8 +57,10 @@ CALLBACKS = {
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
-    # UKF3's helpers that call them are always inlined).
+    # UKF3's predict from predict_point, a call of its own, its update
+    # from helpers that are always inlined).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "ukf3.c:predict_point": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # PF3's predict calls g from propagate (not inlined under -Os), or
     # itself where propagate is inlined (other optimisation levels). Static

@@ -19,8 +19,10 @@
 #define GF_ALWAYS_INLINE static inline
 #endif
 
-// Kept a function of its own, for a loop nest that runs faster with the
-// registers to itself than inlined into a caller that keeps values live.
+// Kept a function of its own: for a loop nest that runs faster with the
+// registers to itself than inlined into a caller that keeps values live,
+// or for a frame that must be gone (or never under another) when the
+// caller makes its deepest call.
 #if defined(__GNUC__)
 #define GF_NOINLINE static __attribute__((noinline))
 #else

@@ -7,16 +7,18 @@
 #define N_SIGMA (2u * N_STATE + 1u)
 #define HEADING_MASK (1u << 2) // state entry 2, theta, is an angle
 
-// No array of sigma points is kept: each point is made when needed from
-// the packed square root of Sigma (chi_j = mu + off_j); the prediction
-// keeps the 7 images through g, the update none (its sums are taken about
-// the centre's image, which comes first). How the code is laid out for
-// the stack: docs/ukf3.md.
+// No array of sigma points or of their images is kept: each point is made
+// when needed from the packed square root of Sigma (chi_j = mu + off_j),
+// and its image is added to the sums at once (they are taken about the
+// centre's image, which comes first). How the code is laid out for the
+// stack: docs/ukf3.md.
 
-// UKF3_SMALL_CALL: a small helper of the large frames, a call under -Os,
-// inlined under gcc and clang otherwise.
+// UKF3_SMALL_CALL: a small helper of the large frames, a call (never
+// inlined) under -Os, inlined under gcc and clang otherwise.
 #if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
 #define UKF3_SMALL_CALL static inline __attribute__((always_inline))
+#elif defined(__GNUC__)
+#define UKF3_SMALL_CALL static __attribute__((noinline))
 #else
 #define UKF3_SMALL_CALL static
 #endif
@@ -94,22 +96,6 @@ GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref, unsigned n,
 // b_k is at most a quarter of the entry's predicted sigma: b_k^2 <= v / 16.
 #define UNRESOLVED(b2, v) ((b2)*GF_R(16.0) > (v))
 
-// Entry k of the prediction: y[0] the centre's image, y[j > 0] the
-// residuals e_j about it, v = Sigma_bar_kk.
-static int predict_resolved(const gf_ukf3 *ukf, const gf_vec3 y[N_SIGMA],
-                            unsigned k, gf_real v)
-{
-    const gf_real c = GF_R(2.0) * GF_FABS(y[0].v[k]);
-    gf_real b = 0;
-    for (unsigned j = 1; j < N_SIGMA; j++) {
-        if (GF_FABS(y[j].v[k]) > 0) {
-            b += c + GF_FABS(y[j].v[k]);
-        }
-    }
-    b *= GF_REAL_EPSILON * ukf->wi;
-    return !UNRESOLVED(b * b, v);
-}
-
 gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
                        const gf_ukf3_params *p)
 {
@@ -154,6 +140,120 @@ gf_status gf_ukf3_init(gf_ukf3 *ukf, const gf_vec3 *mu, const gf_mat3 *sigma,
     return GF_OK;
 }
 
+// The new belief of a prediction, written to the filter once
+// gf_mat3_check_psd has accepted its Sigma.
+typedef struct ukf3_belief {
+    gf_vec3 mu;
+    gf_mat3 sigma;
+} ukf3_belief;
+
+// l = sqrt(Sigma), packed: gf_sqrt_psd_packed in a frame of its own, so
+// that gf_ukf3_predict neither has its inlined arithmetic's temporaries in
+// its frame nor saves the registers it keeps across the square roots.
+GF_NOINLINE void sigma_sqrt(const gf_mat3 *sigma, gf_real l[6])
+{
+    gf_sqrt_psd_packed(sigma, N_STATE, l);
+}
+
+// The prediction's working set, in the frame of gf_ukf3_predict: the
+// arguments, sqrt(Sigma) (packed), the new belief, Sigma_bar's upper
+// triangle summed packed in s (entry (a, c), a <= c, at GF_TRI(c, a)), the
+// mean's sum m and, in b, the rounding bound of each mean entry
+// (UNRESOLVED) summed in the order of the points. nb.mu keeps the centre's
+// image while the points are summed, and nb.sigma is g's G until s is
+// unpacked into it.
+typedef struct ukf3_pred {
+    const gf_ukf3 *ukf;
+    const gf_ekf3_motion *motion;
+    const gf_real *u;
+    gf_real l[6];
+    gf_real s[6];
+    gf_vec3 m;
+    gf_vec3 b;
+    ukf3_belief nb;
+} ukf3_pred;
+
+// Image j's terms (j > 0), e_j = chi_bar*_j - chi_bar*_0 in e, added to
+// the sums.
+GF_NOINLINE void predict_add(ukf3_pred *w, const gf_vec3 *e)
+{
+    const gf_real wi = w->ukf->wi;
+    for (unsigned a = 0; a < N_STATE; a++) {
+        const gf_real we = wi * e->v[a];
+        w->m.v[a] += we;
+        for (unsigned c = a; c < N_STATE; c++) {
+            w->s[GF_TRI(c, a)] += we * e->v[c];
+        }
+        if (GF_FABS(e->v[a]) > 0) {
+            w->b.v[a] += GF_R(2.0) * GF_FABS(w->nb.mu.v[a]) + GF_FABS(e->v[a]);
+        }
+    }
+}
+
+// Point j through g: chi_j, then chi_bar*_j = g(u, chi_j) in e (G is not
+// needed, but it arrives as the identity: ekf3.h's promise to every
+// motion callback), kept as the centre's image (j = 0) or taken as its
+// residual about it and added to the sums. A call of its own, so that
+// only the point and its image are on the stack above the working set
+// while g runs; the sums are added in a call of their own after g has
+// returned.
+GF_NOINLINE gf_status predict_point(ukf3_pred *w, unsigned j)
+{
+    static const gf_mat3 identity = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    gf_vec3 chi;
+    gf_vec3 e;
+    sigma_point(w->ukf, w->l, j, &chi);
+    e = chi;
+    w->nb.sigma = identity;
+    const gf_status st =
+        w->motion->g(w->motion->ctx, &chi, w->u, &e, &w->nb.sigma);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    if (!gf_vec3_is_finite_n(&e, N_STATE)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (j == 0u) {
+        w->nb.mu = e; // chi_bar*_0, the centre's image
+    } else {
+        residual(&e, &w->nb.mu, N_STATE, HEADING_MASK, &e);
+        predict_add(w, &e);
+    }
+    return GF_OK;
+}
+
+// The prediction's moments from the sums, into w->nb, checked finite and
+// resolved (not yet PSD).
+GF_NOINLINE gf_status predict_moments(ukf3_pred *w)
+{
+    const gf_ukf3 *ukf = w->ukf;
+    for (unsigned a = 0; a < N_STATE; a++) {
+        const gf_real fm = ukf->wfold * w->m.v[a];
+        for (unsigned c = a; c < N_STATE; c++) {
+            w->s[GF_TRI(c, a)] += fm * w->m.v[c];
+        }
+    }
+    for (unsigned a = 0; a < N_STATE; a++) {
+        for (unsigned c = 0; c < N_STATE; c++) {
+            w->nb.sigma.m[a][c] =
+                (a < c) ? w->s[GF_TRI(c, a)] : w->s[GF_TRI(a, c)];
+        }
+        w->nb.mu.v[a] = w->nb.mu.v[a] + w->m.v[a];
+    }
+    wrap_flagged(&w->nb.mu, N_STATE, HEADING_MASK);
+    if (!gf_vec3_is_finite_n(&w->nb.mu, N_STATE) ||
+        !gf_mat3_is_finite(&w->nb.sigma)) {
+        return GF_ERR_NONFINITE;
+    }
+    for (unsigned k = 0; k < N_STATE; k++) {
+        const gf_real bk = w->b.v[k] * (GF_REAL_EPSILON * ukf->wi);
+        if (UNRESOLVED(bk * bk, w->nb.sigma.m[k][k])) {
+            return GF_ERR_UNDEFINED;
+        }
+    }
+    return GF_OK;
+}
+
 gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
                           const gf_real *u)
 {
@@ -168,32 +268,6 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     if (st != GF_OK) {
         return st;
     }
-
-    // chi_{t-1} = (mu, mu + gamma sqrt(Sigma), mu - gamma sqrt(Sigma)),
-    // made in y; then chi_bar*_j = g(u, chi_j) replaces chi_j (G is not
-    // needed).
-    gf_vec3 y[N_SIGMA];
-    {
-        gf_real l[6];
-        gf_sqrt_psd_packed(&ukf->sigma, N_STATE, l);
-        for (unsigned j = 0; j < N_SIGMA; j++) {
-            sigma_point(ukf, l, j, &y[j]);
-        }
-    }
-    for (unsigned j = 0; j < N_SIGMA; j++) {
-        gf_vec3 chi = y[j];
-        // G is not used, but it arrives as the identity (ekf3.h's promise
-        // to every motion callback).
-        gf_mat3 G_unused = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-        st = motion->g(motion->ctx, &chi, u, &y[j], &G_unused);
-        if (st != GF_OK) {
-            return gf_callback_status(st);
-        }
-        if (!gf_vec3_is_finite_n(&y[j], N_STATE)) {
-            return GF_ERR_NONFINITE;
-        }
-    }
-
     // The moments about the centre's image, e_j = chi_bar*_j - chi_bar*_0
     // (heading wrapped), so that no weight larger than w_i is used:
     //   m = sum_{j>0} w_i e_j,  mu_bar = chi_bar*_0 + m,
@@ -203,48 +277,36 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     // the book, w_c,0 ~ -1/alpha^2 multiplies (chi_bar*_0 - mu_bar), an
     // O(1) quantity carrying the rounding of the points divided by
     // alpha^2: for a small alpha the terms cancel and leave that rounding.
-    {
-        gf_vec3 mu = {{0, 0, 0}};
-        gf_mat3 sigma = motion->R;
-        (void)gf_mat3_symmetrize(&sigma);
-        for (unsigned j = 1; j < N_SIGMA; j++) {
-            residual(&y[j], &y[0], N_STATE, HEADING_MASK, &y[j]);
-            for (unsigned a = 0; a < N_STATE; a++) {
-                const gf_real we = ukf->wi * y[j].v[a];
-                mu.v[a] += we;
-                for (unsigned b = a; b < N_STATE; b++) {
-                    sigma.m[a][b] += we * y[j].v[b];
-                }
-            }
+    ukf3_pred w;
+    w.ukf = ukf;
+    w.motion = motion;
+    w.u = u;
+    w.m.v[0] = w.m.v[1] = w.m.v[2] = 0;
+    w.b = w.m;
+    sigma_sqrt(&ukf->sigma, w.l);
+    for (unsigned a = 0; a < N_STATE; a++) { // R, symmetrized
+        w.s[GF_TRI(a, a)] = motion->R.m[a][a];
+        for (unsigned c = a + 1u; c < N_STATE; c++) {
+            w.s[GF_TRI(c, a)] =
+                GF_R(0.5) * motion->R.m[a][c] + GF_R(0.5) * motion->R.m[c][a];
         }
-        for (unsigned a = 0; a < N_STATE; a++) {
-            const gf_real fm = ukf->wfold * mu.v[a];
-            for (unsigned b = a; b < N_STATE; b++) {
-                sigma.m[a][b] += fm * mu.v[b];
-            }
-        }
-        for (unsigned a = 0; a < N_STATE; a++) {
-            for (unsigned b = 0; b < a; b++) {
-                sigma.m[a][b] = sigma.m[b][a];
-            }
-            mu.v[a] = y[0].v[a] + mu.v[a];
-        }
-        wrap_flagged(&mu, N_STATE, HEADING_MASK);
-        if (!gf_vec3_is_finite_n(&mu, N_STATE) || !gf_mat3_is_finite(&sigma)) {
-            return GF_ERR_NONFINITE;
-        }
-        for (unsigned k = 0; k < N_STATE; k++) {
-            if (!predict_resolved(ukf, y, k, sigma.m[k][k])) {
-                return GF_ERR_UNDEFINED;
-            }
-        }
-        st = gf_mat3_check_psd(&sigma, N_STATE);
+    }
+    for (unsigned j = 0; j < N_SIGMA; j++) {
+        st = predict_point(&w, j);
         if (st != GF_OK) {
             return st;
         }
-        ukf->mu = mu;
-        ukf->sigma = sigma;
     }
+    st = predict_moments(&w);
+    if (st != GF_OK) {
+        return st;
+    }
+    st = gf_mat3_check_psd(&w.nb.sigma, N_STATE);
+    if (st != GF_OK) {
+        return st;
+    }
+    ukf->mu = w.nb.mu;
+    ukf->sigma = w.nb.sigma;
     return GF_OK;
 }
 
@@ -305,7 +367,7 @@ static void accumulate(const gf_ukf3 *ukf, unsigned j, const ukf3_point *p,
     }
 }
 
-// predict_resolved's test for the update's m measured entries, z0 the
+// predict_moments' test for the update's m measured entries, z0 the
 // centre's image and s = Q + sum_{j>0} w_i dz_j dz_j^T (packed), with no
 // sums of |dz_j,k| kept: a zero spread (s_kk = Q_kk) has nothing to
 // round, and otherwise, by Cauchy-Schwarz over the six points,
