@@ -126,8 +126,9 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
     gf_status st = GF_OK;
     // For n > 3: whether each state is coupled (a non-zero entry) to at
     // most one other, p[i] the state i is coupled to (i itself if none).
-    int pairs = n > 3u;
-    if (pairs) {
+    int pairs = 0;
+    if (n > 3u && p != NULL) {
+        pairs = 1;
         for (unsigned i = 0; i < n; i++) {
             p[i] = i;
         }
@@ -146,7 +147,7 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
             }
             z += x * GF_R(0.0) + y * GF_R(0.0);
             off += ax + ay;
-            if (pairs && ax > 0) {
+            if (pairs && ax > 0 && p != NULL) {
                 pairs = p[i] == i && p[j] == j;
                 p[i] = j;
                 p[j] = i;
@@ -198,6 +199,8 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
                     return pst;
                 }
                 t += 2u;
+            } else {
+                // the second of a pair: taken with the first
             }
         }
         return GF_OK;
@@ -326,22 +329,15 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
                               const gf_real *wd, gf_real *ud)
 {
     const unsigned stride = 2u * n;
-    // (cols >= 1: the column loops run a pointer to its end and test it at
-    // the bottom, one branch per column fewer where they stay loops)
     GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
         gf_real c[2u * GF_UDU_NMAX];
-        gf_real *wj = &w[j * stride];
-        const gf_real *const cend = &c[cols];
+        const gf_real *wj = &w[j * stride];
         gf_real dj = 0;
-        {
-            gf_real *ck = c;
-            const gf_real *wk = wj, *dk = wd;
-            GF_UNROLL
-            do {
-                *ck = *dk++ * *wk;
-                dj += *wk++ * *ck++;
-            } while (ck != cend);
+        GF_UNROLL
+        for (unsigned k = 0; k < cols; k++) {
+            c[k] = wd[k] * wj[k];
+            dj += wj[k] * c[k];
         }
         if (!(dj >= GF_REAL_MIN)) {
             dj = 0;
@@ -351,19 +347,15 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
         for (unsigned i = 0; i < j; i++) {
             gf_real *wi = &w[i * stride];
             gf_real acc = 0;
-            const gf_real *ck = c, *wk = wi;
             GF_UNROLL
-            do {
-                acc += *wk++ * *ck++;
-            } while (ck != cend);
+            for (unsigned k = 0; k < cols; k++) {
+                acc += wi[k] * c[k];
+            }
             const gf_real uij = acc * inv;
-            gf_real *xk = wi;
-            const gf_real *const xend = &wi[cols];
-            wk = wj;
             GF_UNROLL
-            do {
-                *xk -= uij * *wk++;
-            } while (++xk != xend);
+            for (unsigned k = 0; k < cols; k++) {
+                wi[k] -= uij * wj[k];
+            }
             ud[GF_UD(i, j)] = uij;
         }
         ud[GF_UD(j, j)] = dj;
@@ -400,16 +392,16 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
             ap[l] = ai[perm[l]];
             wi[n + l] = fi[l];
         }
-        const gf_real *uj = ud; // column j of U: uj[l] = U_lj
+        unsigned oj = 0; // column j of U: ud[oj + l] = U_lj
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             gf_real acc = ap[j];
             GF_UNROLL
             for (unsigned l = 0; l < j; l++) {
-                acc += ap[l] * uj[l];
+                acc += ap[l] * ud[oj + l];
             }
             wi[j] = acc;
-            uj += j + 1u;
+            oj += j + 1u;
         }
     }
     gf_mwgs(n, stride, w, wd, ud_new);
@@ -450,8 +442,9 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
 // states in their order: W's row i is the old factor's row of the state
 // newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
 // factors. w, wd: scratch as gf_udu_predict's.
-static inline void gf_udu_reorder(unsigned n, gf_real *ud, unsigned char *perm,
-                                  unsigned root, gf_real *w, gf_real *wd)
+GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
+                                     unsigned char *perm, unsigned root,
+                                     gf_real *w, gf_real *wd)
 {
     const unsigned stride = 2u * n;
     unsigned char np[GF_UDU_NMAX];
@@ -479,7 +472,7 @@ static inline void gf_udu_reorder(unsigned n, gf_real *ud, unsigned char *perm,
         wd[c] = ud[GF_UD(c, c)];
         wd[n + c] = 0;
     }
-    gf_mwgs(n, stride, w, wd, ud);
+    gf_mwgs(n, n, w, wd, ud); // (the other n columns are zero)
     for (unsigned k = 0; k < n; k++) {
         perm[k] = np[k];
     }
@@ -509,18 +502,19 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
                                          gf_real y, gf_real *dx, gf_real *nis)
 {
     gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
-    // (uj: column j of the packed factors, uj[i] = U_ij, uj[j] = d_j)
+    // (oj: column j of the packed factors, ud[oj + i] = U_ij, ud[oj + j] =
+    // d_j)
     // f = U^T hp
-    gf_real *uj = ud;
+    unsigned oj = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         gf_real acc = hp[j];
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            acc += uj[i] * hp[i];
+            acc += ud[oj + i] * hp[i];
         }
         f[j] = acc;
-        uj += j + 1u;
+        oj += j + 1u;
     }
     // An exact quantity's scale: h Sigma h^T without its cancellations
     gf_real scale = 0;
@@ -536,28 +530,28 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
         }
     }
     gf_real alpha = r, inv_prev = 0;
-    uj = ud;
+    oj = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
-        const gf_real d = uj[j];
+        const gf_real d = ud[oj + j];
         const gf_real fj = f[j], gj = d * fj;
         const gf_real a1 = alpha + fj * gj;
         gf_real inv = 0;
         if (a1 >= GF_REAL_MIN) { // (a smaller one is zero: 1 / a1 overflows)
             inv = GF_R(1.0) / a1;
-            uj[j] = d * (alpha * inv);
+            ud[oj + j] = d * (alpha * inv);
         }
         const gf_real p = -fj * inv_prev;
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            const gf_real uij = uj[i];
-            uj[i] = uij + b[i] * p;
+            const gf_real uij = ud[oj + i];
+            ud[oj + i] = uij + b[i] * p;
             b[i] += uij * gj;
         }
         b[j] = gj;
         alpha = a1;
         inv_prev = inv;
-        uj += j + 1u;
+        oj += j + 1u;
     }
     if (!GF_ISFINITE(alpha)) {
         return GF_ERR_NONFINITE;
@@ -567,17 +561,17 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
     }
     const gf_real k = y * inv_prev; // y / s
     *nis += y * k;
-    uj = ud;
+    oj = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dx[j] += b[j] * k;
-        if (!(uj[j] >= GF_REAL_MIN)) {
+        if (!(ud[oj + j] >= GF_REAL_MIN)) {
             GF_UNROLL
             for (unsigned i = 0; i <= j; i++) {
-                uj[i] = 0;
+                ud[oj + i] = 0;
             }
         }
-        uj += j + 1u;
+        oj += j + 1u;
     }
     return GF_OK;
 }
@@ -647,20 +641,21 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
     // (one quantity needs no ranking)
     gf_real v0;
     unsigned main = gf_udu_main_state(n, ud, perm, hw, sd, &v0);
-    v[0] = v0;
-    rank[0] = 0;
-    for (unsigned i = 1; i < m; i++) {
-        gf_real acc = 0;
-        GF_UNROLL
-        for (unsigned j = 0; j < n; j++) {
-            const gf_real h = hw[i * n + perm[j]];
-            acc += h * h * sd[j];
+    for (unsigned i = 0; i < m; i++) {
+        gf_real acc = v0;
+        if (i > 0u) {
+            acc = 0;
+            GF_UNROLL
+            for (unsigned j = 0; j < n; j++) {
+                const gf_real h = hw[i * n + perm[j]];
+                acc += h * h * sd[j];
+            }
         }
         v[i] = acc;
         rank[i] = i;
-    }
-    for (unsigned i = 0; i < m && m > 1u; i++) {
-        tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
+        tell[i] = (m < 2u)     ? GF_R(0.0)
+                  : (e[i] > 0) ? v[i] / e[i]
+                               : (gf_real)INFINITY;
     }
     for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
         for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
