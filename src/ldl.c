@@ -48,6 +48,21 @@ static inline int ldl_is_zero(gf_real x)
     return x >= 0 && x <= 0;
 }
 
+// The factors' entries of state k, of zero variance: d_k = 0 and column
+// k of F the unit vector (where F and d are not NULL).
+static inline void ldl_zero_state(unsigned n, unsigned k, gf_real *F,
+                                  gf_real *d)
+{
+    if (d) {
+        d[k] = 0;
+    }
+    if (F) {
+        for (unsigned i = 0; i < n; i++) {
+            F[i * n + k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
+        }
+    }
+}
+
 // gf_ldl with its scratch given. Not inlined: gf_ldl only jumps to it or
 // to ldl_small, with no frame of its own.
 __attribute__((noinline)) static gf_status
@@ -143,14 +158,7 @@ ldl_core(const gf_real *s, unsigned stride, unsigned n, gf_real *F, gf_real *d,
         if (!ldl_zero_coupled(s, stride, n, a, p, t, u)) {
             return GF_ERR_NOT_PSD;
         }
-        if (d) {
-            d[k] = 0;
-        }
-        if (F) {
-            for (unsigned i = 0; i < n; i++) {
-                F[i * n + k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
-            }
-        }
+        ldl_zero_state(n, k, F, d);
     }
     return GF_OK;
 }
@@ -381,14 +389,7 @@ LDL_CALLEE gf_status ldl_small(const gf_real *s, unsigned stride, unsigned n,
             return GF_ERR_NOT_PSD;
         }
         const unsigned k = (u == 0u) ? q.sa : (u == 1u) ? q.sb : q.sc;
-        if (d) {
-            d[k] = 0;
-        }
-        if (F) {
-            for (unsigned i = 0; i < n; i++) {
-                F[i * n + k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
-            }
-        }
+        ldl_zero_state(n, k, F, d);
     }
     return GF_OK;
 }

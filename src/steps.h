@@ -34,4 +34,23 @@ gf_status gf_udu_correct4(gf_real *ud, unsigned char *perm, unsigned m,
                           const gf_real *hw, const gf_real *e,
                           const gf_real *yw, gf_real *dx, gf_real *nis);
 
+// Defines gf_udu_predictN and gf_udu_correctN for n = N, with W (N rows of
+// 2N) and its weights on their own stack, in a source that has included
+// udu.h.
+#define GF_UDU_STEPS(N)                                                        \
+    void gf_udu_predict##N(const gf_real *ud, gf_real *ud_new,                 \
+                           const unsigned char *perm, const gf_real *a,        \
+                           const gf_real *fr, const gf_real *dr)               \
+    {                                                                          \
+        gf_real w[2u * (N##u) * (N##u)], wd[2u * (N##u)];                      \
+        gf_udu_predict((N##u), ud, ud_new, perm, a, fr, dr, w, wd);            \
+    }                                                                          \
+    gf_status gf_udu_correct##N(gf_real *ud, unsigned char *perm, unsigned m,  \
+                                const gf_real *hw, const gf_real *e,           \
+                                const gf_real *yw, gf_real *dx, gf_real *nis)  \
+    {                                                                          \
+        gf_real w[2u * (N##u) * (N##u)], wd[2u * (N##u)];                      \
+        return gf_udu_correct((N##u), ud, perm, m, hw, e, yw, dx, nis, w, wd); \
+    }
+
 #endif
