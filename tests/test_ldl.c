@@ -73,8 +73,8 @@ static void draw(gf_rng *rng, unsigned n, unsigned stride, gf_real *s)
         }
         break;
     default: { // random entries, some of them extreme
-        static const double special[] = {0.0,  -0.0, 1.0,      -1.0,
-                                         1e-7, 3e38, INFINITY, NAN};
+        static const double special[] = {
+            0.0, -0.0, 1.0, -1.0, 1e-7, 3e38, (double)INFINITY, (double)NAN};
         for (unsigned a = 0; a < n; a++) {
             for (unsigned b = 0; b < n; b++) {
                 const unsigned c = gf_rng_u32(rng) % 12u;
@@ -246,7 +246,7 @@ static void check_psd_matches_reference(void **state)
                              reference_verdict(s2.m[0], 2, 2));
         }
         // the scale: the largest entry brought to [1, 2), then the spread
-        double top = 0.0, low = INFINITY;
+        double top = 0.0, low = (double)INFINITY;
         for (unsigned i = 0; i < n; i++) {
             for (unsigned j = 0; j < n; j++) {
                 const double x = fabs((double)s3.m[i][j]);
@@ -378,12 +378,14 @@ static void pairs_match_ldl(void **state)
             for (unsigned j = 0; j < n; j++) {
                 long double acc = 0;
                 for (unsigned k = 0; k < n; k++) {
-                    acc += (long double)F[i * n + k] * d[k] * F[j * n + k];
+                    acc += (long double)F[i * n + k] * (long double)d[k] *
+                           (long double)F[j * n + k];
                 }
                 const double tol =
                     8.0 * (double)GF_REAL_EPSILON *
                     sqrt((double)s[i * n + i] * (double)s[j * n + j]);
-                if (!(fabsl(acc - (long double)s[i * n + j]) <= tol)) {
+                if (!(fabsl(acc - (long double)s[i * n + j]) <=
+                      (long double)tol)) {
                     print_error("n = %u, (%u, %u): F diag(d) F^T %Lg, s %g\n",
                                 n, i, j, acc, (double)s[i * n + j]);
                     fail();
