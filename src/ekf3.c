@@ -117,6 +117,9 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     gf_udu_factor(sigma->m[0], 3, 3, nb.ud, nb.perm);
     nb.mu = *mu;
     nb.mu.v[2] = gf_angle_wrap(mu->v[2]);
+    if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
+        return GF_ERR_NONFINITE; // a variance at the end of the range
+    }
     *ekf = nb;
     return GF_OK;
 }

@@ -81,6 +81,9 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     for (unsigned k = GF_KF_TRI(n); k < GF_KF_TRI(GF_KF_NMAX); k++) {
         nb->ud[k] = 0;
     }
+    if (!gf_sum_finite(gf_udu_nan_sum(GF_R(0.0), n, nb->ud))) {
+        return GF_ERR_NONFINITE; // a variance at the end of the range
+    }
     *kf = *nb;
     return GF_OK;
 }

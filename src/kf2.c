@@ -70,6 +70,9 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     gf_kf2 nb;
     gf_udu_factor(sigma->m[0], 2, 2, nb.ud, nb.perm);
     nb.mu = *mu;
+    if (!gf_belief_finite(nb.mu.v, nb.ud, 2)) {
+        return GF_ERR_NONFINITE; // a variance at the end of the range
+    }
     *kf = nb;
     return GF_OK;
 }

@@ -676,6 +676,60 @@ static void largest_covariance_stays_finite(void **state)
     assert_true(sigma3.m[0][1] == big && sigma3.m[1][0] == big);
 }
 
+// A prior whose factors, multiplied out, pass the largest gf_real is
+// refused (GF_ERR_NONFINITE, the belief untouched), not stored to be read
+// back with an infinite variance (found by the fuzzer in float: a variance
+// of FLT_MAX beside a tiny one, correlated). Every init either refuses a
+// prior at the end of the range or stores one whose Sigma is finite.
+static void prior_at_the_end_of_the_range(void **state)
+{
+    (void)state;
+#ifdef GF_SINGLE_PRECISION
+    const gf_real big = FLT_MAX;
+#else
+    const gf_real big = DBL_MAX;
+#endif
+    const gf_real tiny = (gf_real)0x1.0c0dfep-115, c = GF_R(-23.5);
+    const gf_vec2 mu2 = {{0, 0}};
+    const gf_mat2 s2 = {{{tiny, c}, {c, big}}};
+    gf_kf2 kf, before;
+    memset(&kf, 0x5a, sizeof kf);
+    before = kf;
+    const gf_status st = gf_kf2_init(&kf, &mu2, &s2);
+#ifdef GF_SINGLE_PRECISION
+    assert_int_equal(st, GF_ERR_NONFINITE);
+#endif
+    if (st != GF_OK) {
+        assert_int_equal(st, GF_ERR_NONFINITE);
+        assert_memory_equal(&kf, &before, sizeof kf);
+    } else {
+        const gf_mat2 sigma2 = gf_test_kf2_sigma(&kf);
+        for (unsigned k = 0; k < 4u; k++) {
+            assert_true(isfinite(sigma2.m[k / 2u][k % 2u]));
+        }
+    }
+    const gf_vec3 mu3 = {{0, 0, 0}};
+    const gf_mat3 s3 = {{{tiny, c, 0}, {c, big, 0}, {0, 0, 1}}};
+    gf_ekf3 ekf, ebefore;
+    memset(&ekf, 0x5a, sizeof ekf);
+    ebefore = ekf;
+    const gf_status st3 = gf_ekf3_init(&ekf, &mu3, &s3);
+    assert_true(st3 == GF_OK || st3 == GF_ERR_NONFINITE);
+    if (st3 != GF_OK) {
+        assert_memory_equal(&ekf, &ebefore, sizeof ekf);
+    } else {
+        const gf_mat3 sigma3 = gf_test_ekf3_sigma(&ekf);
+        for (unsigned k = 0; k < 9u; k++) {
+            assert_true(isfinite(sigma3.m[k / 3u][k % 3u]));
+        }
+    }
+    gf_kf_work work;
+    gf_kf kn;
+    const gf_real sn[4] = {tiny, c, c, big};
+    const gf_status stn = gf_kf_init(&kn, 2, mu2.v, sn, &work);
+    assert_int_equal(stn, st); // the same prior, the same verdict as KF2's
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -688,6 +742,7 @@ int main(void)
         cmocka_unit_test(null_pointers),
         cmocka_unit_test(one_answer_per_call),
         cmocka_unit_test(largest_covariance_stays_finite),
+        cmocka_unit_test(prior_at_the_end_of_the_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

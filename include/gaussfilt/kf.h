@@ -91,7 +91,8 @@ typedef struct gf_kf_innovation {
 
 // Sets kf to N(mu, sigma) of n states (sigma n x n, symmetric PSD: zero is
 // fine), factoring sigma once. GF_ERR_ARG (NULL, n out of 1..GF_KF_NMAX),
-// GF_ERR_NONFINITE, GF_ERR_NOT_PSD; kf is untouched on failure.
+// GF_ERR_NONFINITE (as gf_kf2_init's), GF_ERR_NOT_PSD; kf is untouched on
+// failure.
 gf_status gf_kf_init(gf_kf *kf, unsigned n, const gf_real *mu,
                      const gf_real *sigma, gf_kf_work *work);
 

@@ -63,8 +63,9 @@ typedef struct gf_innovation {
 
 // Sets the belief to N(mu, sigma), factoring sigma once. sigma must be
 // symmetric PSD (zero is fine: a state known exactly). GF_ERR_ARG on NULL,
-// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_mat2_check_psd's verdict); kf is
-// untouched on failure.
+// GF_ERR_NONFINITE (also for a variance so near the largest gf_real that
+// its factors, multiplied out, pass it), GF_ERR_NOT_PSD
+// (gf_mat2_check_psd's verdict); kf is untouched on failure.
 gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma);
 
 // *sigma = the belief's covariance U D U^T, exactly symmetric, each
