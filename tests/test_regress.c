@@ -651,17 +651,20 @@ static void one_answer_per_call(void **state)
     assert_true(info.nis == 0);
 }
 
+// The largest finite gf_real.
+#ifdef GF_SINGLE_PRECISION
+#define BIG FLT_MAX
+#else
+#define BIG DBL_MAX
+#endif
+
 // The largest covariance a verdict accepts is stored finite: a
 // symmetrisation (a + b) / 2 would overflow for a covariance of the largest
 // finite entries (which verdicts accept: they take no products).
 static void largest_covariance_stays_finite(void **state)
 {
     (void)state;
-#ifdef GF_SINGLE_PRECISION
-    const gf_real big = FLT_MAX;
-#else
-    const gf_real big = DBL_MAX;
-#endif
+    const gf_real big = BIG;
     const gf_vec2 mu2 = {{0, 0}};
     const gf_mat2 s2 = {{{big, big}, {big, big}}};
     gf_kf2 kf;
@@ -684,11 +687,7 @@ static void largest_covariance_stays_finite(void **state)
 static void prior_at_the_end_of_the_range(void **state)
 {
     (void)state;
-#ifdef GF_SINGLE_PRECISION
-    const gf_real big = FLT_MAX;
-#else
-    const gf_real big = DBL_MAX;
-#endif
+    const gf_real big = BIG;
     const gf_real tiny = (gf_real)0x1.0c0dfep-115, c = GF_R(-23.5);
     const gf_vec2 mu2 = {{0, 0}};
     const gf_mat2 s2 = {{{tiny, c}, {c, big}}};
