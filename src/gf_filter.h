@@ -19,8 +19,8 @@
 // (gf_mat3_check_psd), one copy for every filter.
 static inline gf_status gf_prior2_check(const gf_vec2 *mu, const gf_mat2 *sigma)
 {
-    if (!gf_all_finite(mu->v, 2) || !gf_all_finite(sigma->m[0], 4)) {
-        return GF_ERR_NONFINITE;
+    if (!gf_all_finite(mu->v, 2)) {
+        return GF_ERR_NONFINITE; // (sigma's: gf_cov_factor's first test)
     }
     return gf_cov_factor(sigma->m[0], 2, 2, NULL, NULL, NULL);
 }
@@ -106,14 +106,6 @@ static inline gf_status gf_update_done(int finite, const gf_innovation *in,
         gf_info_store(info, in);
     }
     return GF_OK;
-}
-
-// 1 if a factored belief (mu: n entries; ud: its packed factors, udu.h)
-// is all finite.
-GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
-                                      unsigned n)
-{
-    return gf_sum_finite(gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), mu, n), n, ud));
 }
 
 #endif

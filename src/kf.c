@@ -81,7 +81,7 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     for (unsigned k = GF_KF_TRI(n); k < GF_KF_TRI(GF_KF_NMAX); k++) {
         nb->ud[k] = 0;
     }
-    if (!gf_sum_finite(gf_udu_nan_sum(GF_R(0.0), n, nb->ud))) {
+    if (!gf_belief_finite(nb->mu, nb->ud, n)) {
         return GF_ERR_NONFINITE; // a variance at the end of the range
     }
     *kf = *nb;
@@ -137,8 +137,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
     }
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
     kfc_udu_predict(n, kf->ud, nb->ud, kf->perm, G, Rf, Rd, work);
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
+    if (!gf_belief_finite(nb->mu, nb->ud, n)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
     kfc_copy_moments(kf, nb, n);
@@ -206,8 +205,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
             nb->mu[i] = gf_angle_wrap(nb->mu[i]);
         }
     }
-    if (!gf_sum_finite(
-            gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), nb->mu, n), n, nb->ud))) {
+    if (!gf_belief_finite(nb->mu, nb->ud, n)) {
         return GF_ERR_NONFINITE;
     }
     kfc_copy(kf, nb);

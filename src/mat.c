@@ -5,20 +5,6 @@
 
 #include "udu.h"
 
-// The verdict on a covariance passed in (n x n block, rows of stride):
-// GF_ERR_NONFINITE, GF_ERR_NOT_PSD (gf_cov_factor), else GF_OK. Inlined,
-// so that n = 2 (gf_cov_factor's closed form) makes no call.
-GF_ALWAYS_INLINE gf_status psd_check(const gf_real *s, unsigned stride,
-                                     unsigned n)
-{
-    for (unsigned i = 0; i < n; i++) {
-        if (!gf_all_finite(&s[(size_t)i * stride], n)) {
-            return GF_ERR_NONFINITE;
-        }
-    }
-    return gf_cov_factor(s, stride, n, NULL, NULL, NULL);
-}
-
 // ---- 2x2 -----------------------------------------------------------------
 
 gf_status gf_mat2_mul(const gf_mat2 *a, const gf_mat2 *b, gf_mat2 *out)
@@ -81,7 +67,8 @@ int gf_mat2_is_finite(const gf_mat2 *a)
 
 gf_status gf_mat2_check_psd(const gf_mat2 *s)
 {
-    return s ? psd_check(s->m[0], 2, 2) : GF_ERR_ARG;
+    // (gf_cov_factor's closed form for 2 x 2: no call)
+    return s ? gf_cov_factor(s->m[0], 2, 2, NULL, NULL, NULL) : GF_ERR_ARG;
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
@@ -234,7 +221,7 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    return psd_check(s->m[0], 3, n);
+    return gf_cov_factor(s->m[0], 3, n, NULL, NULL, NULL);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)

@@ -316,6 +316,14 @@ GF_ALWAYS_INLINE gf_real gf_udu_nan_sum(gf_real z, unsigned n,
     return gf_nan_sum(acc, ud, GF_UD_SIZE(n));
 }
 
+// 1 if a factored belief (mu: n entries; ud: its packed factors)
+// is all finite.
+GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
+                                      unsigned n)
+{
+    return gf_sum_finite(gf_udu_nan_sum(gf_nan_sum(GF_R(0.0), mu, n), n, ud));
+}
+
 // The modified weighted Gram-Schmidt: the factors U D U^T (into ud) of
 // W diag(wd) W^T, W n rows of 2n (cols of them read), from the last row
 // up:
