@@ -4,7 +4,6 @@
 #include "gaussfilt/ekf3.h"
 
 #include "gf_filter.h"
-#include "steps.h"
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
@@ -151,7 +150,10 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     // (G U)_ij with U_jj = 1, and of some d_j or U_ij of the result), so
     // does an overflow: one test of the result stands for all.
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    gf_udu_predict3(nb.ud, nb.ud, nb.perm, G.m[0], rf, rd);
+    {
+        gf_real w[2u * 3u * 3u], wd[2u * 3u];
+        gf_udu_predict(3u, nb.ud, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
+    }
     if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
@@ -215,7 +217,9 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     }
     gf_ekf3 nb = *ekf;
     gf_real dx[3] = {0, 0, 0};
-    st = gf_udu_correct3(nb.ud, nb.perm, m, H.m[0], pq->Qe, yw, dx, &in.nis);
+    gf_real w[2u * 3u * 3u], wd[2u * 3u];
+    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], pq->Qe, yw, dx, &in.nis,
+                        w, wd);
     if (st != GF_OK) {
         return st;
     }

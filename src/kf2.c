@@ -4,7 +4,6 @@
 #include "gaussfilt/kf2.h"
 
 #include "gf_filter.h"
-#include "steps.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
@@ -25,8 +24,9 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
-// of gf_kf2_update's statuses; on GF_OK, pq holds Q's factors and the
-// whitened rows F^-1 C (pq->meas is not written).
+// of gf_kf2_update's statuses; on GF_OK, pq (if not NULL; it may be only
+// for m = 1) holds Q's factors and the whitened rows F^-1 C (pq->meas is
+// not written). One quantity's Q is its own factorisation: F = 1, e = Q.
 static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
                                 gf_kf2_pmeas *pq)
 {
@@ -45,6 +45,22 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
+    if (m == 1u) {
+        const gf_real q = meas->Q.m[0][0];
+        if (!gf_sum_finite(q * GF_R(0.0))) {
+            return GF_ERR_NONFINITE;
+        }
+        if (q < 0) {
+            return GF_ERR_NOT_PSD;
+        }
+        if (pq) {
+            pq->Qf[0] = 1;
+            pq->Qe[0] = q;
+            pq->Qorder[0] = 0;
+            pq->Cw = meas->C;
+        }
+        return GF_OK;
+    }
     const gf_status st =
         gf_cov_factor(meas->Q.m[0], 2, m, pq->Qf, pq->Qe, pq->Qorder);
     if (st != GF_OK) {
@@ -52,9 +68,7 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     }
     // C_w = F^-1 C
     pq->Cw = meas->C;
-    if (m > 1u) {
-        gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, pq->Cw.m[0], 2);
-    }
+    gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, pq->Cw.m[0], 2);
     return GF_OK;
 }
 
@@ -104,7 +118,10 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
         }
         nb.mu.v[i] = acc;
     }
-    gf_udu_predict2(nb.ud, nb.ud, nb.perm, model->A.m[0], rf, rd);
+    {
+        gf_real w[2u * 2u * 2u], wd[2u * 2u];
+        gf_udu_predict(2u, nb.ud, nb.ud, nb.perm, model->A.m[0], rf, rd, w, wd);
+    }
     if (!gf_belief_finite(nb.mu.v, nb.ud, 2)) {
         return GF_ERR_NONFINITE; // overflow: keep the last good belief
     }
@@ -113,36 +130,38 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
 }
 
 // The correction once meas and z are checked, Q factored and C whitened
-// (pq):
+// (cw: the rows F^-1 C; e: the whitened quantities' noises; qf, qorder:
+// Q's factor, read only for m > 1):
 //   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
 static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
-                                 const gf_kf2_pmeas *pq, const gf_vec2 *z,
-                                 gf_innovation *info)
+                                 const gf_real *cw, const gf_real *e,
+                                 const gf_real *qf, const unsigned *qorder,
+                                 const gf_vec2 *z, gf_innovation *info)
 {
     const unsigned m = meas->m;
     gf_innovation in;
     gf_real yw[2];
     in.m = m;
+    in.y[0] = 0;
+    in.y[1] = 0;
     in.y[2] = 0;
     GF_UNROLL
-    for (unsigned i = 0; i < 2u; i++) {
-        in.y[i] = 0;
-        if (i < m) {
-            in.y[i] =
-                z->v[i] - meas->c.v[i] -
-                (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
-        }
+    for (unsigned i = 0; i < m; i++) {
+        in.y[i] =
+            z->v[i] - meas->c.v[i] -
+            (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
         yw[i] = in.y[i];
     }
     if (m > 1u) {
-        gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, yw, 1);
+        gf_udu_whiten_rows(qf, qorder, m, yw, 1);
     }
     gf_kf2 nb = *kf;
     gf_real dx[2] = {0, 0};
-    gf_status st = gf_udu_correct2(nb.ud, nb.perm, m, pq->Cw.m[0], pq->Qe, yw,
-                                   dx, &in.nis);
+    gf_real w[2u * 2u * 2u], wd[2u * 2u];
+    gf_status st =
+        gf_udu_correct(2u, nb.ud, nb.perm, m, cw, e, yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -176,9 +195,18 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;
     }
+    // (one quantity is read from meas itself: its C and Q are their own
+    // whitened form)
     gf_kf2_pmeas pq;
-    const gf_status st = kf2_meas_check(meas, z, &pq);
-    return st != GF_OK ? st : kf2_update_step(kf, meas, &pq, z, info);
+    const int one = meas->m == 1u;
+    const gf_status st = kf2_meas_check(meas, z, one ? NULL : &pq);
+    if (st != GF_OK) {
+        return st;
+    }
+    return one ? kf2_update_step(kf, meas, meas->C.m[0], &meas->Q.m[0][0], NULL,
+                                 NULL, z, info)
+               : kf2_update_step(kf, meas, pq.Cw.m[0], pq.Qe, pq.Qf, pq.Qorder,
+                                 z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -234,5 +262,6 @@ gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return kf2_update_step(kf, &pq->meas, pq, z, info);
+    return kf2_update_step(kf, &pq->meas, pq->Cw.m[0], pq->Qe, pq->Qf,
+                           pq->Qorder, z, info);
 }

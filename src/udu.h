@@ -647,30 +647,22 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
     unsigned rank[GF_UDU_NMAX];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     // (one quantity needs no ranking)
-    gf_real v0;
-    unsigned main = gf_udu_main_state(n, ud, perm, hw, sd, &v0);
-    for (unsigned i = 0; i < m; i++) {
-        gf_real acc = v0;
-        if (i > 0u) {
-            acc = 0;
-            GF_UNROLL
-            for (unsigned j = 0; j < n; j++) {
-                const gf_real h = hw[i * n + perm[j]];
-                acc += h * h * sd[j];
-            }
+    rank[0] = 0;
+    if (m > 1u) {
+        for (unsigned i = 0; i < m; i++) {
+            gf_real acc;
+            (void)gf_udu_main_state(n, ud, perm, &hw[i * n], sd, &acc);
+            v[i] = acc;
+            rank[i] = i;
+            tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
         }
-        v[i] = acc;
-        rank[i] = i;
-        tell[i] = (m < 2u)     ? GF_R(0.0)
-                  : (e[i] > 0) ? v[i] / e[i]
-                               : (gf_real)INFINITY;
-    }
-    for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
-        for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
-             k--) {
-            const unsigned t = rank[k];
-            rank[k] = rank[k - 1u];
-            rank[k - 1u] = t;
+        for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
+            for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
+                 k--) {
+                const unsigned t = rank[k];
+                rank[k] = rank[k - 1u];
+                rank[k - 1u] = t;
+            }
         }
     }
     // In the factors' order: hp = P^T h_i, dp = P^T dx
@@ -685,12 +677,22 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         // A quantity that tells more than GF_UDU_ROOT_TELL makes its main
         // state the root first (Bierman's update then leaves its row of U
         // alone); one that tells less loses fewer digits than that ratio.
-        if (v[i] > GF_UDU_ROOT_TELL * e[i]) {
-            if (t > 0u || i != 0u) {
-                gf_real vi;
-                main = gf_udu_main_state(n, ud, perm, &hw[i * n], sd, &vi);
+        // A quantity of the root's state alone is in place already.
+        int others = 0;
+        GF_UNROLL
+        for (unsigned j = 0; j + 1u < n; j++) {
+            if (GF_FABS(hw[i * n + perm[j]]) > 0) {
+                others = 1;
             }
-            if (perm[n - 1u] != main) {
+        }
+        if (others) {
+            gf_real vi;
+            const unsigned main =
+                gf_udu_main_state(n, ud, perm, &hw[i * n], sd, &vi);
+            if (m > 1u) {
+                vi = v[i]; // (as ranked, before the first update)
+            }
+            if (vi > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
                 gf_real dxs[GF_UDU_NMAX];
                 for (unsigned j = 0; j < n; j++) {
                     dxs[perm[j]] = dp[j];
