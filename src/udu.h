@@ -649,10 +649,17 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
     // (one quantity needs no ranking)
     rank[0] = 0;
     if (m > 1u) {
+        (void)gf_udu_main_state(n, ud, perm, hw, sd, &v[0]);
         for (unsigned i = 0; i < m; i++) {
-            gf_real acc;
-            (void)gf_udu_main_state(n, ud, perm, &hw[i * n], sd, &acc);
-            v[i] = acc;
+            if (i > 0u) {
+                gf_real acc = 0;
+                GF_UNROLL
+                for (unsigned j = 0; j < n; j++) {
+                    const gf_real h = hw[i * n + perm[j]];
+                    acc += h * h * sd[j];
+                }
+                v[i] = acc;
+            }
             rank[i] = i;
             tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
         }
@@ -684,6 +691,9 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
             if (GF_FABS(hw[i * n + perm[j]]) > 0) {
                 others = 1;
             }
+        }
+        if (m > 1u && !(v[i] > GF_UDU_ROOT_TELL * e[i])) {
+            others = 0; // (tells too little, as ranked)
         }
         if (others) {
             gf_real vi;
