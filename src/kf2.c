@@ -159,7 +159,7 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     gf_kf2 nb = *kf;
     gf_real dx[2] = {0, 0};
-    gf_real w[2u * 2u * 2u], wd[2u * 2u];
+    gf_real w[2u * 2u], wd[2u];
     gf_status st =
         gf_udu_correct(2u, nb.ud, nb.perm, m, cw, e, yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {

@@ -49,7 +49,7 @@ gf_status gf_udu_correct4(gf_real *ud, unsigned char *perm, unsigned m,
                                 const gf_real *hw, const gf_real *e,           \
                                 const gf_real *yw, gf_real *dx, gf_real *nis)  \
     {                                                                          \
-        gf_real w[2u * (N##u) * (N##u)], wd[2u * (N##u)];                      \
+        gf_real w[(N##u) * (N##u)], wd[N##u];                                  \
         return gf_udu_correct((N##u), ud, perm, m, hw, e, yw, dx, nis, w, wd); \
     }
 

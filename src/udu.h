@@ -325,8 +325,7 @@ GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
 }
 
 // The modified weighted Gram-Schmidt: the factors U D U^T (into ud) of
-// W diag(wd) W^T, W n rows of 2n (cols of them read), from the last row
-// up:
+// W diag(wd) W^T, W n rows of cols, from the last row up:
 //   c = diag(wd) w_j,  d_j = w_j . c,
 //   U_ij = (w_i . c) / d_j,  w_i -= U_ij w_j   (i < j).
 // Each d_j is a weighted sum of squares: never negative. A d_j below
@@ -336,7 +335,7 @@ GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
 GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
                               const gf_real *wd, gf_real *ud)
 {
-    const unsigned stride = 2u * n;
+    const unsigned stride = cols;
     GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
         gf_real c[2u * GF_UDU_NMAX];
@@ -449,12 +448,11 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
 // Makes state `root` the root of the factors (the last index), the other
 // states in their order: W's row i is the old factor's row of the state
 // newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
-// factors. w, wd: scratch as gf_udu_predict's.
+// factors. w: scratch of n x n, wd: of n (caller-owned).
 GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
                                      unsigned char *perm, unsigned root,
                                      gf_real *w, gf_real *wd)
 {
-    const unsigned stride = 2u * n;
     unsigned char np[GF_UDU_NMAX];
     unsigned t = 0, at = 0;
     for (unsigned k = 0; k < n; k++) {
@@ -470,17 +468,15 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
         // the old index of the state np[i]
         const unsigned o = (i == n - 1u) ? at : (i < at ? i : i + 1u);
         for (unsigned c = 0; c < n; c++) {
-            w[i * stride + c] = (c == o)  ? GF_R(1.0)
-                                : (c > o) ? ud[GF_UD(o, c)]
-                                          : GF_R(0.0);
-            w[i * stride + n + c] = 0;
+            w[i * n + c] = (c == o)  ? GF_R(1.0)
+                           : (c > o) ? ud[GF_UD(o, c)]
+                                     : GF_R(0.0);
         }
     }
     for (unsigned c = 0; c < n; c++) {
         wd[c] = ud[GF_UD(c, c)];
-        wd[n + c] = 0;
     }
-    gf_mwgs(n, n, w, wd, ud); // (the other n columns are zero)
+    gf_mwgs(n, n, w, wd, ud);
     for (unsigned k = 0; k < n; k++) {
         perm[k] = np[k];
     }
@@ -635,7 +631,7 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
-// scalar NIS, which is y^T S^-1 y. w, wd: scratch as gf_udu_predict's.
+// scalar NIS, which is y^T S^-1 y. w, wd: gf_udu_reorder's scratch.
 // Statuses as gf_udu_update.
 GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           unsigned char *perm, unsigned m,
