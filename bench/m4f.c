@@ -12,11 +12,21 @@
 // by the floor of bench/ref_n.c, named "cvN step" / "cvN prep" / "cvN ref"
 // (and "gps ...").
 //
+// W1 and W2 also run on the sound floor of bench/ref.c, the step on
+// U D U^T by hand, unchecked ("udu") and with the plain API's checks
+// ("uduc"): after each step (outside the region) its belief is held
+// against the library's at the same step, and the image prints the
+// largest difference of each row,
+//   agree WL PART cov C mu M
+// (C: of Sigma, in the correlation form; M: of the mean, in standard
+// deviations), ending with exit code 1 beyond AGREE_TOL.
+//
 // After each report the image prints, over semihosting, one line
 //   bench WL PART N
 // naming the report (the i-th line names the plugin's i-th report), and
 // "bench done" at the end; a failing filter call ends it with exit code 1.
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "gaussfilt/gaussfilt.h"
 #include "ref.h"
@@ -64,6 +74,51 @@ static void check(gf_status st, const char *what, unsigned i)
     }
 }
 
+// How far a floor may be from the library (float): rounding gives about
+// 1e-6; a wrong formula, differences of order 1.
+#define AGREE_TOL GF_R(1e-3)
+
+typedef struct agree {
+    gf_real cov, mu;
+} agree;
+
+static void agree_add(agree *a, gf_real cov, gf_real mu)
+{
+    a->cov = cov > a->cov ? cov : a->cov;
+    a->mu = mu > a->mu ? mu : a->mu;
+}
+
+static void agree_report(const agree *a, const char *wl, const char *part)
+{
+    printf("agree %s %s cov %.2e mu %.2e\n", wl, part, (double)a->cov,
+           (double)a->mu);
+    if (!(a->cov <= AGREE_TOL && a->mu <= AGREE_TOL)) {
+        printf("gf_bench: %s %s is not the library's step\n", wl, part);
+        exit(1);
+    }
+}
+
+// The library's belief after step i of W1 / W2: the stored table's, the
+// step loop's own after the last.
+static gf_kf2 w1_end;
+static gf_ekf3 w2_end;
+
+static void agree_w1(agree *a, const ref_udu2 *r, unsigned i)
+{
+    gf_real mu;
+    const gf_real cov =
+        ref_udu2_dev(r, i + 1u < WL_TAB ? &wl_w1_post[i + 1u] : &w1_end, &mu);
+    agree_add(a, cov, mu);
+}
+
+static void agree_w2(agree *a, const ref_udu3 *r, unsigned i)
+{
+    gf_real mu;
+    const gf_real cov =
+        ref_udu3_dev(r, i + 1u < WL_TAB ? &wl_w2_post[i + 1u] : &w2_end, &mu);
+    agree_add(a, cov, mu);
+}
+
 static void empty(void)
 {
     gf_kf2 kf = wl_w1_init;
@@ -86,6 +141,7 @@ static void w1(void)
         check(a != GF_OK ? a : b, "w1 step", i);
     }
     report("w1", "step");
+    w1_end = kf;
     for (unsigned i = 0; i < WL_TAB; i++) {
         kf = wl_w1_prior[i];
         bench_mark_start(&kf);
@@ -112,6 +168,31 @@ static void w1(void)
         bench_mark_stop(&rk);
     }
     report("w1", "ref");
+    // The sound floor: unchecked (R's factors made once), then checked.
+    const ref_noise2 rn = ref_noise2_from(&wl_w1_model.R);
+    agree ag = {0, 0};
+    ref_udu2 ru = ref_udu2_from(&wl_w1_init);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        bench_mark_start(&ru);
+        ref_udu2_predict(&ru, &wl_w1_model, &rn);
+        ref_udu2_update(&ru, &wl_w1_meas, &wl_w1_z[i]);
+        bench_mark_stop(&ru);
+        agree_w1(&ag, &ru, i);
+    }
+    report("w1", "udu");
+    agree_report(&ag, "w1", "udu");
+    ag.cov = ag.mu = 0;
+    ru = ref_udu2_from(&wl_w1_init);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        bench_mark_start(&ru);
+        gf_status a = ref_uduc2_predict(&ru, &wl_w1_model, NULL);
+        gf_status b = ref_uduc2_update(&ru, &wl_w1_meas, &wl_w1_z[i], &info);
+        bench_mark_stop(&ru);
+        check(a != GF_OK ? a : b, "w1 uduc", i);
+        agree_w1(&ag, &ru, i);
+    }
+    report("w1", "uduc");
+    agree_report(&ag, "w1", "uduc");
 }
 
 static void w2(const char *name, unsigned m)
@@ -126,6 +207,7 @@ static void w2(const char *name, unsigned m)
         check(a != GF_OK ? a : b, "w2 step", i);
     }
     report(name, "step");
+    w2_end = ekf;
     for (unsigned i = 0; i < WL_TAB; i++) {
         ekf = wl_w2_prior[i];
         bench_mark_start(&ekf);
@@ -159,6 +241,39 @@ static void w2(const char *name, unsigned m)
         bench_mark_stop(&re);
     }
     report(name, "ref");
+    // The sound floor: unchecked (R's factors made once), then checked
+    // (m = 1 only).
+    void (*const udu_update)(ref_udu3 *, const gf_ekf3_meas *,
+                             const gf_vec3 *) = m == 1   ? ref_udu3_update
+                                                : m == 2 ? ref_udu3_update_xy
+                                                         : ref_udu3_update_xyt;
+    const ref_noise3 rn = ref_noise3_from(&wl_w2_motion.R);
+    agree ag = {0, 0};
+    ref_udu3 ru = ref_udu3_from(&wl_w2_init);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        bench_mark_start(&ru);
+        ref_udu3_predict(&ru, &wl_w2_motion, &rn, wl_w2_u[i]);
+        udu_update(&ru, &wl_w2_meas, &wl_w2_z[i]);
+        bench_mark_stop(&ru);
+        agree_w2(&ag, &ru, i);
+    }
+    report(name, "udu");
+    agree_report(&ag, name, "udu");
+    if (m == 1) {
+        ag.cov = ag.mu = 0;
+        ru = ref_udu3_from(&wl_w2_init);
+        for (unsigned i = 0; i < WL_TAB; i++) {
+            bench_mark_start(&ru);
+            gf_status a = ref_uduc3_predict(&ru, &wl_w2_motion, wl_w2_u[i]);
+            gf_status b =
+                ref_uduc3_update(&ru, &wl_w2_meas, &wl_w2_z[i], &info);
+            bench_mark_stop(&ru);
+            check(a != GF_OK ? a : b, "w2 uduc", i);
+            agree_w2(&ag, &ru, i);
+        }
+        report(name, "uduc");
+        agree_report(&ag, name, "uduc");
+    }
 }
 
 static ref_n ref_belief;

@@ -188,3 +188,836 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
     o[1][2] = o[2][1] = s12 - (k10 * s02 + k11 * s12 + k12 * s22);
     o[2][2] = s22 - (k20 * s02 + k21 * s12 + k22 * s22);
 }
+
+// ---- The sound floor: U D U^T carried between steps -----------------------
+//
+// One step of W1 and W2 on the factors Sigma = U D U^T (ref.h), in the
+// states' own order, written out for n = 2 and 3: Thornton's modified
+// weighted Gram-Schmidt for the prediction, Bierman's scalar update for
+// each measured quantity. The arithmetic is written once (the REF_INLINE
+// helpers below) and inlined into two variants:
+//   udu   no checks: R arrives as its factors (ref_noise2/3_from, once), a
+//         d_j of the prediction is divided by as it is (R's last variance
+//         is positive in both workloads), no NIS, no constant terms;
+//   uduc  the checks the plain API promises (kf2.h, ekf3.h), each as cheap
+//         as a hand-written step can make it: every input finite (a sum of
+//         x * 0, NaN if one x is not), R judged and factored in closed
+//         form at every call, Q >= 0, the gate >= 0, s > 0 (or the
+//         exact-quantity rule), the NIS finite, the gate, the result
+//         finite (mu, U, D and the variances they give); the work done on
+//         locals and written to the belief only on success.
+// The library's own guards (src/udu.h) come with uduc: a d_j or an
+// alpha_j below GF_REAL_MIN is zero, not divided by.
+
+#if defined(__GNUC__)
+#define REF_INLINE static inline __attribute__((always_inline))
+#else
+#define REF_INLINE static inline
+#endif
+
+// Packed factors: U_ij (i < j) and d_j, as src/udu.h packs them.
+#define UD(i, j) ((j) * ((j) + 1u) / 2u + (i))
+
+// 0 for a finite x, NaN for an infinite or NaN one; a sum of them stays
+// NaN and cannot overflow, so (sum < 1) tells that every x was finite.
+#define Z(x) ((x) * GF_R(0.0))
+
+// The factors of a symmetric PSD s (n x n, rows of n, upper triangle
+// read), column j from the last: d_j = s_jj - sum_(k>j) U_jk^2 d_k,
+// U_ij = (s_ij - sum_(k>j) U_ik d_k U_jk) / d_j; a d_j not above zero is
+// zero, with a zero column of U. Set-up only.
+static void udu_factor(const gf_real *s, unsigned n, gf_real *ud)
+{
+    for (unsigned j = n; j-- > 0u;) {
+        gf_real dj = s[j * n + j];
+        for (unsigned k = j + 1u; k < n; k++) {
+            dj -= ud[UD(j, k)] * ud[UD(k, k)] * ud[UD(j, k)];
+        }
+        for (unsigned i = 0; i < j; i++) {
+            gf_real r = s[i * n + j];
+            for (unsigned k = j + 1u; k < n; k++) {
+                r -= ud[UD(i, k)] * ud[UD(k, k)] * ud[UD(j, k)];
+            }
+            ud[UD(i, j)] = dj > 0 ? r / dj : GF_R(0.0);
+        }
+        ud[UD(j, j)] = dj > 0 ? dj : GF_R(0.0);
+    }
+}
+
+// Sigma_ij = sum_(k >= max(i, j)) U_ik d_k U_jk, U_kk = 1, into s (n x n).
+static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
+{
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = i; j < n; j++) {
+            gf_real acc = 0;
+            for (unsigned k = j; k < n; k++) {
+                const gf_real uik = (k == i) ? GF_R(1.0) : ud[UD(i, k)];
+                const gf_real ujk = (k == j) ? GF_R(1.0) : ud[UD(j, k)];
+                acc += uik * ud[UD(k, k)] * ujk;
+            }
+            s[i * n + j] = acc;
+            s[j * n + i] = acc;
+        }
+    }
+}
+
+// ref_udu2_dev and ref_udu3_dev for n states (lib: the library's Sigma,
+// n x n; angle: the index of a heading, n if none).
+static gf_real udu_dev(const gf_real *ud, const gf_real *mu,
+                       const gf_real *lib, const gf_real *lib_mu, unsigned n,
+                       unsigned angle, gf_real *mu_dev)
+{
+    gf_real s[9], sd[3], worst = 0, worst_mu = 0;
+    udu_cov(ud, n, s);
+    for (unsigned i = 0; i < n; i++) {
+        sd[i] = GF_SQRT(lib[i * n + i]);
+        gf_real dm = mu[i] - lib_mu[i];
+        if (i == angle) {
+            dm = gf_angle_wrap(dm);
+        }
+        dm = GF_FABS(dm);
+        worst_mu = (sd[i] > 0 && dm / sd[i] > worst_mu) ? dm / sd[i]
+                   : (sd[i] > 0)                        ? worst_mu
+                   : (dm > worst_mu)                    ? dm
+                                                        : worst_mu;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real den = sd[i] * sd[j];
+            gf_real e = GF_FABS(s[i * n + j] - lib[i * n + j]);
+            e = den > 0 ? e / den : e;
+            worst = e > worst ? e : worst;
+        }
+    }
+    *mu_dev = worst_mu;
+    return worst;
+}
+
+ref_udu2 ref_udu2_from(const gf_kf2 *kf)
+{
+    ref_udu2 r;
+    gf_mat2 s;
+    (void)gf_kf2_cov(kf, &s);
+    r.mu = kf->mu;
+    udu_factor(s.m[0], 2, r.ud);
+    return r;
+}
+
+ref_udu3 ref_udu3_from(const gf_ekf3 *ekf)
+{
+    ref_udu3 r;
+    gf_mat3 s;
+    (void)gf_ekf3_cov(ekf, &s);
+    r.mu = ekf->mu;
+    udu_factor(s.m[0], 3, r.ud);
+    return r;
+}
+
+ref_noise2 ref_noise2_from(const gf_mat2 *R)
+{
+    ref_noise2 r;
+    udu_factor(R->m[0], 2, r.ud);
+    return r;
+}
+
+ref_noise3 ref_noise3_from(const gf_mat3 *R)
+{
+    ref_noise3 r;
+    udu_factor(R->m[0], 3, r.ud);
+    return r;
+}
+
+gf_real ref_udu2_dev(const ref_udu2 *r, const gf_kf2 *kf, gf_real *mu_dev)
+{
+    gf_mat2 s;
+    (void)gf_kf2_cov(kf, &s);
+    return udu_dev(r->ud, r->mu.v, s.m[0], kf->mu.v, 2, 2, mu_dev);
+}
+
+gf_real ref_udu3_dev(const ref_udu3 *r, const gf_ekf3 *ekf, gf_real *mu_dev)
+{
+    gf_mat3 s;
+    (void)gf_ekf3_cov(ekf, &s);
+    return udu_dev(r->ud, r->mu.v, s.m[0], ekf->mu.v, 3, 2, mu_dev);
+}
+
+// Thornton's time update of 2 states, in place on ud:
+//   Sigma_bar = W diag(D, e) W^T,  W = [A U | F]  (R = F diag(e) F^T, rn),
+// then the weighted Gram-Schmidt from the last row of W up:
+//   c = diag(D, e) w_j,  d_j = w_j . c,  U_ij = (w_i . c) / d_j,
+//   w_i -= U_ij w_j  (i < j).
+// F is unit upper triangular: its zeros and ones are written in.
+// checked: a d_j below GF_REAL_MIN is zero, with a zero column of U.
+REF_INLINE void thornton2(gf_real ud[3], const gf_mat2 *A, const gf_real rn[3],
+                          int checked)
+{
+    const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
+    const gf_real e0 = rn[0], f01 = rn[1], e1 = rn[2];
+    // W = ((x00 x01 1 f01) (x10 x11 0 1)), (A U)_i1 = a_i0 U_01 + a_i1
+    gf_real x00 = A->m[0][0], x01 = A->m[0][0] * u01 + A->m[0][1];
+    const gf_real x10 = A->m[1][0], x11 = A->m[1][0] * u01 + A->m[1][1];
+    // j = 1: c = (d0 x10, d1 x11, 0, e1)
+    const gf_real c0 = d0 * x10, c1 = d1 * x11;
+    gf_real n1 = x10 * c0 + x11 * c1 + e1, i1 = 0;
+    if (!checked || n1 >= GF_REAL_MIN) {
+        i1 = GF_R(1.0) / n1;
+    } else {
+        n1 = 0;
+    }
+    const gf_real n01 = (x00 * c0 + x01 * c1 + f01 * e1) * i1;
+    x00 -= n01 * x10;
+    x01 -= n01 * x11;
+    const gf_real w03 = f01 - n01;
+    // j = 0: row 0 is (x00 x01 1 w03)
+    gf_real n0 = x00 * (d0 * x00) + x01 * (d1 * x01) + e0 + w03 * (e1 * w03);
+    if (checked && !(n0 >= GF_REAL_MIN)) {
+        n0 = 0;
+    }
+    ud[0] = n0;
+    ud[1] = n01;
+    ud[2] = n1;
+}
+
+// Thornton's time update of 3 states, as thornton2: W = [G U | F], rows
+// (x_i0 x_i1 x_i2 | F's row i), F = ((1 f01 f02) (0 1 f12) (0 0 1)).
+REF_INLINE void thornton3(gf_real ud[6], const gf_mat3 *G, const gf_real rn[6],
+                          int checked)
+{
+    const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
+    const gf_real u02 = ud[3], u12 = ud[4], d2 = ud[5];
+    const gf_real e0 = rn[0], f01 = rn[1], e1 = rn[2];
+    const gf_real f02 = rn[3], f12 = rn[4], e2 = rn[5];
+    // (G U)_i0 = g_i0, (G U)_i1 = g_i0 U_01 + g_i1,
+    // (G U)_i2 = g_i0 U_02 + g_i1 U_12 + g_i2
+    const gf_real(*g)[3] = G->m;
+    gf_real x00 = g[0][0], x01 = g[0][0] * u01 + g[0][1];
+    gf_real x02 = g[0][0] * u02 + g[0][1] * u12 + g[0][2];
+    gf_real x10 = g[1][0], x11 = g[1][0] * u01 + g[1][1];
+    gf_real x12 = g[1][0] * u02 + g[1][1] * u12 + g[1][2];
+    const gf_real x20 = g[2][0], x21 = g[2][0] * u01 + g[2][1];
+    const gf_real x22 = g[2][0] * u02 + g[2][1] * u12 + g[2][2];
+    // j = 2: c = (d0 x20, d1 x21, d2 x22, 0, 0, e2)
+    gf_real c0 = d0 * x20, c1 = d1 * x21, c2 = d2 * x22;
+    gf_real n2 = x20 * c0 + x21 * c1 + x22 * c2 + e2, i2 = 0;
+    if (!checked || n2 >= GF_REAL_MIN) {
+        i2 = GF_R(1.0) / n2;
+    } else {
+        n2 = 0;
+    }
+    const gf_real n12 = (x10 * c0 + x11 * c1 + x12 * c2 + f12 * e2) * i2;
+    const gf_real n02 = (x00 * c0 + x01 * c1 + x02 * c2 + f02 * e2) * i2;
+    x10 -= n12 * x20;
+    x11 -= n12 * x21;
+    x12 -= n12 * x22;
+    const gf_real w15 = f12 - n12; // row 1: (x10 x11 x12 0 1 w15)
+    x00 -= n02 * x20;
+    x01 -= n02 * x21;
+    x02 -= n02 * x22;
+    gf_real w05 = f02 - n02; // row 0: (x00 x01 x02 1 f01 w05)
+    // j = 1: c = (d0 x10, d1 x11, d2 x12, 0, e1, e2 w15)
+    c0 = d0 * x10;
+    c1 = d1 * x11;
+    c2 = d2 * x12;
+    const gf_real c5 = e2 * w15;
+    gf_real n1 = x10 * c0 + x11 * c1 + x12 * c2 + e1 + w15 * c5, i1 = 0;
+    if (!checked || n1 >= GF_REAL_MIN) {
+        i1 = GF_R(1.0) / n1;
+    } else {
+        n1 = 0;
+    }
+    const gf_real n01 =
+        (x00 * c0 + x01 * c1 + x02 * c2 + f01 * e1 + w05 * c5) * i1;
+    x00 -= n01 * x10;
+    x01 -= n01 * x11;
+    x02 -= n01 * x12;
+    const gf_real w04 = f01 - n01;
+    w05 -= n01 * w15;
+    // j = 0: row 0 is (x00 x01 x02 1 w04 w05)
+    gf_real n0 = x00 * (d0 * x00) + x01 * (d1 * x01) + x02 * (d2 * x02) + e0 +
+                 w04 * (e1 * w04) + w05 * (e2 * w05);
+    if (checked && !(n0 >= GF_REAL_MIN)) {
+        n0 = 0;
+    }
+    ud[0] = n0;
+    ud[1] = n01;
+    ud[2] = n1;
+    ud[3] = n02;
+    ud[4] = n12;
+    ud[5] = n2;
+}
+
+// Bierman's update of 2 states, in place on ud, for the scalar z = h x +
+// v, v ~ N(0, r): with f = U^T h, g = D f, alpha_(-1) = r,
+//   alpha_j = alpha_(j-1) + f_j g_j,  d_j <- d_j alpha_(j-1) / alpha_j,
+//   U_ij <- U_ij - b_i f_j / alpha_(j-1),  b_i <- b_i + U_ij g_j (i < j),
+//   b_j = g_j;
+// the gain is b / s, s = alpha_1 = h Sigma h^T + r (returned); b into b.
+// checked: an alpha_j below GF_REAL_MIN is not divided by (d_j kept, and
+// 1 / alpha_j taken as 0), a d_j below GF_REAL_MIN becomes zero with its
+// column of U, as in src/udu.h. *inv receives 1 / s (0 if not taken).
+REF_INLINE gf_real bierman2(gf_real ud[3], gf_real h0, gf_real h1, gf_real r,
+                            gf_real b[2], gf_real *inv, int checked)
+{
+    const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
+    const gf_real f0 = h0, f1 = h1 + u01 * h0;
+    const gf_real g0 = d0 * f0, g1 = d1 * f1;
+    const gf_real a0 = r + f0 * g0;
+    gf_real i0 = 0, n0 = d0;
+    if (!checked || a0 >= GF_REAL_MIN) {
+        i0 = GF_R(1.0) / a0;
+        n0 = d0 * (r * i0);
+    }
+    const gf_real a1 = a0 + f1 * g1;
+    gf_real i1 = 0, n1 = d1;
+    if (!checked || a1 >= GF_REAL_MIN) {
+        i1 = GF_R(1.0) / a1;
+        n1 = d1 * (a0 * i1);
+    }
+    gf_real n01 = u01 + g0 * (-f1 * i0);
+    b[0] = g0 + u01 * g1;
+    b[1] = g1;
+    if (checked && !(n0 >= GF_REAL_MIN)) {
+        n0 = 0;
+    }
+    if (checked && !(n1 >= GF_REAL_MIN)) {
+        n1 = 0;
+        n01 = 0;
+    }
+    ud[0] = n0;
+    ud[1] = n01;
+    ud[2] = n1;
+    *inv = i1;
+    return a1;
+}
+
+// Bierman's update of 3 states, as bierman2; h: the row (3 entries).
+REF_INLINE gf_real bierman3(gf_real ud[6], const gf_real h[3], gf_real r,
+                            gf_real b[3], gf_real *inv, int checked)
+{
+    const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
+    const gf_real u02 = ud[3], u12 = ud[4], d2 = ud[5];
+    const gf_real f0 = h[0], f1 = h[1] + u01 * h[0];
+    const gf_real f2 = h[2] + u02 * h[0] + u12 * h[1];
+    const gf_real g0 = d0 * f0, g1 = d1 * f1, g2 = d2 * f2;
+    const gf_real a0 = r + f0 * g0;
+    gf_real i0 = 0, n0 = d0;
+    if (!checked || a0 >= GF_REAL_MIN) {
+        i0 = GF_R(1.0) / a0;
+        n0 = d0 * (r * i0);
+    }
+    const gf_real a1 = a0 + f1 * g1;
+    gf_real i1 = 0, n1 = d1;
+    if (!checked || a1 >= GF_REAL_MIN) {
+        i1 = GF_R(1.0) / a1;
+        n1 = d1 * (a0 * i1);
+    }
+    gf_real n01 = u01 + g0 * (-f1 * i0);
+    gf_real b0 = g0 + u01 * g1;
+    const gf_real a2 = a1 + f2 * g2;
+    gf_real i2 = 0, n2 = d2;
+    if (!checked || a2 >= GF_REAL_MIN) {
+        i2 = GF_R(1.0) / a2;
+        n2 = d2 * (a1 * i2);
+    }
+    const gf_real p2 = -f2 * i1;
+    gf_real n02 = u02 + b0 * p2;
+    gf_real n12 = u12 + g1 * p2;
+    b[0] = b0 + u02 * g2;
+    b[1] = g1 + u12 * g2;
+    b[2] = g2;
+    if (checked && !(n0 >= GF_REAL_MIN)) {
+        n0 = 0;
+    }
+    if (checked && !(n1 >= GF_REAL_MIN)) {
+        n1 = 0;
+        n01 = 0;
+    }
+    if (checked && !(n2 >= GF_REAL_MIN)) {
+        n2 = 0;
+        n02 = 0;
+        n12 = 0;
+    }
+    ud[0] = n0;
+    ud[1] = n01;
+    ud[2] = n1;
+    ud[3] = n02;
+    ud[4] = n12;
+    ud[5] = n2;
+    *inv = i2;
+    return a2;
+}
+
+// ---- udu: no checks ----
+
+void ref_udu2_predict(ref_udu2 *kf, const gf_kf2_model *model,
+                      const ref_noise2 *rn)
+{
+    const gf_mat2 *A = &model->A;
+    const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
+    // mu = A mu; Sigma = A Sigma A^T + R on the factors
+    kf->mu.v[0] = A->m[0][0] * m0 + A->m[0][1] * m1;
+    kf->mu.v[1] = A->m[1][0] * m0 + A->m[1][1] * m1;
+    thornton2(kf->ud, A, rn->ud, 0);
+}
+
+void ref_udu2_update(ref_udu2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z)
+{
+    const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
+    // y = z - C mu; mu += K y, K = b / s
+    const gf_real y = z->v[0] - (c0 * kf->mu.v[0] + c1 * kf->mu.v[1]);
+    gf_real b[2], inv;
+    (void)bierman2(kf->ud, c0, c1, meas->Q.m[0][0], b, &inv, 0);
+    const gf_real k = y * inv;
+    kf->mu.v[0] += b[0] * k;
+    kf->mu.v[1] += b[1] * k;
+}
+
+void ref_udu3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
+                      const ref_noise3 *rn, const gf_real *u)
+{
+    // mu_bar = g(u, mu) and G by the callback (mu_bar preset to mu, G to
+    // the identity, as the library hands them over); Sigma = G Sigma G^T
+    // + R on the factors, G taken as general
+    gf_vec3 mb = ekf->mu;
+    gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    (void)motion->g(motion->ctx, &ekf->mu, u, &mb, &G);
+    ekf->mu.v[0] = mb.v[0];
+    ekf->mu.v[1] = mb.v[1];
+    ekf->mu.v[2] = wrap(mb.v[2]);
+    thornton3(ekf->ud, &G, rn->ud, 0);
+}
+
+// z_hat and H by the callback, its first m rows preset to zero.
+REF_INLINE void meas3(const gf_ekf3_meas *meas, const gf_vec3 *mu,
+                      unsigned m, gf_vec3 *zh, gf_mat3 *H)
+{
+    for (unsigned i = 0; i < m; i++) {
+        zh->v[i] = 0;
+        H->m[i][0] = 0;
+        H->m[i][1] = 0;
+        H->m[i][2] = 0;
+    }
+    (void)meas->h(meas->ctx, mu, zh, H);
+}
+
+void ref_udu3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas, const gf_vec3 *z)
+{
+    gf_vec3 zh;
+    gf_mat3 H;
+    meas3(meas, &ekf->mu, 1, &zh, &H);
+    // y = z - h(mu_bar); mu += K y, K = b / s
+    const gf_real y = z->v[0] - zh.v[0];
+    gf_real b[3], inv;
+    (void)bierman3(ekf->ud, H.m[0], meas->Q.m[0][0], b, &inv, 0);
+    const gf_real k = y * inv;
+    ekf->mu.v[0] += b[0] * k;
+    ekf->mu.v[1] += b[1] * k;
+    ekf->mu.v[2] = wrap(ekf->mu.v[2] + b[2] * k);
+}
+
+void ref_udu3_update_xy(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                        const gf_vec3 *z)
+{
+    gf_vec3 zh;
+    gf_mat3 H;
+    meas3(meas, &ekf->mu, 2, &zh, &H);
+    // Q diagonal: two scalar updates, the second's innovation at the mean
+    // the first gave, y_1 = z_1 - h_1(mu_bar) - H_1 dx
+    gf_real b[3], inv, dx[3];
+    (void)bierman3(ekf->ud, H.m[0], meas->Q.m[0][0], b, &inv, 0);
+    gf_real k = (z->v[0] - zh.v[0]) * inv;
+    dx[0] = b[0] * k;
+    dx[1] = b[1] * k;
+    dx[2] = b[2] * k;
+    const gf_real y1 = z->v[1] - zh.v[1] -
+                       (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] +
+                        H.m[1][2] * dx[2]);
+    (void)bierman3(ekf->ud, H.m[1], meas->Q.m[1][1], b, &inv, 0);
+    k = y1 * inv;
+    ekf->mu.v[0] += dx[0] + b[0] * k;
+    ekf->mu.v[1] += dx[1] + b[1] * k;
+    ekf->mu.v[2] = wrap(ekf->mu.v[2] + (dx[2] + b[2] * k));
+}
+
+void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                         const gf_vec3 *z)
+{
+    gf_vec3 zh;
+    gf_mat3 H;
+    meas3(meas, &ekf->mu, 3, &zh, &H);
+    // Q diagonal: three scalar updates as in ref_udu3_update_xy, the
+    // heading's residual wrapped
+    gf_real b[3], inv, dx[3];
+    (void)bierman3(ekf->ud, H.m[0], meas->Q.m[0][0], b, &inv, 0);
+    gf_real k = (z->v[0] - zh.v[0]) * inv;
+    dx[0] = b[0] * k;
+    dx[1] = b[1] * k;
+    dx[2] = b[2] * k;
+    const gf_real y1 = z->v[1] - zh.v[1] -
+                       (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] +
+                        H.m[1][2] * dx[2]);
+    (void)bierman3(ekf->ud, H.m[1], meas->Q.m[1][1], b, &inv, 0);
+    k = y1 * inv;
+    dx[0] += b[0] * k;
+    dx[1] += b[1] * k;
+    dx[2] += b[2] * k;
+    const gf_real y2 = wrap(z->v[2] - zh.v[2]) -
+                       (H.m[2][0] * dx[0] + H.m[2][1] * dx[1] +
+                        H.m[2][2] * dx[2]);
+    (void)bierman3(ekf->ud, H.m[2], meas->Q.m[2][2], b, &inv, 0);
+    k = y2 * inv;
+    ekf->mu.v[0] += dx[0] + b[0] * k;
+    ekf->mu.v[1] += dx[1] + b[1] * k;
+    ekf->mu.v[2] = wrap(ekf->mu.v[2] + (dx[2] + b[2] * k));
+}
+
+// ---- uduc: the plain API's checks ----
+
+// |x - y| <= GF_SYM_RTOL (|x| + |y|): symmetric as gf_cov_factor judges.
+REF_INLINE int sym_ok(gf_real x, gf_real y)
+{
+    return GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y));
+}
+
+// The verdict on R (2 x 2) and its factors in rn, as gf_kf2_predict gives
+// it: GF_ERR_NONFINITE, GF_ERR_NOT_PSD (not symmetric, a negative
+// variance, indefinite), else GF_OK. In closed form, pivot on the last
+// state: e1 = r11, f = r01 / r11, e0 = r00 - f r01 = r00 (1 - rho^2),
+// indefinite below -GF_PD_RTOL r00, zero up to GF_PD_RTOL r00 (the
+// library's pair rule: the same quantity in the correlation form,
+// whichever state is the pivot); r11 = 0 needs r01 = 0.
+REF_INLINE gf_status noise2(const gf_mat2 *R, gf_real z, gf_real rn[3])
+{
+    const gf_real r00 = R->m[0][0], r01 = R->m[0][1];
+    const gf_real r10 = R->m[1][0], r11 = R->m[1][1];
+    if (!(z + Z(r00) + Z(r01) + Z(r10) + Z(r11) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!sym_ok(r01, r10) || r00 < 0 || r11 < 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    rn[0] = r00;
+    rn[1] = 0;
+    rn[2] = r11;
+    if (r11 > 0) {
+        const gf_real f = r01 / r11;
+        gf_real e0 = r00 - f * r01;
+        if (!(e0 >= -GF_PD_RTOL * r00)) {
+            return GF_ERR_NOT_PSD;
+        }
+        if (!(e0 > GF_PD_RTOL * r00)) {
+            e0 = 0;
+        }
+        rn[0] = e0;
+        rn[1] = f;
+    } else if (GF_FABS(r01) > 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    return GF_OK;
+}
+
+// The same for a 3 x 3 R (gf_ekf3_predict's verdict): a diagonal R (the
+// usual noise) is its own factorisation; any other is factored from the
+// last state up, each pivot judged against its own variance as above (a
+// zero one's couplings within the 2 x 2 bound a_ik^2 <= a_ii a_kk, both
+// sides widened by GF_PD_RTOL times their variance, as gf_ldl's).
+// Mathematically the library's verdict; its pivot order can tip a case
+// within the tolerance the other way.
+REF_INLINE gf_status noise3(const gf_mat3 *R, gf_real rn[6])
+{
+    const gf_real(*r)[3] = R->m;
+    const gf_real r00 = r[0][0], r01 = r[0][1], r02 = r[0][2];
+    const gf_real r11 = r[1][1], r12 = r[1][2], r22 = r[2][2];
+    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(r[1][0]) + Z(r11) +
+                      Z(r12) + Z(r[2][0]) + Z(r[2][1]) + Z(r22);
+    if (!(z < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!sym_ok(r01, r[1][0]) || !sym_ok(r02, r[2][0]) ||
+        !sym_ok(r12, r[2][1]) || r00 < 0 || r11 < 0 || r22 < 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    rn[0] = r00;
+    rn[1] = 0;
+    rn[2] = r11;
+    rn[3] = 0;
+    rn[4] = 0;
+    rn[5] = r22;
+    if (!(GF_FABS(r01) + GF_FABS(r02) + GF_FABS(r12) > 0)) {
+        return GF_OK; // diagonal
+    }
+    const gf_real tol = GF_PD_RTOL;
+    gf_real a00 = r00, a01 = r01, a11 = r11;
+    if (r22 > 0) {
+        const gf_real inv = GF_R(1.0) / r22;
+        rn[3] = r02 * inv;
+        rn[4] = r12 * inv;
+        a00 -= rn[3] * r02;
+        a01 -= rn[3] * r12;
+        a11 -= rn[4] * r12;
+    } else if (GF_FABS(r02) + GF_FABS(r12) > 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    if (!(a11 >= -tol * r11)) {
+        return GF_ERR_NOT_PSD;
+    }
+    if (a11 > tol * r11) {
+        rn[1] = a01 / a11;
+        rn[2] = a11;
+        a00 -= rn[1] * a01;
+    } else {
+        const gf_real p1 = (a11 > 0 ? a11 : GF_R(0.0)) + tol * r11;
+        const gf_real p0 = (a00 > 0 ? a00 : GF_R(0.0)) + tol * r00;
+        if (!(a01 * a01 <= p1 * p0)) {
+            return GF_ERR_NOT_PSD;
+        }
+        rn[2] = 0;
+    }
+    if (!(a00 >= -tol * r00)) {
+        return GF_ERR_NOT_PSD;
+    }
+    rn[0] = a00 > tol * r00 ? a00 : GF_R(0.0);
+    return GF_OK;
+}
+
+// A model callback's status, as the library passes it on: an unknown one,
+// or GF_ERR_GATED, is GF_ERR_MODEL.
+static gf_status callback_status(gf_status st)
+{
+    return (st < GF_ERR_MODEL || st > GF_OK || st == GF_ERR_GATED)
+               ? GF_ERR_MODEL
+               : st;
+}
+
+// The innovation of a scalar update, as the library stores it.
+REF_INLINE void info_store(gf_innovation *info, gf_real y, gf_real nis)
+{
+    if (info) {
+        info->m = 1;
+        info->y[0] = y;
+        info->y[1] = 0;
+        info->y[2] = 0;
+        info->nis = nis;
+    }
+}
+
+// 0 (finite) or NaN: every number of a 2-state belief and the variance
+// d0 + U01^2 d1 its factors give (d1 is one of them).
+REF_INLINE gf_real belief2_z(const gf_real mu[2], const gf_real ud[3])
+{
+    return Z(mu[0]) + Z(mu[1]) + Z(ud[0]) + Z(ud[1]) + Z(ud[2]) +
+           Z(ud[0] + ud[1] * ud[2] * ud[1]);
+}
+
+gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
+                            const gf_vec2 *u)
+{
+    if (!kf || !model) {
+        return GF_ERR_ARG;
+    }
+    const gf_mat2 *A = &model->A, *B = &model->B;
+    // A, B, c, u finite, then R's finiteness and verdict (one status for
+    // any non-finite number)
+    gf_real z = Z(A->m[0][0]) + Z(A->m[0][1]) + Z(A->m[1][0]) +
+                Z(A->m[1][1]) + Z(B->m[0][0]) + Z(B->m[0][1]) +
+                Z(B->m[1][0]) + Z(B->m[1][1]) + Z(model->c.v[0]) +
+                Z(model->c.v[1]);
+    if (u) {
+        z += Z(u->v[0]) + Z(u->v[1]);
+    }
+    gf_real rn[3];
+    const gf_status st = noise2(&model->R, z, rn);
+    if (st != GF_OK) {
+        return st;
+    }
+    // mu_bar = A mu + B u + c; Sigma_bar on the factors, into a copy
+    ref_udu2 nb = *kf;
+    const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
+    nb.mu.v[0] = A->m[0][0] * m0 + A->m[0][1] * m1 + model->c.v[0];
+    nb.mu.v[1] = A->m[1][0] * m0 + A->m[1][1] * m1 + model->c.v[1];
+    if (u) {
+        nb.mu.v[0] += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
+        nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
+    }
+    thornton2(nb.ud, A, rn, 1);
+    if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    *kf = nb;
+    return GF_OK;
+}
+
+gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
+                           const gf_vec2 *z, gf_innovation *info)
+{
+    if (!kf || !meas || !z || meas->m != 1u) {
+        return GF_ERR_ARG; // (m = 2, which the library takes, is not here)
+    }
+    const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    // C's row, c, z and the gate finite; gate >= 0; Q finite and >= 0
+    if (!(Z(gate) + Z(c0) + Z(c1) + Z(meas->c.v[0]) + Z(z->v[0]) <
+          GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate < 0) {
+        return GF_ERR_ARG;
+    }
+    if (!(Z(q) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (q < 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    // y = z - c - C mu_bar
+    const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
+    const gf_real y = z->v[0] - meas->c.v[0] - (c0 * m0 + c1 * m1);
+    ref_udu2 nb = *kf;
+    gf_real *ud = nb.ud;
+    // An exact quantity (q = 0): s must be positive relative to its terms
+    // before cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2
+    gf_real scale = 0;
+    if (!(q > 0)) {
+        const gf_real t1 = GF_FABS(c1) + GF_FABS(ud[1] * c0);
+        scale = ud[0] * c0 * c0 + ud[2] * t1 * t1;
+    }
+    gf_real b[2], inv;
+    const gf_real s = bierman2(ud, c0, c1, q, b, &inv, 1);
+    if (!GF_ISFINITE(s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(q > 0) && !(s > GF_PD_RTOL * GF_R(2.0) * scale)) {
+        return GF_ERR_SINGULAR;
+    }
+    const gf_real k = y * inv, nis = y * k;
+    if (!GF_ISFINITE(nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate > 0 && nis > gate) {
+        info_store(info, y, nis);
+        return GF_ERR_GATED;
+    }
+    nb.mu.v[0] = m0 + b[0] * k;
+    nb.mu.v[1] = m1 + b[1] * k;
+    if (!(belief2_z(nb.mu.v, ud) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    info_store(info, y, nis);
+    *kf = nb;
+    return GF_OK;
+}
+
+// 0 (finite) or NaN: every number of a 3-state belief and the variances
+// d0 + U01^2 d1 + U02^2 d2 and d1 + U12^2 d2 its factors give.
+REF_INLINE gf_real belief3_z(const gf_real mu[3], const gf_real ud[6])
+{
+    return Z(mu[0]) + Z(mu[1]) + Z(mu[2]) + Z(ud[0]) + Z(ud[1]) + Z(ud[2]) +
+           Z(ud[3]) + Z(ud[4]) + Z(ud[5]) +
+           Z(ud[0] + ud[1] * ud[2] * ud[1] + ud[3] * ud[5] * ud[3]) +
+           Z(ud[2] + ud[4] * ud[5] * ud[4]);
+}
+
+gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
+                            const gf_real *u)
+{
+    if (!ekf || !motion || !motion->g) {
+        return GF_ERR_ARG;
+    }
+    gf_real rn[6];
+    gf_status st = noise3(&motion->R, rn);
+    if (st != GF_OK) {
+        return st;
+    }
+    // The callback's mu_bar and G are not tested apart: a NaN or inf in
+    // either reaches mu or the factors (G_ij is a term of (G U)_ij), and
+    // the result is tested, as the library does; u reaches only the
+    // callback.
+    ref_udu3 nb = *ekf;
+    gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
+    if (st != GF_OK) {
+        return callback_status(st);
+    }
+    nb.mu.v[2] = wrap(nb.mu.v[2]);
+    thornton3(nb.ud, &G, rn, 1);
+    if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    *ekf = nb;
+    return GF_OK;
+}
+
+gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                           const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !meas || !z || !meas->h || meas->m != 1u) {
+        return GF_ERR_ARG; // (m = 2, 3, which the library takes, are not here)
+    }
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    // z and the gate finite; gate >= 0; Q finite and >= 0
+    if (!(Z(z->v[0]) + Z(gate) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate < 0) {
+        return GF_ERR_ARG;
+    }
+    if (!(Z(q) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (q < 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    gf_vec3 zh;
+    gf_mat3 H;
+    zh.v[0] = 0;
+    H.m[0][0] = 0;
+    H.m[0][1] = 0;
+    H.m[0][2] = 0;
+    const gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    if (st != GF_OK) {
+        return callback_status(st);
+    }
+    const gf_real h0 = H.m[0][0], h1 = H.m[0][1], h2 = H.m[0][2];
+    if (!(Z(zh.v[0]) + Z(h0) + Z(h1) + Z(h2) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    // y = z - h(mu_bar), wrapped if an angle
+    gf_real y = z->v[0] - zh.v[0];
+    if (meas->angle_mask & 1u) {
+        y = wrap(y);
+    }
+    ref_udu3 nb = *ekf;
+    gf_real *ud = nb.ud;
+    gf_real scale = 0; // as in ref_uduc2_update
+    if (!(q > 0)) {
+        const gf_real t1 = GF_FABS(h1) + GF_FABS(ud[1] * h0);
+        const gf_real t2 =
+            GF_FABS(h2) + GF_FABS(ud[3] * h0) + GF_FABS(ud[4] * h1);
+        scale = ud[0] * h0 * h0 + ud[2] * t1 * t1 + ud[5] * t2 * t2;
+    }
+    gf_real b[3], inv;
+    const gf_real s = bierman3(ud, H.m[0], q, b, &inv, 1);
+    if (!GF_ISFINITE(s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(q > 0) && !(s > GF_PD_RTOL * GF_R(3.0) * scale)) {
+        return GF_ERR_SINGULAR;
+    }
+    const gf_real k = y * inv, nis = y * k;
+    if (!GF_ISFINITE(nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate > 0 && nis > gate) {
+        info_store(info, y, nis);
+        return GF_ERR_GATED;
+    }
+    nb.mu.v[0] += b[0] * k;
+    nb.mu.v[1] += b[1] * k;
+    nb.mu.v[2] = wrap(nb.mu.v[2] + b[2] * k);
+    if (!(belief3_z(nb.mu.v, ud) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    info_store(info, y, nis);
+    *ekf = nb;
+    return GF_OK;
+}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The no-checks reference implementation of one W1 / W2 step (bench only),
-// W2's update with m = 1 (x), 2 (x, y) or 3 (x, y, heading).
+// The reference implementations of one W1 / W2 step (bench only), W2's
+// update with m = 1 (x), 2 (x, y) or 3 (x, y, heading): the textbook step
+// on Sigma, and the factored step on U D U^T, unchecked and checked.
 #ifndef GF_BENCH_REF_H
 #define GF_BENCH_REF_H
 
@@ -30,5 +31,80 @@ void ref_ekf3_update_xy(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
                         const gf_vec3 *z);
 void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z);
+
+// ---- The sound floor: Sigma carried as U D U^T between steps -----------
+//
+// The same steps on the factors Sigma = U D U^T (U unit upper triangular,
+// D >= 0 diagonal, packed as the library's: U_ij (i < j) at j (j + 1) / 2
+// + i, d_j at j (j + 1) / 2 + j), in the states' own order (no
+// permutation): Thornton's modified weighted Gram-Schmidt for the
+// prediction, Bierman's scalar update for the correction. The fewest
+// instructions a filter that stays positive semidefinite by construction
+// can spend on W1 and W2. "udu": no checks, R given as its factors
+// (ref_noise2/3_from, once); "uduc": the same arithmetic with the checks
+// gf_kf2/gf_ekf3's plain API promises, R taken as a matrix and judged and
+// factored at every call (bench/ref.c says which, and how).
+typedef struct ref_udu2 {
+    gf_vec2 mu;
+    gf_real ud[3];
+} ref_udu2;
+
+typedef struct ref_udu3 {
+    gf_vec3 mu;
+    gf_real ud[6];
+} ref_udu3;
+
+// R = F diag(e) F^T, F unit upper triangular, packed as a belief's factors
+// (F's entries where U's are, e where D is).
+typedef struct ref_noise2 {
+    gf_real ud[3];
+} ref_noise2;
+
+typedef struct ref_noise3 {
+    gf_real ud[6];
+} ref_noise3;
+
+// The library's belief (Sigma through the accessor) and a noise matrix,
+// factored in the states' order (not measured).
+ref_udu2 ref_udu2_from(const gf_kf2 *kf);
+ref_udu3 ref_udu3_from(const gf_ekf3 *ekf);
+ref_noise2 ref_noise2_from(const gf_mat2 *R);
+ref_noise3 ref_noise3_from(const gf_mat3 *R);
+
+// How far a floor's belief is from the library's: the largest
+// |Sigma_ij - Sigma'_ij| / sqrt(Sigma'_ii Sigma'_jj) (Sigma' the
+// library's), and in *mu_dev the largest |mu_i - mu'_i| / sqrt(Sigma'_ii)
+// (the heading's difference wrapped).
+gf_real ref_udu2_dev(const ref_udu2 *r, const gf_kf2 *kf, gf_real *mu_dev);
+gf_real ref_udu3_dev(const ref_udu3 *r, const gf_ekf3 *ekf, gf_real *mu_dev);
+
+// No checks: KF2 with a general A (no B u, no c), an update of m = 1 with
+// a general row C; EKF3 through the model callbacks, G and H general, an
+// update of m = 1, 2 (x, y) or 3 (x, y, heading, its residual wrapped), Q
+// diagonal, one scalar update per quantity.
+void ref_udu2_predict(ref_udu2 *kf, const gf_kf2_model *model,
+                      const ref_noise2 *rn);
+void ref_udu2_update(ref_udu2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z);
+void ref_udu3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
+                      const ref_noise3 *rn, const gf_real *u);
+void ref_udu3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                     const gf_vec3 *z);
+void ref_udu3_update_xy(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                        const gf_vec3 *z);
+void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                         const gf_vec3 *z);
+
+// Checked: gf_kf2_predict, gf_kf2_update, gf_ekf3_predict and
+// gf_ekf3_update's statuses for the same inputs, the belief untouched on
+// any failure, info as theirs; the updates take m = 1 only (GF_ERR_ARG
+// for any other m).
+gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
+                            const gf_vec2 *u);
+gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
+                           const gf_vec2 *z, gf_innovation *info);
+gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
+                            const gf_real *u);
+gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                           const gf_vec3 *z, gf_innovation *info);
 
 #endif

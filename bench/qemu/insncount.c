@@ -156,10 +156,15 @@ static struct insn_rec *record(uint64_t pc, unsigned kind)
 
 // The kind of a Thumb instruction from its bytes (little-endian halfwords):
 // VDIV.F32 is EE80 0A00 under the mask FFB0 0F50 (D, Vn, Vd, N, M, Vm
-// free; sz = 0), VSQRT.F32 is EEB1 0AC0 under FFBF 0FD0.
+// free; sz = 0), VSQRT.F32 is EEB1 0AC0 under FFBF 0FD0. The instruction
+// is the first 4 bytes: near the end of a page qemu 7.2 reads the next
+// halfword to see whether the next instruction crosses it, and that read
+// lands in this instruction's bytes (size 6). (A 16-bit instruction, 2
+// bytes or 4 with such a read, never matches: its first halfword is not
+// the start of a 32-bit encoding, as EExx is.)
 static enum kind classify(const uint8_t *b, size_t size)
 {
-    if (size != 4) {
+    if (size < 4) {
         return K_PLAIN;
     }
     const unsigned hw1 = (unsigned)b[0] | (unsigned)b[1] << 8;
