@@ -3,6 +3,7 @@
 
 #include "gaussfilt/kf2.h"
 
+#define GF_UDU_NMAX 2u // (src/udu.h's scratch: two states)
 #include "gf_filter.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
@@ -24,11 +25,13 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
-// of gf_kf2_update's statuses; on GF_OK, pq (if not NULL; it may be only
-// for m = 1) holds Q's factors and the whitened rows F^-1 C (pq->meas is
-// not written). One quantity's Q is its own factorisation: F = 1, e = Q.
+// of gf_kf2_update's statuses; on GF_OK, qf, qe and qorder hold Q's
+// factors and cw the whitened rows F^-1 C (rows of 2). For m = 1 they may
+// be NULL (nothing is written): one quantity's Q is its own
+// factorisation, F = 1, e = Q, and C its own whitened row.
 static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
-                                gf_kf2_pmeas *pq)
+                                gf_real *qf, gf_real *qe, unsigned *qorder,
+                                gf_real *cw)
 {
     const unsigned m = meas->m;
     if (m < 1 || m > 2) {
@@ -53,22 +56,25 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
         if (q < 0) {
             return GF_ERR_NOT_PSD;
         }
-        if (pq) {
-            pq->Qf[0] = 1;
-            pq->Qe[0] = q;
-            pq->Qorder[0] = 0;
-            pq->Cw = meas->C;
+        if (qf) {
+            qf[0] = 1;
+            qe[0] = q;
+            qorder[0] = 0;
+            cw[0] = meas->C.m[0][0];
+            cw[1] = meas->C.m[0][1];
         }
         return GF_OK;
     }
-    const gf_status st =
-        gf_cov_factor(meas->Q.m[0], 2, m, pq->Qf, pq->Qe, pq->Qorder);
+    const gf_status st = gf_cov_factor(meas->Q.m[0], 2, m, qf, qe, qorder);
     if (st != GF_OK) {
         return st;
     }
     // C_w = F^-1 C
-    pq->Cw = meas->C;
-    gf_udu_whiten_rows(pq->Qf, pq->Qorder, m, pq->Cw.m[0], 2);
+    GF_UNROLL
+    for (unsigned i = 0; i < 4u; i++) {
+        cw[i] = meas->C.m[i / 2u][i % 2u];
+    }
+    gf_udu_whiten_rows(qf, qorder, m, cw, 2);
     return GF_OK;
 }
 
@@ -197,16 +203,17 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     }
     // (one quantity is read from meas itself: its C and Q are their own
     // whitened form)
-    gf_kf2_pmeas pq;
+    gf_real qf[4], qe[2], cw[4];
+    unsigned qorder[2];
     const int one = meas->m == 1u;
-    const gf_status st = kf2_meas_check(meas, z, one ? NULL : &pq);
+    const gf_status st =
+        kf2_meas_check(meas, z, one ? NULL : qf, qe, qorder, cw);
     if (st != GF_OK) {
         return st;
     }
     return one ? kf2_update_step(kf, meas, meas->C.m[0], &meas->Q.m[0][0], NULL,
                                  NULL, z, info)
-               : kf2_update_step(kf, meas, pq.Cw.m[0], pq.Qe, pq.Qf, pq.Qorder,
-                                 z, info);
+               : kf2_update_step(kf, meas, cw, qe, qf, qorder, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -230,7 +237,8 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
         return GF_ERR_ARG;
     }
     gf_kf2_pmeas p;
-    const gf_status st = kf2_meas_check(meas, NULL, &p);
+    const gf_status st =
+        kf2_meas_check(meas, NULL, p.Qf, p.Qe, p.Qorder, p.Cw.m[0]);
     if (st != GF_OK) {
         return st;
     }

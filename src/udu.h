@@ -699,14 +699,20 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                 vi = v[i]; // (as ranked, before the first update)
             }
             if (vi > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
-                gf_real dxs[GF_UDU_NMAX];
+                // dp follows its state: main's entry last, the others
+                // moved up, as gf_udu_reorder moves the states
+                unsigned at = 0;
                 for (unsigned j = 0; j < n; j++) {
-                    dxs[perm[j]] = dp[j];
+                    if (perm[j] == main) {
+                        at = j;
+                    }
                 }
+                const gf_real dm = dp[at];
+                for (unsigned j = at; j + 1u < n; j++) {
+                    dp[j] = dp[j + 1u];
+                }
+                dp[n - 1u] = dm;
                 gf_udu_reorder(n, ud, perm, main, w, wd);
-                for (unsigned j = 0; j < n; j++) {
-                    dp[j] = dxs[perm[j]];
-                }
             }
         }
         gf_real hp[GF_UDU_NMAX];
