@@ -71,7 +71,7 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     for (unsigned k = 0; k < GF_KF_PERM_BYTES; k++) {
         nb->perm[k] = 0;
     }
-    gf_udu_factor(sigma, n, n, nb->ud, nb->perm);
+    gf_udu_factor_n(sigma, n, n, nb->ud, nb->perm, work->x); // (x: free again)
     for (unsigned i = 0; i < GF_KF_NMAX; i++) {
         nb->mu[i] = i < n ? mu[i] : GF_R(0.0);
         if (i < n && (angles >> i) & 1u) {

@@ -226,18 +226,82 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor(const gf_real *s, unsigned stride,
     return gf_cov_factor_n(s, stride, n, F, d, order, NULL, NULL);
 }
 
+// Veltkamp's splitting constant for gf_real's p-bit significand,
+// 2^ceil(p / 2) + 1: a = ah + al with ah and al of at most p / 2 bits,
+// whose products are exact.
+#ifdef GF_SINGLE_PRECISION
+#define GF_UDU_SPLIT GF_R(4097.0) // 2^12 + 1
+#else
+#define GF_UDU_SPLIT GF_R(134217729.0) // 2^27 + 1
+#endif
+
+// a b - p for p = fl(a b), exactly (Dekker's TwoProduct: + - * only, each
+// rounded to nearest, none fused; the library is compiled with
+// -ffp-contract=off); 0 where a split leaves the range (|a| or |b| beyond
+// the largest gf_real / GF_UDU_SPLIT): no correction there.
+GF_ALWAYS_INLINE gf_real gf_udu_prod_err(gf_real a, gf_real b, gf_real p)
+{
+    const gf_real ca = GF_UDU_SPLIT * a, cb = GF_UDU_SPLIT * b;
+    const gf_real ah = ca - (ca - a), bh = cb - (cb - b);
+    const gf_real al = a - ah, bl = b - bh;
+    const gf_real e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    return GF_ISFINITE(e) ? e : GF_R(0.0);
+}
+
+// a + b - t for t = fl(a + b), exactly (Knuth's TwoSum).
+GF_ALWAYS_INLINE gf_real gf_udu_sum_err(gf_real a, gf_real b, gf_real t)
+{
+    const gf_real bb = t - a;
+    return (a - (t - bb)) + (b - bb);
+}
+
+// x - sum_(k>j) U_ik d_k U_jk for gf_udu_factor_n, in about twice gf_real's
+// precision: the sum as a plain loop gives the return value, and *err
+// collects its roundings (TwoSum, TwoProduct) and the low parts of the
+// factors it reads (lo: U_ik + lo_ik, d_k + lo_kk) to first order, as
+// Ogita, Rump and Oishi's compensated dot product does. *err is 0 where it
+// is not finite (the plain sum is then returned alone).
+GF_ALWAYS_INLINE gf_real gf_udu_schur(gf_real x, const gf_real *ud,
+                                      const gf_real *lo, unsigned n,
+                                      unsigned i, unsigned j, gf_real *err)
+{
+    gf_real acc = x, e = 0;
+    for (unsigned k = j + 1u; k < n; k++) {
+        const gf_real a = ud[GF_UD(i, k)], d = ud[GF_UD(k, k)];
+        const gf_real b = ud[GF_UD(j, k)];
+        const gf_real t1 = a * d, t = t1 * b, next = acc - t;
+        // a d b (with the low parts) - t
+        const gf_real c = gf_udu_prod_err(t1, b, t) +
+                          gf_udu_prod_err(a, d, t1) * b + t1 * lo[GF_UD(j, k)] +
+                          (lo[GF_UD(i, k)] * d + a * lo[GF_UD(k, k)]) * b;
+        e += gf_udu_sum_err(acc, -t, next) - c;
+        acc = next;
+    }
+    *err = GF_ISFINITE(e) ? e : GF_R(0.0);
+    return acc;
+}
+
 // The factors of a covariance s that gf_cov_factor accepted, for a new
 // belief: perm is the states reversed (state 0, most often a position, the
 // measured quantity, at the root), then column j from the last, with
 // t_k = d_k U_jk (s read at the states perm[i], perm[j]):
 //   d_j  = s_jj - sum_(k>j) U_jk t_k,
 //   U_ij = (s_ij - sum_(k>j) U_ik t_k) / d_j.
-// Every positive pivot is kept, however small (a direction taken as known
-// exactly because its variance is at the rounding level of the others
-// would make the filter overconfident there); one below GF_REAL_MIN is
-// zero, with a zero column of U. s's upper triangle is read.
-static inline void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
-                                 gf_real *ud, unsigned char *perm)
+// A d_j is the variance of its state given the later ones: when s is
+// nearly singular it is the difference of nearly equal numbers, and the
+// steps that follow need it to its own relative precision (a prediction
+// weights by it, an update scales it). So each sum and quotient is taken
+// in about twice gf_real's precision (gf_udu_schur; lo: scratch of
+// n (n + 1) / 2, the factors' low parts) and each factor rounded once:
+// within an ulp of the exact factors of s (docs/numerics.md). Every
+// positive pivot is kept, however small (a
+// direction taken as known exactly because its variance is at the
+// rounding level of the others would make the filter overconfident
+// there); one below GF_REAL_MIN is zero, with a zero column of U. s's
+// upper triangle is read.
+static inline void gf_udu_factor_n(const gf_real *s, unsigned stride,
+                                   unsigned n, gf_real *ud,
+                                   unsigned char *perm, gf_real *lo)
 {
     for (unsigned k = 0; k < n; k++) {
         perm[k] = (unsigned char)(n - 1u - k);
@@ -247,22 +311,53 @@ static inline void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
     }
     for (unsigned j = n; j-- > 0u;) {
         const unsigned sj = perm[j];
-        const gf_real sjj = s[sj * stride + sj];
-        gf_real dj = sjj;
-        for (unsigned k = j + 1u; k < n; k++) {
-            dj -= ud[GF_UD(j, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
+        gf_real dl;
+        const gf_real d0 = gf_udu_schur(s[sj * stride + sj], ud, lo, n, j, j,
+                                        &dl);
+        // d_j = dj + dl, dj rounded to nearest
+        gf_real dj = d0 + dl;
+        dl = gf_udu_sum_err(d0, dl, dj);
+        if (!GF_ISFINITE(dl)) {
+            dl = 0;
         }
         const int pos = dj >= GF_REAL_MIN;
         for (unsigned i = 0; i < j; i++) {
             const unsigned si = perm[i];
-            gf_real r = s[(si < sj ? si : sj) * stride + (si < sj ? sj : si)];
-            for (unsigned k = j + 1u; k < n; k++) {
-                r -= ud[GF_UD(i, k)] * ud[GF_UD(k, k)] * ud[GF_UD(j, k)];
+            gf_real rl;
+            const gf_real r = gf_udu_schur(
+                s[(si < sj ? si : sj) * stride + (si < sj ? sj : si)], ud, lo,
+                n, i, j, &rl);
+            // U_ij = (r + rl) / (dj + dl) = q + ql
+            gf_real q = 0, ql = 0;
+            if (pos) {
+                q = r / dj;
+                const gf_real p = q * dj;
+                ql = (((r - p) - gf_udu_prod_err(q, dj, p)) + rl - q * dl) /
+                     dj;
+                if (!GF_ISFINITE(ql)) {
+                    ql = 0;
+                }
+                const gf_real u = q + ql;
+                ql = gf_udu_sum_err(q, ql, u);
+                q = u;
+                if (!GF_ISFINITE(ql)) {
+                    ql = 0;
+                }
             }
-            ud[GF_UD(i, j)] = pos ? r / dj : GF_R(0.0);
+            ud[GF_UD(i, j)] = q;
+            lo[GF_UD(i, j)] = ql;
         }
         ud[GF_UD(j, j)] = pos ? dj : GF_R(0.0);
+        lo[GF_UD(j, j)] = pos ? dl : GF_R(0.0);
     }
+}
+
+// gf_udu_factor_n for n <= GF_UDU_NMAX, its scratch its own.
+static inline void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n,
+                                 gf_real *ud, unsigned char *perm)
+{
+    gf_real lo[GF_UD_SIZE(GF_UDU_NMAX)];
+    gf_udu_factor_n(s, stride, n, ud, perm, lo);
 }
 
 // Sigma = P U D U^T P^T into s (rows of stride), exactly symmetric:
