@@ -4,6 +4,7 @@
 #include "gaussfilt/ekf3.h"
 
 #include "gf_filter.h"
+#include "steps.h"
 
 gf_status gf_ekf3_motion_forward_turn(void *ctx, const gf_vec3 *mu,
                                       const gf_real *u, gf_vec3 *mu_bar,
@@ -129,7 +130,7 @@ gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
         return st;
     }
     gf_ekf3 nb;
-    gf_udu_factor(sigma->m[0], 3, 3, nb.ud, nb.perm);
+    gf_udu_factor3(sigma->m[0], 3, 3, nb.ud, nb.perm);
     nb.mu = *mu;
     nb.mu.v[2] = gf_angle_wrap(mu->v[2]);
     if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {

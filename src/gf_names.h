@@ -17,6 +17,7 @@
 
 // steps.h: defined in steps.c and steps4.c
 #define gf_udu_correct2 GF_NAME(gf_udu_correct2)
+#define gf_udu_factor3 GF_NAME(gf_udu_factor3)
 #define gf_udu_correct3 GF_NAME(gf_udu_correct3)
 #define gf_udu_correct4 GF_NAME(gf_udu_correct4)
 #define gf_udu_predict2 GF_NAME(gf_udu_predict2)

@@ -5,6 +5,7 @@
 
 #define GF_UDU_NMAX 2u // (src/udu.h's scratch: two states)
 #include "gf_filter.h"
+#include "steps.h"
 
 // The checks of a motion model (and of u, if not NULL), in the order of
 // gf_kf2_predict's statuses; on GF_OK, rf and rd hold R's factors.
@@ -88,7 +89,7 @@ gf_status gf_kf2_init(gf_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
         return st;
     }
     gf_kf2 nb;
-    gf_udu_factor(sigma->m[0], 2, 2, nb.ud, nb.perm);
+    gf_udu_factor3(sigma->m[0], 2, 2, nb.ud, nb.perm);
     nb.mu = *mu;
     if (!gf_belief_finite(nb.mu.v, nb.ud, 2)) {
         return GF_ERR_NONFINITE; // a variance at the end of the range

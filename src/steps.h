@@ -10,6 +10,11 @@
 
 #include "gf_internal.h"
 
+// gf_udu_factor for n <= 3, one copy for KF2 and EKF3 (a filter's init:
+// its loops stay loops).
+void gf_udu_factor3(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
+                    unsigned char *perm);
+
 // gf_udu_predict for n = 2 and n = 3, with scratch of their own.
 void gf_udu_predict2(const gf_real *ud, gf_real *ud_new,
                      const unsigned char *perm, const gf_real *a,

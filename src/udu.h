@@ -262,8 +262,8 @@ GF_ALWAYS_INLINE gf_real gf_udu_sum_err(gf_real a, gf_real b, gf_real t)
 // Ogita, Rump and Oishi's compensated dot product does. *err is 0 where it
 // is not finite (the plain sum is then returned alone).
 GF_ALWAYS_INLINE gf_real gf_udu_schur(gf_real x, const gf_real *ud,
-                                      const gf_real *lo, unsigned n,
-                                      unsigned i, unsigned j, gf_real *err)
+                                      const gf_real *lo, unsigned n, unsigned i,
+                                      unsigned j, gf_real *err)
 {
     gf_real acc = x, e = 0;
     for (unsigned k = j + 1u; k < n; k++) {
@@ -300,8 +300,8 @@ GF_ALWAYS_INLINE gf_real gf_udu_schur(gf_real x, const gf_real *ud,
 // there); one below GF_REAL_MIN is zero, with a zero column of U. s's
 // upper triangle is read.
 static inline void gf_udu_factor_n(const gf_real *s, unsigned stride,
-                                   unsigned n, gf_real *ud,
-                                   unsigned char *perm, gf_real *lo)
+                                   unsigned n, gf_real *ud, unsigned char *perm,
+                                   gf_real *lo)
 {
     for (unsigned k = 0; k < n; k++) {
         perm[k] = (unsigned char)(n - 1u - k);
@@ -312,8 +312,8 @@ static inline void gf_udu_factor_n(const gf_real *s, unsigned stride,
     for (unsigned j = n; j-- > 0u;) {
         const unsigned sj = perm[j];
         gf_real dl;
-        const gf_real d0 = gf_udu_schur(s[sj * stride + sj], ud, lo, n, j, j,
-                                        &dl);
+        const gf_real d0 =
+            gf_udu_schur(s[sj * stride + sj], ud, lo, n, j, j, &dl);
         // d_j = dj + dl, dj rounded to nearest
         gf_real dj = d0 + dl;
         dl = gf_udu_sum_err(d0, dl, dj);
@@ -332,8 +332,7 @@ static inline void gf_udu_factor_n(const gf_real *s, unsigned stride,
             if (pos) {
                 q = r / dj;
                 const gf_real p = q * dj;
-                ql = (((r - p) - gf_udu_prod_err(q, dj, p)) + rl - q * dl) /
-                     dj;
+                ql = (((r - p) - gf_udu_prod_err(q, dj, p)) + rl - q * dl) / dj;
                 if (!GF_ISFINITE(ql)) {
                     ql = 0;
                 }
