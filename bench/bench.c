@@ -427,8 +427,7 @@ static int udu_agree(int ekf3, int v, const char *wl, const char *part)
         for (unsigned j = 0; j < TAB; j++) {
             if (ekf3_udu_step(v, &ekf, j) != GF_OK ||
                 gf_ekf3_predict(&lib, &wl_w2_motion, wl_w2_u[j]) != GF_OK ||
-                gf_ekf3_update(&lib, &wl_w2_meas, &wl_w2_z[j], NULL) !=
-                    GF_OK) {
+                gf_ekf3_update(&lib, &wl_w2_meas, &wl_w2_z[j], NULL) != GF_OK) {
                 return 1;
             }
             const gf_real c = ref_udu3_dev(&ekf, &lib, &mu);

@@ -222,7 +222,7 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 
 // 0 for a finite x, NaN for an infinite or NaN one; a sum of them stays
 // NaN and cannot overflow, so (sum < 1) tells that every x was finite.
-#define Z(x) ((x) * GF_R(0.0))
+#define Z(x) ((x)*GF_R(0.0))
 
 // The factors of a symmetric PSD s (n x n, rows of n, upper triangle
 // read), column j from the last: d_j = s_jj - sum_(k>j) U_jk^2 d_k,
@@ -265,9 +265,9 @@ static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
 
 // ref_udu2_dev and ref_udu3_dev for n states (lib: the library's Sigma,
 // n x n; angle: the index of a heading, n if none).
-static gf_real udu_dev(const gf_real *ud, const gf_real *mu,
-                       const gf_real *lib, const gf_real *lib_mu, unsigned n,
-                       unsigned angle, gf_real *mu_dev)
+static gf_real udu_dev(const gf_real *ud, const gf_real *mu, const gf_real *lib,
+                       const gf_real *lib_mu, unsigned n, unsigned angle,
+                       gf_real *mu_dev)
 {
     gf_real s[9], sd[3], worst = 0, worst_mu = 0;
     udu_cov(ud, n, s);
@@ -590,8 +590,8 @@ void ref_udu3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
 }
 
 // z_hat and H by the callback, its first m rows preset to zero.
-REF_INLINE void meas3(const gf_ekf3_meas *meas, const gf_vec3 *mu,
-                      unsigned m, gf_vec3 *zh, gf_mat3 *H)
+REF_INLINE void meas3(const gf_ekf3_meas *meas, const gf_vec3 *mu, unsigned m,
+                      gf_vec3 *zh, gf_mat3 *H)
 {
     for (unsigned i = 0; i < m; i++) {
         zh->v[i] = 0;
@@ -631,9 +631,9 @@ void ref_udu3_update_xy(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     dx[0] = b[0] * k;
     dx[1] = b[1] * k;
     dx[2] = b[2] * k;
-    const gf_real y1 = z->v[1] - zh.v[1] -
-                       (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] +
-                        H.m[1][2] * dx[2]);
+    const gf_real y1 =
+        z->v[1] - zh.v[1] -
+        (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] + H.m[1][2] * dx[2]);
     (void)bierman3(ekf->ud, H.m[1], meas->Q.m[1][1], b, &inv, 0);
     k = y1 * inv;
     ekf->mu.v[0] += dx[0] + b[0] * k;
@@ -655,17 +655,17 @@ void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     dx[0] = b[0] * k;
     dx[1] = b[1] * k;
     dx[2] = b[2] * k;
-    const gf_real y1 = z->v[1] - zh.v[1] -
-                       (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] +
-                        H.m[1][2] * dx[2]);
+    const gf_real y1 =
+        z->v[1] - zh.v[1] -
+        (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] + H.m[1][2] * dx[2]);
     (void)bierman3(ekf->ud, H.m[1], meas->Q.m[1][1], b, &inv, 0);
     k = y1 * inv;
     dx[0] += b[0] * k;
     dx[1] += b[1] * k;
     dx[2] += b[2] * k;
-    const gf_real y2 = wrap(z->v[2] - zh.v[2]) -
-                       (H.m[2][0] * dx[0] + H.m[2][1] * dx[1] +
-                        H.m[2][2] * dx[2]);
+    const gf_real y2 =
+        wrap(z->v[2] - zh.v[2]) -
+        (H.m[2][0] * dx[0] + H.m[2][1] * dx[1] + H.m[2][2] * dx[2]);
     (void)bierman3(ekf->ud, H.m[2], meas->Q.m[2][2], b, &inv, 0);
     k = y2 * inv;
     ekf->mu.v[0] += dx[0] + b[0] * k;
@@ -730,8 +730,8 @@ REF_INLINE gf_status noise3(const gf_mat3 *R, gf_real rn[6])
     const gf_real(*r)[3] = R->m;
     const gf_real r00 = r[0][0], r01 = r[0][1], r02 = r[0][2];
     const gf_real r11 = r[1][1], r12 = r[1][2], r22 = r[2][2];
-    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(r[1][0]) + Z(r11) +
-                      Z(r12) + Z(r[2][0]) + Z(r[2][1]) + Z(r22);
+    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(r[1][0]) + Z(r11) + Z(r12) +
+                      Z(r[2][0]) + Z(r[2][1]) + Z(r22);
     if (!(z < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -823,8 +823,7 @@ REF_INLINE gf_real model2_z(const gf_kf2_model *model)
 // The prediction once the model and u are checked and R factored (rn):
 // mu_bar = A mu + B u + c, Sigma_bar on the factors, into a copy written
 // back only if all of it is finite.
-REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf,
-                                        const gf_kf2_model *model,
+REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
                                         const gf_real rn[3], const gf_vec2 *u)
 {
     const gf_mat2 *A = &model->A, *B = &model->B;
@@ -867,8 +866,8 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
 REF_INLINE gf_status meas2_check(const gf_kf2_meas *meas, const gf_vec2 *z)
 {
     const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    gf_real f = Z(gate) + Z(meas->C.m[0][0]) + Z(meas->C.m[0][1]) +
-                Z(meas->c.v[0]);
+    gf_real f =
+        Z(gate) + Z(meas->C.m[0][0]) + Z(meas->C.m[0][1]) + Z(meas->c.v[0]);
     if (z) {
         f += Z(z->v[0]);
     }
@@ -1198,15 +1197,13 @@ gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
 // mu finite first, the heading wrapped, the belief's numbers tested
 // finite before it is written.
 
-gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu,
-                         const gf_mat2 *sigma)
+gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 {
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
     ref_udu2 nb;
-    const gf_status st =
-        noise2(sigma, Z(mu->v[0]) + Z(mu->v[1]), nb.ud);
+    const gf_status st = noise2(sigma, Z(mu->v[0]) + Z(mu->v[1]), nb.ud);
     if (st != GF_OK) {
         return st;
     }
@@ -1218,8 +1215,7 @@ gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu,
     return GF_OK;
 }
 
-gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu,
-                         const gf_mat3 *sigma)
+gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
 {
     if (!ekf || !mu || !sigma) {
         return GF_ERR_ARG;

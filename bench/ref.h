@@ -87,8 +87,7 @@ void ref_udu2_predict(ref_udu2 *kf, const gf_kf2_model *model,
 void ref_udu2_update(ref_udu2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z);
 void ref_udu3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
                       const ref_noise3 *rn, const gf_real *u);
-void ref_udu3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
-                     const gf_vec3 *z);
+void ref_udu3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas, const gf_vec3 *z);
 void ref_udu3_update_xy(ref_udu3 *ekf, const gf_ekf3_meas *meas,
                         const gf_vec3 *z);
 void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
@@ -111,8 +110,7 @@ gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 // factored by hand, as uduc judges R) and gf_kf2_cov / gf_ekf3_cov (in
 // closed form): statuses as the library's, the belief untouched on
 // failure.
-gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu,
-                         const gf_mat2 *sigma);
+gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma);
 gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu,
                          const gf_mat3 *sigma);
 gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma);
@@ -152,8 +150,7 @@ gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
                             const gf_vec2 *z, gf_innovation *info);
 gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
                                     const gf_ekf3_motion *motion);
-gf_status ref_uducp3_prepare_meas(ref_ekf3_pmeas *pq,
-                                  const gf_ekf3_meas *meas);
+gf_status ref_uducp3_prepare_meas(ref_ekf3_pmeas *pq, const gf_ekf3_meas *meas);
 gf_status ref_uducp3_predict(ref_udu3 *ekf, const ref_ekf3_pmotion *pm,
                              const gf_real *u);
 gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
