@@ -13,10 +13,10 @@
 // (and "gps ...").
 //
 // W1 and W2 also run on the sound floor of bench/ref.c, the step on
-// U D U^T by hand, unchecked ("udu") and with the plain API's checks
-// ("uduc"): after each step (outside the region) its belief is held
-// against the library's at the same step, and the image prints the
-// largest difference of each row,
+// U D U^T by hand, unchecked ("udu"), with the plain API's checks
+// ("uduc") and with the prepared path's ("uducp", m = 1): after each step
+// (outside the region) its belief is held against the library's at the
+// same step, and the image prints the largest difference of each row,
 //   agree WL PART cov C mu M
 // (C: of Sigma, in the correlation form; M: of the mean, in standard
 // deviations), ending with exit code 1 beyond AGREE_TOL.
@@ -193,6 +193,24 @@ static void w1(void)
     }
     report("w1", "uduc");
     agree_report(&ag, "w1", "uduc");
+    // The same through the prepared path: the models checked and R
+    // factored once, before the loop.
+    ref_kf2_pmodel pm;
+    ref_kf2_pmeas pq;
+    check(ref_uducp2_prepare_model(&pm, &wl_w1_model), "w1 uducp", 0);
+    check(ref_uducp2_prepare_meas(&pq, &wl_w1_meas), "w1 uducp", 0);
+    ag.cov = ag.mu = 0;
+    ru = ref_udu2_from(&wl_w1_init);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        bench_mark_start(&ru);
+        gf_status a = ref_uducp2_predict(&ru, &pm, NULL);
+        gf_status b = ref_uducp2_update(&ru, &pq, &wl_w1_z[i], &info);
+        bench_mark_stop(&ru);
+        check(a != GF_OK ? a : b, "w1 uducp", i);
+        agree_w1(&ag, &ru, i);
+    }
+    report("w1", "uducp");
+    agree_report(&ag, "w1", "uducp");
 }
 
 static void w2(const char *name, unsigned m)
@@ -273,6 +291,22 @@ static void w2(const char *name, unsigned m)
         }
         report(name, "uduc");
         agree_report(&ag, name, "uduc");
+        ref_ekf3_pmotion pm;
+        ref_ekf3_pmeas pq;
+        check(ref_uducp3_prepare_motion(&pm, &wl_w2_motion), "w2 uducp", 0);
+        check(ref_uducp3_prepare_meas(&pq, &wl_w2_meas), "w2 uducp", 0);
+        ag.cov = ag.mu = 0;
+        ru = ref_udu3_from(&wl_w2_init);
+        for (unsigned i = 0; i < WL_TAB; i++) {
+            bench_mark_start(&ru);
+            gf_status a = ref_uducp3_predict(&ru, &pm, wl_w2_u[i]);
+            gf_status b = ref_uducp3_update(&ru, &pq, &wl_w2_z[i], &info);
+            bench_mark_stop(&ru);
+            check(a != GF_OK ? a : b, "w2 uducp", i);
+            agree_w2(&ag, &ru, i);
+        }
+        report(name, "uducp");
+        agree_report(&ag, name, "uducp");
     }
 }
 

@@ -7,6 +7,8 @@
 // (zero in every workload). Used only by the benchmarks, to show what the
 // library spends over it. Not library code: it trusts its inputs and
 // returns nothing.
+#include <stddef.h>
+
 #include "ref.h"
 
 ref_kf2 ref_kf2_from(const gf_kf2 *kf)
@@ -220,7 +222,7 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 
 // 0 for a finite x, NaN for an infinite or NaN one; a sum of them stays
 // NaN and cannot overflow, so (sum < 1) tells that every x was finite.
-#define Z(x) ((x) * GF_R(0.0))
+#define Z(x) ((x)*GF_R(0.0))
 
 // The factors of a symmetric PSD s (n x n, rows of n, upper triangle
 // read), column j from the last: d_j = s_jj - sum_(k>j) U_jk^2 d_k,
@@ -263,9 +265,9 @@ static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
 
 // ref_udu2_dev and ref_udu3_dev for n states (lib: the library's Sigma,
 // n x n; angle: the index of a heading, n if none).
-static gf_real udu_dev(const gf_real *ud, const gf_real *mu,
-                       const gf_real *lib, const gf_real *lib_mu, unsigned n,
-                       unsigned angle, gf_real *mu_dev)
+static gf_real udu_dev(const gf_real *ud, const gf_real *mu, const gf_real *lib,
+                       const gf_real *lib_mu, unsigned n, unsigned angle,
+                       gf_real *mu_dev)
 {
     gf_real s[9], sd[3], worst = 0, worst_mu = 0;
     udu_cov(ud, n, s);
@@ -588,8 +590,8 @@ void ref_udu3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
 }
 
 // z_hat and H by the callback, its first m rows preset to zero.
-REF_INLINE void meas3(const gf_ekf3_meas *meas, const gf_vec3 *mu,
-                      unsigned m, gf_vec3 *zh, gf_mat3 *H)
+REF_INLINE void meas3(const gf_ekf3_meas *meas, const gf_vec3 *mu, unsigned m,
+                      gf_vec3 *zh, gf_mat3 *H)
 {
     for (unsigned i = 0; i < m; i++) {
         zh->v[i] = 0;
@@ -629,9 +631,9 @@ void ref_udu3_update_xy(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     dx[0] = b[0] * k;
     dx[1] = b[1] * k;
     dx[2] = b[2] * k;
-    const gf_real y1 = z->v[1] - zh.v[1] -
-                       (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] +
-                        H.m[1][2] * dx[2]);
+    const gf_real y1 =
+        z->v[1] - zh.v[1] -
+        (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] + H.m[1][2] * dx[2]);
     (void)bierman3(ekf->ud, H.m[1], meas->Q.m[1][1], b, &inv, 0);
     k = y1 * inv;
     ekf->mu.v[0] += dx[0] + b[0] * k;
@@ -653,17 +655,17 @@ void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     dx[0] = b[0] * k;
     dx[1] = b[1] * k;
     dx[2] = b[2] * k;
-    const gf_real y1 = z->v[1] - zh.v[1] -
-                       (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] +
-                        H.m[1][2] * dx[2]);
+    const gf_real y1 =
+        z->v[1] - zh.v[1] -
+        (H.m[1][0] * dx[0] + H.m[1][1] * dx[1] + H.m[1][2] * dx[2]);
     (void)bierman3(ekf->ud, H.m[1], meas->Q.m[1][1], b, &inv, 0);
     k = y1 * inv;
     dx[0] += b[0] * k;
     dx[1] += b[1] * k;
     dx[2] += b[2] * k;
-    const gf_real y2 = wrap(z->v[2] - zh.v[2]) -
-                       (H.m[2][0] * dx[0] + H.m[2][1] * dx[1] +
-                        H.m[2][2] * dx[2]);
+    const gf_real y2 =
+        wrap(z->v[2] - zh.v[2]) -
+        (H.m[2][0] * dx[0] + H.m[2][1] * dx[1] + H.m[2][2] * dx[2]);
     (void)bierman3(ekf->ud, H.m[2], meas->Q.m[2][2], b, &inv, 0);
     k = y2 * inv;
     ekf->mu.v[0] += dx[0] + b[0] * k;
@@ -728,8 +730,8 @@ REF_INLINE gf_status noise3(const gf_mat3 *R, gf_real rn[6])
     const gf_real(*r)[3] = R->m;
     const gf_real r00 = r[0][0], r01 = r[0][1], r02 = r[0][2];
     const gf_real r11 = r[1][1], r12 = r[1][2], r22 = r[2][2];
-    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(r[1][0]) + Z(r11) +
-                      Z(r12) + Z(r[2][0]) + Z(r[2][1]) + Z(r22);
+    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(r[1][0]) + Z(r11) + Z(r12) +
+                      Z(r[2][0]) + Z(r[2][1]) + Z(r22);
     if (!(z < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -809,28 +811,22 @@ REF_INLINE gf_real belief2_z(const gf_real mu[2], const gf_real ud[3])
            Z(ud[0] + ud[1] * ud[2] * ud[1]);
 }
 
-gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
-                            const gf_vec2 *u)
+// 0 (finite) or NaN: A, B and c of a KF2 motion model.
+REF_INLINE gf_real model2_z(const gf_kf2_model *model)
 {
-    if (!kf || !model) {
-        return GF_ERR_ARG;
-    }
     const gf_mat2 *A = &model->A, *B = &model->B;
-    // A, B, c, u finite, then R's finiteness and verdict (one status for
-    // any non-finite number)
-    gf_real z = Z(A->m[0][0]) + Z(A->m[0][1]) + Z(A->m[1][0]) +
-                Z(A->m[1][1]) + Z(B->m[0][0]) + Z(B->m[0][1]) +
-                Z(B->m[1][0]) + Z(B->m[1][1]) + Z(model->c.v[0]) +
-                Z(model->c.v[1]);
-    if (u) {
-        z += Z(u->v[0]) + Z(u->v[1]);
-    }
-    gf_real rn[3];
-    const gf_status st = noise2(&model->R, z, rn);
-    if (st != GF_OK) {
-        return st;
-    }
-    // mu_bar = A mu + B u + c; Sigma_bar on the factors, into a copy
+    return Z(A->m[0][0]) + Z(A->m[0][1]) + Z(A->m[1][0]) + Z(A->m[1][1]) +
+           Z(B->m[0][0]) + Z(B->m[0][1]) + Z(B->m[1][0]) + Z(B->m[1][1]) +
+           Z(model->c.v[0]) + Z(model->c.v[1]);
+}
+
+// The prediction once the model and u are checked and R factored (rn):
+// mu_bar = A mu + B u + c, Sigma_bar on the factors, into a copy written
+// back only if all of it is finite.
+REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
+                                        const gf_real rn[3], const gf_vec2 *u)
+{
+    const gf_mat2 *A = &model->A, *B = &model->B;
     ref_udu2 nb = *kf;
     const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
     nb.mu.v[0] = A->m[0][0] * m0 + A->m[0][1] * m1 + model->c.v[0];
@@ -847,17 +843,35 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
     return GF_OK;
 }
 
-gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
-                           const gf_vec2 *z, gf_innovation *info)
+gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
+                            const gf_vec2 *u)
 {
-    if (!kf || !meas || !z || meas->m != 1u) {
-        return GF_ERR_ARG; // (m = 2, which the library takes, is not here)
+    if (!kf || !model) {
+        return GF_ERR_ARG;
     }
-    const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
+    // A, B, c, u finite, then R's finiteness and verdict (one status for
+    // any non-finite number)
+    gf_real z = model2_z(model);
+    if (u) {
+        z += Z(u->v[0]) + Z(u->v[1]);
+    }
+    gf_real rn[3];
+    const gf_status st = noise2(&model->R, z, rn);
+    return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
+}
+
+// The checks of a KF2 measurement model of m = 1 (z too, if not NULL), in
+// the order of gf_kf2_update's statuses: C's row, c, z and the gate
+// finite; gate >= 0; Q finite and >= 0.
+REF_INLINE gf_status meas2_check(const gf_kf2_meas *meas, const gf_vec2 *z)
+{
     const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    // C's row, c, z and the gate finite; gate >= 0; Q finite and >= 0
-    if (!(Z(gate) + Z(c0) + Z(c1) + Z(meas->c.v[0]) + Z(z->v[0]) <
-          GF_R(1.0))) {
+    gf_real f =
+        Z(gate) + Z(meas->C.m[0][0]) + Z(meas->C.m[0][1]) + Z(meas->c.v[0]);
+    if (z) {
+        f += Z(z->v[0]);
+    }
+    if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
     if (gate < 0) {
@@ -866,9 +880,17 @@ gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
     if (!(Z(q) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    if (q < 0) {
-        return GF_ERR_NOT_PSD;
-    }
+    return q < 0 ? GF_ERR_NOT_PSD : GF_OK;
+}
+
+// The correction once the model and z are checked: y = z - c - C mu_bar,
+// Bierman's update on a copy, the exact-quantity rule, s and the NIS
+// finite, the gate, the result finite, then the copy written back.
+REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
+                                       const gf_vec2 *z, gf_innovation *info)
+{
+    const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
     // y = z - c - C mu_bar
     const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
     const gf_real y = z->v[0] - meas->c.v[0] - (c0 * m0 + c1 * m1);
@@ -907,6 +929,16 @@ gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
     return GF_OK;
 }
 
+gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
+                           const gf_vec2 *z, gf_innovation *info)
+{
+    if (!kf || !meas || !z || meas->m != 1u) {
+        return GF_ERR_ARG; // (m = 2, which the library takes, is not here)
+    }
+    const gf_status st = meas2_check(meas, z);
+    return st != GF_OK ? st : uduc2_update_step(kf, meas, z, info);
+}
+
 // 0 (finite) or NaN: every number of a 3-state belief and the variances
 // d0 + U01^2 d1 + U02^2 d2 and d1 + U12^2 d2 its factors give.
 REF_INLINE gf_real belief3_z(const gf_real mu[3], const gf_real ud[6])
@@ -917,24 +949,17 @@ REF_INLINE gf_real belief3_z(const gf_real mu[3], const gf_real ud[6])
            Z(ud[2] + ud[4] * ud[5] * ud[4]);
 }
 
-gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
-                            const gf_real *u)
+// The prediction once R is checked and factored (rn). The callback's
+// mu_bar and G are not tested apart: a NaN or inf in either reaches mu or
+// the factors (G_ij is a term of (G U)_ij), and the result is tested, as
+// the library does; u reaches only the callback.
+REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
+                                        const gf_ekf3_motion *motion,
+                                        const gf_real rn[6], const gf_real *u)
 {
-    if (!ekf || !motion || !motion->g) {
-        return GF_ERR_ARG;
-    }
-    gf_real rn[6];
-    gf_status st = noise3(&motion->R, rn);
-    if (st != GF_OK) {
-        return st;
-    }
-    // The callback's mu_bar and G are not tested apart: a NaN or inf in
-    // either reaches mu or the factors (G_ij is a term of (G U)_ij), and
-    // the result is tested, as the library does; u reaches only the
-    // callback.
     ref_udu3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
+    const gf_status st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
     if (st != GF_OK) {
         return callback_status(st);
     }
@@ -947,15 +972,28 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
     return GF_OK;
 }
 
-gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
-                           const gf_vec3 *z, gf_innovation *info)
+gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
+                            const gf_real *u)
 {
-    if (!ekf || !meas || !z || !meas->h || meas->m != 1u) {
-        return GF_ERR_ARG; // (m = 2, 3, which the library takes, are not here)
+    if (!ekf || !motion || !motion->g) {
+        return GF_ERR_ARG;
     }
+    gf_real rn[6];
+    const gf_status st = noise3(&motion->R, rn);
+    return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u);
+}
+
+// The checks of an EKF3 measurement model of m = 1 before its callback
+// (z too, if not NULL), in the order of gf_ekf3_update's statuses: z and
+// the gate finite; gate >= 0; Q finite and >= 0.
+REF_INLINE gf_status meas3_check(const gf_ekf3_meas *meas, const gf_vec3 *z)
+{
     const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    // z and the gate finite; gate >= 0; Q finite and >= 0
-    if (!(Z(z->v[0]) + Z(gate) < GF_R(1.0))) {
+    gf_real f = Z(gate);
+    if (z) {
+        f += Z(z->v[0]);
+    }
+    if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
     if (gate < 0) {
@@ -964,9 +1002,17 @@ gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     if (!(Z(q) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    if (q < 0) {
-        return GF_ERR_NOT_PSD;
-    }
+    return q < 0 ? GF_ERR_NOT_PSD : GF_OK;
+}
+
+// The correction once the model and z are checked: z_hat and H by the
+// callback (its status, its outputs finite), y = z - z_hat (wrapped if an
+// angle), Bierman's update on a copy, the exact-quantity rule, s and the
+// NIS finite, the gate, the result finite, then the copy written back.
+REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                                       const gf_vec3 *z, gf_innovation *info)
+{
+    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
     gf_vec3 zh;
     gf_mat3 H;
     zh.v[0] = 0;
@@ -1019,5 +1065,209 @@ gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     }
     info_store(info, y, nis);
     *ekf = nb;
+    return GF_OK;
+}
+
+gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
+                           const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !meas || !z || !meas->h || meas->m != 1u) {
+        return GF_ERR_ARG; // (m = 2, 3, which the library takes, are not here)
+    }
+    const gf_status st = meas3_check(meas, z);
+    return st != GF_OK ? st : uduc3_update_step(ekf, meas, z, info);
+}
+
+// ---- uducp: the prepared path's checks ----
+//
+// The models checked and R factored once (ref_uducp*_prepare_*, as
+// gf_kf2_prepare_model/_meas and gf_ekf3_prepare_motion/_meas do); each
+// step then tests only what changes from step to step: u (KF2) and z
+// finite, the callbacks' status and outputs (EKF3), s (the exact-quantity
+// rule), the NIS, the gate and the result, computed on a copy of the
+// belief written only on success. The step itself is uduc's, inlined.
+
+gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
+                                   const gf_kf2_model *model)
+{
+    if (!pm || !model) {
+        return GF_ERR_ARG;
+    }
+    ref_kf2_pmodel p;
+    const gf_status st = noise2(&model->R, model2_z(model), p.rn.ud);
+    if (st != GF_OK) {
+        return st;
+    }
+    p.model = *model;
+    *pm = p;
+    return GF_OK;
+}
+
+gf_status ref_uducp2_prepare_meas(ref_kf2_pmeas *pq, const gf_kf2_meas *meas)
+{
+    if (!pq || !meas || meas->m != 1u) {
+        return GF_ERR_ARG;
+    }
+    const gf_status st = meas2_check(meas, NULL);
+    if (st != GF_OK) {
+        return st;
+    }
+    pq->meas = *meas;
+    return GF_OK;
+}
+
+gf_status ref_uducp2_predict(ref_udu2 *kf, const ref_kf2_pmodel *pm,
+                             const gf_vec2 *u)
+{
+    if (!kf || !pm) {
+        return GF_ERR_ARG;
+    }
+    if (u && !(Z(u->v[0]) + Z(u->v[1]) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    return uduc2_predict_step(kf, &pm->model, pm->rn.ud, u);
+}
+
+gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
+                            const gf_vec2 *z, gf_innovation *info)
+{
+    if (!kf || !pq || !z) {
+        return GF_ERR_ARG;
+    }
+    if (!(Z(z->v[0]) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    return uduc2_update_step(kf, &pq->meas, z, info);
+}
+
+gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
+                                    const gf_ekf3_motion *motion)
+{
+    if (!pm || !motion || !motion->g) {
+        return GF_ERR_ARG;
+    }
+    ref_ekf3_pmotion p;
+    const gf_status st = noise3(&motion->R, p.rn.ud);
+    if (st != GF_OK) {
+        return st;
+    }
+    p.motion = *motion;
+    *pm = p;
+    return GF_OK;
+}
+
+gf_status ref_uducp3_prepare_meas(ref_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
+{
+    if (!pq || !meas || !meas->h || meas->m != 1u) {
+        return GF_ERR_ARG;
+    }
+    const gf_status st = meas3_check(meas, NULL);
+    if (st != GF_OK) {
+        return st;
+    }
+    pq->meas = *meas;
+    return GF_OK;
+}
+
+gf_status ref_uducp3_predict(ref_udu3 *ekf, const ref_ekf3_pmotion *pm,
+                             const gf_real *u)
+{
+    if (!ekf || !pm) {
+        return GF_ERR_ARG;
+    }
+    return uduc3_predict_step(ekf, &pm->motion, pm->rn.ud, u);
+}
+
+gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
+                            const gf_vec3 *z, gf_innovation *info)
+{
+    if (!ekf || !pq || !z) {
+        return GF_ERR_ARG;
+    }
+    if (!(Z(z->v[0]) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    return uduc3_update_step(ekf, &pq->meas, z, info);
+}
+
+// ---- The checked floor's init and covariance ----
+//
+// The prior judged and factored by hand as R is (noise2, noise3: closed
+// form for 2 x 2, diagonal or factored from the last state for 3 x 3),
+// mu finite first, the heading wrapped, the belief's numbers tested
+// finite before it is written.
+
+gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
+{
+    if (!kf || !mu || !sigma) {
+        return GF_ERR_ARG;
+    }
+    ref_udu2 nb;
+    const gf_status st = noise2(sigma, Z(mu->v[0]) + Z(mu->v[1]), nb.ud);
+    if (st != GF_OK) {
+        return st;
+    }
+    nb.mu = *mu;
+    if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    *kf = nb;
+    return GF_OK;
+}
+
+gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
+{
+    if (!ekf || !mu || !sigma) {
+        return GF_ERR_ARG;
+    }
+    if (!(Z(mu->v[0]) + Z(mu->v[1]) + Z(mu->v[2]) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    ref_udu3 nb;
+    const gf_status st = noise3(sigma, nb.ud);
+    if (st != GF_OK) {
+        return st;
+    }
+    nb.mu.v[0] = mu->v[0];
+    nb.mu.v[1] = mu->v[1];
+    nb.mu.v[2] = wrap(mu->v[2]);
+    if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    *ekf = nb;
+    return GF_OK;
+}
+
+// Sigma = U D U^T in closed form, each variance a sum of d_j U_ij^2.
+gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma)
+{
+    if (!kf || !sigma) {
+        return GF_ERR_ARG;
+    }
+    const gf_real d0 = kf->ud[0], u01 = kf->ud[1], d1 = kf->ud[2];
+    const gf_real s01 = u01 * d1;
+    sigma->m[0][0] = d0 + u01 * s01;
+    sigma->m[0][1] = s01;
+    sigma->m[1][0] = s01;
+    sigma->m[1][1] = d1;
+    return GF_OK;
+}
+
+gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma)
+{
+    if (!ekf || !sigma) {
+        return GF_ERR_ARG;
+    }
+    const gf_real *ud = ekf->ud;
+    const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
+    const gf_real u02 = ud[3], u12 = ud[4], d2 = ud[5];
+    const gf_real s02 = u02 * d2, s12 = u12 * d2, t01 = u01 * d1;
+    gf_real(*o)[3] = sigma->m;
+    o[0][0] = d0 + u01 * t01 + u02 * s02;
+    o[0][1] = o[1][0] = t01 + u02 * s12;
+    o[0][2] = o[2][0] = s02;
+    o[1][1] = d1 + u12 * s12;
+    o[1][2] = o[2][1] = s12;
+    o[2][2] = d2;
     return GF_OK;
 }

@@ -87,8 +87,7 @@ void ref_udu2_predict(ref_udu2 *kf, const gf_kf2_model *model,
 void ref_udu2_update(ref_udu2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z);
 void ref_udu3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
                       const ref_noise3 *rn, const gf_real *u);
-void ref_udu3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
-                     const gf_vec3 *z);
+void ref_udu3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas, const gf_vec3 *z);
 void ref_udu3_update_xy(ref_udu3 *ekf, const gf_ekf3_meas *meas,
                         const gf_vec3 *z);
 void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
@@ -106,5 +105,55 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
                             const gf_real *u);
 gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
                            const gf_vec3 *z, gf_innovation *info);
+
+// The checked floor's gf_kf2_init / gf_ekf3_init (the prior judged and
+// factored by hand, as uduc judges R) and gf_kf2_cov / gf_ekf3_cov (in
+// closed form): statuses as the library's, the belief untouched on
+// failure.
+gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma);
+gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu,
+                         const gf_mat3 *sigma);
+gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma);
+gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma);
+
+// ---- The checked prepared floor ("uducp") -------------------------------
+//
+// The models checked once, R's factors made once (the prepare functions,
+// with the statuses of uduc's checks); each step tests only what the
+// library's prepared steps test per step (u, z, the callbacks' results, s,
+// the NIS, the gate, the result) and is otherwise uduc's step, statuses
+// and info included. m = 1 only (prepare_meas: GF_ERR_ARG for any other).
+typedef struct ref_kf2_pmodel {
+    gf_kf2_model model;
+    ref_noise2 rn; // R's factors
+} ref_kf2_pmodel;
+
+typedef struct ref_kf2_pmeas {
+    gf_kf2_meas meas; // m = 1: Q is its own factorisation, C its own row
+} ref_kf2_pmeas;
+
+typedef struct ref_ekf3_pmotion {
+    gf_ekf3_motion motion;
+    ref_noise3 rn;
+} ref_ekf3_pmotion;
+
+typedef struct ref_ekf3_pmeas {
+    gf_ekf3_meas meas;
+} ref_ekf3_pmeas;
+
+gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
+                                   const gf_kf2_model *model);
+gf_status ref_uducp2_prepare_meas(ref_kf2_pmeas *pq, const gf_kf2_meas *meas);
+gf_status ref_uducp2_predict(ref_udu2 *kf, const ref_kf2_pmodel *pm,
+                             const gf_vec2 *u);
+gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
+                            const gf_vec2 *z, gf_innovation *info);
+gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
+                                    const gf_ekf3_motion *motion);
+gf_status ref_uducp3_prepare_meas(ref_ekf3_pmeas *pq, const gf_ekf3_meas *meas);
+gf_status ref_uducp3_predict(ref_udu3 *ekf, const ref_ekf3_pmotion *pm,
+                             const gf_real *u);
+gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
+                            const gf_vec3 *z, gf_innovation *info);
 
 #endif

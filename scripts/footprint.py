@@ -4,7 +4,9 @@
 made: per module and target .text/.rodata/.data/.bss, sizeof of the public
 structs, worst-case stack depth of every public function, and the minimal
 image's cost, in the float build at -Os (fw-TARGET-float), with the
-targets stated met or not. Prints a Markdown fragment; --docs FILE splices
+targets stated met or not; beside it the cost of the same image with the
+hand-written checked sound floor of bench/ref.c in the filters' place
+(gf_fw_floor), held against the same targets. Prints a Markdown fragment; --docs FILE splices
 it into FILE between its footprint markers.
 
 Stack depth: a function's own frame is gcc's -fstack-usage figure (.su) for
@@ -76,6 +78,7 @@ ALL_MODELS = ["gf_ekf3_motion_forward_turn", "gf_ekf3_meas_x",
               "gf_ekf3_meas_xy"]
 STACK_LIMIT = 256
 IMAGE_LIMIT = 6 * 1024
+CORE_LIMIT = 3 * 1024
 BELIEF_LIMITS = {"gf_kf2": 24, "gf_ekf3": 48}
 # A double-precision libm function or soft-double helper in a float image
 # means a float was promoted somewhere.
@@ -607,6 +610,8 @@ def map_breakdown(mapfile):
             continue
         if "libgaussfilt.a" in origin:
             key = "gaussfilt"
+        elif "gf_fw_ref.dir" in origin:
+            key = "floor"  # bench/ref.c, in gf_fw_floor only
         elif re.search(r"/libm(_nano)?\.a\(", origin):
             key = "libm"
         elif re.search(r"/libgcc\.a\(", origin):
@@ -651,6 +656,8 @@ def report(root, build_root):
             "breakdown": map_breakdown(os.path.join(build, "gf_fw_min.map")),
             "basebd": map_breakdown(os.path.join(build, "gf_fw_base.map")),
             "syms": run([pfx + "nm", os.path.join(build, "gf_fw_min.elf")]),
+            "floor": image_sizes(pfx, os.path.join(build, "gf_fw_floor.elf")),
+            "floorbd": map_breakdown(os.path.join(build, "gf_fw_floor.map")),
         }
 
     # Targets.
@@ -666,12 +673,32 @@ def report(root, build_root):
     worst = max((d, n) for n, (_, d, _) in m4["stack"][0].items())
     reach = max((d, n) for n, (_, d, _) in m4["stack_reach"][0].items())
     met = lambda ok: "**met**" if ok else "**NOT met**"  # noqa: E731
+    # The hand-written checked sound floor in the filters' place
+    # (gf_fw_floor): its flash over the base image, and its own code (what
+    # the library's core code is to the library's image: bench/ref.c's
+    # functions and the library's built-in models and angle helpers it
+    # calls; main's calls and the C library excluded).
+    f_flash = flash(m4["floor"]) - flash(m4["base"])
+    fbd, bbd = m4["floorbd"], m4["basebd"]
+    f_own = fbd.get("floor", 0) + fbd.get("gaussfilt", 0) - \
+        bbd.get("gaussfilt", 0)
+    l_own = m4["breakdown"].get("gaussfilt", 0) - bbd.get("gaussfilt", 0)
+    side = lambda ok: "within" if ok else "above"  # noqa: E731
     lines += [
         "| target (Cortex-M4F, float, `-Os`) | limit | measured | |",
         "|---|---|---|---|",
         f"| KF2 + EKF3 image minus the same image without them (flash, "
         f"libm included) | 6 KiB | {fmt_delta(d_flash)} | "
         f"{met(d_flash <= IMAGE_LIMIT)} |",
+        f"| the same with the hand-written checked sound floor in the "
+        f"filters' place (`bench/ref.c`, m = 1 only; below) | 6 KiB | "
+        f"{fmt_delta(f_flash)} | the floor is "
+        f"{side(f_flash <= IMAGE_LIMIT)} it |",
+        f"| the core's own code in that image (the library's: its objects; "
+        f"the floor's: `bench/ref.c`'s functions and the built-in models it "
+        f"calls) | 3 KiB | library {fmt_delta(l_own)}, floor "
+        f"{fmt_delta(f_own)} | {met(l_own <= CORE_LIMIT)}; the floor is "
+        f"{side(f_own <= CORE_LIMIT)} it |",
         f"| one KF2 belief (`sizeof(gf_kf2)`) | 24 B | {kf2} B | "
         f"{met(kf2 <= BELIEF_LIMITS['gf_kf2'])} |",
         f"| one EKF3 belief (`sizeof(gf_ekf3)`) | 48 B | {ekf3} B | "
@@ -706,6 +733,30 @@ def report(root, build_root):
         lines.append(f"| {r['label']} | {flash(r['base'])} | {flash(r['min'])} "
                      f"| {df} | {dr} | {part('gaussfilt')} | {part('libm')} "
                      f"| {part('libc')} | {part('libgcc')} |")
+    lines.append("")
+
+    # The floor's image.
+    lines += ["The checked sound floor's image (`firmware/min_image.c` with "
+              "`GF_FW_FLOOR`: the same calls, init, predict, update and cov "
+              "of KF2 and EKF3 with the built-in models, made to "
+              "`bench/ref.c`'s hand-written U D U^T steps with the checks the "
+              "plain API promises: the priors and R judged and factored in "
+              "closed form, m = 1 only, where the library takes m = 1 to 3), "
+              "`-Os`, against the same base. Bytes:", "",
+              "| target | floor flash | delta flash | delta RAM "
+              "| delta: bench/ref.c | core (models, angles) | libm | libc "
+              "| libgcc | the library's delta flash |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+    for key, _, _ in TARGETS:
+        r = results[key]
+        df = flash(r["floor"]) - flash(r["base"])
+        dr = (r["floor"][1] + r["floor"][2]) - (r["base"][1] + r["base"][2])
+        bd, bb = r["floorbd"], r["basebd"]
+        part = lambda k: bd.get(k, 0) - bb.get(k, 0)  # noqa: E731
+        lines.append(f"| {r['label']} | {flash(r['floor'])} | {df} | {dr} "
+                     f"| {part('floor')} | {part('gaussfilt')} "
+                     f"| {part('libm')} | {part('libc')} | {part('libgcc')} "
+                     f"| {flash(r['min']) - flash(r['base'])} |")
     lines.append("")
 
     # Modules.
