@@ -775,15 +775,15 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         // state the root first (Bierman's update then leaves its row of U
         // alone); one that tells less loses fewer digits than that ratio.
         // A quantity of the root's state alone is in place already.
+        // (m > 1: tells too little, as ranked, and the test is over)
         int others = 0;
-        GF_UNROLL
-        for (unsigned j = 0; j + 1u < n; j++) {
-            if (GF_FABS(hw[i * n + perm[j]]) > 0) {
-                others = 1;
+        if (m < 2u || v[i] > GF_UDU_ROOT_TELL * e[i]) {
+            GF_UNROLL
+            for (unsigned j = 0; j + 1u < n; j++) {
+                if (GF_FABS(hw[i * n + perm[j]]) > 0) {
+                    others = 1;
+                }
             }
-        }
-        if (m > 1u && !(v[i] > GF_UDU_ROOT_TELL * e[i])) {
-            others = 0; // (tells too little, as ranked)
         }
         if (others) {
             gf_real vi;
