@@ -73,11 +73,11 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 // The checks of a measurement model before its callback, in the order of
 // the status rules: GF_ERR_ARG (h NULL; m not 1..3), GF_ERR_NONFINITE
 // (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's verdict
-// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, qf, qe and qorder hold
-// Q's factors (qf may be NULL for m = 1: one quantity's Q is its own
-// factorisation, F = 1, e = Q, and nothing is written).
+// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, q holds Q's factors (q may
+// be NULL for m = 1: one quantity's Q is its own factorisation, F = 1,
+// e = Q, and nothing is written).
 static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
-                                 gf_real *qf, gf_real *qe, unsigned *qorder)
+                                 gf_ekf3_qfactors *q)
 {
     const unsigned m = meas->m;
     if (!meas->h || m < 1 || m > 3) {
@@ -91,21 +91,21 @@ static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
         return GF_ERR_ARG;
     }
     if (m == 1u) {
-        const gf_real q = meas->Q.m[0][0];
-        if (!gf_sum_finite(q * GF_R(0.0))) {
+        const gf_real q00 = meas->Q.m[0][0];
+        if (!gf_sum_finite(q00 * GF_R(0.0))) {
             return GF_ERR_NONFINITE;
         }
-        if (q < 0) {
+        if (q00 < 0) {
             return GF_ERR_NOT_PSD;
         }
-        if (qf) {
-            qf[0] = 1;
-            qe[0] = q;
-            qorder[0] = 0;
+        if (q) {
+            q->Qf[0] = 1;
+            q->Qe[0] = q00;
+            q->Qorder[0] = 0;
         }
         return GF_OK;
     }
-    return gf_cov_factor(meas->Q.m[0], 3, m, qf, qe, qorder);
+    return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
 }
 
 // The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
@@ -178,16 +178,15 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     return GF_OK;
 }
 
-// The correction (Table 3.3, lines 4-6) once Q is factored (qf, qe,
-// qorder as ekf3_meas_check's; qf and qorder read only for m > 1): z_hat =
+// The correction (Table 3.3, lines 4-6) once Q is factored (q; NULL for
+// one quantity, whose noise is read from meas): z_hat =
 // h(mu_bar) and H from the callback, y = z - z_hat (angle residuals
 // wrapped), both whitened by Q's factors (y_w = F^-1 y, H_w = F^-1 H),
 // then one scalar update per quantity (gf_udu_correct), the gate on the
 // total NIS, and the belief written only if every quantity passed and all
 // is finite.
 static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                                  const gf_real *qf, const gf_real *qe,
-                                  const unsigned *qorder, const gf_vec3 *z,
+                                  const gf_ekf3_qfactors *q, const gf_vec3 *z,
                                   gf_innovation *info)
 {
     const unsigned m = meas->m;
@@ -231,14 +230,14 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     }
     if (m > 1u) {
         // H_w = F^-1 H, y_w = F^-1 y
-        gf_udu_whiten_rows(qf, qorder, m, H.m[0], 3);
-        gf_udu_whiten_rows(qf, qorder, m, yw, 1);
+        gf_udu_whiten_rows(q->Qf, q->Qorder, m, H.m[0], 3);
+        gf_udu_whiten_rows(q->Qf, q->Qorder, m, yw, 1);
     }
     gf_ekf3 nb = *ekf;
     gf_real dx[3] = {0, 0, 0};
     gf_real w[3u * 3u], wd[3u];
-    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], qe, yw, dx, &in.nis, w,
-                        wd);
+    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0],
+                        q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -275,16 +274,10 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return GF_ERR_ARG;
     }
     // (one quantity's noise is read from meas itself)
-    gf_real qf[9], qe[3];
-    unsigned qorder[3];
-    const int one = meas->m == 1u;
-    const gf_status st = ekf3_meas_check(meas, z, one ? NULL : qf, qe, qorder);
-    if (st != GF_OK) {
-        return st;
-    }
-    return one ? ekf3_update_step(ekf, meas, NULL, &meas->Q.m[0][0], NULL, z,
-                                  info)
-               : ekf3_update_step(ekf, meas, qf, qe, qorder, z, info);
+    gf_ekf3_qfactors q;
+    gf_ekf3_qfactors *qp = (meas->m == 1u) ? NULL : &q;
+    const gf_status st = ekf3_meas_check(meas, z, qp);
+    return st != GF_OK ? st : ekf3_update_step(ekf, meas, qp, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
@@ -309,7 +302,7 @@ gf_status gf_ekf3_prepare_meas(gf_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
         return GF_ERR_ARG;
     }
     gf_ekf3_pmeas p;
-    const gf_status st = ekf3_meas_check(meas, NULL, p.Qf, p.Qe, p.Qorder);
+    const gf_status st = ekf3_meas_check(meas, NULL, &p.q);
     if (st != GF_OK) {
         return st;
     }
@@ -336,6 +329,5 @@ gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return ekf3_update_step(ekf, &pq->meas, pq->Qf, pq->Qe, pq->Qorder, z,
-                            info);
+    return ekf3_update_step(ekf, &pq->meas, &pq->q, z, info);
 }

@@ -26,13 +26,12 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
-// of gf_kf2_update's statuses; on GF_OK, qf, qe and qorder hold Q's
-// factors and cw the whitened rows F^-1 C (rows of 2). For m = 1 they may
-// be NULL (nothing is written): one quantity's Q is its own
-// factorisation, F = 1, e = Q, and C its own whitened row.
+// of gf_kf2_update's statuses; on GF_OK, q holds Q's factors and the
+// whitened rows F^-1 C. For m = 1, q may be NULL (nothing is written): one
+// quantity's Q is its own factorisation, F = 1, e = Q, and C its own
+// whitened row.
 static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
-                                gf_real *qf, gf_real *qe, unsigned *qorder,
-                                gf_real *cw)
+                                gf_kf2_qfactors *q)
 {
     const unsigned m = meas->m;
     if (m < 1 || m > 2) {
@@ -50,32 +49,29 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
         return GF_ERR_ARG;
     }
     if (m == 1u) {
-        const gf_real q = meas->Q.m[0][0];
-        if (!gf_sum_finite(q * GF_R(0.0))) {
+        const gf_real q00 = meas->Q.m[0][0];
+        if (!gf_sum_finite(q00 * GF_R(0.0))) {
             return GF_ERR_NONFINITE;
         }
-        if (q < 0) {
+        if (q00 < 0) {
             return GF_ERR_NOT_PSD;
         }
-        if (qf) {
-            qf[0] = 1;
-            qe[0] = q;
-            qorder[0] = 0;
-            cw[0] = meas->C.m[0][0];
-            cw[1] = meas->C.m[0][1];
+        if (q) {
+            q->Qf[0] = 1;
+            q->Qe[0] = q00;
+            q->Qorder[0] = 0;
+            q->Cw = meas->C;
         }
         return GF_OK;
     }
-    const gf_status st = gf_cov_factor(meas->Q.m[0], 2, m, qf, qe, qorder);
+    const gf_status st =
+        gf_cov_factor(meas->Q.m[0], 2, m, q->Qf, q->Qe, q->Qorder);
     if (st != GF_OK) {
         return st;
     }
     // C_w = F^-1 C
-    GF_UNROLL
-    for (unsigned i = 0; i < 4u; i++) {
-        cw[i] = meas->C.m[i / 2u][i % 2u];
-    }
-    gf_udu_whiten_rows(qf, qorder, m, cw, 2);
+    q->Cw = meas->C;
+    gf_udu_whiten_rows(q->Qf, q->Qorder, m, q->Cw.m[0], 2);
     return GF_OK;
 }
 
@@ -137,15 +133,14 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
 }
 
 // The correction once meas and z are checked, Q factored and C whitened
-// (cw: the rows F^-1 C; e: the whitened quantities' noises; qf, qorder:
-// Q's factor, read only for m > 1):
+// (q; NULL for one quantity of meas itself, its C and Q their own
+// whitened form):
 //   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
 static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
-                                 const gf_real *cw, const gf_real *e,
-                                 const gf_real *qf, const unsigned *qorder,
-                                 const gf_vec2 *z, gf_innovation *info)
+                                 const gf_kf2_qfactors *q, const gf_vec2 *z,
+                                 gf_innovation *info)
 {
     const unsigned m = meas->m;
     gf_innovation in;
@@ -162,13 +157,14 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
         yw[i] = in.y[i];
     }
     if (m > 1u) {
-        gf_udu_whiten_rows(qf, qorder, m, yw, 1);
+        gf_udu_whiten_rows(q->Qf, q->Qorder, m, yw, 1);
     }
     gf_kf2 nb = *kf;
     gf_real dx[2] = {0, 0};
     gf_real w[2u * 2u], wd[2u];
     gf_status st =
-        gf_udu_correct(2u, nb.ud, nb.perm, m, cw, e, yw, dx, &in.nis, w, wd);
+        gf_udu_correct(2u, nb.ud, nb.perm, m, q ? q->Cw.m[0] : meas->C.m[0],
+                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -204,17 +200,10 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     }
     // (one quantity is read from meas itself: its C and Q are their own
     // whitened form)
-    gf_real qf[4], qe[2], cw[4];
-    unsigned qorder[2];
-    const int one = meas->m == 1u;
-    const gf_status st =
-        kf2_meas_check(meas, z, one ? NULL : qf, qe, qorder, cw);
-    if (st != GF_OK) {
-        return st;
-    }
-    return one ? kf2_update_step(kf, meas, meas->C.m[0], &meas->Q.m[0][0], NULL,
-                                 NULL, z, info)
-               : kf2_update_step(kf, meas, cw, qe, qf, qorder, z, info);
+    gf_kf2_qfactors q;
+    gf_kf2_qfactors *qp = (meas->m == 1u) ? NULL : &q;
+    const gf_status st = kf2_meas_check(meas, z, qp);
+    return st != GF_OK ? st : kf2_update_step(kf, meas, qp, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -238,8 +227,7 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
         return GF_ERR_ARG;
     }
     gf_kf2_pmeas p;
-    const gf_status st =
-        kf2_meas_check(meas, NULL, p.Qf, p.Qe, p.Qorder, p.Cw.m[0]);
+    const gf_status st = kf2_meas_check(meas, NULL, &p.q);
     if (st != GF_OK) {
         return st;
     }
@@ -271,6 +259,5 @@ gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return kf2_update_step(kf, &pq->meas, pq->Cw.m[0], pq->Qe, pq->Qf,
-                           pq->Qorder, z, info);
+    return kf2_update_step(kf, &pq->meas, &pq->q, z, info);
 }

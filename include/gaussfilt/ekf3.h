@@ -111,12 +111,17 @@ typedef struct gf_ekf3_pmotion {
     gf_real Rd[3];
 } gf_ekf3_pmotion;
 
-// A checked measurement model. Fill with gf_ekf3_prepare_meas only.
-typedef struct gf_ekf3_pmeas {
-    gf_ekf3_meas meas;  // the model as given, checked
+// What an update needs of a checked Q: its factors.
+typedef struct gf_ekf3_qfactors {
     gf_real Qf[9];      // Q = F diag(Qe) F^T: F, m x m, rows of m
     gf_real Qe[3];      // the noises of the whitened quantities
     unsigned Qorder[3]; // F's pivot order (src/udu.h)
+} gf_ekf3_qfactors;
+
+// A checked measurement model. Fill with gf_ekf3_prepare_meas only.
+typedef struct gf_ekf3_pmeas {
+    gf_ekf3_meas meas;  // the model as given, checked
+    gf_ekf3_qfactors q; // Q factored
 } gf_ekf3_pmeas;
 
 // Checks motion as gf_ekf3_predict does before its callback (g not NULL;

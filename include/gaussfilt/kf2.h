@@ -120,13 +120,18 @@ typedef struct gf_kf2_pmodel {
     gf_real Rd[2];
 } gf_kf2_pmodel;
 
-// A checked measurement model. Fill with gf_kf2_prepare_meas only.
-typedef struct gf_kf2_pmeas {
-    gf_kf2_meas meas;   // the model as given, checked
+// What an update needs of a checked Q: its factors and the whitened rows.
+typedef struct gf_kf2_qfactors {
     gf_real Qf[4];      // Q = F diag(Qe) F^T: F, m x m, rows of m
     gf_real Qe[2];      // the noises of the whitened quantities
     unsigned Qorder[2]; // F's pivot order (src/udu.h)
     gf_mat2 Cw;         // F^-1 C: the rows of independent noises Qe
+} gf_kf2_qfactors;
+
+// A checked measurement model. Fill with gf_kf2_prepare_meas only.
+typedef struct gf_kf2_pmeas {
+    gf_kf2_meas meas;  // the model as given, checked
+    gf_kf2_qfactors q; // Q factored, C whitened
 } gf_kf2_pmeas;
 
 // Checks model as gf_kf2_predict does (A, B, c finite; R symmetric PSD)
