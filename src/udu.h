@@ -46,8 +46,10 @@
 #define GF_UDU_ROOT_TELL GF_R(16.0)
 #endif
 
-// The largest n these functions take (the size of their O(n) locals): a
-// source that includes this header for larger filters defines it first.
+// The largest n of the wrappers gf_udu_predict and gf_udu_correct, which
+// keep their O(n) scratch on their own stack (KF2 and EKF3); the _s forms
+// take every array from the caller. A source that calls the wrappers for
+// larger filters defines it first.
 #ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX 3u
 #endif
@@ -332,14 +334,14 @@ GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
 // Each d_j is a weighted sum of squares: never negative. A d_j below
 // GF_REAL_MIN (every term zero, or too few digits to tell it from zero) is
 // zero, with a zero column of U: that state is known exactly once the
-// later ones are. w is overwritten.
+// later ones are. w is overwritten; c: scratch of cols entries.
 GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
-                              const gf_real *wd, gf_real *ud)
+                              const gf_real *wd, gf_real *ud,
+                              gf_real *restrict c)
 {
     const unsigned stride = 2u * n;
     GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
-        gf_real c[2u * GF_UDU_NMAX];
         const gf_real *wj = &w[j * stride];
         gf_real dj = 0;
         GF_UNROLL
@@ -375,12 +377,13 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 // with R = F_R diag(D_R) F_R^T given by its factors (gf_cov_factor: fr
 // n x n, rows of n, by state; a column of zero weight adds nothing), then
 // gf_mwgs into ud_new (ud itself, or another belief's factors). a: n x n,
-// rows of n, by state. w: scratch of n rows of 2n, wd: scratch of 2n
-// (caller-owned).
-GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
-                                     gf_real *ud_new, const unsigned char *perm,
-                                     const gf_real *a, const gf_real *fr,
-                                     const gf_real *dr, gf_real *w, gf_real *wd)
+// rows of n, by state. Scratch, caller-owned: w n rows of 2n, wd and v
+// 2n each.
+GF_ALWAYS_INLINE void
+gf_udu_predict_s(unsigned n, const gf_real *ud, gf_real *ud_new,
+                 const unsigned char *perm, const gf_real *a,
+                 const gf_real *fr, const gf_real *dr, gf_real *restrict w,
+                 gf_real *restrict wd, gf_real *restrict v)
 {
     const unsigned stride = 2u * n;
     GF_UNROLL
@@ -394,7 +397,7 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
         const gf_real *ai = &a[perm[i] * n];
         const gf_real *fi = &fr[perm[i] * n];
         gf_real *wi = &w[i * stride];
-        gf_real ap[GF_UDU_NMAX]; // row i of P^T A P
+        gf_real *ap = v; // row i of P^T A P
         GF_UNROLL
         for (unsigned l = 0; l < n; l++) {
             ap[l] = ai[perm[l]];
@@ -412,7 +415,17 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
             oj += j + 1u;
         }
     }
-    gf_mwgs(n, stride, w, wd, ud_new);
+    gf_mwgs(n, stride, w, wd, ud_new, v);
+}
+
+// gf_udu_predict_s with v on its own stack (n <= GF_UDU_NMAX).
+GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
+                                     gf_real *ud_new, const unsigned char *perm,
+                                     const gf_real *a, const gf_real *fr,
+                                     const gf_real *dr, gf_real *w, gf_real *wd)
+{
+    gf_real v[2u * GF_UDU_NMAX];
+    gf_udu_predict_s(n, ud, ud_new, perm, a, fr, dr, w, wd, v);
 }
 
 // The state measured by the row h (by state) with the largest share of
@@ -449,13 +462,14 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
 // Makes state `root` the root of the factors (the last index), the other
 // states in their order: W's row i is the old factor's row of the state
 // newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
-// factors. w, wd: scratch as gf_udu_predict's.
+// factors. w, wd, cs: scratch as gf_udu_predict_s's w, wd, v; np: n.
 GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
                                      unsigned char *perm, unsigned root,
-                                     gf_real *w, gf_real *wd)
+                                     gf_real *restrict w, gf_real *restrict wd,
+                                     gf_real *restrict cs,
+                                     unsigned *restrict np)
 {
     const unsigned stride = 2u * n;
-    unsigned char np[GF_UDU_NMAX];
     unsigned t = 0, at = 0;
     for (unsigned k = 0; k < n; k++) {
         if (perm[k] == root) {
@@ -465,7 +479,7 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
             t++;
         }
     }
-    np[n - 1u] = (unsigned char)root;
+    np[n - 1u] = root;
     for (unsigned i = 0; i < n; i++) {
         // the old index of the state np[i]
         const unsigned o = (i == n - 1u) ? at : (i < at ? i : i + 1u);
@@ -480,9 +494,9 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
         wd[c] = ud[GF_UD(c, c)];
         wd[n + c] = 0;
     }
-    gf_mwgs(n, n, w, wd, ud); // (the other n columns are zero)
+    gf_mwgs(n, n, w, wd, ud, cs); // (the other n columns are zero)
     for (unsigned k = 0; k < n; k++) {
-        perm[k] = np[k];
+        perm[k] = (unsigned char)np[k];
     }
 }
 
@@ -504,12 +518,14 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
 // if s overflows; GF_ERR_SINGULAR if r = 0
 // and s is zero relative to its terms before cancellation,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
-// ud and dx are partly written then.
+// ud and dx are partly written then. fb: scratch of 2n (f, then b).
 GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
                                          const gf_real *hp, gf_real r,
-                                         gf_real y, gf_real *dx, gf_real *nis)
+                                         gf_real y, gf_real *dx, gf_real *nis,
+                                         gf_real *restrict fb)
 {
-    gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
+    gf_real *f = fb;
+    gf_real *b = &fb[n];
     // (oj: column j of the packed factors, ud[oj + i] = U_ij, ud[oj + j] =
     // d_j)
     // f = U^T hp
@@ -635,16 +651,31 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
-// scalar NIS, which is y^T S^-1 y. w, wd: scratch as gf_udu_predict's.
-// Statuses as gf_udu_update.
-GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
-                                          unsigned char *perm, unsigned m,
-                                          const gf_real *hw, const gf_real *e,
-                                          const gf_real *yw, gf_real *dx,
-                                          gf_real *nis, gf_real *w, gf_real *wd)
+// scalar NIS, which is y^T S^-1 y. Scratch, caller-owned: w and wd as
+// gf_udu_predict_s's, sv of GF_UDU_CORRECT_T(n) entries, sk of 2n. Statuses
+// as gf_udu_update.
+#define GF_UDU_CORRECT_T(n) (7u * (n))
+GF_ALWAYS_INLINE gf_status
+gf_udu_correct_s(unsigned n, gf_real *ud, unsigned char *perm, unsigned m,
+                 const gf_real *hw, const gf_real *e, const gf_real *yw,
+                 gf_real *dx, gf_real *nis, gf_real *restrict w,
+                 gf_real *restrict wd, gf_real *restrict sv,
+                 unsigned *restrict sk)
 {
-    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
-    unsigned rank[GF_UDU_NMAX];
+    // sv: Sigma's diagonal in the factors' order, how much each quantity
+    // tells, its share v, P^T dx, then the scratch of one quantity's
+    // reordering (dx by state, gf_mwgs's c) or of its update (P^T h,
+    // gf_udu_update's f and b)
+    gf_real *sd = sv;
+    gf_real *tell = &sv[n];
+    gf_real *v = &sv[2u * n];
+    gf_real *dp = &sv[3u * n];
+    gf_real *dxs = &sv[4u * n];
+    gf_real *c = &sv[5u * n];
+    gf_real *hp = &sv[4u * n];
+    gf_real *fb = &sv[5u * n];
+    unsigned *rank = sk;
+    unsigned *np = &sk[n];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     // (one quantity needs no ranking)
     rank[0] = 0;
@@ -673,7 +704,6 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         }
     }
     // In the factors' order: hp = P^T h_i, dp = P^T dx
-    gf_real dp[GF_UDU_NMAX];
     *nis = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
@@ -703,24 +733,22 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                 vi = v[i]; // (as ranked, before the first update)
             }
             if (vi > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
-                gf_real dxs[GF_UDU_NMAX];
                 for (unsigned j = 0; j < n; j++) {
                     dxs[perm[j]] = dp[j];
                 }
-                gf_udu_reorder(n, ud, perm, main, w, wd);
+                gf_udu_reorder(n, ud, perm, main, w, wd, c, np);
                 for (unsigned j = 0; j < n; j++) {
                     dp[j] = dxs[perm[j]];
                 }
             }
         }
-        gf_real hp[GF_UDU_NMAX];
         gf_real yi = yw[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             hp[j] = hw[i * n + perm[j]];
             yi -= hp[j] * dp[j];
         }
-        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis);
+        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis, fb);
         if (st != GF_OK) {
             return st;
         }
@@ -730,6 +758,18 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         dx[perm[j]] = dp[j];
     }
     return GF_OK;
+}
+
+// gf_udu_correct_s with sv and sk on its own stack (n <= GF_UDU_NMAX).
+GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
+                                          unsigned char *perm, unsigned m,
+                                          const gf_real *hw, const gf_real *e,
+                                          const gf_real *yw, gf_real *dx,
+                                          gf_real *nis, gf_real *w, gf_real *wd)
+{
+    gf_real t[GF_UDU_CORRECT_T(GF_UDU_NMAX)];
+    unsigned k[2u * GF_UDU_NMAX];
+    return gf_udu_correct_s(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, t, k);
 }
 
 #endif
