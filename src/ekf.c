@@ -87,7 +87,7 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
 }
 
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
-// (angle residuals wrapped) into work->in, H whitened in place (it is
+// (angle residuals wrapped) into work->in.y and work->s, H whitened in place (it is
 // work->x), gf_kfc_update_begin; the caller then makes the correction
 // (gf_kfc_update on work->x) a tail call.
 static gf_status ekf_update_begin(const gf_kf *ekf, const gf_ekf_meas *meas,
@@ -116,6 +116,7 @@ static gf_status ekf_update_begin(const gf_kf *ekf, const gf_ekf_meas *meas,
         if ((meas->angle_mask >> i) & 1u) {
             y[i] = gf_angle_wrap(y[i]);
         }
+        work->s[i] = y[i];
     }
     if (m > 1u) {
         gf_udu_whiten_rows(Qf, Qorder, m, H, n);
@@ -126,8 +127,7 @@ static gf_status ekf_update_begin(const gf_kf *ekf, const gf_ekf_meas *meas,
 // gf_kfc_meas_check, Q's factors into work->f, then ekf_update_begin.
 // The factors' pointer is this frame's, so that gf_ekf_update keeps no
 // local whose address is taken (its last call is then a tail call).
-GF_NOINLINE gf_status ekf_meas_check(const gf_kf *ekf,
-                                     const gf_ekf_meas *meas,
+GF_NOINLINE gf_status ekf_meas_check(const gf_kf *ekf, const gf_ekf_meas *meas,
                                      const gf_real *z, gf_kf_work *work)
 {
     const gf_kf_factors *q = NULL;
@@ -146,9 +146,9 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
     }
     // Q's factors in work->f, then the correction, a tail call
     const gf_status st = ekf_meas_check(ekf, meas, z, work);
-    return st != GF_OK ? st
-                       : gf_kfc_update(ekf, work->x, work->f.d, meas->gate,
-                                       info, work);
+    return st != GF_OK
+               ? st
+               : gf_kfc_update(ekf, work->x, work->f.d, meas->gate, info, work);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -182,7 +182,7 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     }
     const gf_status st =
         ekf_update_begin(ekf, &pq->meas, z, pq->Qf, pq->Qorder, work);
-    return st != GF_OK ? st
-                       : gf_kfc_update(ekf, work->x, pq->Qe, pq->meas.gate,
-                                       info, work);
+    return st != GF_OK
+               ? st
+               : gf_kfc_update(ekf, work->x, pq->Qe, pq->meas.gate, info, work);
 }

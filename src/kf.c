@@ -103,7 +103,7 @@ GF_NOINLINE void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
     } else if (n == 4u) {
         gf_udu_predict4(ud, ud_new, perm, G, Rf, Rd, w);
     } else {
-        gf_udu_predict_s(n, ud, ud_new, perm, G, Rf, Rd, w, &w[GF_UDU_WD(n)],
+        gf_udu_predict_s(n, ud, ud_new, perm, G, Rf, Rd, w, GF_KFC_S(work, 2),
                          &w[GF_UDU_SV(n)]);
     }
 }
@@ -170,14 +170,9 @@ static void kfc_info(gf_kf_innovation *info, const gf_kf_innovation *in)
 gf_status gf_kfc_update_begin(const gf_kf *kf, unsigned m, const gf_real *Qf,
                               const unsigned *Qorder, gf_kf_work *work)
 {
-    gf_kf_innovation *in = &work->in;
-    gf_real *yw = &work->s[0];
-    in->m = m;
-    for (unsigned i = 0; i < m; i++) {
-        yw[i] = in->y[i];
-    }
+    work->in.m = m;
     if (m > 1u) {
-        gf_udu_whiten(Qf, Qorder, m, yw, 1);
+        gf_udu_whiten(Qf, Qorder, m, work->s, 1);
     }
     kfc_copy(&work->b, kf);
     return GF_OK;
@@ -397,7 +392,7 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
     return GF_OK;
 }
 
-// y = z - c - C mu_bar into work->in.y.
+// y = z - c - C mu_bar into work->in.y and work->s (y_w to be).
 GF_NOINLINE void kf_innovation(const gf_kf *kf, const gf_kf_meas *meas,
                                const gf_real *z, gf_kf_work *work)
 {
@@ -410,6 +405,7 @@ GF_NOINLINE void kf_innovation(const gf_kf *kf, const gf_kf_meas *meas,
             dot += meas->C[i * n + j] * kf->mu[j];
         }
         y[i] = z[i] - (meas->c ? meas->c[i] : GF_R(0.0)) - dot;
+        work->s[i] = y[i];
     }
 }
 

@@ -42,8 +42,9 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
                             const gf_kf_factors **fac);
 
 // The correction once the measurement is checked, in two calls. First
-// gf_kfc_update_begin, with the innovation y (m entries) in work->in.y:
-// y_w = F_Q^-1 y (Q's factors Qf, Qorder), the belief copied into work->b
+// gf_kfc_update_begin, with the innovation y (m entries) in work->in.y
+// and in work->s: y_w = F_Q^-1 y there (Q's factors Qf, Qorder), the
+// belief copied into work->b
 // (returns GF_OK). Then gf_kfc_update with the whitened rows hw (m x n,
 // F_Q^-1 H) and Q's variances Qe: one scalar update per quantity, the
 // gate on the total NIS, the belief and info written only if every

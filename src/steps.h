@@ -8,6 +8,8 @@
 #ifndef GAUSSFILT_SRC_STEPS_H
 #define GAUSSFILT_SRC_STEPS_H
 
+#include <stddef.h>
+
 #include "gaussfilt/kf.h"
 
 #include "gf_internal.h"
@@ -15,13 +17,13 @@
 // The caller's scratch of the steps for n states (gf_real): W, n rows of
 // 2n, at 0; its weights, 2n, at GF_UDU_WD(n); the steps' vectors at
 // GF_UDU_SV(n), 7n (gf_udu_correct_s's sv; gf_udu_predict_s's v takes
-// 2n of them). A correction also takes 2n unsigneds (sk).
-#define GF_UDU_WD(n) (2u * (n) * (n))
-#define GF_UDU_SV(n) (GF_UDU_WD(n) + 2u * (n))
-#define GF_UDU_SCRATCH(n) (GF_UDU_SV(n) + 7u * (n))
+// 2n of them): 2 n^2 + 9 n in all. A correction also takes 2n unsigneds
+// (sk).
+#define GF_UDU_WD(n) ((size_t)(n)*2u * (size_t)(n))
+#define GF_UDU_SV(n) ((size_t)(n)*2u * ((size_t)(n) + 1u))
 
-// gf_udu_predict_s for n = 2 and n = 3, on the caller's scratch w
-// (GF_UDU_SCRATCH(n) entries); gf_udu_correct_s for n = 2 and 3 on
+// gf_udu_predict_s for n = 2 and n = 3, on the caller's scratch w (2 n^2
+// + 9 n entries); gf_udu_correct_s for n = 2 and 3 on
 // work->b's factors, with the whitened innovations in work->s (the step
 // dx into its second vector), the NIS into work->in.nis, the scratch in
 // work->w and work->k (few arguments: no stack arguments on Arm, so that
@@ -58,10 +60,10 @@ gf_status gf_udu_correct4(unsigned m, const gf_real *hw, const gf_real *e,
                                 const gf_real *e, gf_kf_work *work)            \
     {                                                                          \
         gf_real *w = work->w;                                                  \
-        return gf_udu_correct_s(                                               \
-            (N##u), work->b.ud, work->b.perm, m, hw, e, work->s,               \
-            &work->s[GF_KF_NMAX], &work->in.nis, w, &w[GF_UDU_WD(N##u)],       \
-            &w[GF_UDU_SV(N##u)], work->k);                                     \
+        return gf_udu_correct_s((N##u), work->b.ud, work->b.perm, m, hw, e,    \
+                                work->s, &work->s[GF_KF_NMAX], &work->in.nis,  \
+                                w, &w[GF_UDU_WD(N##u)], &w[GF_UDU_SV(N##u)],   \
+                                work->k);                                      \
     }
 
 #endif

@@ -379,11 +379,12 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 // gf_mwgs into ud_new (ud itself, or another belief's factors). a: n x n,
 // rows of n, by state. Scratch, caller-owned: w n rows of 2n, wd and v
 // 2n each.
-GF_ALWAYS_INLINE void
-gf_udu_predict_s(unsigned n, const gf_real *ud, gf_real *ud_new,
-                 const unsigned char *perm, const gf_real *a,
-                 const gf_real *fr, const gf_real *dr, gf_real *restrict w,
-                 gf_real *restrict wd, gf_real *restrict v)
+GF_ALWAYS_INLINE void gf_udu_predict_s(unsigned n, const gf_real *ud,
+                                       gf_real *ud_new,
+                                       const unsigned char *perm,
+                                       const gf_real *a, const gf_real *fr,
+                                       const gf_real *dr, gf_real *w,
+                                       gf_real *wd, gf_real *restrict v)
 {
     const unsigned stride = 2u * n;
     GF_UNROLL
@@ -655,12 +656,11 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // gf_udu_predict_s's, sv of GF_UDU_CORRECT_T(n) entries, sk of 2n. Statuses
 // as gf_udu_update.
 #define GF_UDU_CORRECT_T(n) (7u * (n))
-GF_ALWAYS_INLINE gf_status
-gf_udu_correct_s(unsigned n, gf_real *ud, unsigned char *perm, unsigned m,
-                 const gf_real *hw, const gf_real *e, const gf_real *yw,
-                 gf_real *dx, gf_real *nis, gf_real *restrict w,
-                 gf_real *restrict wd, gf_real *restrict sv,
-                 unsigned *restrict sk)
+GF_ALWAYS_INLINE gf_status gf_udu_correct_s(
+    unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
+    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis,
+    gf_real *restrict w, gf_real *restrict wd, gf_real *restrict sv,
+    unsigned *restrict sk)
 {
     // sv: Sigma's diagonal in the factors' order, how much each quantity
     // tells, its share v, P^T dx, then the scratch of one quantity's
