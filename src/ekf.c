@@ -87,15 +87,16 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
 }
 
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
-// (angle residuals wrapped), then the factored correction, H whitened.
-static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
-                                 const gf_real *z, const gf_real *Qf,
-                                 const gf_real *Qe, const unsigned *Qorder,
-                                 gf_kf_innovation *info, gf_kf_work *work)
+// (angle residuals wrapped) into work->in.y and work->s, H whitened in place (it is
+// work->x), gf_kfc_update_begin; the caller then makes the correction
+// (gf_kfc_update on work->x) a tail call.
+static gf_status ekf_update_begin(const gf_kf *ekf, const gf_ekf_meas *meas,
+                                  const gf_real *z, const gf_real *Qf,
+                                  const unsigned *Qorder, gf_kf_work *work)
 {
     const unsigned n = ekf->n, m = meas->m;
     gf_real *zh = GF_KFC_S(work, 4);
-    gf_real *y = GF_KFC_S(work, 6);
+    gf_real *y = work->in.y;
     gf_real *H = work->x;
     for (unsigned i = 0; i < m; i++) {
         zh[i] = 0;
@@ -115,11 +116,25 @@ static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
         if ((meas->angle_mask >> i) & 1u) {
             y[i] = gf_angle_wrap(y[i]);
         }
+        work->s[i] = y[i];
     }
-    // gf_kfc_update whitens H in place of a copy: H is work->x itself, so
-    // it is whitened where it is
-    return gf_kfc_update(ekf, m, y, H, Qf, Qe, Qorder, 1, meas->gate, info,
-                         work);
+    if (m > 1u) {
+        gf_udu_whiten_rows(Qf, Qorder, m, H, n);
+    }
+    return gf_kfc_update_begin(ekf, m, Qf, Qorder, work);
+}
+
+// gf_kfc_meas_check, Q's factors into work->f, then ekf_update_begin.
+// The factors' pointer is this frame's, so that gf_ekf_update keeps no
+// local whose address is taken (its last call is then a tail call).
+GF_NOINLINE gf_status ekf_meas_check(const gf_kf *ekf, const gf_ekf_meas *meas,
+                                     const gf_real *z, gf_kf_work *work)
+{
+    const gf_kf_factors *q = NULL;
+    const gf_status st =
+        gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
+    return st != GF_OK ? st
+                       : ekf_update_begin(ekf, meas, z, q->F, q->order, work);
 }
 
 gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
@@ -129,12 +144,11 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         ekf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    const gf_kf_factors *q = NULL;
-    const gf_status st =
-        gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
-    return st != GF_OK ? st
-                       : ekf_update_step(ekf, meas, z, q->F, q->d, q->order,
-                                         info, work);
+    // Q's factors in work->f, then the correction, a tail call
+    const gf_status st = ekf_meas_check(ekf, meas, z, work);
+    return st != GF_OK
+               ? st
+               : gf_kfc_update(ekf, work->x, work->f.d, meas->gate, info, work);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -166,6 +180,9 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info,
-                           work);
+    const gf_status st =
+        ekf_update_begin(ekf, &pq->meas, z, pq->Qf, pq->Qorder, work);
+    return st != GF_OK
+               ? st
+               : gf_kfc_update(ekf, work->x, pq->Qe, pq->meas.gate, info, work);
 }

@@ -31,5 +31,6 @@
 #define gf_kfc_noise GF_NAME(gf_kfc_noise)
 #define gf_kfc_predict GF_NAME(gf_kfc_predict)
 #define gf_kfc_update GF_NAME(gf_kfc_update)
+#define gf_kfc_update_begin GF_NAME(gf_kfc_update_begin)
 
 #endif

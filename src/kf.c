@@ -95,35 +95,46 @@ GF_NOINLINE void kfc_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
                                  const gf_real *Rf, const gf_real *Rd,
                                  gf_kf_work *work)
 {
-    gf_real *wd = GF_KFC_S(work, 2);
+    gf_real *w = work->w;
     if (n == 2u) {
-        gf_udu_predict2(ud, ud_new, perm, G, Rf, Rd);
+        gf_udu_predict2(ud, ud_new, perm, G, Rf, Rd, w);
     } else if (n == 3u) {
-        gf_udu_predict3(ud, ud_new, perm, G, Rf, Rd);
+        gf_udu_predict3(ud, ud_new, perm, G, Rf, Rd, w);
     } else if (n == 4u) {
-        gf_udu_predict4(ud, ud_new, perm, G, Rf, Rd);
+        gf_udu_predict4(ud, ud_new, perm, G, Rf, Rd, w);
     } else {
-        gf_udu_predict(n, ud, ud_new, perm, G, Rf, Rd, work->w, wd);
+        gf_udu_predict_s(n, ud, ud_new, perm, G, Rf, Rd, w, GF_KFC_S(work, 2),
+                         &w[GF_UDU_SV(n)]);
     }
 }
 
-GF_NOINLINE gf_status kfc_udu_correct(unsigned n, gf_real *ud,
-                                      unsigned char *perm, unsigned m,
-                                      const gf_real *hw, const gf_real *e,
-                                      const gf_real *yw, gf_real *dx,
-                                      gf_real *nis, gf_kf_work *work)
+// gf_udu_correct_s for any n, as gf_udu_correct2 for 2: a frame of its
+// own, reached by a tail call as those for n = 2, 3, 4 are.
+GF_NOINLINE gf_status kfc_correct_n(unsigned m, const gf_real *hw,
+                                    const gf_real *e, gf_kf_work *work)
 {
-    gf_real *wd = GF_KFC_S(work, 2);
+    const unsigned n = work->b.n;
+    gf_real *w = work->w;
+    return gf_udu_correct_s(n, work->b.ud, work->b.perm, m, hw, e, work->s,
+                            &work->s[GF_KF_NMAX], &work->in.nis, w,
+                            &w[GF_UDU_WD(n)], &w[GF_UDU_SV(n)], work->k);
+}
+
+// The correction of work->b's factors (gf_udu_correct2's arguments).
+GF_NOINLINE gf_status kfc_udu_correct(unsigned m, const gf_real *hw,
+                                      const gf_real *e, gf_kf_work *work)
+{
+    const unsigned n = work->b.n;
     if (n == 2u) {
-        return gf_udu_correct2(ud, perm, m, hw, e, yw, dx, nis);
+        return gf_udu_correct2(m, hw, e, work);
     }
     if (n == 3u) {
-        return gf_udu_correct3(ud, perm, m, hw, e, yw, dx, nis);
+        return gf_udu_correct3(m, hw, e, work);
     }
     if (n == 4u) {
-        return gf_udu_correct4(ud, perm, m, hw, e, yw, dx, nis);
+        return gf_udu_correct4(m, hw, e, work);
     }
-    return gf_udu_correct(n, ud, perm, m, hw, e, yw, dx, nis, work->w, wd);
+    return kfc_correct_n(m, hw, e, work);
 }
 
 gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
@@ -145,7 +156,7 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
 }
 
 // *info = *in (if info is not NULL), the entries of y past m zero.
-static void kfc_info(gf_kf_innovation *info, gf_kf_innovation *in)
+static void kfc_info(gf_kf_innovation *info, const gf_kf_innovation *in)
 {
     if (info) {
         info->m = in->m;
@@ -156,52 +167,38 @@ static void kfc_info(gf_kf_innovation *info, gf_kf_innovation *in)
     }
 }
 
-gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
-                        const gf_real *H, const gf_real *Qf, const gf_real *Qe,
-                        const unsigned *Qorder, int whiten_h, gf_real gate,
-                        gf_kf_innovation *info, gf_kf_work *work)
+gf_status gf_kfc_update_begin(const gf_kf *kf, unsigned m, const gf_real *Qf,
+                              const unsigned *Qorder, gf_kf_work *work)
 {
-    const unsigned n = kf->n;
-    gf_kf_innovation in;
-    in.m = m;
-    for (unsigned i = 0; i < m; i++) {
-        in.y[i] = y[i];
-    }
-    // y_w = F_Q^-1 y, H_w = F_Q^-1 H (H already whitened when prepared)
-    gf_real *yw = &work->s[0];
-    gf_real *dx = &work->s[GF_KF_NMAX];
-    for (unsigned i = 0; i < m; i++) {
-        yw[i] = y[i];
-    }
-    const gf_real *hw = H;
+    work->in.m = m;
     if (m > 1u) {
-        gf_udu_whiten(Qf, Qorder, m, yw, 1);
-        if (whiten_h) {
-            gf_real *x = work->x;
-            for (unsigned k = 0; k < m * n; k++) {
-                x[k] = H[k];
-            }
-            gf_udu_whiten_rows(Qf, Qorder, m, x, n);
-            hw = x;
-        }
+        gf_udu_whiten(Qf, Qorder, m, work->s, 1);
     }
+    kfc_copy(&work->b, kf);
+    return GF_OK;
+}
+
+gf_status gf_kfc_update(gf_kf *kf, const gf_real *hw, const gf_real *Qe,
+                        gf_real gate, gf_kf_innovation *info, gf_kf_work *work)
+{
     gf_kf *nb = &work->b;
-    kfc_copy(nb, kf);
-    const gf_status st =
-        kfc_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, yw, dx, &in.nis, work);
+    gf_kf_innovation *in = &work->in;
+    const gf_real *dx = &work->s[GF_KF_NMAX];
+    const gf_status st = kfc_udu_correct(in->m, hw, Qe, work);
     if (st != GF_OK) {
         return st;
     }
-    if (!GF_ISFINITE(in.nis)) {
+    if (!GF_ISFINITE(in->nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (gate > 0 && in.nis > gate) {
-        kfc_info(info, &in);
+    if (gate > 0 && in->nis > gate) {
+        kfc_info(info, in);
         return GF_ERR_GATED;
     }
+    const unsigned n = nb->n;
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] += dx[i];
-        if ((kf->angles >> i) & 1u) {
+        if ((nb->angles >> i) & 1u) {
             nb->mu[i] = gf_angle_wrap(nb->mu[i]);
         }
     }
@@ -209,7 +206,7 @@ gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
         return GF_ERR_NONFINITE;
     }
     kfc_copy(kf, nb);
-    kfc_info(info, &in);
+    kfc_info(info, in);
     return GF_OK;
 }
 
@@ -360,11 +357,15 @@ gf_status gf_kf_predict_prepared(gf_kf *kf, const gf_kf_pmodel *pm,
 
 // The checks of a measurement model for n states (and of z, if not NULL),
 // in the order of gf_kf_update's statuses; on GF_OK, Q's factors are in
-// Qf, Qe, Qorder and F_Q^-1 C in Cw.
+// work->f (gf_kfc_noise) and F_Q^-1 C in work->x. The factors' pointer is
+// this frame's, so that the callers keep no local whose address is taken
+// (gf_kf_update's last call is then a tail call).
 static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
-                               const gf_real *z, gf_real *Cw, gf_kf_work *work,
-                               const gf_kf_factors **fac)
+                               const gf_real *z, gf_kf_work *work)
 {
+    const gf_kf_factors *q = NULL;
+    const gf_kf_factors **fac = &q;
+    gf_real *Cw = work->x;
     const unsigned m = meas->m;
     if (!meas->C || m < 1u || m > n) {
         return GF_ERR_ARG;
@@ -391,15 +392,12 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
     return GF_OK;
 }
 
-// y = z - c - C mu_bar, then the factored correction on the whitened rows.
-static gf_status kf_update_step(gf_kf *kf, const gf_kf_meas *meas,
-                                const gf_real *z, const gf_real *Qf,
-                                const gf_real *Qe, const unsigned *Qorder,
-                                const gf_real *Cw, gf_kf_innovation *info,
-                                gf_kf_work *work)
+// y = z - c - C mu_bar into work->in.y and work->s (y_w to be).
+GF_NOINLINE void kf_innovation(const gf_kf *kf, const gf_kf_meas *meas,
+                               const gf_real *z, gf_kf_work *work)
 {
     const unsigned n = kf->n, m = meas->m;
-    gf_real *y = GF_KFC_S(work, 6);
+    gf_real *y = work->in.y;
     // (z_i - c_i) - (C mu)_i: KF2's order of operations
     for (unsigned i = 0; i < m; i++) {
         gf_real dot = meas->C[(size_t)i * n] * kf->mu[0];
@@ -407,9 +405,8 @@ static gf_status kf_update_step(gf_kf *kf, const gf_kf_meas *meas,
             dot += meas->C[i * n + j] * kf->mu[j];
         }
         y[i] = z[i] - (meas->c ? meas->c[i] : GF_R(0.0)) - dot;
+        work->s[i] = y[i];
     }
-    return gf_kfc_update(kf, m, y, Cw, Qf, Qe, Qorder, 0, meas->gate, info,
-                         work);
 }
 
 gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
@@ -418,15 +415,15 @@ gf_status gf_kf_update(gf_kf *kf, const gf_kf_meas *meas, const gf_real *z,
     if (!kf || !meas || !z || !work || kf->n < 1u || kf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    gf_real *Cw = work->x;
-    // the whitened rows live where gf_kfc_update would whiten H: it is
-    // told they are whitened already
-    const gf_kf_factors *q = NULL;
-    const gf_status st = kf_meas_check(kf->n, meas, z, Cw, work, &q);
+    // Q's factors in work->f, the whitened rows in work->x
+    const gf_status st = kf_meas_check(kf->n, meas, z, work);
     if (st != GF_OK) {
         return st;
     }
-    return kf_update_step(kf, meas, z, q->F, q->d, q->order, Cw, info, work);
+    // then the correction, a tail call (gf_kfc_update_begin)
+    kf_innovation(kf, meas, z, work);
+    (void)gf_kfc_update_begin(kf, meas->m, work->f.F, work->f.order, work);
+    return gf_kfc_update(kf, work->x, work->f.d, meas->gate, info, work);
 }
 
 gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
@@ -435,8 +432,8 @@ gf_status gf_kf_prepare_meas(gf_kf_pmeas *pq, unsigned n,
     if (!pq || !meas || !work) {
         return GF_ERR_ARG;
     }
-    const gf_kf_factors *q = NULL;
-    const gf_status st = kf_meas_check(n, meas, NULL, work->x, work, &q);
+    const gf_status st = kf_meas_check(n, meas, NULL, work);
+    const gf_kf_factors *q = &work->f;
     if (st != GF_OK) {
         return st;
     }
@@ -460,6 +457,7 @@ gf_status gf_kf_update_prepared(gf_kf *kf, const gf_kf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return kf_update_step(kf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, pq->Cw,
-                          info, work);
+    kf_innovation(kf, &pq->meas, z, work);
+    (void)gf_kfc_update_begin(kf, pq->meas.m, pq->Qf, pq->Qorder, work);
+    return gf_kfc_update(kf, pq->Cw, pq->Qe, pq->meas.gate, info, work);
 }

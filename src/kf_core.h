@@ -41,14 +41,19 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
                             gf_real gate, const gf_real *z, gf_kf_work *work,
                             const gf_kf_factors **fac);
 
-// The correction once the measurement is checked: innovation y (m), the
-// rows H (m x n; whitened here if whiten_h, else already F_Q^-1 H), Q's
-// factors; the gate on the total NIS, the belief and info written only if
-// every quantity passed.
-gf_status gf_kfc_update(gf_kf *kf, unsigned m, const gf_real *y,
-                        const gf_real *H, const gf_real *Qf, const gf_real *Qe,
-                        const unsigned *Qorder, int whiten_h, gf_real gate,
-                        gf_kf_innovation *info, gf_kf_work *work);
+// The correction once the measurement is checked, in two calls. First
+// gf_kfc_update_begin, with the innovation y (m entries) in work->in.y
+// and in work->s: y_w = F_Q^-1 y there (Q's factors Qf, Qorder), the
+// belief copied into work->b
+// (returns GF_OK). Then gf_kfc_update with the whitened rows hw (m x n,
+// F_Q^-1 H) and Q's variances Qe: one scalar update per quantity, the
+// gate on the total NIS, the belief and info written only if every
+// quantity passed. Two calls, so that a caller's frame is gone (a tail
+// call) before the correction's deepest calls.
+gf_status gf_kfc_update_begin(const gf_kf *kf, unsigned m, const gf_real *Qf,
+                              const unsigned *Qorder, gf_kf_work *work);
+gf_status gf_kfc_update(gf_kf *kf, const gf_real *hw, const gf_real *Qe,
+                        gf_real gate, gf_kf_innovation *info, gf_kf_work *work);
 
 // The vector k (0..7) of n entries in work->s.
 #define GF_KFC_S(work, k) (&(work)->s[(size_t)(k)*GF_KF_NMAX])

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
-// udu.h's steps for n = 4 (steps.h), in a source of their own: their O(n)
-// locals sized for 4 states, where steps.c's stay sized for 3.
+// udu.h's steps for n = 4 (steps.h), in a source of their own: KF2 and
+// EKF3 link steps.c without them.
 #include "steps.h"
 
-#define GF_UDU_NMAX 4u
 #include "udu.h"
 
 GF_UDU_STEPS(4)

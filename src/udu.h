@@ -46,8 +46,11 @@
 #define GF_UDU_ROOT_TELL GF_R(16.0)
 #endif
 
-// The largest n these functions take (the size of their O(n) locals): a
-// source that includes this header for larger filters defines it first.
+// The largest n of the forms that keep their O(n) scratch on their own
+// stack (gf_udu_predict, gf_udu_correct: KF2 and EKF3, an array per
+// vector, which an optimising build keeps in registers); the _s forms take
+// it from the caller. A source that calls the former for filters of
+// another size defines it first.
 #ifndef GF_UDU_NMAX
 #define GF_UDU_NMAX 3u
 #endif
@@ -425,14 +428,13 @@ GF_ALWAYS_INLINE int gf_belief_finite(const gf_real *mu, const gf_real *ud,
 // Each d_j is a weighted sum of squares: never negative. A d_j below
 // GF_REAL_MIN (every term zero, or too few digits to tell it from zero) is
 // zero, with a zero column of U: that state is known exactly once the
-// later ones are. w is overwritten.
+// later ones are. w is overwritten; c: scratch of cols entries.
 GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
-                              const gf_real *wd, gf_real *ud)
+                              const gf_real *wd, gf_real *ud, gf_real *c)
 {
     const unsigned stride = cols;
     GF_UNROLL
     for (unsigned j = n; j-- > 0u;) {
-        gf_real c[2u * GF_UDU_NMAX];
         const gf_real *wj = &w[j * stride];
         gf_real dj = 0;
         GF_UNROLL
@@ -468,12 +470,12 @@ GF_ALWAYS_INLINE void gf_mwgs(unsigned n, unsigned cols, gf_real *w,
 // with R = F_R diag(D_R) F_R^T given by its factors (gf_cov_factor: fr
 // n x n, rows of n, by state; a column of zero weight adds nothing), then
 // gf_mwgs into ud_new (ud itself, or another belief's factors). a: n x n,
-// rows of n, by state. w: scratch of n rows of 2n, wd: scratch of 2n
-// (caller-owned).
-GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
-                                     gf_real *ud_new, const unsigned char *perm,
-                                     const gf_real *a, const gf_real *fr,
-                                     const gf_real *dr, gf_real *w, gf_real *wd)
+// rows of n, by state. Scratch, caller-owned: w n rows of 2n, wd and v
+// 2n each.
+GF_ALWAYS_INLINE void
+gf_udu_predict_s(unsigned n, const gf_real *ud, gf_real *ud_new,
+                 const unsigned char *perm, const gf_real *a, const gf_real *fr,
+                 const gf_real *dr, gf_real *w, gf_real *wd, gf_real *v)
 {
     const unsigned stride = 2u * n;
     GF_UNROLL
@@ -487,7 +489,7 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
         const gf_real *ai = &a[perm[i] * n];
         const gf_real *fi = &fr[perm[i] * n];
         gf_real *wi = &w[i * stride];
-        gf_real ap[GF_UDU_NMAX]; // row i of P^T A P
+        gf_real *ap = v; // row i of P^T A P
         GF_UNROLL
         for (unsigned l = 0; l < n; l++) {
             ap[l] = ai[perm[l]];
@@ -505,7 +507,17 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
             oj += j + 1u;
         }
     }
-    gf_mwgs(n, stride, w, wd, ud_new);
+    gf_mwgs(n, stride, w, wd, ud_new, v);
+}
+
+// gf_udu_predict_s with v on its own stack (n <= GF_UDU_NMAX).
+GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
+                                     gf_real *ud_new, const unsigned char *perm,
+                                     const gf_real *a, const gf_real *fr,
+                                     const gf_real *dr, gf_real *w, gf_real *wd)
+{
+    gf_real v[2u * GF_UDU_NMAX];
+    gf_udu_predict_s(n, ud, ud_new, perm, a, fr, dr, w, wd, v);
 }
 
 // The state measured by the row h (by state) with the largest share of
@@ -542,12 +554,13 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
 // Makes state `root` the root of the factors (the last index), the other
 // states in their order: W's row i is the old factor's row of the state
 // newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
-// factors. w: scratch of n x n, wd: of n (caller-owned).
+// factors. Scratch, caller-owned: w n x n, wd, cs (gf_mwgs's c) and np
+// n each.
 GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
                                      unsigned char *perm, unsigned root,
-                                     gf_real *w, gf_real *wd)
+                                     gf_real *w, gf_real *wd, gf_real *cs,
+                                     unsigned *np)
 {
-    unsigned char np[GF_UDU_NMAX];
     unsigned t = 0, at = 0;
     for (unsigned k = 0; k < n; k++) {
         if (perm[k] == root) {
@@ -557,7 +570,7 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
             t++;
         }
     }
-    np[n - 1u] = (unsigned char)root;
+    np[n - 1u] = root;
     for (unsigned i = 0; i < n; i++) {
         // the old index of the state np[i]
         const unsigned o = (i == n - 1u) ? at : (i < at ? i : i + 1u);
@@ -570,9 +583,9 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
     for (unsigned c = 0; c < n; c++) {
         wd[c] = ud[GF_UD(c, c)];
     }
-    gf_mwgs(n, n, w, wd, ud);
+    gf_mwgs(n, n, w, wd, ud, cs);
     for (unsigned k = 0; k < n; k++) {
-        perm[k] = np[k];
+        perm[k] = (unsigned char)np[k];
     }
 }
 
@@ -594,12 +607,12 @@ GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
 // if s overflows; GF_ERR_SINGULAR if r = 0
 // and s is zero relative to its terms before cancellation,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
-// ud and dx are partly written then.
+// ud and dx are partly written then. f, b: scratch of n each.
 GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
                                          const gf_real *hp, gf_real r,
-                                         gf_real y, gf_real *dx, gf_real *nis)
+                                         gf_real y, gf_real *dx, gf_real *nis,
+                                         gf_real *f, gf_real *b)
 {
-    gf_real f[GF_UDU_NMAX], b[GF_UDU_NMAX];
     // (oj: column j of the packed factors, ud[oj + i] = U_ij, ud[oj + j] =
     // d_j)
     // f = U^T hp
@@ -725,16 +738,19 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
-// scalar NIS, which is y^T S^-1 y. w, wd: gf_udu_reorder's scratch.
-// Statuses as gf_udu_update.
-GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
-                                          unsigned char *perm, unsigned m,
-                                          const gf_real *hw, const gf_real *e,
-                                          const gf_real *yw, gf_real *dx,
-                                          gf_real *nis, gf_real *w, gf_real *wd)
+// scalar NIS, which is y^T S^-1 y. Statuses as gf_udu_update. Scratch,
+// caller-owned: w n x n, wd (gf_udu_reorder's); the vectors of n: sd
+// (Sigma's diagonal in the factors' order), tell, v (each quantity's share
+// and how much it tells), dp (P^T dx), hp (P^T h_i), f and b
+// (gf_udu_update's), c (gf_mwgs's; it may share hp's storage: a
+// reordering is over before hp is written), rank and np (unsigned).
+GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
+    unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
+    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *w,
+    gf_real *wd, gf_real *sd, gf_real *tell, gf_real *v, gf_real *dp,
+    gf_real *hp, gf_real *f, gf_real *b, gf_real *c, unsigned *rank,
+    unsigned *np)
 {
-    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
-    unsigned rank[GF_UDU_NMAX];
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     // (one quantity needs no ranking)
     rank[0] = 0;
@@ -763,7 +779,6 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         }
     }
     // In the factors' order: hp = P^T h_i, dp = P^T dx
-    gf_real dp[GF_UDU_NMAX];
     *nis = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
@@ -806,17 +821,16 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                     dp[j] = dp[j + 1u];
                 }
                 dp[n - 1u] = dm;
-                gf_udu_reorder(n, ud, perm, main, w, wd);
+                gf_udu_reorder(n, ud, perm, main, w, wd, c, np);
             }
         }
-        gf_real hp[GF_UDU_NMAX];
         gf_real yi = yw[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
             hp[j] = hw[i * n + perm[j]];
             yi -= hp[j] * dp[j];
         }
-        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis);
+        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis, f, b);
         if (st != GF_OK) {
             return st;
         }
@@ -826,6 +840,35 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
         dx[perm[j]] = dp[j];
     }
     return GF_OK;
+}
+
+// gf_udu_correct_v on the caller's scratch: w and wd as gf_udu_predict_s's
+// (or n x n and n), sv GF_UDU_CORRECT_T(n) entries, sk 2n.
+#define GF_UDU_CORRECT_T(n) (7u * (n))
+GF_ALWAYS_INLINE gf_status gf_udu_correct_s(
+    unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
+    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *w,
+    gf_real *wd, gf_real *sv, unsigned *sk)
+{
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, sv,
+                            &sv[n], &sv[2u * n], &sv[3u * n], &sv[4u * n],
+                            &sv[5u * n], &sv[6u * n], &sv[4u * n], sk, &sk[n]);
+}
+
+// gf_udu_correct_v with its scratch on its own stack, an array per vector
+// (n <= GF_UDU_NMAX; w n x n and wd n from the caller).
+GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
+                                          unsigned char *perm, unsigned m,
+                                          const gf_real *hw, const gf_real *e,
+                                          const gf_real *yw, gf_real *dx,
+                                          gf_real *nis, gf_real *w, gf_real *wd)
+{
+    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
+    gf_real dp[GF_UDU_NMAX], hp[GF_UDU_NMAX], f[GF_UDU_NMAX], b[GF_UDU_NMAX];
+    gf_real c[GF_UDU_NMAX];
+    unsigned rank[GF_UDU_NMAX], np[GF_UDU_NMAX];
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, sd, tell,
+                            v, dp, hp, f, b, c, rank, np);
 }
 
 #endif

@@ -52,14 +52,29 @@ typedef struct gf_kf_factors {
     unsigned order[GF_KF_NMAX]; // F's pivot order
 } gf_kf_factors;
 
+// What an update saw: the innovation y = z - c - C mu_bar (m entries) and
+// its NIS = y^T S^-1 y.
+typedef struct gf_kf_innovation {
+    unsigned m;
+    gf_real y[GF_KF_NMAX];
+    gf_real nis;
+} gf_kf_innovation;
+
 // The steps' scratch: caller-owned, contents meaningless between calls.
+// It holds everything a step would otherwise keep on the stack beyond a
+// few scalars (the n^2 arrays and the vectors of n alike), so that a
+// step's stack depth does not grow with GF_KF_NMAX (docs/api.md gives its
+// size per GF_KF_NMAX).
 typedef struct gf_kf_work {
-    gf_kf b;                                // the new belief, until it is whole
-    gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX]; // Gram-Schmidt rows
-    gf_real x[GF_KF_NMAX * GF_KF_NMAX];     // Jacobians, whitened rows
-    gf_real s[8 * GF_KF_NMAX];              // vectors
-    unsigned k[2 * GF_KF_NMAX];             // pivot orders
-    gf_kf_factors f;                        // R's or Q's factors
+    gf_kf b; // the new belief, until it is whole
+    // Gram-Schmidt rows (n rows of 2n), their weights (2n), the factored
+    // steps' vectors (7n)
+    gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX + 9 * GF_KF_NMAX];
+    gf_real x[GF_KF_NMAX * GF_KF_NMAX]; // Jacobians, whitened rows
+    gf_real s[8 * GF_KF_NMAX];          // vectors
+    unsigned k[2 * GF_KF_NMAX];         // pivot orders, the steps' indices
+    gf_kf_factors f;                    // R's or Q's factors
+    gf_kf_innovation in;                // an update's innovation, until kept
 } gf_kf_work;
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
@@ -80,14 +95,6 @@ typedef struct gf_kf_meas {
     const gf_real *c; // m constant term, or NULL for none
     gf_real gate;     // chi-square gate on the NIS; 0 disables it
 } gf_kf_meas;
-
-// What an update saw: the innovation y = z - c - C mu_bar (m entries) and
-// its NIS = y^T S^-1 y.
-typedef struct gf_kf_innovation {
-    unsigned m;
-    gf_real y[GF_KF_NMAX];
-    gf_real nis;
-} gf_kf_innovation;
 
 // Sets kf to N(mu, sigma) of n states (sigma n x n, symmetric PSD: zero is
 // fine), factoring sigma once. GF_ERR_ARG (NULL, n out of 1..GF_KF_NMAX),
