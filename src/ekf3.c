@@ -274,10 +274,13 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         return GF_ERR_ARG;
     }
     // (one quantity's noise is read from meas itself)
+    if (meas->m == 1u) {
+        const gf_status st = ekf3_meas_check(meas, z, NULL);
+        return st != GF_OK ? st : ekf3_update_step(ekf, meas, NULL, z, info);
+    }
     gf_ekf3_qfactors q;
-    gf_ekf3_qfactors *qp = (meas->m == 1u) ? NULL : &q;
-    const gf_status st = ekf3_meas_check(meas, z, qp);
-    return st != GF_OK ? st : ekf3_update_step(ekf, meas, qp, z, info);
+    const gf_status st = ekf3_meas_check(meas, z, &q);
+    return st != GF_OK ? st : ekf3_update_step(ekf, meas, &q, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,

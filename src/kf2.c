@@ -200,10 +200,13 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     }
     // (one quantity is read from meas itself: its C and Q are their own
     // whitened form)
+    if (meas->m == 1u) {
+        const gf_status st = kf2_meas_check(meas, z, NULL);
+        return st != GF_OK ? st : kf2_update_step(kf, meas, NULL, z, info);
+    }
     gf_kf2_qfactors q;
-    gf_kf2_qfactors *qp = (meas->m == 1u) ? NULL : &q;
-    const gf_status st = kf2_meas_check(meas, z, qp);
-    return st != GF_OK ? st : kf2_update_step(kf, meas, qp, z, info);
+    const gf_status st = kf2_meas_check(meas, z, &q);
+    return st != GF_OK ? st : kf2_update_step(kf, meas, &q, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)

@@ -742,8 +742,8 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // caller-owned: w n x n, wd (gf_udu_reorder's); the vectors of n: sd
 // (Sigma's diagonal in the factors' order), tell, v (each quantity's share
 // and how much it tells), dp (P^T dx), hp (P^T h_i), f and b
-// (gf_udu_update's), c (gf_mwgs's; it may share hp's storage: a
-// reordering is over before hp is written), rank and np (unsigned).
+// (gf_udu_update's), c (gf_mwgs's in a reordering; it may share f's
+// storage), rank and np (unsigned).
 GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
     unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
     const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *w,
@@ -809,18 +809,19 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
             }
             if (vi > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
                 // dp follows its state: main's entry last, the others
-                // moved up, as gf_udu_reorder moves the states
+                // moved up, as gf_udu_reorder moves the states (by swaps:
+                // gcc makes a plain shift a memmove call)
                 unsigned at = 0;
                 for (unsigned j = 0; j < n; j++) {
                     if (perm[j] == main) {
                         at = j;
                     }
                 }
-                const gf_real dm = dp[at];
                 for (unsigned j = at; j + 1u < n; j++) {
+                    const gf_real dj = dp[j];
                     dp[j] = dp[j + 1u];
+                    dp[j + 1u] = dj;
                 }
-                dp[n - 1u] = dm;
                 gf_udu_reorder(n, ud, perm, main, w, wd, c, np);
             }
         }
@@ -843,8 +844,7 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
 }
 
 // gf_udu_correct_v on the caller's scratch: w and wd as gf_udu_predict_s's
-// (or n x n and n), sv GF_UDU_CORRECT_T(n) entries, sk 2n.
-#define GF_UDU_CORRECT_T(n) (7u * (n))
+// (or n x n and n), sv 7n entries, sk 2n.
 GF_ALWAYS_INLINE gf_status gf_udu_correct_s(
     unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
     const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *w,
@@ -852,7 +852,7 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_s(
 {
     return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, sv,
                             &sv[n], &sv[2u * n], &sv[3u * n], &sv[4u * n],
-                            &sv[5u * n], &sv[6u * n], &sv[4u * n], sk, &sk[n]);
+                            &sv[5u * n], &sv[6u * n], &sv[5u * n], sk, &sk[n]);
 }
 
 // gf_udu_correct_v with its scratch on its own stack, an array per vector
@@ -864,7 +864,10 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           gf_real *nis, gf_real *w, gf_real *wd)
 {
     gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
-    gf_real dp[GF_UDU_NMAX], hp[GF_UDU_NMAX], f[GF_UDU_NMAX], b[GF_UDU_NMAX];
+    gf_real dp[GF_UDU_NMAX], hp[GF_UDU_NMAX];
+    // (set, for gcc's analyzer, which cannot follow f and b through the
+    // loops that write them; the stores are dead in an optimised build)
+    gf_real f[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
     gf_real c[GF_UDU_NMAX];
     unsigned rank[GF_UDU_NMAX], np[GF_UDU_NMAX];
     return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, sd, tell,
