@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 // gaussfilt: the factored steps of src/udu.h compiled once for n = 2, 3
-// (defined in steps.c) and 4 (steps4.c), their loops unrolled: KF2 and the
-// gf_kf and gf_ekf filters of 2 states run the same machine code, as do
-// EKF3 and those of 3 states; filters of 4 states (a 2-D constant-velocity
-// target) run about 1.3x faster than on the loops for any n. Not
-// installed, not part of the API.
+// (defined in steps.c) and 4 (steps4.c), their loops unrolled, for the
+// gf_kf and gf_ekf filters of those sizes (filters of 4 states, a 2-D
+// constant-velocity target, run about 1.3x faster than on the loops for
+// any n; KF2 and EKF3 inline the steps for their own size); and the
+// prior's factorisation for KF2 and EKF3. Not installed, not part of the
+// API.
 #ifndef GAUSSFILT_SRC_STEPS_H
 #define GAUSSFILT_SRC_STEPS_H
 

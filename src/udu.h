@@ -24,9 +24,10 @@
 // at GF_UD(i, j), d_j at GF_UD(j, j).
 //
 // Matrices passed in are row-major, rows of `stride` entries, indexed by
-// state. The functions are static inline: steps.c and steps4.c compile
-// the steps for n = 2, 3 and 4 (an optimising build unrolls the loops),
-// kf.c for any other n; the arithmetic is written once, here.
+// state. The functions are static inline, the arithmetic written once,
+// here: KF2 and EKF3 inline the steps for their size, steps.c and steps4.c
+// compile them for gf_kf and gf_ekf of n = 2, 3 and 4 (an optimising build
+// unrolls the loops), kf.c for any other n.
 #ifndef GAUSSFILT_SRC_UDU_H
 #define GAUSSFILT_SRC_UDU_H
 
