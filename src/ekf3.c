@@ -91,19 +91,8 @@ static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
         return GF_ERR_ARG;
     }
     if (m == 1u) {
-        const gf_real q00 = meas->Q.m[0][0];
-        if (!gf_sum_finite(q00 * GF_R(0.0))) {
-            return GF_ERR_NONFINITE;
-        }
-        if (q00 < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-        if (q) {
-            q->Qf[0] = 1;
-            q->Qe[0] = q00;
-            q->Qorder[0] = 0;
-        }
-        return GF_OK;
+        return q ? gf_noise1_check(meas->Q.m[0][0], q->Qf, q->Qe, q->Qorder)
+                 : gf_noise1_check(meas->Q.m[0][0], NULL, NULL, NULL);
     }
     return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
 }

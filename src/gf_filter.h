@@ -52,6 +52,26 @@ static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
     return gf_mat3_check_psd(&meas->Q, meas->m);
 }
 
+// The verdict on one measured quantity's noise q (a 1 x 1 Q): finite
+// (GF_ERR_NONFINITE), then >= 0 (GF_ERR_NOT_PSD); on GF_OK, where qf is
+// not NULL, its factors as gf_cov_factor's: F = 1, e = q, order 0.
+static inline gf_status gf_noise1_check(gf_real q, gf_real *qf, gf_real *qe,
+                                        unsigned *qorder)
+{
+    if (!gf_sum_finite(q * GF_R(0.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (q < 0) {
+        return GF_ERR_NOT_PSD;
+    }
+    if (qf) {
+        qf[0] = 1;
+        qe[0] = q;
+        qorder[0] = 0;
+    }
+    return GF_OK;
+}
+
 // *info = *in field by field: a struct copy may carry the padding bytes
 // of the local (after m, in double), which callers comparing the whole
 // struct would see change from call to call.

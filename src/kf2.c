@@ -49,20 +49,11 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
         return GF_ERR_ARG;
     }
     if (m == 1u) {
-        const gf_real q00 = meas->Q.m[0][0];
-        if (!gf_sum_finite(q00 * GF_R(0.0))) {
-            return GF_ERR_NONFINITE;
+        if (!q) {
+            return gf_noise1_check(meas->Q.m[0][0], NULL, NULL, NULL);
         }
-        if (q00 < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-        if (q) {
-            q->Qf[0] = 1;
-            q->Qe[0] = q00;
-            q->Qorder[0] = 0;
-            q->Cw = meas->C;
-        }
-        return GF_OK;
+        q->Cw = meas->C;
+        return gf_noise1_check(meas->Q.m[0][0], q->Qf, q->Qe, q->Qorder);
     }
     const gf_status st =
         gf_cov_factor(meas->Q.m[0], 2, m, q->Qf, q->Qe, q->Qorder);
