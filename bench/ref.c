@@ -860,6 +860,23 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
     return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
 }
 
+// The end of a measurement model's checks, once f holds 0 times every
+// number checked before: those finite, gate >= 0, Q (q, one quantity)
+// finite and >= 0, in the order of the status rules.
+REF_INLINE gf_status meas_tail(gf_real f, gf_real gate, gf_real q)
+{
+    if (!(f < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate < 0) {
+        return GF_ERR_ARG;
+    }
+    if (!(Z(q) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
+    return q < 0 ? GF_ERR_NOT_PSD : GF_OK;
+}
+
 // The checks of a KF2 measurement model of m = 1 (z too, if not NULL), in
 // the order of gf_kf2_update's statuses: C's row, c, z and the gate
 // finite; gate >= 0; Q finite and >= 0.
@@ -871,16 +888,7 @@ REF_INLINE gf_status meas2_check(const gf_kf2_meas *meas, const gf_vec2 *z)
     if (z) {
         f += Z(z->v[0]);
     }
-    if (!(f < GF_R(1.0))) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gate < 0) {
-        return GF_ERR_ARG;
-    }
-    if (!(Z(q) < GF_R(1.0))) {
-        return GF_ERR_NONFINITE;
-    }
-    return q < 0 ? GF_ERR_NOT_PSD : GF_OK;
+    return meas_tail(f, gate, q);
 }
 
 // The correction once the model and z are checked: y = z - c - C mu_bar,
@@ -993,16 +1001,7 @@ REF_INLINE gf_status meas3_check(const gf_ekf3_meas *meas, const gf_vec3 *z)
     if (z) {
         f += Z(z->v[0]);
     }
-    if (!(f < GF_R(1.0))) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gate < 0) {
-        return GF_ERR_ARG;
-    }
-    if (!(Z(q) < GF_R(1.0))) {
-        return GF_ERR_NONFINITE;
-    }
-    return q < 0 ? GF_ERR_NOT_PSD : GF_OK;
+    return meas_tail(f, gate, q);
 }
 
 // The correction once the model and z are checked: z_hat and H by the
