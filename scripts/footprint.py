@@ -60,10 +60,13 @@ CALLBACKS = {
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
     # UKF3's predict from predict_point, a call of its own, its update
-    # from helpers that are always inlined).
+    # from point_image, a call of its own under -Os, inlined into
+    # update_points elsewhere).
     "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
     "ukf3.c:predict_point": ["gf_ekf3_motion_forward_turn"],
     "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ukf3.c:point_image": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ukf3.c:update_points": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # PF3's predict calls g from propagate (not inlined under -Os), or
     # itself where propagate is inlined (other optimisation levels). Static
     # functions are named with their object (qualify).

@@ -52,19 +52,15 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
     return st;
 }
 
-gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
-                      const gf_real *sigma, unsigned angles, gf_kf_work *work)
+// The belief N(mu, sigma) of gf_kfc_init once sigma is judged: built in
+// work->b (the factors' low parts in work->x), then *kf = it if finite. A
+// frame of its own, reached by a tail call: the factorisation's registers
+// and temporaries are not in gf_kfc_init's frame under gf_kfc_noise's
+// verdict.
+GF_NOINLINE gf_status kfc_init_belief(gf_kf *kf, unsigned n, const gf_real *mu,
+                                      const gf_real *sigma, unsigned angles,
+                                      gf_kf_work *work)
 {
-    if (!kf || !mu || !sigma || !work || n < 1u || n > GF_KF_NMAX) {
-        return GF_ERR_ARG;
-    }
-    if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), mu, n))) {
-        return GF_ERR_NONFINITE;
-    }
-    const gf_status st = gf_kfc_noise(sigma, n, work, NULL);
-    if (st != GF_OK) {
-        return st;
-    }
     gf_kf *nb = &work->b;
     nb->n = n;
     nb->angles = angles;
@@ -86,6 +82,22 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     }
     *kf = *nb;
     return GF_OK;
+}
+
+gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
+                      const gf_real *sigma, unsigned angles, gf_kf_work *work)
+{
+    if (!kf || !mu || !sigma || !work || n < 1u || n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), mu, n))) {
+        return GF_ERR_NONFINITE;
+    }
+    const gf_status st = gf_kfc_noise(sigma, n, work, NULL);
+    if (st != GF_OK) {
+        return st;
+    }
+    return kfc_init_belief(kf, n, mu, sigma, angles, work);
 }
 
 // The factored steps: KF2's and EKF3's for n = 2 and 3, and those for 4

@@ -50,8 +50,8 @@ static inline int ldl_is_zero(gf_real x)
 
 // The factors' entries of state k, of zero variance: d_k = 0 and column
 // k of F the unit vector (where F and d are not NULL).
-static inline void ldl_zero_state(unsigned n, unsigned k, gf_real *F,
-                                  gf_real *d)
+GF_ALWAYS_INLINE void ldl_zero_state(unsigned n, unsigned k, gf_real *F,
+                                     gf_real *d)
 {
     if (d) {
         d[k] = 0;

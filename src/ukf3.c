@@ -148,8 +148,8 @@ typedef struct ukf3_belief {
 } ukf3_belief;
 
 // l = sqrt(Sigma), packed: gf_sqrt_psd_packed in a frame of its own, so
-// that gf_ukf3_predict neither has its inlined arithmetic's temporaries in
-// its frame nor saves the registers it keeps across the square roots.
+// that the steps' large frames neither hold its inlined arithmetic's
+// temporaries nor save the registers it keeps across the square roots.
 GF_NOINLINE void sigma_sqrt(const gf_mat3 *sigma, gf_real l[6])
 {
     gf_sqrt_psd_packed(sigma, N_STATE, l);
@@ -190,6 +190,16 @@ GF_NOINLINE void predict_add(ukf3_pred *w, const gf_vec3 *e)
     }
 }
 
+// G = I in w->nb.sigma, then chi_j (sigma_point, a tail call): a call of
+// its own, so that predict_point keeps fewer registers (and saves fewer)
+// across g's call.
+UKF3_SMALL_CALL void point_start(ukf3_pred *w, unsigned j, gf_vec3 *chi)
+{
+    static const gf_mat3 identity = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    w->nb.sigma = identity;
+    sigma_point(w->ukf, w->l, j, chi);
+}
+
 // Point j through g: chi_j, then chi_bar*_j = g(u, chi_j) in e (G is not
 // needed, but it arrives as the identity: ekf3.h's promise to every
 // motion callback), kept as the centre's image (j = 0) or taken as its
@@ -199,12 +209,10 @@ GF_NOINLINE void predict_add(ukf3_pred *w, const gf_vec3 *e)
 // returned.
 GF_NOINLINE gf_status predict_point(ukf3_pred *w, unsigned j)
 {
-    static const gf_mat3 identity = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     gf_vec3 chi;
     gf_vec3 e;
-    sigma_point(w->ukf, w->l, j, &chi);
+    point_start(w, j, &chi);
     e = chi;
-    w->nb.sigma = identity;
     const gf_status st =
         w->motion->g(w->motion->ctx, &chi, w->u, &e, &w->nb.sigma);
     if (st != GF_OK) {
@@ -310,59 +318,96 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     return GF_OK;
 }
 
-// One sigma point of the update at a time: the packed square root of
-// Sigma_bar, the point, its image Z through h and h's unused H.
-typedef struct ukf3_point {
+// The update's working set, in the frame of update_step: what passes from
+// one phase to the next (the points, the gain, the verdict), each member
+// doing duty in more than one:
+// - l: the packed square root of Sigma_bar while the points are measured,
+//   then u = L_S^-1 y in its first m entries and the NIS at UPD_NIS;
+// - s: S = Q + the sums (lower triangle packed), then L_S in place;
+// - pxz: Sigma^xz, then W = L_S^-1 (Sigma^xz)^T row by row in place;
+// - y: Z_0, then z_hat, then the innovation y = z - z_hat;
+// - mu: m_z while the points are summed, then the posterior mean;
+// - sigma: h's H (not read) while the points are measured, then the
+//   posterior Sigma.
+#define UPD_NIS 3u
+typedef struct ukf3_upd {
     gf_real l[6];
+    gf_real s[6];
+    gf_mat3 pxz;
+    gf_vec3 y;
+    gf_vec3 mu;
+    gf_mat3 sigma;
+} ukf3_upd;
+
+// One sigma point of the update and its image through h.
+typedef struct ukf3_point {
     gf_vec3 chi;
-    gf_vec3 Z;
-    gf_mat3 H;
+    gf_vec3 dz;
 } ukf3_point;
 
-// Z = h(chi_bar_j) (first m entries, the rest zero), checked finite.
-GF_ALWAYS_INLINE gf_status measure(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
-                                   unsigned j, ukf3_point *p)
+// dz_j = Z_j - Z_0 in p->dz (angles wrapped), Z_0 in w->y; GF_OK. A
+// status, so that point_image ends in a call of it that is a tail call
+// (point_image's frame given back before wrap_flagged runs).
+UKF3_SMALL_CALL gf_status point_residual(const gf_ekf3_meas *meas,
+                                         ukf3_point *p, const ukf3_upd *w)
 {
-    sigma_point(ukf, p->l, j, &p->chi);
-    p->Z.v[0] = p->Z.v[1] = p->Z.v[2] = 0;
-    const gf_status st = meas->h(meas->ctx, &p->chi, &p->Z, &p->H);
+    residual(&p->dz, &w->y, meas->m, meas->angle_mask, &p->dz);
+    return GF_OK;
+}
+
+// dz = h(chi) (first m entries, the rest zero), checked finite, h's H (not
+// read) into w->sigma; kept as Z_0 in w->y (j = 0) or taken as its
+// residual dz_j (point_residual).
+UKF3_SMALL_CALL gf_status point_image(const gf_ekf3_meas *meas, unsigned j,
+                                      ukf3_point *p, ukf3_upd *w)
+{
+    p->dz.v[0] = p->dz.v[1] = p->dz.v[2] = 0;
+    const gf_status st = meas->h(meas->ctx, &p->chi, &p->dz, &w->sigma);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    return gf_vec3_is_finite_n(&p->Z, meas->m) ? GF_OK : GF_ERR_NONFINITE;
+    if (!gf_vec3_is_finite_n(&p->dz, meas->m)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (j == 0u) {
+        w->y = p->dz;
+        return GF_OK;
+    }
+    return point_residual(meas, p, w);
 }
 
 // S = Q (m x m, symmetrized; lower triangle packed, zero past the m x m
-// block) and Sigma^xz = 0, before the sums over the points.
-static void moments_init(const gf_ekf3_meas *meas, gf_real s[6], gf_mat3 *pxz)
+// block), Sigma^xz = 0 and m_z = 0, before the sums over the points.
+UKF3_SMALL_CALL void moments_init(const gf_ekf3_meas *meas, ukf3_upd *w)
 {
     static const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     for (unsigned a = 0; a < N_STATE; a++) {
         for (unsigned b = 0; b <= a; b++) {
-            s[GF_TRI(a, b)] = (a < meas->m) ? GF_R(0.5) * meas->Q.m[a][b] +
-                                                  GF_R(0.5) * meas->Q.m[b][a]
-                                            : GF_R(0.0);
+            w->s[GF_TRI(a, b)] = (a < meas->m) ? GF_R(0.5) * meas->Q.m[a][b] +
+                                                     GF_R(0.5) * meas->Q.m[b][a]
+                                               : GF_R(0.0);
         }
+        w->mu.v[a] = 0;
     }
-    *pxz = zero;
+    w->pxz = zero;
 }
 
-// Point j's terms (j > 0) of m_z, S and Sigma^xz, dz_j in p->Z (zero past
-// the m measured entries, so the sums there stay zero).
-static void accumulate(const gf_ukf3 *ukf, unsigned j, const ukf3_point *p,
-                       gf_vec3 *mz, gf_real s[6], gf_mat3 *pxz)
+// Point j's terms (j > 0) of m_z, S and Sigma^xz added to w, dz_j in dz
+// (zero past the m measured entries, so the sums there stay zero).
+UKF3_SMALL_CALL void update_add(const gf_ukf3 *ukf, unsigned j,
+                                const gf_vec3 *dz, ukf3_upd *w)
 {
     for (unsigned a = 0; a < N_STATE; a++) {
-        const gf_real wz = ukf->wi * p->Z.v[a];
-        mz->v[a] += wz;
+        const gf_real wz = ukf->wi * dz->v[a];
+        w->mu.v[a] += wz;
         for (unsigned b = 0; b <= a; b++) {
-            s[GF_TRI(a, b)] += wz * p->Z.v[b];
+            w->s[GF_TRI(a, b)] += wz * dz->v[b];
         }
     }
     for (unsigned a = 0; a < N_STATE; a++) {
-        const gf_real wo = offset(ukf, p->l, j, WEIGHTED + a);
+        const gf_real wo = offset(ukf, w->l, j, WEIGHTED + a);
         for (unsigned b = 0; b < N_STATE; b++) {
-            pxz->m[a][b] += wo * p->Z.v[b];
+            w->pxz.m[a][b] += wo * dz->v[b];
         }
     }
 }
@@ -393,60 +438,173 @@ static gf_status update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     return GF_OK;
 }
 
-// What the update needs once the points are done with: the innovation,
-// the posterior, and u = L_S^-1 y.
-typedef struct ukf3_post {
-    gf_innovation in;
-    gf_vec3 u;
-    gf_vec3 mu;
-    gf_mat3 sigma;
-} ukf3_post;
+// The points, w->l holding sqrt(Sigma_bar): chi_bar = (mu_bar, mu_bar +-
+// gamma sqrt(Sigma_bar)), Z_j = h(chi_bar_j), the moments about Z_0 as in
+// gf_ukf3_predict, one pass over the points, with dz_j = Z_j - Z_0 (angles
+// wrapped) and off_j = chi_bar_j - mu_bar:
+//   m_z = sum_{j>0} w_i dz_j,
+//   S = sum_{j>0} w_i dz_j dz_j^T + Q,  Sigma^xz = sum_{j>0} w_i off_j dz_j^T
+// (S m x m, lower triangle packed; Sigma^xz 3 x m), Z_0 in w->y. Table
+// 3.4's Sigma^xz has dz_j - m_z in place of dz_j; the off_j sum to zero.
+// A call of its own: only the point and its image are on the stack above
+// the working set while h runs.
+GF_NOINLINE gf_status update_points(const gf_ukf3 *ukf,
+                                    const gf_ekf3_meas *meas, ukf3_upd *w)
+{
+    ukf3_point p;
+    for (unsigned j = 0; j < N_SIGMA; j++) {
+        sigma_point(ukf, w->l, j, &p.chi);
+        const gf_status st = point_image(meas, j, &p, w);
+        if (st != GF_OK) {
+            return st;
+        }
+        if (j > 0u) {
+            update_add(ukf, j, &p.dz, w);
+        }
+    }
+    return GF_OK;
+}
 
-// The posterior, written to ukf only if finite and PSD. With S = L_S L_S^T
-// (l_s packed), W = L_S^-1 (Sigma^xz)^T (m x 3, row by row in place of
-// Sigma^xz's columns) and u = L_S^-1 y in q->u, the gain K = Sigma^xz S^-1
-// gives
+// The end of the moments, once the points are summed (update_resolved
+// first):
+//   z_hat = Z_0 + m_z,  S += (beta - alpha^2) m_z m_z^T,
+// then y = z - z_hat (angle residuals wrapped) in w->y.
+GF_NOINLINE gf_status update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+                                  const gf_vec3 *z, ukf3_upd *w)
+{
+    const unsigned m = meas->m;
+    const unsigned mask = meas->angle_mask;
+    const gf_status st = update_resolved(ukf, meas, &w->y, w->s);
+    if (st != GF_OK) {
+        return st;
+    }
+    for (unsigned a = 0; a < N_STATE; a++) {
+        const gf_real fm = ukf->wfold * w->mu.v[a];
+        for (unsigned b = 0; b <= a; b++) {
+            w->s[GF_TRI(a, b)] += fm * w->mu.v[b];
+        }
+        w->y.v[a] = w->y.v[a] + w->mu.v[a];
+    }
+    wrap_flagged(&w->y, m, mask);
+    // y = z - z_hat, angle residuals wrapped
+    residual(z, &w->y, m, mask, &w->y);
+    return GF_OK;
+}
+
+// The gain: S = L_S L_S^T in place, u = L_S^-1 y and the NIS (the gate
+// applied here, info written if gated), then the posterior into w->mu
+// and w->sigma, checked finite (not yet PSD). With W = L_S^-1
+// (Sigma^xz)^T (m x 3, row by row in place of Sigma^xz's columns), the
+// gain K = Sigma^xz S^-1 gives
 //   mu = mu_bar + K y = mu_bar + W^T u  (heading wrapped),
 //   Sigma = Sigma_bar - K S K^T = Sigma_bar - W^T W  (symmetric as built).
-static gf_status posterior(gf_ukf3 *ukf, const gf_real l_s[6], gf_mat3 *pxz,
-                           ukf3_post *q)
+GF_NOINLINE gf_status update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+                                  gf_innovation *info, ukf3_upd *w)
 {
-    const unsigned m = q->in.m;
+    const unsigned m = meas->m;
+    // S = L_S L_S^T in place (a non-finite entry fails it too)
+    for (unsigned k = 0; k < GF_TRI(m, 0u); k++) {
+        if (!GF_ISFINITE(w->s[k])) {
+            return GF_ERR_NONFINITE;
+        }
+    }
+    const gf_status st = gf_chol_packed(w->s, m);
+    if (st != GF_OK) {
+        return st;
+    }
+    // u = L_S^-1 y, NIS = y^T S^-1 y = u^T u
+    gf_real *u = w->l;
+    gf_innovation in;
+    in.m = m;
+    in.nis = 0;
+    for (unsigned i = 0; i < N_STATE; i++) {
+        in.y[i] = w->y.v[i];
+        u[i] = w->y.v[i];
+    }
+    for (unsigned i = 0; i < m; i++) {
+        for (unsigned k = 0; k < i; k++) {
+            u[i] -= w->s[GF_TRI(i, k)] * u[k];
+        }
+        u[i] /= w->s[GF_TRI(i, i)];
+        in.nis += u[i] * u[i];
+    }
+    w->l[UPD_NIS] = in.nis;
+    if (!GF_ISFINITE(in.nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gf_gated(&in, meas->gate, info)) {
+        return GF_ERR_GATED;
+    }
     for (unsigned a = 0; a < N_STATE; a++) { // row a of Sigma^xz: L_S w = p_a
         for (unsigned i = 0; i < m; i++) {
             for (unsigned k = 0; k < i; k++) {
-                pxz->m[a][i] -= l_s[GF_TRI(i, k)] * pxz->m[a][k];
+                w->pxz.m[a][i] -= w->s[GF_TRI(i, k)] * w->pxz.m[a][k];
             }
-            pxz->m[a][i] /= l_s[GF_TRI(i, i)];
+            w->pxz.m[a][i] /= w->s[GF_TRI(i, i)];
         }
     }
-    q->mu = ukf->mu;
-    q->sigma = ukf->sigma;
+    w->mu = ukf->mu;
+    w->sigma = ukf->sigma;
     for (unsigned a = 0; a < N_STATE; a++) {
         for (unsigned i = 0; i < m; i++) {
-            q->mu.v[a] += pxz->m[a][i] * q->u.v[i];
+            w->mu.v[a] += w->pxz.m[a][i] * u[i];
         }
         for (unsigned b = a; b < N_STATE; b++) {
             gf_real ksk = 0;
             for (unsigned i = 0; i < m; i++) {
-                ksk += pxz->m[a][i] * pxz->m[b][i];
+                ksk += w->pxz.m[a][i] * w->pxz.m[b][i];
             }
-            q->sigma.m[a][b] -= ksk;
-            q->sigma.m[b][a] = q->sigma.m[a][b];
+            w->sigma.m[a][b] -= ksk;
+            w->sigma.m[b][a] = w->sigma.m[a][b];
         }
     }
-    q->mu.v[2] = gf_angle_wrap(q->mu.v[2]);
-    if (!gf_vec3_is_finite_n(&q->mu, N_STATE) ||
-        !gf_mat3_is_finite(&q->sigma)) {
+    w->mu.v[2] = gf_angle_wrap(w->mu.v[2]);
+    if (!gf_vec3_is_finite_n(&w->mu, N_STATE) ||
+        !gf_mat3_is_finite(&w->sigma)) {
         return GF_ERR_NONFINITE;
     }
-    const gf_status st = gf_mat3_check_psd(&q->sigma, N_STATE);
-    if (st != GF_OK) {
-        return st;
-    }
-    ukf->mu = q->mu;
-    ukf->sigma = q->sigma;
     return GF_OK;
+}
+
+// The posterior of w into ukf, and the innovation into info (if not
+// NULL: gf_info_store's fields), once the posterior is accepted.
+UKF3_SMALL_CALL void update_commit(gf_ukf3 *ukf, unsigned m,
+                                   gf_innovation *info, const ukf3_upd *w)
+{
+    ukf->mu = w->mu;
+    ukf->sigma = w->sigma;
+    if (info) {
+        info->m = m;
+        info->y[0] = w->y.v[0];
+        info->y[1] = w->y.v[1];
+        info->y[2] = w->y.v[2];
+        info->nis = w->l[UPD_NIS];
+    }
+}
+
+// The update once its inputs are checked: the points, the gain, then the
+// posterior's verdict (gf_mat3_check_psd) from this frame, which holds
+// the working set alone; ukf and info written only if it is PSD.
+GF_NOINLINE gf_status update_step(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+                                  const gf_vec3 *z, gf_innovation *info)
+{
+    ukf3_upd w;
+    sigma_sqrt(&ukf->sigma, w.l);
+    moments_init(meas, &w);
+    gf_status st = update_points(ukf, meas, &w);
+    if (st == GF_OK) {
+        st = update_zhat(ukf, meas, z, &w);
+    }
+    if (st == GF_OK) {
+        st = update_gain(ukf, meas, info, &w);
+    }
+    if (st == GF_OK) {
+        st = gf_mat3_check_psd(&w.sigma, N_STATE);
+    }
+    if (st == GF_OK) {
+        update_commit(ukf, meas->m, info, &w);
+    }
+    return st;
 }
 
 gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
@@ -463,92 +621,6 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     if (st != GF_OK) {
         return st;
     }
-    const unsigned m = meas->m;
-    const unsigned mask = meas->angle_mask;
-
-    // chi_bar = (mu_bar, mu_bar +- gamma sqrt(Sigma_bar)), Z_j = h(chi_bar_j),
-    // the moments about Z_0 as in gf_ukf3_predict, one pass over the
-    // points, with dz_j = Z_j - Z_0 (angles wrapped) and
-    // off_j = chi_bar_j - mu_bar:
-    //   m_z = sum_{j>0} w_i dz_j,  z_hat = Z_0 + m_z,
-    //   S = sum_{j>0} w_i dz_j dz_j^T + (beta - alpha^2) m_z m_z^T + Q,
-    //   Sigma^xz = sum_{j>0} w_i off_j dz_j^T
-    // (S m x m, lower triangle packed; Sigma^xz 3 x m). Table 3.4's
-    // Sigma^xz has dz_j - m_z in place of dz_j; the off_j sum to zero.
-    gf_real s[6];
-    gf_mat3 Pxz;
-    gf_vec3 y;
-    {
-        ukf3_point p;
-        gf_vec3 mz = {{0, 0, 0}};
-        gf_sqrt_psd_packed(&ukf->sigma, N_STATE, p.l);
-        moments_init(meas, s, &Pxz);
-        for (unsigned j = 0; j < N_SIGMA; j++) {
-            st = measure(ukf, meas, j, &p);
-            if (st != GF_OK) {
-                return st;
-            }
-            if (j == 0u) {
-                y = p.Z;
-            } else {
-                residual(&p.Z, &y, m, mask, &p.Z);
-                accumulate(ukf, j, &p, &mz, s, &Pxz);
-            }
-        }
-        st = update_resolved(ukf, meas, &y, s);
-        if (st != GF_OK) {
-            return st;
-        }
-        for (unsigned a = 0; a < N_STATE; a++) {
-            const gf_real fm = ukf->wfold * mz.v[a];
-            for (unsigned b = 0; b <= a; b++) {
-                s[GF_TRI(a, b)] += fm * mz.v[b];
-            }
-            y.v[a] = y.v[a] + mz.v[a];
-        }
-        wrap_flagged(&y, m, mask);
-        // y = z - z_hat, angle residuals wrapped
-        residual(z, &y, m, mask, &y);
-    }
-    // S = L_S L_S^T in place (a non-finite entry fails it too)
-    for (unsigned k = 0; k < GF_TRI(m, 0u); k++) {
-        if (!GF_ISFINITE(s[k])) {
-            return GF_ERR_NONFINITE;
-        }
-    }
-    st = gf_chol_packed(s, m);
-    if (st != GF_OK) {
-        return st;
-    }
-    {
-        // u = L_S^-1 y, NIS = y^T S^-1 y = u^T u
-        ukf3_post q;
-        q.in.m = m;
-        q.in.nis = 0;
-        for (unsigned i = 0; i < N_STATE; i++) {
-            q.in.y[i] = y.v[i];
-            q.u.v[i] = y.v[i];
-        }
-        for (unsigned i = 0; i < m; i++) {
-            for (unsigned k = 0; k < i; k++) {
-                q.u.v[i] -= s[GF_TRI(i, k)] * q.u.v[k];
-            }
-            q.u.v[i] /= s[GF_TRI(i, i)];
-            q.in.nis += q.u.v[i] * q.u.v[i];
-        }
-        if (!GF_ISFINITE(q.in.nis)) {
-            return GF_ERR_NONFINITE;
-        }
-        if (gf_gated(&q.in, meas->gate, info)) {
-            return GF_ERR_GATED;
-        }
-        st = posterior(ukf, s, &Pxz, &q);
-        if (st != GF_OK) {
-            return st;
-        }
-        if (info) {
-            gf_info_store(info, &q.in);
-        }
-    }
-    return GF_OK;
+    // the update's frame only now, once the checks' calls have returned
+    return update_step(ukf, meas, z, info);
 }
