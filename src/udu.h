@@ -297,7 +297,7 @@ GF_ALWAYS_INLINE gf_real gf_udu_schur(gf_real x, const gf_real *ud,
 // weights by it, an update scales it). So each sum and quotient is taken
 // in about twice gf_real's precision (gf_udu_schur; lo: scratch of
 // n (n + 1) / 2, the factors' low parts) and each factor rounded once:
-// within an ulp of the exact factors of s (docs/numerics.md). Every
+// within a few ulps of the exact factors of s (docs/numerics.md). Every
 // positive pivot is kept, however small (a direction taken as known
 // exactly because its variance is at the rounding level of the others
 // would make the filter overconfident there); one below GF_REAL_MIN is

@@ -7,6 +7,7 @@
 // cases: zero variances, rank-deficient, near-singular, indefinite, scaled
 // by 2^-60 and 2^60, asymmetric beyond the tolerance, negative variances,
 // signed zeros, infinities and NaNs in the triangle read.
+#include <float.h>
 #include <math.h>
 
 #include "gf_test.h"
@@ -397,6 +398,139 @@ static void pairs_match_ldl(void **state)
     assert_true(not_psd > DRAWS / 100u);
 }
 
+// A prior's factors as every init takes them (gf_udu_factor_n) against
+// the exact factors of the matrix given, on seeded random nearly singular
+// priors of 2 to 4 states (rows alike to 1e-3, so correlations to within
+// about 1e-6 of 1; units 2^-30 to 2^30). The exact factors are computed
+// here in long double by the same recurrences (state n - 1 first): for a
+// float build that has precision to spare on every target (53 bits or
+// more against 24), and every d_j and U_ij must be within 64 u of it,
+// relative (u = GF_REAL_EPSILON; measured: 38 u at worst, 34 of 60,000
+// beyond 2 u; a d_j is the difference of nearly equal numbers here, and
+// the plain recurrences miss by up to 2e8 u). A double build has no such
+// reference on most targets; there the factors multiplied out must give
+// the matrix within the recurrences' backward bound.
+#define FAC_NMAX 4u
+static void prior_factors_match_exact(void **state)
+{
+    (void)state;
+    gf_rng rng;
+    gf_rng_seed(&rng, 20261204u);
+    const int exact_ref =
+        LDBL_MANT_DIG >= 2 * (int)(sizeof(gf_real) == 4 ? 24 : 53) + 4;
+    const long double u = (long double)GF_REAL_EPSILON;
+    unsigned checked = 0;
+    for (unsigned t = 0; t < DRAWS / 3u; t++) {
+        const unsigned n = 2u + t % (FAC_NMAX - 1u);
+        double w[FAC_NMAX][FAC_NMAX], base[FAC_NMAX];
+        for (unsigned k = 0; k < n; k++) {
+            base[k] = gf_test_uniform(&rng, -1.0, 1.0);
+        }
+        for (unsigned i = 0; i < n; i++) {
+            const double e = pow(10.0, gf_test_uniform(&rng, -3.0, 0.0));
+            for (unsigned k = 0; k < n; k++) {
+                w[i][k] = base[k] + e * gf_test_uniform(&rng, -1.0, 1.0);
+            }
+        }
+        const double scale = ldexp(1.0, (int)(gf_rng_u32(&rng) % 61u) - 30);
+        gf_real s[FAC_NMAX * FAC_NMAX];
+        for (unsigned i = 0; i < n; i++) {
+            for (unsigned j = 0; j < n; j++) {
+                double acc = 0.0;
+                for (unsigned k = 0; k < n; k++) {
+                    acc += w[i][k] * w[j][k];
+                }
+                s[i * n + j] = (gf_real)(acc * scale);
+            }
+        }
+        for (unsigned i = 0; i < n; i++) { // exactly symmetric
+            for (unsigned j = 0; j < i; j++) {
+                s[i * n + j] = s[j * n + i];
+            }
+        }
+        // The exact factors of s, index k holding state n - 1 - k
+        long double U[FAC_NMAX][FAC_NMAX] = {{0}}, D[FAC_NMAX];
+        int pd = 1;
+        for (unsigned j = n; j-- > 0u;) {
+            const unsigned sj = n - 1u - j;
+            long double dj = (long double)s[sj * n + sj];
+            for (unsigned k = j + 1u; k < n; k++) {
+                dj -= U[j][k] * U[j][k] * D[k];
+            }
+            D[j] = dj;
+            if (!(dj > (long double)s[sj * n + sj] * 1e-9L)) {
+                pd = 0; // (too near singular for the reference to tell)
+                break;
+            }
+            for (unsigned i = 0; i < j; i++) {
+                const unsigned si = n - 1u - i;
+                long double r = (long double)s[si * n + sj];
+                for (unsigned k = j + 1u; k < n; k++) {
+                    r -= U[i][k] * U[j][k] * D[k];
+                }
+                U[i][j] = r / dj;
+            }
+        }
+        if (!pd) {
+            continue;
+        }
+        gf_real ud[GF_UD_SIZE(FAC_NMAX)], lo[GF_UD_SIZE(FAC_NMAX)];
+        unsigned char perm[sizeof(gf_real)];
+        gf_udu_factor_n(s, n, n, ud, perm, lo);
+        checked++;
+        for (unsigned j = 0; j < n; j++) {
+            assert_int_equal(perm[j], n - 1u - j);
+            if (exact_ref) {
+                const long double dj = (long double)ud[GF_UD(j, j)];
+                if (!(fabsl(dj - D[j]) <= 64 * u * D[j])) {
+                    print_error("n = %u, d_%u %.9Lg, exact %.12Lg\n", n, j, dj,
+                                D[j]);
+                    fail();
+                }
+                for (unsigned i = 0; i < j; i++) {
+                    const long double uij = (long double)ud[GF_UD(i, j)];
+                    // (an entry that cancels to near zero: to u^2 of the
+                    // terms it came from)
+                    const long double tol =
+                        64 * u * fabsl(U[i][j]) +
+                        64 * u * u *
+                            sqrtl((long double)s[(n - 1u - i) * (n + 1u)] /
+                                  D[j]);
+                    if (!(fabsl(uij - U[i][j]) <= tol)) {
+                        print_error("n = %u, U_%u%u %.9Lg, exact %.12Lg\n", n,
+                                    i, j, uij, U[i][j]);
+                        fail();
+                    }
+                }
+            }
+        }
+        if (!exact_ref) {
+            for (unsigned i = 0; i < n; i++) {
+                for (unsigned j = 0; j < n; j++) {
+                    long double acc = 0;
+                    for (unsigned k = (i > j ? i : j); k < n; k++) {
+                        const long double uik =
+                            (k == i) ? 1.0L : (long double)ud[GF_UD(i, k)];
+                        const long double ujk =
+                            (k == j) ? 1.0L : (long double)ud[GF_UD(j, k)];
+                        acc += uik * (long double)ud[GF_UD(k, k)] * ujk;
+                    }
+                    const unsigned si = n - 1u - i, sj = n - 1u - j;
+                    const long double tol = 8 * u *
+                                            sqrtl((long double)s[si * n + si] *
+                                                  (long double)s[sj * n + sj]);
+                    assert_true(fabsl(acc - (long double)s[si * n + sj]) <=
+                                tol);
+                }
+            }
+        }
+    }
+    print_message(
+        "prior factors: %u nearly singular priors checked (%s)\n", checked,
+        exact_ref ? "to 64 u of the exact factors" : "multiplied out");
+    assert_true(checked > DRAWS / 6u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -404,6 +538,7 @@ int main(void)
         cmocka_unit_test(small_edge_cases),
         cmocka_unit_test(check_psd_matches_reference),
         cmocka_unit_test(pairs_match_ldl),
+        cmocka_unit_test(prior_factors_match_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
