@@ -56,8 +56,12 @@ STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
 # Indirect calls: which functions a callback slot runs when the built-in
 # models are used.
 CALLBACKS = {
+    # EKF3's entry points call the motion model themselves; the update's
+    # measurement model is called from its step.
     "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
+    "gf_ekf3_predict_prepared": ["gf_ekf3_motion_forward_turn"],
     "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ekf3.c:ekf3_update_step": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
     # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
     # UKF3's predict from predict_point, a call of its own, its update
     # from point_image, a call of its own under -Os, inlined into

@@ -138,32 +138,52 @@ gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma)
     return GF_OK;
 }
 
-// The prediction (Table 3.3, lines 2-3) once R is factored (rf, rd):
-//   mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,
-// the covariance on its factors (gf_udu_predict); the belief is written
-// only if all is finite.
-static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
-                                   const gf_real rf[9], const gf_real rd[3],
-                                   const gf_real *u)
+// The prediction's mean (Table 3.3, line 2) and Jacobian by the callback:
+// mu_bar = g(u, mu) (heading wrapped), G = dg/dx at mu. Called from the
+// entry points, so the callback runs above the time update's frame.
+GF_ALWAYS_INLINE gf_status ekf3_motion_eval(const gf_ekf3 *ekf,
+                                            const gf_ekf3_motion *motion,
+                                            const gf_real *u, gf_vec3 *mu_bar,
+                                            gf_mat3 *G)
 {
-    gf_ekf3 nb = *ekf;
-    gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    const gf_status st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
+    // (mu_bar arrives as a copy of mu, G as the identity: ekf3.h)
+    *mu_bar = ekf->mu;
+    GF_UNROLL
+    for (unsigned i = 0; i < 3u; i++) {
+        G->m[i][0] = G->m[i][1] = G->m[i][2] = 0;
+        G->m[i][i] = 1;
+    }
+    const gf_status st = motion->g(motion->ctx, &ekf->mu, u, mu_bar, G);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    // A NaN or inf in mu_bar or G reaches the result (G_ij is a term of
-    // (G U)_ij with U_jj = 1, and of some d_j or U_ij of the result), so
-    // does an overflow: one test of the result stands for all.
-    nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
+    mu_bar->v[2] = gf_angle_wrap(mu_bar->v[2]);
+    return GF_OK;
+}
+
+// The prediction's covariance (Table 3.3, line 3) once R is factored (rf,
+// rd): Sigma_bar = G Sigma G^T + R on its factors (gf_udu_predict; g: G,
+// rows of 3); the belief (mu_bar, Sigma_bar) is written only if all is
+// finite. A NaN or inf in mu_bar or G reaches the result (G_ij is a term
+// of (G U)_ij with U_jj = 1, and of some d_j or U_ij of the result), so
+// does an overflow: one test of the result stands for all.
+static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_vec3 *mu_bar,
+                                   const gf_real *g, const gf_real rf[9],
+                                   const gf_real rd[3])
+{
+    gf_real ud[6];
     {
         gf_real w[2u * 3u * 3u], wd[2u * 3u];
-        gf_udu_predict(3u, nb.ud, nb.ud, nb.perm, G.m[0], rf, rd, w, wd);
+        gf_udu_predict(3u, ekf->ud, ud, ekf->perm, g, rf, rd, w, wd);
     }
-    if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
+    if (!gf_belief_finite(mu_bar->v, ud, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
-    *ekf = nb;
+    ekf->mu = *mu_bar;
+    GF_UNROLL
+    for (unsigned j = 0; j < 6u; j++) {
+        ekf->ud[j] = ud[j];
+    }
     return GF_OK;
 }
 
@@ -179,43 +199,45 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                                   gf_innovation *info)
 {
     const unsigned m = meas->m;
-    // z_hat and the rows of H the callback fills arrive as zeros
-    gf_vec3 zh;
     gf_mat3 H;
-    GF_UNROLL
-    for (unsigned i = 0; i < 3u; i++) {
-        zh.v[i] = 0;
-        H.m[i][0] = H.m[i][1] = H.m[i][2] = 0;
-    }
-    gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
-    if (st != GF_OK) {
-        return gf_callback_status(st);
-    }
-    // only the m rows are the callback's answer
-    gf_real f = GF_R(0.0);
-    GF_UNROLL
-    for (unsigned i = 0; i < 3u; i++) {
-        if (i < m) {
-            f = gf_nan_sum(f + zh.v[i] * GF_R(0.0), H.m[i], 3);
-        }
-    }
-    if (!gf_sum_finite(f)) {
-        return GF_ERR_NONFINITE;
-    }
     gf_innovation in;
     gf_real yw[3];
-    in.m = m;
-    // y = z - z_hat, angle residuals wrapped
-    GF_UNROLL
-    for (unsigned i = 0; i < 3u; i++) {
-        in.y[i] = 0;
-        if (i < m) {
-            in.y[i] = z->v[i] - zh.v[i];
-            if (meas->angle_mask & (1u << i)) {
-                in.y[i] = gf_angle_wrap(in.y[i]);
+    {
+        // z_hat and the rows of H the callback fills arrive as zeros
+        gf_vec3 zh;
+        GF_UNROLL
+        for (unsigned i = 0; i < 3u; i++) {
+            zh.v[i] = 0;
+            H.m[i][0] = H.m[i][1] = H.m[i][2] = 0;
+        }
+        const gf_status cst = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+        if (cst != GF_OK) {
+            return gf_callback_status(cst);
+        }
+        // only the m rows are the callback's answer
+        gf_real f = GF_R(0.0);
+        GF_UNROLL
+        for (unsigned i = 0; i < 3u; i++) {
+            if (i < m) {
+                f = gf_nan_sum(f + zh.v[i] * GF_R(0.0), H.m[i], 3);
             }
         }
-        yw[i] = in.y[i];
+        if (!gf_sum_finite(f)) {
+            return GF_ERR_NONFINITE;
+        }
+        in.m = m;
+        // y = z - z_hat, angle residuals wrapped
+        GF_UNROLL
+        for (unsigned i = 0; i < 3u; i++) {
+            in.y[i] = 0;
+            if (i < m) {
+                in.y[i] = z->v[i] - zh.v[i];
+                if (meas->angle_mask & (1u << i)) {
+                    in.y[i] = gf_angle_wrap(in.y[i]);
+                }
+            }
+            yw[i] = in.y[i];
+        }
     }
     if (m > 1u) {
         // H_w = F^-1 H, y_w = F^-1 y
@@ -225,8 +247,9 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     gf_ekf3 nb = *ekf;
     gf_real dx[3] = {0, 0, 0};
     gf_real w[3u * 3u], wd[3u];
-    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0],
-                        q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis, w, wd);
+    gf_status st =
+        gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0],
+                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis, w, wd);
     if (st != GF_OK) {
         return st;
     }
@@ -252,8 +275,14 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
         return GF_ERR_ARG;
     }
     gf_real rf[9], rd[3];
-    const gf_status st = ekf3_motion_check(motion, rf, rd);
-    return st != GF_OK ? st : ekf3_predict_step(ekf, motion, rf, rd, u);
+    gf_status st = ekf3_motion_check(motion, rf, rd);
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_vec3 mu_bar;
+    gf_mat3 G;
+    st = ekf3_motion_eval(ekf, motion, u, &mu_bar, &G);
+    return st != GF_OK ? st : ekf3_predict_step(ekf, &mu_bar, G.m[0], rf, rd);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -309,7 +338,12 @@ gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
     if (!ekf || !pm || !pm->motion.g) {
         return GF_ERR_ARG;
     }
-    return ekf3_predict_step(ekf, &pm->motion, pm->Rf, pm->Rd, u);
+    gf_vec3 mu_bar;
+    gf_mat3 G;
+    const gf_status st = ekf3_motion_eval(ekf, &pm->motion, u, &mu_bar, &G);
+    return st != GF_OK
+               ? st
+               : ekf3_predict_step(ekf, &mu_bar, G.m[0], pm->Rf, pm->Rd);
 }
 
 gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
