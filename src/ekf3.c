@@ -246,10 +246,9 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     }
     gf_ekf3 nb = *ekf;
     gf_real dx[3] = {0, 0, 0};
-    gf_real w[3u * 3u], wd[3u];
     gf_status st =
         gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0],
-                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis, w, wd);
+                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis);
     if (st != GF_OK) {
         return st;
     }

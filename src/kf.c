@@ -126,10 +126,9 @@ GF_NOINLINE gf_status kfc_correct_n(unsigned m, const gf_real *hw,
                                     const gf_real *e, gf_kf_work *work)
 {
     const unsigned n = work->b.n;
-    gf_real *w = work->w;
     return gf_udu_correct_s(n, work->b.ud, work->b.perm, m, hw, e, work->s,
-                            &work->s[GF_KF_NMAX], &work->in.nis, w,
-                            &w[GF_UDU_WD(n)], &w[GF_UDU_SV(n)], work->k);
+                            &work->s[GF_KF_NMAX], &work->in.nis,
+                            &work->w[GF_UDU_SV(n)], work->k);
 }
 
 // The correction of work->b's factors (gf_udu_correct2's arguments).

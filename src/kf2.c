@@ -152,10 +152,9 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
     }
     gf_kf2 nb = *kf;
     gf_real dx[2] = {0, 0};
-    gf_real w[2u * 2u], wd[2u];
     gf_status st =
         gf_udu_correct(2u, nb.ud, nb.perm, m, q ? q->Cw.m[0] : meas->C.m[0],
-                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis, w, wd);
+                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis);
     if (st != GF_OK) {
         return st;
     }

@@ -23,7 +23,7 @@ void gf_udu_factor3(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
 // The caller's scratch of the steps for n states (gf_real): W, n rows of
 // 2n, at 0; its weights, 2n, at GF_UDU_WD(n); the steps' vectors at
 // GF_UDU_SV(n), 7n (gf_udu_correct_s's sv; gf_udu_predict_s's v takes
-// 2n of them): 2 n^2 + 9 n in all. A correction also takes 2n unsigneds
+// 2n of them): 2 n^2 + 9 n in all. A correction also takes n unsigneds
 // (sk).
 #define GF_UDU_WD(n) ((size_t)(n)*2u * (size_t)(n))
 #define GF_UDU_SV(n) ((size_t)(n)*2u * ((size_t)(n) + 1u))
@@ -65,11 +65,9 @@ gf_status gf_udu_correct4(unsigned m, const gf_real *hw, const gf_real *e,
     gf_status gf_udu_correct##N(unsigned m, const gf_real *hw,                 \
                                 const gf_real *e, gf_kf_work *work)            \
     {                                                                          \
-        gf_real *w = work->w;                                                  \
         return gf_udu_correct_s((N##u), work->b.ud, work->b.perm, m, hw, e,    \
                                 work->s, &work->s[GF_KF_NMAX], &work->in.nis,  \
-                                w, &w[GF_UDU_WD(N##u)], &w[GF_UDU_SV(N##u)],   \
-                                work->k);                                      \
+                                &work->w[GF_UDU_SV(N##u)], work->k);           \
     }
 
 #endif

@@ -16,8 +16,9 @@
 // last index, whose d is its whole variance), and loses digits in the
 // entries of a state it measures far more precisely than it knew it
 // anywhere else: before a correction, the state the most informative
-// quantity measures is made the root (gf_udu_reorder, a Gram-Schmidt pass
-// like the prediction's), which the next corrections then find in place.
+// quantity measures is made the root (moved to the last index by
+// gf_udu_swap, one adjacent pair at a time), which the next corrections
+// then find in place.
 // The accessor (gf_udu_to_cov) returns Sigma exactly symmetric.
 //
 // Packed storage, n (n + 1) / 2 numbers, column by column: U_ij (i < j)
@@ -551,42 +552,48 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
     return best;
 }
 
-// Makes state `root` the root of the factors (the last index), the other
-// states in their order: W's row i is the old factor's row of the state
-// newperm[i], the weights are D, then gf_mwgs. The same Sigma, new
-// factors. Scratch, caller-owned: w n x n, wd, cs (gf_mwgs's c) and np
-// n each.
-GF_ALWAYS_INLINE void gf_udu_reorder(unsigned n, gf_real *ud,
-                                     unsigned char *perm, unsigned root,
-                                     gf_real *w, gf_real *wd, gf_real *cs,
-                                     unsigned *np)
+// Swaps the factors' indices k and k + 1: the same Sigma, with the state
+// perm[k + 1] at index k and perm[k] at k + 1. Only the two columns change
+// (the rows of the later columns swap). With a = U_k(k+1),
+//   d'_(k+1) = d_k + a^2 d_(k+1),  r = d_(k+1) / d'_(k+1),
+//   U'_k(k+1) = a r,  d'_k = d_k r,
+//   U'_ik = U_i(k+1) - a U_ik,  U'_i(k+1) = (d_k / d'_(k+1)) U_ik + a r U_i(k+1)
+// (i < k): the two columns' d u u^T terms refactored, with no
+// subtraction of variances. A d' below GF_REAL_MIN is zero, with its
+// column (as gf_mwgs's): if d'_(k+1) is, d_k and a^2 d_(k+1) are zero, and
+// d'_k = d_(k+1).
+GF_ALWAYS_INLINE void gf_udu_swap(unsigned n, unsigned k, gf_real *ud,
+                                  unsigned char *perm)
 {
-    unsigned t = 0, at = 0;
-    for (unsigned k = 0; k < n; k++) {
-        if (perm[k] == root) {
-            at = k;
-        } else {
-            np[t] = perm[k];
-            t++;
-        }
+    const unsigned ok = GF_UD(0u, k), ol = GF_UD(0u, k + 1u);
+    const gf_real a = ud[ol + k], dk = ud[ok + k], dl = ud[ol + k + 1u];
+    const gf_real dq = dk + a * a * dl;
+    gf_real r = 0, sk = 0, dp = dl;
+    if (dq >= GF_REAL_MIN) {
+        const gf_real inv = GF_R(1.0) / dq;
+        r = dl * inv;
+        sk = dk * inv;
+        dp = dk * r;
     }
-    np[n - 1u] = root;
-    for (unsigned i = 0; i < n; i++) {
-        // the old index of the state np[i]
-        const unsigned o = (i == n - 1u) ? at : (i < at ? i : i + 1u);
-        for (unsigned c = 0; c < n; c++) {
-            w[i * n + c] = (c == o)  ? GF_R(1.0)
-                           : (c > o) ? ud[GF_UD(o, c)]
-                                     : GF_R(0.0);
-        }
+    const gf_real beta = a * r;
+    const int zk = !(dp >= GF_REAL_MIN);
+    for (unsigned i = 0; i < k; i++) {
+        const gf_real uk = ud[ok + i], ul = ud[ol + i];
+        ud[ok + i] = zk ? GF_R(0.0) : ul - a * uk;
+        ud[ol + i] = sk * uk + beta * ul;
     }
-    for (unsigned c = 0; c < n; c++) {
-        wd[c] = ud[GF_UD(c, c)];
+    ud[ok + k] = zk ? GF_R(0.0) : dp;
+    ud[ol + k] = beta;
+    ud[ol + k + 1u] = (dq >= GF_REAL_MIN) ? dq : GF_R(0.0);
+    for (unsigned j = k + 2u; j < n; j++) {
+        const unsigned oj = GF_UD(0u, j);
+        const gf_real t = ud[oj + k];
+        ud[oj + k] = ud[oj + k + 1u];
+        ud[oj + k + 1u] = t;
     }
-    gf_mwgs(n, n, w, wd, ud, cs);
-    for (unsigned k = 0; k < n; k++) {
-        perm[k] = (unsigned char)np[k];
-    }
+    const unsigned char t = perm[k];
+    perm[k] = perm[k + 1u];
+    perm[k + 1u] = t;
 }
 
 // One scalar correction (Bierman's update), in place on ud, for the
@@ -734,22 +741,20 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // sum_s h_s^2 Sigma_ss / e_i first (a ratio of variances: the same in any
 // units; e_i = 0, an exact quantity, before all), one after another, each
 // made the root first if it tells more than GF_UDU_ROOT_TELL (its main
-// state, gf_udu_main_state, at the factors' last index; gf_udu_reorder),
+// state, gf_udu_main_state, moved to the factors' last index by
+// gf_udu_swap),
 // each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
 // scalar NIS, which is y^T S^-1 y. Statuses as gf_udu_update. Scratch,
-// caller-owned: w n x n, wd (gf_udu_reorder's); the vectors of n: sd
-// (Sigma's diagonal in the factors' order), tell, v (each quantity's share
-// and how much it tells), dp (P^T dx), hp (P^T h_i), f and b
-// (gf_udu_update's), c (gf_mwgs's in a reordering; it may share f's
-// storage), rank and np (unsigned).
+// caller-owned, vectors of n: sd (Sigma's diagonal in the factors'
+// order), tell, v (each quantity's share and how much it tells), dp
+// (P^T dx), hp (P^T h_i), f and b (gf_udu_update's), rank (unsigned).
 GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
     unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
-    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *w,
-    gf_real *wd, gf_real *sd, gf_real *tell, gf_real *v, gf_real *dp,
-    gf_real *hp, gf_real *f, gf_real *b, gf_real *c, unsigned *rank,
-    unsigned *np)
+    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *sd,
+    gf_real *tell, gf_real *v, gf_real *dp, gf_real *hp, gf_real *f, gf_real *b,
+    unsigned *rank)
 {
     // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
     // (one quantity needs no ranking)
@@ -808,21 +813,20 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
                 vi = v[i]; // (as ranked, before the first update)
             }
             if (vi > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
-                // dp follows its state: main's entry last, the others
-                // moved up, as gf_udu_reorder moves the states (by swaps:
-                // gcc makes a plain shift a memmove call)
+                // main's index moved last one swap at a time, dp's
+                // entries with their states
                 unsigned at = 0;
                 for (unsigned j = 0; j < n; j++) {
                     if (perm[j] == main) {
                         at = j;
                     }
                 }
-                for (unsigned j = at; j + 1u < n; j++) {
-                    const gf_real dj = dp[j];
-                    dp[j] = dp[j + 1u];
-                    dp[j + 1u] = dj;
+                for (unsigned k = at; k + 1u < n; k++) {
+                    const gf_real dk = dp[k];
+                    dp[k] = dp[k + 1u];
+                    dp[k + 1u] = dk;
+                    gf_udu_swap(n, k, ud, perm);
                 }
-                gf_udu_reorder(n, ud, perm, main, w, wd, c, np);
             }
         }
         gf_real yi = yw[i];
@@ -843,35 +847,35 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
     return GF_OK;
 }
 
-// gf_udu_correct_v on the caller's scratch: w and wd as gf_udu_predict_s's
-// (or n x n and n), sv 7n entries, sk 2n.
-GF_ALWAYS_INLINE gf_status gf_udu_correct_s(
-    unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
-    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *w,
-    gf_real *wd, gf_real *sv, unsigned *sk)
+// gf_udu_correct_v on the caller's scratch: sv 7n entries, sk n.
+GF_ALWAYS_INLINE gf_status gf_udu_correct_s(unsigned n, gf_real *ud,
+                                            unsigned char *perm, unsigned m,
+                                            const gf_real *hw, const gf_real *e,
+                                            const gf_real *yw, gf_real *dx,
+                                            gf_real *nis, gf_real *sv,
+                                            unsigned *sk)
 {
-    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, sv,
-                            &sv[n], &sv[2u * n], &sv[3u * n], &sv[4u * n],
-                            &sv[5u * n], &sv[6u * n], &sv[5u * n], sk, &sk[n]);
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, sv, &sv[n],
+                            &sv[2u * n], &sv[3u * n], &sv[4u * n], &sv[5u * n],
+                            &sv[6u * n], sk);
 }
 
 // gf_udu_correct_v with its scratch on its own stack, an array per vector
-// (n <= GF_UDU_NMAX; w n x n and wd n from the caller).
+// (n <= GF_UDU_NMAX).
 GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           unsigned char *perm, unsigned m,
                                           const gf_real *hw, const gf_real *e,
                                           const gf_real *yw, gf_real *dx,
-                                          gf_real *nis, gf_real *w, gf_real *wd)
+                                          gf_real *nis)
 {
     gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
     gf_real dp[GF_UDU_NMAX], hp[GF_UDU_NMAX];
     // (set, for gcc's analyzer, which cannot follow f and b through the
     // loops that write them; the stores are dead in an optimised build)
     gf_real f[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
-    gf_real c[GF_UDU_NMAX];
-    unsigned rank[GF_UDU_NMAX], np[GF_UDU_NMAX];
-    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, w, wd, sd, tell,
-                            v, dp, hp, f, b, c, rank, np);
+    unsigned rank[GF_UDU_NMAX];
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, sd, tell, v, dp,
+                            hp, f, b, rank);
 }
 
 #endif
