@@ -6,7 +6,9 @@
 // against gf_cov_factor_n with scratch. On seeded random matrices and edge
 // cases: zero variances, rank-deficient, near-singular, indefinite, scaled
 // by 2^-60 and 2^60, asymmetric beyond the tolerance, negative variances,
-// signed zeros, infinities and NaNs in the triangle read.
+// signed zeros, infinities and NaNs in the triangle read. Also the
+// factorisation of a prior (gf_udu_factor_n) against exact factors, and a
+// swap of two indices of the factors (gf_udu_swap) keeping Sigma.
 #include <float.h>
 #include <math.h>
 
@@ -531,6 +533,106 @@ static void prior_factors_match_exact(void **state)
     assert_true(checked > DRAWS / 6u);
 }
 
+// Sigma = P U D U^T P^T of packed factors, in long double: entry (perm[i],
+// perm[j]) = sum_(k >= max(i, j)) U_ik d_k U_jk; abs gets the same sum of
+// absolute terms (the scale of its rounding).
+static void factors_to_sigma(unsigned n, const gf_real *ud,
+                             const unsigned char *perm, long double *sig,
+                             long double *abs)
+{
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            long double acc = 0, mag = 0;
+            for (unsigned k = (i > j ? i : j); k < n; k++) {
+                const long double uik =
+                    (k == i) ? 1.0L : (long double)ud[GF_UD(i, k)];
+                const long double ujk =
+                    (k == j) ? 1.0L : (long double)ud[GF_UD(j, k)];
+                const long double t = uik * (long double)ud[GF_UD(k, k)] * ujk;
+                acc += t;
+                mag += fabsl(t);
+            }
+            sig[perm[i] * n + perm[j]] = acc;
+            abs[perm[i] * n + perm[j]] = mag;
+        }
+    }
+}
+
+// gf_udu_swap, which moves a measured state to the root of the factors:
+// on seeded random factors of 2 to 5 states (d_j over 2^-40 to 2^40, some
+// zero with their column, U_ij up to 10^3, some zero), every swap keeps
+// Sigma to a few u of its terms, before and after; the two states trade
+// places in perm; every d stays >= 0, and a d below GF_REAL_MIN is zero
+// with its column of U.
+#define SWAP_NMAX 5u
+static void swap_keeps_sigma(void **state)
+{
+    (void)state;
+    gf_rng rng;
+    gf_rng_seed(&rng, 20261202u);
+    const long double u = (long double)GF_REAL_EPSILON;
+    unsigned swaps = 0, zero_d = 0;
+    long double worst = 0;
+    for (unsigned t = 0; t < DRAWS / 2u; t++) {
+        const unsigned n = 2u + t % (SWAP_NMAX - 1u);
+        gf_real ud[GF_UD_SIZE(SWAP_NMAX)];
+        unsigned char perm[SWAP_NMAX];
+        for (unsigned j = 0; j < n; j++) {
+            perm[j] = (unsigned char)(n - 1u - j);
+            const int zero = gf_rng_u32(&rng) % 5u == 0u;
+            ud[GF_UD(j, j)] =
+                zero ? GF_R(0.0)
+                     : (gf_real)ldexp(gf_test_uniform(&rng, 0.5, 1.0),
+                                      (int)(gf_rng_u32(&rng) % 81u) - 40);
+            for (unsigned i = 0; i < j; i++) {
+                const int zu = zero || gf_rng_u32(&rng) % 4u == 0u;
+                ud[GF_UD(i, j)] =
+                    zu ? GF_R(0.0)
+                       : (gf_real)(gf_test_uniform(&rng, -1.0, 1.0) *
+                                   pow(10.0, gf_test_uniform(&rng, -3.0, 3.0)));
+            }
+        }
+        long double before[SWAP_NMAX * SWAP_NMAX], after[SWAP_NMAX * SWAP_NMAX];
+        long double mb[SWAP_NMAX * SWAP_NMAX], ma[SWAP_NMAX * SWAP_NMAX];
+        factors_to_sigma(n, ud, perm, before, mb);
+        const unsigned k = gf_rng_u32(&rng) % (n - 1u);
+        const unsigned char pk = perm[k], pl = perm[k + 1u];
+        gf_udu_swap(n, k, ud, perm);
+        swaps++;
+        assert_int_equal(perm[k], pl);
+        assert_int_equal(perm[k + 1u], pk);
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real dj = ud[GF_UD(j, j)];
+            assert_true(dj >= 0);
+            if (!(dj >= GF_REAL_MIN)) {
+                assert_true(dj == 0);
+                zero_d++;
+                for (unsigned i = 0; i < j; i++) {
+                    assert_true(ud[GF_UD(i, j)] == 0);
+                }
+            }
+        }
+        factors_to_sigma(n, ud, perm, after, ma);
+        for (unsigned e = 0; e < n * n; e++) {
+            const long double err = fabsl(after[e] - before[e]);
+            const long double scale = mb[e] + ma[e];
+            if (!(err <= 8 * u * scale + (long double)GF_REAL_MIN)) {
+                print_error("n = %u, swap %u, entry %u: %.12Lg, was %.12Lg "
+                            "(terms %.3Lg)\n",
+                            n, k, e, after[e], before[e], scale);
+                fail();
+            }
+            if (scale > 0 && err / scale > worst) {
+                worst = err / scale;
+            }
+        }
+    }
+    print_message("factor swaps: %u checked (%u zero variances), worst "
+                  "error %.2Lg u of Sigma's terms\n",
+                  swaps, zero_d, worst / u);
+    assert_true(zero_d > DRAWS / 20u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -539,6 +641,7 @@ int main(void)
         cmocka_unit_test(check_psd_matches_reference),
         cmocka_unit_test(pairs_match_ldl),
         cmocka_unit_test(prior_factors_match_exact),
+        cmocka_unit_test(swap_keeps_sigma),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
