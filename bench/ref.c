@@ -834,20 +834,16 @@ REF_INLINE void info_store(gf_innovation *info, const gf_innovation *in)
     }
 }
 
-// x <- U_Q^-1 x for Q = U_Q D_Q U_Q^T (qn, packed as a belief's
-// factors): the m quantities' rows of x (rows of `cols`: each quantity's
-// row of H, or its y) by back substitution from the last, row_i -=
-// sum_(k>i) U_ik row_k. The whitened quantities' noises are independent,
-// d_i.
-REF_INLINE void whiten(gf_real *w, unsigned m, unsigned cols, const gf_real *qn)
+// Whitening, one step of x <- U_Q^-1 x (Q = U_Q D_Q U_Q^T, qn): the
+// quantity i of an EKF3 update, its row of H and its y, less u = U_ik
+// times quantity k's.
+REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
+                     unsigned k)
 {
-    for (unsigned i = m - 1u; i-- > 0u;) {
-        for (unsigned k = i + 1u; k < m; k++) {
-            for (unsigned c = 0; c < cols; c++) {
-                w[i * cols + c] -= qn[UD(i, k)] * w[k * cols + c];
-            }
-        }
+    for (unsigned c = 0; c < 3u; c++) {
+        H->m[i][c] -= u * H->m[k][c];
     }
+    yw[i] -= u * yw[k];
 }
 
 // 0 (finite) or NaN: every number of a 2-state belief and the variance
@@ -1155,9 +1151,14 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    if (m > 1u) { // H_w = U_Q^-1 H, y_w = U_Q^-1 y
-        whiten(H.m[0], m, 3u, qn);
-        whiten(yw, m, 1u, qn);
+    // H_w = U_Q^-1 H, y_w = U_Q^-1 y, by back substitution from the last
+    // quantity: the whitened quantities' noises are independent, d_i
+    if (m > 2u) {
+        qsub(&H, yw, 1u, qn[4], 2u);
+        qsub(&H, yw, 0u, qn[3], 2u);
+    }
+    if (m > 1u) {
+        qsub(&H, yw, 0u, qn[1], 1u);
     }
     ref_udu3 nb = *ekf;
     gf_real *ud = nb.ud;
