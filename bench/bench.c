@@ -25,8 +25,8 @@
 // PART is step, predict, update or ref (the step done by the no-checks
 // reference of bench/ref.c), or the step done by the sound floor of
 // bench/ref.c on U D U^T: udu (no checks), uduc (the plain API's checks)
-// or uducp (the prepared path's), for w1, w2, w2m2 and w2m3 (uduc and
-// uducp: w1 and w2 only). The inputs (measurements,
+// or uducp (the prepared path's), for w1, w2, w2m2 and w2m3. The inputs
+// (measurements,
 // turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
 // replays those TAB steps from the same initial belief again and again.
@@ -275,7 +275,6 @@ NOINLINE static double bench_loop_ekf3_ref(unsigned long n)
 // The same step on the sound floor of bench/ref.c (U D U^T by hand):
 // unchecked (udu: R's factors made once), with the plain API's checks
 // (uduc) and with the prepared path's (uducp: the models prepared once).
-// W2's uduc and uducp take m = 1 only.
 static ref_noise2 udu_rn2;
 static ref_noise3 udu_rn3;
 static ref_kf2_pmodel udu_pm2;
@@ -293,9 +292,8 @@ static int udu_setup(int ekf3)
                ref_uducp2_prepare_meas(&udu_pq2, &wl_w1_meas) != GF_OK;
     }
     udu_rn3 = ref_noise3_from(&wl_w2_motion.R);
-    return wl_w2_meas.m == 1u &&
-           (ref_uducp3_prepare_motion(&udu_pm3, &wl_w2_motion) != GF_OK ||
-            ref_uducp3_prepare_meas(&udu_pq3, &wl_w2_meas) != GF_OK);
+    return ref_uducp3_prepare_motion(&udu_pm3, &wl_w2_motion) != GF_OK ||
+           ref_uducp3_prepare_meas(&udu_pq3, &wl_w2_meas) != GF_OK;
 }
 
 // One step of W1 on floor v (0 udu, 1 uduc, 2 uducp) from step j's inputs.
@@ -558,10 +556,8 @@ int main(int argc, char **argv)
             p = k;
         }
     }
-    // The sound floors run the workload's own models (not w1p, w2p, w2c);
-    // the checked ones an update of m = 1.
-    if (!w || p < 0 ||
-        (p >= 4 && (w->prepared || w->user || (p > 4 && w->m != 1u)))) {
+    // The sound floors run the workload's own models (not w1p, w2p, w2c).
+    if (!w || p < 0 || (p >= 4 && (w->prepared || w->user))) {
         return usage();
     }
     if (strcmp(mode, "floor") == 0) {

@@ -204,17 +204,30 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 //   uduc  the checks the plain API promises (kf2.h, ekf3.h), each as cheap
 //         as a hand-written step can make it: every input finite (a sum of
 //         x * 0, NaN if one x is not), R judged and factored in closed
-//         form at every call, Q >= 0, the gate >= 0, s > 0 (or the
-//         exact-quantity rule), the NIS finite, the gate, the result
-//         finite (mu, U, D and the variances they give); the work done on
-//         locals and written to the belief only on success.
+//         form at every call, Q's m x m block judged and factored the same
+//         way (m = 1: q >= 0), the gate >= 0, s > 0 (or the exact-quantity
+//         rule), the NIS finite, the gate, the result finite (mu, U, D and
+//         the variances they give); the work done on locals and written to
+//         the belief only on success. The m quantities of an update are
+//         whitened by Q's factors and taken one Bierman update each, in
+//         their own order (the library ranks them, most informative
+//         first, and may reorder the factors before one).
 // The library's own guards (src/udu.h) come with uduc: a d_j or an
 // alpha_j below GF_REAL_MIN is zero, not divided by.
 
 #if defined(__GNUC__)
 #define REF_INLINE static inline __attribute__((always_inline))
+#define REF_NOINLINE __attribute__((noinline))
 #else
 #define REF_INLINE static inline
+#define REF_NOINLINE
+#endif
+// A loop of constant count written out (gcc would make a zeroing loop a
+// memset call, far slower on newlib-nano than its stores).
+#if defined(__GNUC__) && !defined(__clang__)
+#define REF_UNROLL _Pragma("GCC unroll 3")
+#else
+#define REF_UNROLL
 #endif
 
 // Packed factors: U_ij (i < j) and d_j, as src/udu.h packs them.
@@ -687,11 +700,14 @@ REF_INLINE int sym_ok(gf_real x, gf_real y)
 // state: e1 = r11, f = r01 / r11, e0 = r00 - f r01 = r00 (1 - rho^2),
 // indefinite below -GF_PD_RTOL r00, zero up to GF_PD_RTOL r00 (the
 // library's pair rule: the same quantity in the correlation form,
-// whichever state is the pivot); r11 = 0 needs r01 = 0.
-REF_INLINE gf_status noise2(const gf_mat2 *R, gf_real z, gf_real rn[3])
+// whichever state is the pivot); r11 = 0 needs r01 = 0. R: rows of
+// `stride` (2, or 3 for the leading block of a 3 x 3 Q); z: 0 times the
+// caller's other numbers, tested with R's.
+REF_INLINE gf_status noise2(const gf_real *R, unsigned stride, gf_real z,
+                            gf_real rn[3])
 {
-    const gf_real r00 = R->m[0][0], r01 = R->m[0][1];
-    const gf_real r10 = R->m[1][0], r11 = R->m[1][1];
+    const gf_real r00 = R[0], r01 = R[1];
+    const gf_real r10 = R[stride], r11 = R[stride + 1u];
     if (!(z + Z(r00) + Z(r01) + Z(r10) + Z(r11) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -725,18 +741,18 @@ REF_INLINE gf_status noise2(const gf_mat2 *R, gf_real z, gf_real rn[3])
 // sides widened by GF_PD_RTOL times their variance, as gf_ldl's).
 // Mathematically the library's verdict; its pivot order can tip a case
 // within the tolerance the other way.
-REF_INLINE gf_status noise3(const gf_mat3 *R, gf_real rn[6])
+// R: rows of 3.
+REF_INLINE gf_status noise3(const gf_real *R, gf_real rn[6])
 {
-    const gf_real(*r)[3] = R->m;
-    const gf_real r00 = r[0][0], r01 = r[0][1], r02 = r[0][2];
-    const gf_real r11 = r[1][1], r12 = r[1][2], r22 = r[2][2];
-    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(r[1][0]) + Z(r11) + Z(r12) +
-                      Z(r[2][0]) + Z(r[2][1]) + Z(r22);
+    const gf_real r00 = R[0], r01 = R[1], r02 = R[2];
+    const gf_real r11 = R[4], r12 = R[5], r22 = R[8];
+    const gf_real z = Z(r00) + Z(r01) + Z(r02) + Z(R[3]) + Z(r11) + Z(r12) +
+                      Z(R[6]) + Z(R[7]) + Z(r22);
     if (!(z < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    if (!sym_ok(r01, r[1][0]) || !sym_ok(r02, r[2][0]) ||
-        !sym_ok(r12, r[2][1]) || r00 < 0 || r11 < 0 || r22 < 0) {
+    if (!sym_ok(r01, R[3]) || !sym_ok(r02, R[6]) || !sym_ok(r12, R[7]) ||
+        r00 < 0 || r11 < 0 || r22 < 0) {
         return GF_ERR_NOT_PSD;
     }
     rn[0] = r00;
@@ -782,6 +798,20 @@ REF_INLINE gf_status noise3(const gf_mat3 *R, gf_real rn[6])
     return GF_OK;
 }
 
+// noise2 and noise3 once more, out of line, for what no workload's step
+// runs: a prior (init) and the Q of m > 1 quantities (the updates). The
+// predictions, measured per step, inline their own.
+static REF_NOINLINE gf_status noise2_at(const gf_real *R, unsigned stride,
+                                        gf_real rn[3])
+{
+    return noise2(R, stride, GF_R(0.0), rn);
+}
+
+static REF_NOINLINE gf_status noise3_at(const gf_real *R, gf_real rn[6])
+{
+    return noise3(R, rn);
+}
+
 // A model callback's status, as the library passes it on: an unknown one,
 // or GF_ERR_GATED, is GF_ERR_MODEL.
 static gf_status callback_status(gf_status st)
@@ -791,16 +821,29 @@ static gf_status callback_status(gf_status st)
                : st;
 }
 
-// The innovation of a scalar update, as the library stores it.
-REF_INLINE void info_store(gf_innovation *info, gf_real y, gf_real nis)
+// *info = *in field by field (if info is not NULL), as the library
+// stores it.
+REF_INLINE void info_store(gf_innovation *info, const gf_innovation *in)
 {
     if (info) {
-        info->m = 1;
-        info->y[0] = y;
-        info->y[1] = 0;
-        info->y[2] = 0;
-        info->nis = nis;
+        info->m = in->m;
+        info->y[0] = in->y[0];
+        info->y[1] = in->y[1];
+        info->y[2] = in->y[2];
+        info->nis = in->nis;
     }
+}
+
+// Whitening, one step of x <- U_Q^-1 x (Q = U_Q D_Q U_Q^T, qn): the
+// quantity i of an EKF3 update, its row of H and its y, less u = U_ik
+// times quantity k's.
+REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
+                     unsigned k)
+{
+    for (unsigned c = 0; c < 3u; c++) {
+        H->m[i][c] -= u * H->m[k][c];
+    }
+    yw[i] -= u * yw[k];
 }
 
 // 0 (finite) or NaN: every number of a 2-state belief and the variance
@@ -855,15 +898,21 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
     if (u) {
         z += Z(u->v[0]) + Z(u->v[1]);
     }
+    if (!(z < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
     gf_real rn[3];
-    const gf_status st = noise2(&model->R, z, rn);
+    const gf_status st = noise2_at(model->R.m[0], 2u, rn);
     return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
 }
 
 // The end of a measurement model's checks, once f holds 0 times every
-// number checked before: those finite, gate >= 0, Q (q, one quantity)
-// finite and >= 0, in the order of the status rules.
-REF_INLINE gf_status meas_tail(gf_real f, gf_real gate, gf_real q)
+// number checked before: those finite, gate >= 0, then (m = 1) Q's one
+// entry q finite and >= 0, in the order of the status rules. qn[0] = q:
+// one quantity's Q is its own factorisation. For m > 1 Q's verdict is the
+// caller's (noise2_at, noise3_at), after GF_OK here.
+REF_INLINE gf_status meas_tail(gf_real f, gf_real gate, gf_real q, unsigned m,
+                               gf_real *qn)
 {
     if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
@@ -871,68 +920,111 @@ REF_INLINE gf_status meas_tail(gf_real f, gf_real gate, gf_real q)
     if (gate < 0) {
         return GF_ERR_ARG;
     }
+    qn[0] = q;
+    if (m > 1u) {
+        return GF_OK;
+    }
     if (!(Z(q) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
     return q < 0 ? GF_ERR_NOT_PSD : GF_OK;
 }
 
-// The checks of a KF2 measurement model of m = 1 (z too, if not NULL), in
-// the order of gf_kf2_update's statuses: C's row, c, z and the gate
-// finite; gate >= 0; Q finite and >= 0.
-REF_INLINE gf_status meas2_check(const gf_kf2_meas *meas, const gf_vec2 *z)
+// The checks of a KF2 measurement model of m = 1 or 2 (z too, if not
+// NULL), in the order of gf_kf2_update's statuses: C's m rows, c, z and
+// the gate finite; gate >= 0; Q's verdict (m x m), its factors into qn.
+REF_INLINE gf_status meas2_check(const gf_kf2_meas *meas, const gf_vec2 *z,
+                                 gf_real qn[3])
 {
-    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    gf_real f =
-        Z(gate) + Z(meas->C.m[0][0]) + Z(meas->C.m[0][1]) + Z(meas->c.v[0]);
-    if (z) {
-        f += Z(z->v[0]);
+    const unsigned m = meas->m;
+    const gf_real gate = meas->gate;
+    gf_real f = Z(gate);
+    for (unsigned i = 0; i < m; i++) {
+        f += Z(meas->C.m[i][0]) + Z(meas->C.m[i][1]) + Z(meas->c.v[i]);
+        if (z) {
+            f += Z(z->v[i]);
+        }
     }
-    return meas_tail(f, gate, q);
+    const gf_status st = meas_tail(f, gate, meas->Q.m[0][0], m, qn);
+    return (st != GF_OK || m == 1u) ? st : noise2_at(meas->Q.m[0], 2u, qn);
 }
 
-// The correction once the model and z are checked: y = z - c - C mu_bar,
-// Bierman's update on a copy, the exact-quantity rule, s and the NIS
-// finite, the gate, the result finite, then the copy written back.
+// The correction once the model and z are checked and Q factored (qn):
+//   y = z - c - C mu_bar,  [C_w | y_w] = U_Q^-1 [C | y],
+// then Bierman's update on a copy for each whitened quantity i (noise
+// d_i), its innovation at the mean the earlier ones gave,
+// y_i = y_w,i - C_w,i dx; each with the exact-quantity rule and s finite;
+// the NIS (their sum) finite, the gate on it, the result finite, then the
+// copy written back.
 REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
-                                       const gf_vec2 *z, gf_innovation *info)
+                                       const gf_real qn[3], const gf_vec2 *z,
+                                       gf_innovation *info)
 {
-    const gf_real c0 = meas->C.m[0][0], c1 = meas->C.m[0][1];
-    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
-    // y = z - c - C mu_bar
+    const unsigned m = meas->m;
+    const gf_real gate = meas->gate;
     const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
-    const gf_real y = z->v[0] - meas->c.v[0] - (c0 * m0 + c1 * m1);
+    const gf_real(*C)[2] = meas->C.m;
+    gf_innovation in;
+    gf_real w[2][3]; // per quantity: C's row, y
+    // y = z - c - C mu_bar
+    in.m = m;
+    in.y[0] = z->v[0] - meas->c.v[0] - (C[0][0] * m0 + C[0][1] * m1);
+    in.y[1] = 0;
+    in.y[2] = 0;
+    w[0][0] = C[0][0];
+    w[0][1] = C[0][1];
+    w[0][2] = in.y[0];
+    if (m > 1u) {
+        in.y[1] = z->v[1] - meas->c.v[1] - (C[1][0] * m0 + C[1][1] * m1);
+        w[1][0] = C[1][0];
+        w[1][1] = C[1][1];
+        w[1][2] = in.y[1];
+        // [C_w | y_w] = U_Q^-1 [C | y]: row 0 -= U_01 row 1
+        w[0][0] -= qn[1] * C[1][0];
+        w[0][1] -= qn[1] * C[1][1];
+        w[0][2] -= qn[1] * in.y[1];
+    }
     ref_udu2 nb = *kf;
     gf_real *ud = nb.ud;
-    // An exact quantity (q = 0): s must be positive relative to its terms
-    // before cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2
-    gf_real scale = 0;
-    if (!(q > 0)) {
-        const gf_real t1 = GF_FABS(c1) + GF_FABS(ud[1] * c0);
-        scale = ud[0] * c0 * c0 + ud[2] * t1 * t1;
+    gf_real dx0 = 0, dx1 = 0;
+    in.nis = 0;
+    for (unsigned i = 0; i < m; i++) {
+        const gf_real c0 = w[i][0], c1 = w[i][1], q = qn[2u * i]; // d_i
+        const gf_real y = w[i][2] - (c0 * dx0 + c1 * dx1);
+        // An exact quantity (q = 0): s must be positive relative to its
+        // terms before cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij
+        // h_i|)^2
+        gf_real scale = 0;
+        if (!(q > 0)) {
+            const gf_real t1 = GF_FABS(c1) + GF_FABS(ud[1] * c0);
+            scale = ud[0] * c0 * c0 + ud[2] * t1 * t1;
+        }
+        gf_real b[2], inv;
+        const gf_real s = bierman2(ud, c0, c1, q, b, &inv, 1);
+        if (!GF_ISFINITE(s)) {
+            return GF_ERR_NONFINITE;
+        }
+        if (!(q > 0) && !(s > GF_PD_RTOL * GF_R(2.0) * scale)) {
+            return GF_ERR_SINGULAR;
+        }
+        const gf_real k = y * inv;
+        in.nis += y * k;
+        dx0 += b[0] * k;
+        dx1 += b[1] * k;
     }
-    gf_real b[2], inv;
-    const gf_real s = bierman2(ud, c0, c1, q, b, &inv, 1);
-    if (!GF_ISFINITE(s)) {
+    if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(q > 0) && !(s > GF_PD_RTOL * GF_R(2.0) * scale)) {
-        return GF_ERR_SINGULAR;
-    }
-    const gf_real k = y * inv, nis = y * k;
-    if (!GF_ISFINITE(nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gate > 0 && nis > gate) {
-        info_store(info, y, nis);
+    if (gate > 0 && in.nis > gate) {
+        info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[0] = m0 + b[0] * k;
-    nb.mu.v[1] = m1 + b[1] * k;
+    nb.mu.v[0] = m0 + dx0;
+    nb.mu.v[1] = m1 + dx1;
     if (!(belief2_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    info_store(info, y, nis);
+    info_store(info, &in);
     *kf = nb;
     return GF_OK;
 }
@@ -940,11 +1032,12 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
 gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
                            const gf_vec2 *z, gf_innovation *info)
 {
-    if (!kf || !meas || !z || meas->m != 1u) {
-        return GF_ERR_ARG; // (m = 2, which the library takes, is not here)
+    if (!kf || !meas || !z || meas->m - 1u > 1u) {
+        return GF_ERR_ARG;
     }
-    const gf_status st = meas2_check(meas, z);
-    return st != GF_OK ? st : uduc2_update_step(kf, meas, z, info);
+    gf_real qn[3];
+    const gf_status st = meas2_check(meas, z, qn);
+    return st != GF_OK ? st : uduc2_update_step(kf, meas, qn, z, info);
 }
 
 // 0 (finite) or NaN: every number of a 3-state belief and the variances
@@ -987,82 +1080,129 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
         return GF_ERR_ARG;
     }
     gf_real rn[6];
-    const gf_status st = noise3(&motion->R, rn);
+    const gf_status st = noise3_at(motion->R.m[0], rn);
     return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u);
 }
 
-// The checks of an EKF3 measurement model of m = 1 before its callback
-// (z too, if not NULL), in the order of gf_ekf3_update's statuses: z and
-// the gate finite; gate >= 0; Q finite and >= 0.
-REF_INLINE gf_status meas3_check(const gf_ekf3_meas *meas, const gf_vec3 *z)
+// The checks of an EKF3 measurement model of m = 1 to 3 before its
+// callback (z too, if not NULL), in the order of gf_ekf3_update's
+// statuses: z's m entries and the gate finite; gate >= 0; Q's verdict (its
+// leading m x m block), its factors into qn.
+REF_INLINE gf_status meas3_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
+                                 gf_real qn[6])
 {
-    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    const unsigned m = meas->m;
+    const gf_real gate = meas->gate;
     gf_real f = Z(gate);
     if (z) {
-        f += Z(z->v[0]);
+        for (unsigned i = 0; i < m; i++) {
+            f += Z(z->v[i]);
+        }
     }
-    return meas_tail(f, gate, q);
+    const gf_status st = meas_tail(f, gate, meas->Q.m[0][0], m, qn);
+    if (st != GF_OK || m == 1u) {
+        return st;
+    }
+    return m == 2u ? noise2_at(meas->Q.m[0], 3u, qn)
+                   : noise3_at(meas->Q.m[0], qn);
 }
 
-// The correction once the model and z are checked: z_hat and H by the
-// callback (its status, its outputs finite), y = z - z_hat (wrapped if an
-// angle), Bierman's update on a copy, the exact-quantity rule, s and the
-// NIS finite, the gate, the result finite, then the copy written back.
+// The correction once the model and z are checked and Q factored (qn):
+// z_hat and H by the callback (its status, its m rows and z_hat finite),
+// y = z - z_hat (entry i wrapped if angle_mask's bit i is set),
+// H_w = U_Q^-1 H, y_w = U_Q^-1 y, then as uduc2_update_step: one Bierman
+// update per whitened quantity on a copy, the NIS, the gate, the result
+// finite, the copy written back.
 REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
-                                       const gf_vec3 *z, gf_innovation *info)
+                                       const gf_real qn[6], const gf_vec3 *z,
+                                       gf_innovation *info)
 {
-    const gf_real q = meas->Q.m[0][0], gate = meas->gate;
+    const unsigned m = meas->m;
+    const gf_real gate = meas->gate;
+    // z_hat and H arrive as zeros
     gf_vec3 zh;
     gf_mat3 H;
-    zh.v[0] = 0;
-    H.m[0][0] = 0;
-    H.m[0][1] = 0;
-    H.m[0][2] = 0;
+    REF_UNROLL
+    for (unsigned i = 0; i < 3u; i++) {
+        zh.v[i] = 0;
+        H.m[i][0] = 0;
+        H.m[i][1] = 0;
+        H.m[i][2] = 0;
+    }
     const gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
     if (st != GF_OK) {
         return callback_status(st);
     }
-    const gf_real h0 = H.m[0][0], h1 = H.m[0][1], h2 = H.m[0][2];
-    if (!(Z(zh.v[0]) + Z(h0) + Z(h1) + Z(h2) < GF_R(1.0))) {
+    gf_innovation in;
+    gf_real yw[3], f = 0;
+    in.m = m;
+    in.y[1] = 0;
+    in.y[2] = 0;
+    for (unsigned i = 0; i < m; i++) {
+        f += Z(zh.v[i]) + Z(H.m[i][0]) + Z(H.m[i][1]) + Z(H.m[i][2]);
+        // y = z - h(mu_bar), wrapped if an angle
+        gf_real y = z->v[i] - zh.v[i];
+        if (meas->angle_mask & (1u << i)) {
+            y = wrap(y);
+        }
+        in.y[i] = y;
+        yw[i] = y;
+    }
+    if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    // y = z - h(mu_bar), wrapped if an angle
-    gf_real y = z->v[0] - zh.v[0];
-    if (meas->angle_mask & 1u) {
-        y = wrap(y);
+    // H_w = U_Q^-1 H, y_w = U_Q^-1 y, by back substitution from the last
+    // quantity: the whitened quantities' noises are independent, d_i
+    if (m > 2u) {
+        qsub(&H, yw, 1u, qn[4], 2u);
+        qsub(&H, yw, 0u, qn[3], 2u);
+    }
+    if (m > 1u) {
+        qsub(&H, yw, 0u, qn[1], 1u);
     }
     ref_udu3 nb = *ekf;
     gf_real *ud = nb.ud;
-    gf_real scale = 0; // as in ref_uduc2_update
-    if (!(q > 0)) {
-        const gf_real t1 = GF_FABS(h1) + GF_FABS(ud[1] * h0);
-        const gf_real t2 =
-            GF_FABS(h2) + GF_FABS(ud[3] * h0) + GF_FABS(ud[4] * h1);
-        scale = ud[0] * h0 * h0 + ud[2] * t1 * t1 + ud[5] * t2 * t2;
+    gf_real dx0 = 0, dx1 = 0, dx2 = 0;
+    in.nis = 0;
+    for (unsigned i = 0; i < m; i++) {
+        const gf_real *h = H.m[i];
+        const gf_real q = qn[UD(i, i)];
+        const gf_real y = yw[i] - (h[0] * dx0 + h[1] * dx1 + h[2] * dx2);
+        gf_real scale = 0; // as in uduc2_update_step
+        if (!(q > 0)) {
+            const gf_real t1 = GF_FABS(h[1]) + GF_FABS(ud[1] * h[0]);
+            const gf_real t2 =
+                GF_FABS(h[2]) + GF_FABS(ud[3] * h[0]) + GF_FABS(ud[4] * h[1]);
+            scale = ud[0] * h[0] * h[0] + ud[2] * t1 * t1 + ud[5] * t2 * t2;
+        }
+        gf_real b[3], inv;
+        const gf_real s = bierman3(ud, h, q, b, &inv, 1);
+        if (!GF_ISFINITE(s)) {
+            return GF_ERR_NONFINITE;
+        }
+        if (!(q > 0) && !(s > GF_PD_RTOL * GF_R(3.0) * scale)) {
+            return GF_ERR_SINGULAR;
+        }
+        const gf_real k = y * inv;
+        in.nis += y * k;
+        dx0 += b[0] * k;
+        dx1 += b[1] * k;
+        dx2 += b[2] * k;
     }
-    gf_real b[3], inv;
-    const gf_real s = bierman3(ud, H.m[0], q, b, &inv, 1);
-    if (!GF_ISFINITE(s)) {
+    if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(q > 0) && !(s > GF_PD_RTOL * GF_R(3.0) * scale)) {
-        return GF_ERR_SINGULAR;
-    }
-    const gf_real k = y * inv, nis = y * k;
-    if (!GF_ISFINITE(nis)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (gate > 0 && nis > gate) {
-        info_store(info, y, nis);
+    if (gate > 0 && in.nis > gate) {
+        info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[0] += b[0] * k;
-    nb.mu.v[1] += b[1] * k;
-    nb.mu.v[2] = wrap(nb.mu.v[2] + b[2] * k);
+    nb.mu.v[0] += dx0;
+    nb.mu.v[1] += dx1;
+    nb.mu.v[2] = wrap(nb.mu.v[2] + dx2);
     if (!(belief3_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    info_store(info, y, nis);
+    info_store(info, &in);
     *ekf = nb;
     return GF_OK;
 }
@@ -1070,11 +1210,12 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
                            const gf_vec3 *z, gf_innovation *info)
 {
-    if (!ekf || !meas || !z || !meas->h || meas->m != 1u) {
-        return GF_ERR_ARG; // (m = 2, 3, which the library takes, are not here)
+    if (!ekf || !meas || !z || !meas->h || meas->m - 1u > 2u) {
+        return GF_ERR_ARG;
     }
-    const gf_status st = meas3_check(meas, z);
-    return st != GF_OK ? st : uduc3_update_step(ekf, meas, z, info);
+    gf_real qn[6];
+    const gf_status st = meas3_check(meas, z, qn);
+    return st != GF_OK ? st : uduc3_update_step(ekf, meas, qn, z, info);
 }
 
 // ---- uducp: the prepared path's checks ----
@@ -1093,7 +1234,7 @@ gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
         return GF_ERR_ARG;
     }
     ref_kf2_pmodel p;
-    const gf_status st = noise2(&model->R, model2_z(model), p.rn.ud);
+    const gf_status st = noise2(model->R.m[0], 2u, model2_z(model), p.rn.ud);
     if (st != GF_OK) {
         return st;
     }
@@ -1104,14 +1245,16 @@ gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
 
 gf_status ref_uducp2_prepare_meas(ref_kf2_pmeas *pq, const gf_kf2_meas *meas)
 {
-    if (!pq || !meas || meas->m != 1u) {
+    if (!pq || !meas || meas->m - 1u > 1u) {
         return GF_ERR_ARG;
     }
-    const gf_status st = meas2_check(meas, NULL);
+    ref_kf2_pmeas p;
+    const gf_status st = meas2_check(meas, NULL, p.qn);
     if (st != GF_OK) {
         return st;
     }
-    pq->meas = *meas;
+    p.meas = *meas;
+    *pq = p;
     return GF_OK;
 }
 
@@ -1133,10 +1276,14 @@ gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
     if (!kf || !pq || !z) {
         return GF_ERR_ARG;
     }
-    if (!(Z(z->v[0]) < GF_R(1.0))) {
+    gf_real f = 0;
+    for (unsigned i = 0; i < pq->meas.m; i++) {
+        f += Z(z->v[i]);
+    }
+    if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    return uduc2_update_step(kf, &pq->meas, z, info);
+    return uduc2_update_step(kf, &pq->meas, pq->qn, z, info);
 }
 
 gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
@@ -1146,7 +1293,7 @@ gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
         return GF_ERR_ARG;
     }
     ref_ekf3_pmotion p;
-    const gf_status st = noise3(&motion->R, p.rn.ud);
+    const gf_status st = noise3(motion->R.m[0], p.rn.ud);
     if (st != GF_OK) {
         return st;
     }
@@ -1157,14 +1304,16 @@ gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
 
 gf_status ref_uducp3_prepare_meas(ref_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
 {
-    if (!pq || !meas || !meas->h || meas->m != 1u) {
+    if (!pq || !meas || !meas->h || meas->m - 1u > 2u) {
         return GF_ERR_ARG;
     }
-    const gf_status st = meas3_check(meas, NULL);
+    ref_ekf3_pmeas p;
+    const gf_status st = meas3_check(meas, NULL, p.qn);
     if (st != GF_OK) {
         return st;
     }
-    pq->meas = *meas;
+    p.meas = *meas;
+    *pq = p;
     return GF_OK;
 }
 
@@ -1183,17 +1332,21 @@ gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
     if (!ekf || !pq || !z) {
         return GF_ERR_ARG;
     }
-    if (!(Z(z->v[0]) < GF_R(1.0))) {
+    gf_real f = 0;
+    for (unsigned i = 0; i < pq->meas.m; i++) {
+        f += Z(z->v[i]);
+    }
+    if (!(f < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    return uduc3_update_step(ekf, &pq->meas, z, info);
+    return uduc3_update_step(ekf, &pq->meas, pq->qn, z, info);
 }
 
 // ---- The checked floor's init and covariance ----
 //
-// The prior judged and factored by hand as R is (noise2, noise3: closed
-// form for 2 x 2, diagonal or factored from the last state for 3 x 3),
-// mu finite first, the heading wrapped, the belief's numbers tested
+// The prior judged and factored by hand as R is (noise2_at, noise3_at:
+// closed form for 2 x 2, diagonal or factored from the last state for
+// 3 x 3), mu finite first, the heading wrapped, the belief's numbers tested
 // finite before it is written.
 
 gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -1201,8 +1354,11 @@ gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!kf || !mu || !sigma) {
         return GF_ERR_ARG;
     }
+    if (!(Z(mu->v[0]) + Z(mu->v[1]) < GF_R(1.0))) {
+        return GF_ERR_NONFINITE;
+    }
     ref_udu2 nb;
-    const gf_status st = noise2(sigma, Z(mu->v[0]) + Z(mu->v[1]), nb.ud);
+    const gf_status st = noise2_at(sigma->m[0], 2u, nb.ud);
     if (st != GF_OK) {
         return st;
     }
@@ -1223,7 +1379,7 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
         return GF_ERR_NONFINITE;
     }
     ref_udu3 nb;
-    const gf_status st = noise3(sigma, nb.ud);
+    const gf_status st = noise3_at(sigma->m[0], nb.ud);
     if (st != GF_OK) {
         return st;
     }

@@ -95,8 +95,9 @@ void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 
 // Checked: gf_kf2_predict, gf_kf2_update, gf_ekf3_predict and
 // gf_ekf3_update's statuses for the same inputs, the belief untouched on
-// any failure, info as theirs; the updates take m = 1 only (GF_ERR_ARG
-// for any other m).
+// any failure, info as theirs; the updates take m = 1 or 2 (KF2) and 1 to
+// 3 (EKF3) quantities, whitened by Q's factors and taken one at a time in
+// their own order (bench/ref.c).
 gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
                             const gf_vec2 *u);
 gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
@@ -122,14 +123,15 @@ gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma);
 // with the statuses of uduc's checks); each step tests only what the
 // library's prepared steps test per step (u, z, the callbacks' results, s,
 // the NIS, the gate, the result) and is otherwise uduc's step, statuses
-// and info included. m = 1 only (prepare_meas: GF_ERR_ARG for any other).
+// and info included; m as uduc's.
 typedef struct ref_kf2_pmodel {
     gf_kf2_model model;
     ref_noise2 rn; // R's factors
 } ref_kf2_pmodel;
 
 typedef struct ref_kf2_pmeas {
-    gf_kf2_meas meas; // m = 1: Q is its own factorisation, C its own row
+    gf_kf2_meas meas;
+    gf_real qn[3]; // Q's factors, packed as a belief's (m = 1: Q itself)
 } ref_kf2_pmeas;
 
 typedef struct ref_ekf3_pmotion {
@@ -139,6 +141,7 @@ typedef struct ref_ekf3_pmotion {
 
 typedef struct ref_ekf3_pmeas {
     gf_ekf3_meas meas;
+    gf_real qn[6]; // as ref_kf2_pmeas's
 } ref_ekf3_pmeas;
 
 gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,

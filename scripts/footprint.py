@@ -698,7 +698,7 @@ def report(root, build_root):
         f"libm included) | 6 KiB | {fmt_delta(d_flash)} | "
         f"{met(d_flash <= IMAGE_LIMIT)} |",
         f"| the same with the hand-written checked sound floor in the "
-        f"filters' place (`bench/ref.c`, m = 1 only; below) | 6 KiB | "
+        f"filters' place (`bench/ref.c`, below) | 6 KiB | "
         f"{fmt_delta(f_flash)} | the floor is "
         f"{side(f_flash <= IMAGE_LIMIT)} it |",
         f"| the core's own code in that image (the library's: its objects; "
@@ -747,8 +747,9 @@ def report(root, build_root):
               "`GF_FW_FLOOR`: the same calls, init, predict, update and cov "
               "of KF2 and EKF3 with the built-in models, made to "
               "`bench/ref.c`'s hand-written U D U^T steps with the checks the "
-              "plain API promises: the priors and R judged and factored in "
-              "closed form, m = 1 only, where the library takes m = 1 to 3), "
+              "plain API promises: the priors, R and Q judged and factored in "
+              "closed form, updates of m = 1 to 3 measured quantities "
+              "whitened by Q's factors, as the library's), "
               "`-Os`, against the same base. Bytes:", "",
               "| target | floor flash | delta flash | delta RAM "
               "| delta: bench/ref.c | core (models, angles) | libm | libc "
