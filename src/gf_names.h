@@ -14,6 +14,7 @@
 
 // ldl.h: defined in ldl.c
 #define gf_ldl GF_NAME(gf_ldl)
+#define gf_ldl_small GF_NAME(gf_ldl_small)
 
 // steps.h: defined in steps.c and steps4.c
 #define gf_udu_correct2 GF_NAME(gf_udu_correct2)

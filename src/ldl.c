@@ -64,7 +64,7 @@ GF_ALWAYS_INLINE void ldl_zero_state(unsigned n, unsigned k, gf_real *F,
 }
 
 // gf_ldl with its scratch given. Not inlined: gf_ldl only jumps to it or
-// to ldl_small, with no frame of its own.
+// to gf_ldl_small, with no frame of its own.
 __attribute__((noinline)) static gf_status
 ldl_core(const gf_real *s, unsigned stride, unsigned n, gf_real *F, gf_real *d,
          unsigned *order, gf_real *a, unsigned *p)
@@ -364,9 +364,12 @@ GF_ALWAYS_INLINE int ldl3_zero_ok(const ldl3 *q, unsigned u)
                  q->x12, ((q->xb > 0) ? q->xb : GF_R(0.0)) + rtol * q->vb, zk));
 }
 
-LDL_CALLEE gf_status ldl_small(const gf_real *s, unsigned stride, unsigned n,
-                               gf_real *F, gf_real *d, unsigned *order)
+gf_status gf_ldl_small(const gf_real *s, unsigned stride, unsigned n,
+                       gf_real *F, gf_real *d, unsigned *order)
 {
+    if (n > 3u) {
+        return GF_ERR_ARG;
+    }
     if (n == 0) {
         return GF_OK;
     }
@@ -400,8 +403,5 @@ gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
     if (a && p) {
         return ldl_core(s, stride, n, F, d, order, a, p);
     }
-    if (n > 3u) {
-        return GF_ERR_ARG;
-    }
-    return ldl_small(s, stride, n, F, d, order);
+    return gf_ldl_small(s, stride, n, F, d, order);
 }

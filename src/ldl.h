@@ -35,4 +35,10 @@ static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
 gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
                  gf_real *d, unsigned *order, gf_real *a, unsigned *p);
 
+// gf_ldl for n <= 3 with no scratch (GF_ERR_ARG beyond): the same verdict
+// and factors. A filter of at most 3 states calls it directly and links
+// no loop for larger n.
+gf_status gf_ldl_small(const gf_real *s, unsigned stride, unsigned n,
+                       gf_real *F, gf_real *d, unsigned *order);
+
 #endif
