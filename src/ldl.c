@@ -3,17 +3,6 @@
 
 #include "ldl.h"
 
-// Not inlined and with the signature kept (gcc's IPA would pass them
-// parts of their arguments instead), so that gf_ldl only jumps to them,
-// with no frame of its own.
-#if defined(__GNUC__) && !defined(__clang__)
-#define LDL_CALLEE __attribute__((noipa)) static
-#elif defined(__GNUC__)
-#define LDL_CALLEE __attribute__((noinline)) static
-#else
-#define LDL_CALLEE static
-#endif
-
 // ---- the verdict and the factors of a covariance passed in ------------
 
 // 1 if the state p[u], one of the zero ones left (p[t..n-1]), is coupled to

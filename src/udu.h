@@ -873,10 +873,10 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           gf_real *nis)
 {
     gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
-    gf_real dp[GF_UDU_NMAX], hp[GF_UDU_NMAX];
-    // (set, for gcc's analyzer, which cannot follow f and b through the
+    gf_real dp[GF_UDU_NMAX];
+    // (set, for gcc's analyzer, which cannot follow hp, f and b through the
     // loops that write them; the stores are dead in an optimised build)
-    gf_real f[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
+    gf_real hp[GF_UDU_NMAX] = {0}, f[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
     unsigned rank[GF_UDU_NMAX];
     return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, sd, tell, v, dp,
                             hp, f, b, rank);
