@@ -798,9 +798,10 @@ REF_INLINE gf_status noise3(const gf_real *R, gf_real rn[6])
     return GF_OK;
 }
 
-// noise2 and noise3 once more, out of line, for what no workload's step
-// runs: a prior (init) and the Q of m > 1 quantities (the updates). The
-// predictions, measured per step, inline their own.
+// noise2 and noise3 out of line, one copy each for the checked floor's
+// plain calls: R in every prediction, a prior (init) and the Q of m > 1
+// quantities (the updates). Only the prepared path's prepare functions
+// inline their own.
 static REF_NOINLINE gf_status noise2_at(const gf_real *R, unsigned stride,
                                         gf_real rn[3])
 {

@@ -267,6 +267,19 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     return st;
 }
 
+// The prediction once R is factored: the model in this frame (inlined into
+// the entry points), then the time update in its own.
+GF_ALWAYS_INLINE gf_status ekf3_predict(gf_ekf3 *ekf,
+                                        const gf_ekf3_motion *motion,
+                                        const gf_real *u, const gf_real rf[9],
+                                        const gf_real rd[3])
+{
+    gf_vec3 mu_bar;
+    gf_mat3 G;
+    const gf_status st = ekf3_motion_eval(ekf, motion, u, &mu_bar, &G);
+    return st != GF_OK ? st : ekf3_predict_step(ekf, &mu_bar, G.m[0], rf, rd);
+}
+
 gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
                           const gf_real *u)
 {
@@ -274,14 +287,8 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
         return GF_ERR_ARG;
     }
     gf_real rf[9], rd[3];
-    gf_status st = ekf3_motion_check(motion, rf, rd);
-    if (st != GF_OK) {
-        return st;
-    }
-    gf_vec3 mu_bar;
-    gf_mat3 G;
-    st = ekf3_motion_eval(ekf, motion, u, &mu_bar, &G);
-    return st != GF_OK ? st : ekf3_predict_step(ekf, &mu_bar, G.m[0], rf, rd);
+    const gf_status st = ekf3_motion_check(motion, rf, rd);
+    return st != GF_OK ? st : ekf3_predict(ekf, motion, u, rf, rd);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -337,12 +344,7 @@ gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
     if (!ekf || !pm || !pm->motion.g) {
         return GF_ERR_ARG;
     }
-    gf_vec3 mu_bar;
-    gf_mat3 G;
-    const gf_status st = ekf3_motion_eval(ekf, &pm->motion, u, &mu_bar, &G);
-    return st != GF_OK
-               ? st
-               : ekf3_predict_step(ekf, &mu_bar, G.m[0], pm->Rf, pm->Rd);
+    return ekf3_predict(ekf, &pm->motion, u, pm->Rf, pm->Rd);
 }
 
 gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,

@@ -13,7 +13,7 @@
 #include "gaussfilt/config.h"
 
 // ldl.h: defined in ldl.c
-#define gf_ldl GF_NAME(gf_ldl)
+#define gf_ldl_core GF_NAME(gf_ldl_core)
 #define gf_ldl_small GF_NAME(gf_ldl_small)
 
 // steps.h: defined in steps.c and steps4.c

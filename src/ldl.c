@@ -52,11 +52,8 @@ GF_ALWAYS_INLINE void ldl_zero_state(unsigned n, unsigned k, gf_real *F,
     }
 }
 
-// gf_ldl with its scratch given. Not inlined: gf_ldl only jumps to it or
-// to gf_ldl_small, with no frame of its own.
-__attribute__((noinline)) static gf_status
-ldl_core(const gf_real *s, unsigned stride, unsigned n, gf_real *F, gf_real *d,
-         unsigned *order, gf_real *a, unsigned *p)
+gf_status gf_ldl_core(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
+                      gf_real *d, unsigned *order, gf_real *a, unsigned *p)
 {
     const gf_real rtol = GF_PD_RTOL;
     // a: the Schur complements (upper triangle, by state, rows of n);
@@ -159,10 +156,10 @@ static inline gf_real ldl_upper(const gf_real *s, unsigned stride, unsigned i,
     return (i < k) ? s[i * stride + k] : s[k * stride + i];
 }
 
-// gf_ldl for n <= 3 with no scratch: ldl_core's arithmetic, each step in
+// gf_ldl for n <= 3 with no scratch: gf_ldl_core's arithmetic, each step in
 // the same order, on scalars. The states in p's order are slots 0, 1, 2
 // (states sa, sb, sc): sa the first of positive variance (if any), the
-// other two in ldl_core's order after its first swap; the second pivot's
+// other two in gf_ldl_core's order after its first swap; the second pivot's
 // choice swaps slots 1 and 2. vX is the variance of slot X, xX its Schur
 // complement so far (slot 0's is va), x01, x02, x12 the entries between
 // slots (upper triangle), lb, lc the first pivot's multipliers, lk the
@@ -180,7 +177,7 @@ GF_ALWAYS_INLINE void ldl3_load(const gf_real *s, unsigned stride, unsigned n,
     q->sa = 0;
     q->sb = 1;
     q->sc = 2;
-    // ldl_core's first pivot: the first state of positive variance
+    // gf_ldl_core's first pivot: the first state of positive variance
     const int first1 = !(s[0] > 0) && n > 1u && s[stride + 1u] > 0;
     if (first1) {
         q->sa = 1;
@@ -214,7 +211,7 @@ GF_ALWAYS_INLINE void ldl3_load(const gf_real *s, unsigned stride, unsigned n,
 }
 
 // Slot 0 the pivot (n >= 2): a_ik -= (a_i0 / a_00) a_0k, with the
-// multiplier of the lower state of the pair, as in ldl_core; a zero
+// multiplier of the lower state of the pair, as in gf_ldl_core; a zero
 // multiplier leaves its row.
 GF_ALWAYS_INLINE void ldl3_first(unsigned n, ldl3 *q)
 {
@@ -289,7 +286,7 @@ GF_ALWAYS_INLINE void ldl3_eliminate(unsigned n, ldl3 *q)
 }
 
 // The pivots' columns of F (n x n, may be NULL) and their d (may be NULL),
-// as ldl_core writes them.
+// as gf_ldl_core writes them.
 GF_ALWAYS_INLINE void ldl3_pivots(const ldl3 *q, unsigned n, gf_real *F,
                                   gf_real *d)
 {
@@ -330,7 +327,7 @@ GF_ALWAYS_INLINE void ldl3_pivots(const ldl3 *q, unsigned n, gf_real *F,
     }
 }
 
-// 1 if slot u (t <= u < n), a zero one, passes ldl_core's checks: its
+// 1 if slot u (t <= u < n), a zero one, passes gf_ldl_core's checks: its
 // Schur complement >= -GF_PD_RTOL times its variance, and each entry to a
 // zero slot before it within the 2x2 bound, both sides widened by
 // GF_PD_RTOL times their variance.
@@ -384,13 +381,4 @@ gf_status gf_ldl_small(const gf_real *s, unsigned stride, unsigned n,
         ldl_zero_state(n, k, F, d);
     }
     return GF_OK;
-}
-
-gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
-                 gf_real *d, unsigned *order, gf_real *a, unsigned *p)
-{
-    if (a && p) {
-        return ldl_core(s, stride, n, F, d, order, a, p);
-    }
-    return gf_ldl_small(s, stride, n, F, d, order);
 }

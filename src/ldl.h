@@ -32,13 +32,23 @@ static inline int gf_coupled_ok(gf_real x, gf_real y, gf_real z)
 // left coupling two of them within the 2x2 bound a_ik^2 <= a_ii a_kk, both
 // sides widened by GF_PD_RTOL times their variance; else GF_ERR_NOT_PSD.
 // a (n x n) and p (n) are scratch; NULL for n <= 3 (GF_ERR_ARG beyond).
-gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
-                 gf_real *d, unsigned *order, gf_real *a, unsigned *p);
-
-// gf_ldl for n <= 3 with no scratch (GF_ERR_ARG beyond): the same verdict
-// and factors. A filter of at most 3 states calls it directly and links
-// no loop for larger n.
+// Two forms, defined in ldl.c: gf_ldl_core, the loop for any n on the
+// scratch, and gf_ldl_small, n <= 3 in scalars; gf_ldl picks one inline,
+// so a caller that never passes scratch (the filters of 2 and 3 states)
+// links only the second.
+gf_status gf_ldl_core(const gf_real *s, unsigned stride, unsigned n, gf_real *F,
+                      gf_real *d, unsigned *order, gf_real *a, unsigned *p);
 gf_status gf_ldl_small(const gf_real *s, unsigned stride, unsigned n,
                        gf_real *F, gf_real *d, unsigned *order);
+
+static inline gf_status gf_ldl(const gf_real *s, unsigned stride, unsigned n,
+                               gf_real *F, gf_real *d, unsigned *order,
+                               gf_real *a, unsigned *p)
+{
+    if (a && p) {
+        return gf_ldl_core(s, stride, n, F, d, order, a, p);
+    }
+    return gf_ldl_small(s, stride, n, F, d, order);
+}
 
 #endif

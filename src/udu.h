@@ -113,8 +113,7 @@ GF_ALWAYS_INLINE gf_status gf_cov_pair(const gf_real *s, unsigned stride,
 }
 
 // The verdict on a covariance passed in (R, Q, a prior) and, where F, d
-// and order are not NULL, its factors as gf_ldl's (a, p: its scratch,
-// NULL for n <= 3, which then calls gf_ldl_small):
+// and order are not NULL, its factors as gf_ldl's (a, p: its scratch):
 // GF_ERR_NONFINITE if an entry is not finite (the test rides on the
 // symmetry pass), else symmetric within GF_SYM_RTOL (|s_ij - s_ji| <=
 // GF_SYM_RTOL (|s_ij| + |s_ji|), the same for any scale), no negative
@@ -210,9 +209,6 @@ GF_ALWAYS_INLINE gf_status gf_cov_factor_n(const gf_real *s, unsigned stride,
             }
         }
         return GF_OK;
-    }
-    if (off > 0 && a == NULL) {
-        return gf_ldl_small(s, stride, n, F, d, order);
     }
     if (off > 0) {
         return gf_ldl(s, stride, n, F, d, order, a, p);
