@@ -39,7 +39,7 @@ GF_NOINLINE void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
                        const gf_kf_factors **fac)
 {
-    unsigned *p = &work->k[(size_t)GF_KF_NMAX];
+    unsigned *p = work->k;
     if (!fac) {
         return gf_cov_factor_n(s, n, n, NULL, NULL, NULL, work->x, p);
     }
@@ -128,7 +128,7 @@ GF_NOINLINE gf_status kfc_correct_n(unsigned m, const gf_real *hw,
     const unsigned n = work->b.n;
     return gf_udu_correct_s(n, work->b.ud, work->b.perm, m, hw, e, work->s,
                             &work->s[GF_KF_NMAX], &work->in.nis,
-                            &work->w[GF_UDU_SV(n)], work->k);
+                            &work->w[GF_UDU_SV(n)]);
 }
 
 // The correction of work->b's factors (gf_udu_correct2's arguments).

@@ -522,13 +522,11 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
 }
 
 // The state measured by the row h (by state) with the largest share of
-// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal in the
-// factors' order: sigma_d[i] = sum_(k >= i) U_ik^2 d_k, the variance of
-// the state perm[i]; *total the sum of the shares, in the factors' order.
+// h Sigma h^T, h_s^2 Sigma_ss (Sigma_ss = sum_(k >= i) U_ik^2 d_k for the
+// state s = perm[i]); *total the sum of the shares, in the factors' order.
 GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
                                             const unsigned char *perm,
-                                            const gf_real *h, gf_real *sigma_d,
-                                            gf_real *total)
+                                            const gf_real *h, gf_real *total)
 {
     unsigned best = 0;
     gf_real most = -1, acc = 0;
@@ -540,7 +538,6 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
             v += ud[GF_UD(i, k)] * ud[GF_UD(i, k)] * ud[GF_UD(k, k)];
         }
         const unsigned s = perm[i];
-        sigma_d[i] = v;
         const gf_real part = h[s] * h[s] * v;
         acc += part;
         if (part > most) {
@@ -614,26 +611,15 @@ GF_ALWAYS_INLINE void gf_udu_swap(unsigned n, unsigned k, gf_real *ud,
 // if s overflows; GF_ERR_SINGULAR if r = 0
 // and s is zero relative to its terms before cancellation,
 // sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in any units);
-// ud and dx are partly written then. f, b: scratch of n each.
+// ud and dx are partly written then. b: scratch of n. (f_j is taken from
+// column j of U before the column changes.)
 GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
                                          const gf_real *hp, gf_real r,
                                          gf_real y, gf_real *dx, gf_real *nis,
-                                         gf_real *f, gf_real *b)
+                                         gf_real *b)
 {
     // (oj: column j of the packed factors, ud[oj + i] = U_ij, ud[oj + j] =
     // d_j)
-    // f = U^T hp
-    unsigned oj = 0;
-    GF_UNROLL
-    for (unsigned j = 0; j < n; j++) {
-        gf_real acc = hp[j];
-        GF_UNROLL
-        for (unsigned i = 0; i < j; i++) {
-            acc += ud[oj + i] * hp[i];
-        }
-        f[j] = acc;
-        oj += j + 1u;
-    }
     // An exact quantity's scale: h Sigma h^T without its cancellations
     gf_real scale = 0;
     if (!(r > 0)) {
@@ -648,11 +634,17 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
         }
     }
     gf_real alpha = r, inv_prev = 0;
-    oj = 0;
+    unsigned oj = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
+        // f_j = (U^T hp)_j
+        gf_real fj = hp[j];
+        GF_UNROLL
+        for (unsigned i = 0; i < j; i++) {
+            fj += ud[oj + i] * hp[i];
+        }
         const gf_real d = ud[oj + j];
-        const gf_real fj = f[j], gj = d * fj;
+        const gf_real gj = d * fj;
         const gf_real a1 = alpha + fj * gj;
         gf_real inv = 0;
         if (a1 >= GF_REAL_MIN) { // (a smaller one is zero: 1 / a1 overflows)
@@ -736,83 +728,45 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 }
 
 // The correction with m whitened quantities (rows of hw, stride n, by
-// state; e their noises; yw their whitened innovations at mu_bar): the
-// quantities in the order of how much they tell, the largest
-// sum_s h_s^2 Sigma_ss / e_i first (a ratio of variances: the same in any
-// units; e_i = 0, an exact quantity, before all), one after another, each
-// made the root first if it tells more than GF_UDU_ROOT_TELL (its main
-// state, gf_udu_main_state, moved to the factors' last index by
-// gf_udu_swap),
+// state; e their noises; yw their whitened innovations at mu_bar), in
+// their order, one after another, each made the root first if it tells
+// more than GF_UDU_ROOT_TELL (sum_s h_s^2 Sigma_ss / e_i: its main state,
+// gf_udu_main_state, moved to the factors' last index by gf_udu_swap),
 // each innovation taken at the mean the earlier ones gave:
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // dx (n entries, by state) receives mu - mu_bar, *nis the sum of the
 // scalar NIS, which is y^T S^-1 y. Statuses as gf_udu_update. Scratch,
-// caller-owned, vectors of n: sd (Sigma's diagonal in the factors'
-// order), tell, v (each quantity's share and how much it tells), dp
-// (P^T dx), hp (P^T h_i), f and b (gf_udu_update's), rank (unsigned).
-GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
-    unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
-    const gf_real *e, const gf_real *yw, gf_real *dx, gf_real *nis, gf_real *sd,
-    gf_real *tell, gf_real *v, gf_real *dp, gf_real *hp, gf_real *f, gf_real *b,
-    unsigned *rank)
+// caller-owned, vectors of n: dp (P^T dx), hp (P^T h_i), b
+// (gf_udu_update's).
+GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
+                                            unsigned char *perm, unsigned m,
+                                            const gf_real *hw, const gf_real *e,
+                                            const gf_real *yw, gf_real *dx,
+                                            gf_real *nis, gf_real *dp,
+                                            gf_real *hp, gf_real *b)
 {
-    // How much each quantity tells: v_i / e_i, v_i = sum_s h_s^2 Sigma_ss
-    // (one quantity needs no ranking)
-    rank[0] = 0;
-    if (m > 1u) {
-        (void)gf_udu_main_state(n, ud, perm, hw, sd, &v[0]);
-        for (unsigned i = 0; i < m; i++) {
-            if (i > 0u) {
-                gf_real acc = 0;
-                GF_UNROLL
-                for (unsigned j = 0; j < n; j++) {
-                    const gf_real h = hw[i * n + perm[j]];
-                    acc += h * h * sd[j];
-                }
-                v[i] = acc;
-            }
-            rank[i] = i;
-            tell[i] = (e[i] > 0) ? v[i] / e[i] : (gf_real)INFINITY;
-        }
-        for (unsigned i = 1; i < m; i++) { // insertion sort, largest first
-            for (unsigned k = i; k > 0u && tell[rank[k]] > tell[rank[k - 1u]];
-                 k--) {
-                const unsigned t = rank[k];
-                rank[k] = rank[k - 1u];
-                rank[k - 1u] = t;
-            }
-        }
-    }
-    // In the factors' order: hp = P^T h_i, dp = P^T dx
     *nis = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
     }
-    for (unsigned t = 0; t < m; t++) {
-        const unsigned i = rank[t];
+    for (unsigned i = 0; i < m; i++) {
+        const gf_real *h = &hw[i * n];
         // A quantity that tells more than GF_UDU_ROOT_TELL makes its main
         // state the root first (Bierman's update then leaves its row of U
         // alone); one that tells less loses fewer digits than that ratio.
         // A quantity of the root's state alone is in place already.
-        // (m > 1: tells too little, as ranked, and the test is over)
         int others = 0;
-        if (m < 2u || v[i] > GF_UDU_ROOT_TELL * e[i]) {
-            GF_UNROLL
-            for (unsigned j = 0; j + 1u < n; j++) {
-                if (GF_FABS(hw[i * n + perm[j]]) > 0) {
-                    others = 1;
-                }
+        GF_UNROLL
+        for (unsigned j = 0; j + 1u < n; j++) {
+            if (GF_FABS(h[perm[j]]) > 0) {
+                others = 1;
             }
         }
         if (others) {
-            gf_real vi;
-            const unsigned main =
-                gf_udu_main_state(n, ud, perm, &hw[i * n], sd, &vi);
-            if (m > 1u) {
-                vi = v[i]; // (as ranked, before the first update)
-            }
-            if (vi > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
+            gf_real v;
+            const unsigned main = gf_udu_main_state(n, ud, perm, h, &v);
+            if (v > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
                 // main's index moved last one swap at a time, dp's
                 // entries with their states
                 unsigned at = 0;
@@ -829,13 +783,14 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
                 }
             }
         }
+        // In the factors' order: hp = P^T h_i, dp = P^T dx
         gf_real yi = yw[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            hp[j] = hw[i * n + perm[j]];
+            hp[j] = h[perm[j]];
             yi -= hp[j] * dp[j];
         }
-        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis, f, b);
+        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis, b);
         if (st != GF_OK) {
             return st;
         }
@@ -847,17 +802,15 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
     return GF_OK;
 }
 
-// gf_udu_correct_v on the caller's scratch: sv 7n entries, sk n.
+// gf_udu_correct_v on the caller's scratch: sv 3n entries.
 GF_ALWAYS_INLINE gf_status gf_udu_correct_s(unsigned n, gf_real *ud,
                                             unsigned char *perm, unsigned m,
                                             const gf_real *hw, const gf_real *e,
                                             const gf_real *yw, gf_real *dx,
-                                            gf_real *nis, gf_real *sv,
-                                            unsigned *sk)
+                                            gf_real *nis, gf_real *sv)
 {
     return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, sv, &sv[n],
-                            &sv[2u * n], &sv[3u * n], &sv[4u * n], &sv[5u * n],
-                            &sv[6u * n], sk);
+                            &sv[2u * n]);
 }
 
 // gf_udu_correct_v with its scratch on its own stack, an array per vector
@@ -868,14 +821,11 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           const gf_real *yw, gf_real *dx,
                                           gf_real *nis)
 {
-    gf_real sd[GF_UDU_NMAX], tell[GF_UDU_NMAX], v[GF_UDU_NMAX];
     gf_real dp[GF_UDU_NMAX];
-    // (set, for gcc's analyzer, which cannot follow hp, f and b through the
+    // (set, for gcc's analyzer, which cannot follow hp and b through the
     // loops that write them; the stores are dead in an optimised build)
-    gf_real hp[GF_UDU_NMAX] = {0}, f[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
-    unsigned rank[GF_UDU_NMAX];
-    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, sd, tell, v, dp,
-                            hp, f, b, rank);
+    gf_real hp[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, dx, nis, dp, hp, b);
 }
 
 #endif
