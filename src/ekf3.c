@@ -245,19 +245,15 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         gf_udu_whiten_rows(q->Qf, q->Qorder, m, yw, 1);
     }
     gf_ekf3 nb = *ekf;
-    gf_real dx[3] = {0, 0, 0};
     gf_status st =
         gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0],
-                       q ? q->Qe : &meas->Q.m[0][0], yw, dx, &in.nis);
+                       q ? q->Qe : &meas->Q.m[0][0], yw, nb.mu.v, &in.nis);
     if (st != GF_OK) {
         return st;
     }
     st = gf_innovation_verdict(&in, meas->gate, info);
     if (st != GF_OK) {
         return st;
-    }
-    for (unsigned j = 0; j < 3u; j++) {
-        nb.mu.v[j] += dx[j];
     }
     nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
     st = gf_update_done(gf_belief_finite(nb.mu.v, nb.ud, 3), &in, info);

@@ -127,8 +127,7 @@ GF_NOINLINE gf_status kfc_correct_n(unsigned m, const gf_real *hw,
 {
     const unsigned n = work->b.n;
     return gf_udu_correct_s(n, work->b.ud, work->b.perm, m, hw, e, work->s,
-                            &work->s[GF_KF_NMAX], &work->in.nis,
-                            &work->w[GF_UDU_SV(n)]);
+                            work->b.mu, &work->in.nis, &work->w[GF_UDU_SV(n)]);
 }
 
 // The correction of work->b's factors (gf_udu_correct2's arguments).
@@ -194,7 +193,6 @@ gf_status gf_kfc_update(gf_kf *kf, const gf_real *hw, const gf_real *Qe,
 {
     gf_kf *nb = &work->b;
     gf_kf_innovation *in = &work->in;
-    const gf_real *dx = &work->s[GF_KF_NMAX];
     const gf_status st = kfc_udu_correct(in->m, hw, Qe, work);
     if (st != GF_OK) {
         return st;
@@ -208,7 +206,6 @@ gf_status gf_kfc_update(gf_kf *kf, const gf_real *hw, const gf_real *Qe,
     }
     const unsigned n = nb->n;
     for (unsigned i = 0; i < n; i++) {
-        nb->mu[i] += dx[i];
         if ((nb->angles >> i) & 1u) {
             nb->mu[i] = gf_angle_wrap(nb->mu[i]);
         }
