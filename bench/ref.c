@@ -226,8 +226,10 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 // memset call, far slower on newlib-nano than its stores).
 #if defined(__GNUC__) && !defined(__clang__)
 #define REF_UNROLL _Pragma("GCC unroll 3")
+#define REF_UNROLL_W _Pragma("GCC unroll 6")
 #else
 #define REF_UNROLL
+#define REF_UNROLL_W
 #endif
 
 // Packed factors: U_ij (i < j) and d_j, as src/udu.h packs them.
@@ -259,8 +261,10 @@ static void udu_factor(const gf_real *s, unsigned n, gf_real *ud)
     }
 }
 
-// Sigma_ij = sum_(k >= max(i, j)) U_ik d_k U_jk, U_kk = 1, into s (n x n).
-static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
+// Sigma_(perm i)(perm j) = sum_(k >= max(i, j)) U_ik d_k U_jk, U_kk = 1,
+// into s (n x n).
+static void udu_cov(const gf_real *ud, const unsigned char *perm, unsigned n,
+                    gf_real *s)
 {
     for (unsigned i = 0; i < n; i++) {
         for (unsigned j = i; j < n; j++) {
@@ -270,20 +274,21 @@ static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
                 const gf_real ujk = (k == j) ? GF_R(1.0) : ud[UD(j, k)];
                 acc += uik * ud[UD(k, k)] * ujk;
             }
-            s[i * n + j] = acc;
-            s[j * n + i] = acc;
+            s[perm[i] * n + perm[j]] = acc;
+            s[perm[j] * n + perm[i]] = acc;
         }
     }
 }
 
 // ref_udu2_dev and ref_udu3_dev for n states (lib: the library's Sigma,
 // n x n; angle: the index of a heading, n if none).
-static gf_real udu_dev(const gf_real *ud, const gf_real *mu, const gf_real *lib,
+static gf_real udu_dev(const gf_real *ud, const unsigned char *perm,
+                       const gf_real *mu, const gf_real *lib,
                        const gf_real *lib_mu, unsigned n, unsigned angle,
                        gf_real *mu_dev)
 {
     gf_real s[9], sd[3], worst = 0, worst_mu = 0;
-    udu_cov(ud, n, s);
+    udu_cov(ud, perm, n, s);
     for (unsigned i = 0; i < n; i++) {
         sd[i] = GF_SQRT(lib[i * n + i]);
         gf_real dm = mu[i] - lib_mu[i];
@@ -311,19 +316,43 @@ static gf_real udu_dev(const gf_real *ud, const gf_real *mu, const gf_real *lib,
 ref_udu2 ref_udu2_from(const gf_kf2 *kf)
 {
     ref_udu2 r;
-    gf_mat2 s;
-    (void)gf_kf2_cov(kf, &s);
     r.mu = kf->mu;
-    udu_factor(s.m[0], 2, r.ud);
+    for (unsigned k = 0; k < 3u; k++) {
+        r.ud[k] = kf->ud[k];
+    }
+    for (unsigned k = 0; k < sizeof r.perm; k++) {
+        r.perm[k] = kf->perm[k];
+    }
     return r;
 }
 
 ref_udu3 ref_udu3_from(const gf_ekf3 *ekf)
 {
     ref_udu3 r;
+    r.mu = ekf->mu;
+    for (unsigned k = 0; k < 6u; k++) {
+        r.ud[k] = ekf->ud[k];
+    }
+    for (unsigned k = 0; k < sizeof r.perm; k++) {
+        r.perm[k] = ekf->perm[k];
+    }
+    return r;
+}
+
+ref_udu2 ref_udu2_inorder(const gf_kf2 *kf)
+{
+    ref_udu2 r = {kf->mu, {0}, {0, 1}};
+    gf_mat2 s;
+    (void)gf_kf2_cov(kf, &s);
+    udu_factor(s.m[0], 2, r.ud);
+    return r;
+}
+
+ref_udu3 ref_udu3_inorder(const gf_ekf3 *ekf)
+{
+    ref_udu3 r = {ekf->mu, {0}, {0, 1, 2}};
     gf_mat3 s;
     (void)gf_ekf3_cov(ekf, &s);
-    r.mu = ekf->mu;
     udu_factor(s.m[0], 3, r.ud);
     return r;
 }
@@ -346,14 +375,14 @@ gf_real ref_udu2_dev(const ref_udu2 *r, const gf_kf2 *kf, gf_real *mu_dev)
 {
     gf_mat2 s;
     (void)gf_kf2_cov(kf, &s);
-    return udu_dev(r->ud, r->mu.v, s.m[0], kf->mu.v, 2, 2, mu_dev);
+    return udu_dev(r->ud, r->perm, r->mu.v, s.m[0], kf->mu.v, 2, 2, mu_dev);
 }
 
 gf_real ref_udu3_dev(const ref_udu3 *r, const gf_ekf3 *ekf, gf_real *mu_dev)
 {
     gf_mat3 s;
     (void)gf_ekf3_cov(ekf, &s);
-    return udu_dev(r->ud, r->mu.v, s.m[0], ekf->mu.v, 3, 2, mu_dev);
+    return udu_dev(r->ud, r->perm, r->mu.v, s.m[0], ekf->mu.v, 3, 2, mu_dev);
 }
 
 // Thornton's time update of 2 states, in place on ud:
@@ -847,6 +876,176 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
     yw[i] -= u * yw[k];
 }
 
+// ---- The factors' order (uduc, uducp) ----
+//
+// The checked floor keeps the library's order of the factors: Sigma =
+// P U D U^T P^T, perm[k] the state at the factors' index k. The prior is
+// factored with the states reversed (state 0, the measured position of
+// both workloads, at the root, the last index, whose d is its whole
+// variance and whose row of U Bierman's update leaves alone); a quantity
+// that tells more than ROOT_TELL (v = sum_s h_s^2 Sigma_ss above
+// ROOT_TELL times its whitened noise) has its main state (the largest
+// h_s^2 Sigma_ss) moved to the root first, by adjacent swaps, unless it
+// measures the root's state alone; the prediction works through P.
+
+#define ROOT_TELL GF_R(16.0)
+
+// Thornton's time update through P, in place on ud (n = 2 or 3):
+//   Sigma_bar = W diag(D, e') W^T,  W = [P^T G P U | P^T F P],
+// G by state (rows of n), R = F diag(e) F^T packed in rn (by state), e'
+// its variances in the factors' order; P^T F P has a unit diagonal and
+// F_(perm i)(perm j) off it (zero below F's diagonal). Then the weighted
+// Gram-Schmidt from the last row up, as thornton2 (checked: a d_j below
+// GF_REAL_MIN is zero, with a zero column of U).
+REF_INLINE void thornton_p(unsigned n, gf_real *ud, const gf_real *g,
+                           const gf_real *rn, const unsigned char *perm)
+{
+    gf_real w[18], wd[6], c[6];
+    const unsigned cols = 2u * n;
+    REF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        const unsigned pi = perm[i];
+        const gf_real *gi = &g[pi * n];
+        gf_real *wi = &w[i * cols];
+        wd[i] = ud[UD(i, i)];
+        wd[n + i] = rn[UD(pi, pi)];
+        REF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            const unsigned pj = perm[j];
+            // (P^T G P U)_ij = G_(pi)(pj) + sum_(l<j) G_(pi)(pl) U_lj
+            gf_real acc = gi[pj];
+            REF_UNROLL
+            for (unsigned l = 0; l < j; l++) {
+                acc += gi[perm[l]] * ud[UD(l, j)];
+            }
+            wi[j] = acc;
+            wi[n + j] = pi < pj ? rn[UD(pi, pj)] : GF_R(0.0);
+        }
+        wi[n + i] = GF_R(1.0);
+    }
+    REF_UNROLL
+    for (unsigned j = n; j-- > 0u;) {
+        const gf_real *wj = &w[j * cols];
+        gf_real dj = 0;
+        REF_UNROLL_W
+        for (unsigned k = 0; k < cols; k++) {
+            c[k] = wd[k] * wj[k];
+            dj += wj[k] * c[k];
+        }
+        gf_real inv = 0;
+        if (dj >= GF_REAL_MIN) {
+            inv = GF_R(1.0) / dj;
+        } else {
+            dj = 0;
+        }
+        REF_UNROLL
+        for (unsigned i = 0; i < j; i++) {
+            gf_real *wi = &w[i * cols];
+            gf_real acc = 0;
+            REF_UNROLL_W
+            for (unsigned k = 0; k < cols; k++) {
+                acc += wi[k] * c[k];
+            }
+            const gf_real u = acc * inv;
+            REF_UNROLL_W
+            for (unsigned k = 0; k < cols; k++) {
+                wi[k] -= u * wj[k];
+            }
+            ud[UD(i, j)] = u;
+        }
+        ud[UD(j, j)] = dj;
+    }
+}
+
+// Swaps the factors' indices k and k + 1 (n = 2 or 3), the same Sigma
+// with the state perm[k + 1] at k, and dp's entries with their states:
+// with a = U_k(k+1), d'_(k+1) = d_k + a^2 d_(k+1), r = d_(k+1) / d'_(k+1),
+//   U'_k(k+1) = a r,  d'_k = d_k r,
+//   U'_ik = U_i(k+1) - a U_ik,  U'_i(k+1) = (d_k / d'_(k+1)) U_ik
+//   + a r U_i(k+1)  (i < k),
+// the later columns' rows k and k + 1 swapped; a d' below GF_REAL_MIN is
+// zero, with its column (as src/udu.h's gf_udu_swap).
+static REF_NOINLINE void udu_swap(gf_real *ud, unsigned char *perm,
+                                  gf_real *dp, unsigned n, unsigned k)
+{
+    const unsigned ok = UD(0u, k), ol = UD(0u, k + 1u);
+    const gf_real a = ud[ol + k], dk = ud[ok + k], dl = ud[ol + k + 1u];
+    const gf_real dq = dk + a * a * dl;
+    gf_real r = 0, sk = 0, dn = dl;
+    if (dq >= GF_REAL_MIN) {
+        const gf_real inv = GF_R(1.0) / dq;
+        r = dl * inv;
+        sk = dk * inv;
+        dn = dk * r;
+    }
+    const gf_real beta = a * r;
+    const int zk = !(dn >= GF_REAL_MIN);
+    for (unsigned i = 0; i < k; i++) {
+        const gf_real uk = ud[ok + i], ul = ud[ol + i];
+        ud[ok + i] = zk ? GF_R(0.0) : ul - a * uk;
+        ud[ol + i] = sk * uk + beta * ul;
+    }
+    ud[ok + k] = zk ? GF_R(0.0) : dn;
+    ud[ol + k] = beta;
+    ud[ol + k + 1u] = (dq >= GF_REAL_MIN) ? dq : GF_R(0.0);
+    if (k + 2u < n) { // n = 3, k = 0: column 2's rows 0 and 1
+        const gf_real t = ud[3];
+        ud[3] = ud[4];
+        ud[4] = t;
+    }
+    const unsigned char t = perm[k];
+    perm[k] = perm[k + 1u];
+    perm[k + 1u] = t;
+    const gf_real x = dp[k];
+    dp[k] = dp[k + 1u];
+    dp[k + 1u] = x;
+}
+
+// Before a scalar update of the row h (by state) with noise q: its main
+// state made the root if it tells more than ROOT_TELL (n = 2). Sigma's
+// variances in the factors' order: sd0 = d0 + U01^2 d1, sd1 = d1.
+REF_INLINE void root2(ref_udu2 *b, const gf_real h[2], gf_real q,
+                      gf_real dp[2])
+{
+    const gf_real *ud = b->ud;
+    const gf_real h0 = h[b->perm[0]], h1 = h[b->perm[1]];
+    if (!(GF_FABS(h0) > 0)) {
+        return; // the root's state alone
+    }
+    const gf_real p0 = h0 * h0 * (ud[0] + ud[1] * ud[1] * ud[2]);
+    const gf_real p1 = h1 * h1 * ud[2];
+    if (!(p1 > p0) && p0 + p1 > ROOT_TELL * q) {
+        udu_swap(b->ud, b->perm, dp, 2u, 0u);
+    }
+}
+
+// The same for n = 3: sd0 = d0 + U01^2 d1 + U02^2 d2, sd1 = d1 + U12^2
+// d2, sd2 = d2; the main state the first of the largest share.
+REF_INLINE void root3(ref_udu3 *b, const gf_real h[3], gf_real q,
+                      gf_real dp[3])
+{
+    const gf_real *ud = b->ud;
+    const gf_real h0 = h[b->perm[0]], h1 = h[b->perm[1]];
+    const gf_real h2 = h[b->perm[2]];
+    if (!(GF_FABS(h0) + GF_FABS(h1) > 0)) {
+        return;
+    }
+    const gf_real p0 =
+        h0 * h0 * (ud[0] + ud[1] * ud[1] * ud[2] + ud[3] * ud[3] * ud[5]);
+    const gf_real p1 = h1 * h1 * (ud[2] + ud[4] * ud[4] * ud[5]);
+    const gf_real p2 = h2 * h2 * ud[5];
+    if (p2 > p0 && p2 > p1) {
+        return; // the root's state is the main one
+    }
+    if (!(p0 + p1 + p2 > ROOT_TELL * q)) {
+        return;
+    }
+    if (!(p1 > p0)) {
+        udu_swap(b->ud, b->perm, dp, 3u, 0u);
+    }
+    udu_swap(b->ud, b->perm, dp, 3u, 1u);
+}
+
 // 0 (finite) or NaN: every number of a 2-state belief and the variance
 // d0 + U01^2 d1 its factors give (d1 is one of them).
 REF_INLINE gf_real belief2_z(const gf_real mu[2], const gf_real ud[3])
@@ -879,7 +1078,7 @@ REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
         nb.mu.v[0] += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
         nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
     }
-    thornton2(nb.ud, A, rn, 1);
+    thornton_p(2u, nb.ud, A->m[0], rn, nb.perm);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -987,11 +1186,14 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
     }
     ref_udu2 nb = *kf;
     gf_real *ud = nb.ud;
-    gf_real dx0 = 0, dx1 = 0;
+    gf_real dp[2] = {0, 0}; // mu - mu_bar in the factors' order
     in.nis = 0;
     for (unsigned i = 0; i < m; i++) {
-        const gf_real c0 = w[i][0], c1 = w[i][1], q = qn[2u * i]; // d_i
-        const gf_real y = w[i][2] - (c0 * dx0 + c1 * dx1);
+        const gf_real q = qn[2u * i]; // d_i
+        root2(&nb, w[i], q, dp);
+        // the row in the factors' order
+        const gf_real c0 = w[i][nb.perm[0]], c1 = w[i][nb.perm[1]];
+        const gf_real y = w[i][2] - (c0 * dp[0] + c1 * dp[1]);
         // An exact quantity (q = 0): s must be positive relative to its
         // terms before cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij
         // h_i|)^2
@@ -1010,8 +1212,8 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
         }
         const gf_real k = y * inv;
         in.nis += y * k;
-        dx0 += b[0] * k;
-        dx1 += b[1] * k;
+        dp[0] += b[0] * k;
+        dp[1] += b[1] * k;
     }
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
@@ -1020,8 +1222,8 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
         info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[0] = m0 + dx0;
-    nb.mu.v[1] = m1 + dx1;
+    nb.mu.v[nb.perm[0]] += dp[0];
+    nb.mu.v[nb.perm[1]] += dp[1];
     if (!(belief2_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1066,7 +1268,7 @@ REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
         return callback_status(st);
     }
     nb.mu.v[2] = wrap(nb.mu.v[2]);
-    thornton3(nb.ud, &G, rn, 1);
+    thornton_p(3u, nb.ud, G.m[0], rn, nb.perm);
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1163,12 +1365,15 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     }
     ref_udu3 nb = *ekf;
     gf_real *ud = nb.ud;
-    gf_real dx0 = 0, dx1 = 0, dx2 = 0;
+    gf_real dp[3] = {0, 0, 0}; // mu - mu_bar in the factors' order
     in.nis = 0;
     for (unsigned i = 0; i < m; i++) {
-        const gf_real *h = H.m[i];
         const gf_real q = qn[UD(i, i)];
-        const gf_real y = yw[i] - (h[0] * dx0 + h[1] * dx1 + h[2] * dx2);
+        root3(&nb, H.m[i], q, dp);
+        // the row in the factors' order
+        const gf_real h[3] = {H.m[i][nb.perm[0]], H.m[i][nb.perm[1]],
+                              H.m[i][nb.perm[2]]};
+        const gf_real y = yw[i] - (h[0] * dp[0] + h[1] * dp[1] + h[2] * dp[2]);
         gf_real scale = 0; // as in uduc2_update_step
         if (!(q > 0)) {
             const gf_real t1 = GF_FABS(h[1]) + GF_FABS(ud[1] * h[0]);
@@ -1186,9 +1391,9 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         }
         const gf_real k = y * inv;
         in.nis += y * k;
-        dx0 += b[0] * k;
-        dx1 += b[1] * k;
-        dx2 += b[2] * k;
+        dp[0] += b[0] * k;
+        dp[1] += b[1] * k;
+        dp[2] += b[2] * k;
     }
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
@@ -1197,9 +1402,13 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[0] += dx0;
-    nb.mu.v[1] += dx1;
-    nb.mu.v[2] = wrap(nb.mu.v[2] + dx2);
+    gf_real dx[3];
+    dx[nb.perm[0]] = dp[0];
+    dx[nb.perm[1]] = dp[1];
+    dx[nb.perm[2]] = dp[2];
+    nb.mu.v[0] += dx[0];
+    nb.mu.v[1] += dx[1];
+    nb.mu.v[2] = wrap(nb.mu.v[2] + dx[2]);
     if (!(belief3_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1358,12 +1567,14 @@ gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!(Z(mu->v[0]) + Z(mu->v[1]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    ref_udu2 nb;
-    const gf_status st = noise2_at(sigma->m[0], 2u, nb.ud);
+    // the states reversed: P^T Sigma P is Sigma's entries in reverse
+    const gf_real *s = sigma->m[0];
+    const gf_real rs[4] = {s[3], s[2], s[1], s[0]};
+    ref_udu2 nb = {*mu, {0}, {1, 0}};
+    const gf_status st = noise2_at(rs, 2u, nb.ud);
     if (st != GF_OK) {
         return st;
     }
-    nb.mu = *mu;
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1379,8 +1590,14 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!(Z(mu->v[0]) + Z(mu->v[1]) + Z(mu->v[2]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    ref_udu3 nb;
-    const gf_status st = noise3_at(sigma->m[0], nb.ud);
+    // the states reversed, as for KF2
+    const gf_real *s = sigma->m[0];
+    gf_real rs[9];
+    for (unsigned k = 0; k < 9u; k++) {
+        rs[k] = s[8u - k];
+    }
+    ref_udu3 nb = {*mu, {0}, {2, 1, 0}};
+    const gf_status st = noise3_at(rs, nb.ud);
     if (st != GF_OK) {
         return st;
     }
@@ -1402,10 +1619,11 @@ gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma)
     }
     const gf_real d0 = kf->ud[0], u01 = kf->ud[1], d1 = kf->ud[2];
     const gf_real s01 = u01 * d1;
-    sigma->m[0][0] = d0 + u01 * s01;
+    const unsigned p0 = kf->perm[0];
+    sigma->m[p0][p0] = d0 + u01 * s01;
     sigma->m[0][1] = s01;
     sigma->m[1][0] = s01;
-    sigma->m[1][1] = d1;
+    sigma->m[1u - p0][1u - p0] = d1;
     return GF_OK;
 }
 
@@ -1418,12 +1636,13 @@ gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma)
     const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
     const gf_real u02 = ud[3], u12 = ud[4], d2 = ud[5];
     const gf_real s02 = u02 * d2, s12 = u12 * d2, t01 = u01 * d1;
+    const unsigned p0 = ekf->perm[0], p1 = ekf->perm[1], p2 = ekf->perm[2];
     gf_real(*o)[3] = sigma->m;
-    o[0][0] = d0 + u01 * t01 + u02 * s02;
-    o[0][1] = o[1][0] = t01 + u02 * s12;
-    o[0][2] = o[2][0] = s02;
-    o[1][1] = d1 + u12 * s12;
-    o[1][2] = o[2][1] = s12;
-    o[2][2] = d2;
+    o[p0][p0] = d0 + u01 * t01 + u02 * s02;
+    o[p0][p1] = o[p1][p0] = t01 + u02 * s12;
+    o[p0][p2] = o[p2][p0] = s02;
+    o[p1][p1] = d1 + u12 * s12;
+    o[p1][p2] = o[p2][p1] = s12;
+    o[p2][p2] = d2;
     return GF_OK;
 }
