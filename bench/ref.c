@@ -11,6 +11,7 @@
 
 #include "ref.h"
 
+
 ref_kf2 ref_kf2_from(const gf_kf2 *kf)
 {
     ref_kf2 r;
@@ -1559,6 +1560,115 @@ gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
 // 3 x 3), mu finite first, the heading wrapped, the belief's numbers tested
 // finite before it is written.
 
+// The prior's factors, once noise2_at / noise3_at accepted it, with the
+// states reversed (perm (1 0), (2 1 0)), as the library's: t = P^T Sigma P
+// (s's upper triangle read), column j from the last,
+//   d_j = t_jj - sum_(k>j) U_jk d_k U_jk,
+//   U_ij = (t_ij - sum_(k>j) U_ik d_k U_jk) / d_j,
+// each sum and quotient in about twice gf_real's precision (Dekker's
+// TwoProduct, Knuth's TwoSum, the factors' low parts l carried to first
+// order) and each factor rounded once: a d_j of a nearly singular prior is
+// the difference of nearly equal numbers, and the steps need it to its own
+// relative precision. Every positive pivot is kept; one below GF_REAL_MIN
+// is zero, with a zero column of U.
+
+// Veltkamp's splitting constant, 2^ceil(p / 2) + 1.
+#ifdef GF_SINGLE_PRECISION
+#define SPLIT GF_R(4097.0)
+#else
+#define SPLIT GF_R(134217729.0)
+#endif
+
+// a b - p for p = fl(a b), exactly; 0 where a split leaves the range.
+static REF_NOINLINE gf_real prod_err(gf_real a, gf_real b, gf_real p)
+{
+    const gf_real ca = SPLIT * a, cb = SPLIT * b;
+    const gf_real ah = ca - (ca - a), bh = cb - (cb - b);
+    const gf_real al = a - ah, bl = b - bh;
+    const gf_real e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    return GF_ISFINITE(e) ? e : GF_R(0.0);
+}
+
+// a + b - t for t = fl(a + b), exactly.
+REF_INLINE gf_real sum_err(gf_real a, gf_real b, gf_real t)
+{
+    const gf_real bb = t - a;
+    return (a - (t - bb)) + (b - bb);
+}
+
+// acc - a d b, its rounding and the low parts' terms (la, ld, lb) added
+// to *e.
+static REF_NOINLINE gf_real schur(gf_real acc, gf_real a, gf_real d, gf_real b,
+                                  gf_real la, gf_real ld, gf_real lb,
+                                  gf_real *e)
+{
+    const gf_real t1 = a * d, t = t1 * b, next = acc - t;
+    const gf_real c = prod_err(t1, b, t) + prod_err(a, d, t1) * b + t1 * lb +
+                      (la * d + a * ld) * b;
+    *e += sum_err(acc, -t, next) - c;
+    return next;
+}
+
+// d_j = x + e rounded once (e ignored if not finite), its low part in *l;
+// zero below GF_REAL_MIN.
+static REF_NOINLINE gf_real pivot(gf_real x, gf_real e, gf_real *l)
+{
+    e = GF_ISFINITE(e) ? e : GF_R(0.0);
+    const gf_real d = x + e;
+    const gf_real dl = sum_err(x, e, d);
+    const int pos = d >= GF_REAL_MIN;
+    *l = (pos && GF_ISFINITE(dl)) ? dl : GF_R(0.0);
+    return pos ? d : GF_R(0.0);
+}
+
+// U_ij = (r + rl) / (d + dl) rounded once, its low part in *l; 0 if d is.
+static REF_NOINLINE gf_real quot(gf_real r, gf_real rl, gf_real d, gf_real dl,
+                                 gf_real *l)
+{
+    gf_real q = 0, ql = 0;
+    if (d > 0) {
+        rl = GF_ISFINITE(rl) ? rl : GF_R(0.0);
+        q = r / d;
+        const gf_real p = q * d;
+        ql = (((r - p) - prod_err(q, d, p)) + rl - q * dl) / d;
+        ql = GF_ISFINITE(ql) ? ql : GF_R(0.0);
+        const gf_real u = q + ql;
+        ql = sum_err(q, ql, u);
+        q = u;
+        ql = GF_ISFINITE(ql) ? ql : GF_R(0.0);
+    }
+    *l = ql;
+    return q;
+}
+
+// KF2: t = ((s11 s01) (s01 s00)).
+static void prior2(const gf_real *s, gf_real ud[3])
+{
+    gf_real l1, l01, l0, e = 0;
+    ud[2] = pivot(s[0], GF_R(0.0), &l1);
+    ud[1] = quot(s[1], GF_R(0.0), ud[2], l1, &l01);
+    const gf_real x = schur(s[3], ud[1], ud[2], ud[1], l01, l1, l01, &e);
+    ud[0] = pivot(x, e, &l0);
+}
+
+// EKF3: t = ((s22 s12 s02) (s12 s11 s01) (s02 s01 s00)), s rows of 3.
+static void prior3(const gf_real *s, gf_real ud[6])
+{
+    gf_real l2, l02, l12, l1, l01, l0, e = 0;
+    ud[5] = pivot(s[0], GF_R(0.0), &l2);
+    ud[3] = quot(s[2], GF_R(0.0), ud[5], l2, &l02);
+    ud[4] = quot(s[1], GF_R(0.0), ud[5], l2, &l12);
+    gf_real x = schur(s[4], ud[4], ud[5], ud[4], l12, l2, l12, &e);
+    ud[2] = pivot(x, e, &l1);
+    e = 0;
+    x = schur(s[5], ud[3], ud[5], ud[4], l02, l2, l12, &e);
+    ud[1] = quot(x, e, ud[2], l1, &l01);
+    e = 0;
+    x = schur(s[8], ud[1], ud[2], ud[1], l01, l1, l01, &e);
+    x = schur(x, ud[3], ud[5], ud[3], l02, l2, l02, &e);
+    ud[0] = pivot(x, e, &l0);
+}
+
 gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 {
     if (!kf || !mu || !sigma) {
@@ -1567,14 +1677,12 @@ gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!(Z(mu->v[0]) + Z(mu->v[1]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    // the states reversed: P^T Sigma P is Sigma's entries in reverse
-    const gf_real *s = sigma->m[0];
-    const gf_real rs[4] = {s[3], s[2], s[1], s[0]};
     ref_udu2 nb = {*mu, {0}, {1, 0}};
-    const gf_status st = noise2_at(rs, 2u, nb.ud);
+    const gf_status st = noise2_at(sigma->m[0], 2u, nb.ud); // the verdict
     if (st != GF_OK) {
         return st;
     }
+    prior2(sigma->m[0], nb.ud);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1590,17 +1698,12 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!(Z(mu->v[0]) + Z(mu->v[1]) + Z(mu->v[2]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    // the states reversed, as for KF2
-    const gf_real *s = sigma->m[0];
-    gf_real rs[9];
-    for (unsigned k = 0; k < 9u; k++) {
-        rs[k] = s[8u - k];
-    }
     ref_udu3 nb = {*mu, {0}, {2, 1, 0}};
-    const gf_status st = noise3_at(rs, nb.ud);
+    const gf_status st = noise3_at(sigma->m[0], nb.ud); // the verdict
     if (st != GF_OK) {
         return st;
     }
+    prior3(sigma->m[0], nb.ud);
     nb.mu.v[0] = mu->v[0];
     nb.mu.v[1] = mu->v[1];
     nb.mu.v[2] = wrap(mu->v[2]);
