@@ -891,6 +891,17 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
 
 #define ROOT_TELL GF_R(16.0)
 
+// P^T M P of an n x n M (rows of n) into o: o_ij = M_(perm i)(perm j).
+REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
+                       gf_real *o)
+{
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            o[i * n + j] = M[perm[i] * n + perm[j]];
+        }
+    }
+}
+
 // Thornton's time update through P, in place on ud (n = 2 or 3):
 //   Sigma_bar = W diag(D, e') W^T,  W = [P^T G P U | P^T F P],
 // G by state (rows of n), R = F diag(e) F^T packed in rn (by state), e'
@@ -1066,9 +1077,13 @@ REF_INLINE gf_real model2_z(const gf_kf2_model *model)
 
 // The prediction once the model and u are checked and R factored (rn):
 // mu_bar = A mu + B u + c, Sigma_bar on the factors, into a copy written
-// back only if all of it is finite.
+// back only if all of it is finite. rn: P^T R P's factors (bystate 0: the
+// plain step, which factors R at every call, in the belief's order, and
+// takes thornton2 on P^T A P), or R's by state (bystate 1: the prepared
+// step, R factored once; thornton_p).
 REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
-                                        const gf_real rn[3], const gf_vec2 *u)
+                                        const gf_real rn[3], const gf_vec2 *u,
+                                        int bystate)
 {
     const gf_mat2 *A = &model->A, *B = &model->B;
     ref_udu2 nb = *kf;
@@ -1079,7 +1094,13 @@ REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
         nb.mu.v[0] += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
         nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
     }
-    thornton_p(2u, nb.ud, A->m[0], rn, nb.perm);
+    if (bystate) {
+        thornton_p(2u, nb.ud, A->m[0], rn, nb.perm);
+    } else {
+        gf_mat2 Ap;
+        gather(A->m[0], 2u, nb.perm, Ap.m[0]);
+        thornton2(nb.ud, &Ap, rn, 1);
+    }
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1102,9 +1123,11 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
     if (!(z < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    gf_real rn[3];
-    const gf_status st = noise2_at(model->R.m[0], 2u, rn);
-    return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
+    // P^T R P judged and factored
+    gf_real rp[4], rn[3];
+    gather(model->R.m[0], 2u, kf->perm, rp);
+    const gf_status st = noise2_at(rp, 2u, rn);
+    return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u, 0);
 }
 
 // The end of a measurement model's checks, once f holds 0 times every
@@ -1254,13 +1277,15 @@ REF_INLINE gf_real belief3_z(const gf_real mu[3], const gf_real ud[6])
            Z(ud[2] + ud[4] * ud[5] * ud[4]);
 }
 
-// The prediction once R is checked and factored (rn). The callback's
+// The prediction once R is checked and factored (rn, as
+// uduc2_predict_step's, bystate the same). The callback's
 // mu_bar and G are not tested apart: a NaN or inf in either reaches mu or
 // the factors (G_ij is a term of (G U)_ij), and the result is tested, as
 // the library does; u reaches only the callback.
 REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
                                         const gf_ekf3_motion *motion,
-                                        const gf_real rn[6], const gf_real *u)
+                                        const gf_real rn[6], const gf_real *u,
+                                        int bystate)
 {
     ref_udu3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
@@ -1269,7 +1294,13 @@ REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
         return callback_status(st);
     }
     nb.mu.v[2] = wrap(nb.mu.v[2]);
-    thornton_p(3u, nb.ud, G.m[0], rn, nb.perm);
+    if (bystate) {
+        thornton_p(3u, nb.ud, G.m[0], rn, nb.perm);
+    } else {
+        gf_mat3 Gp;
+        gather(G.m[0], 3u, nb.perm, Gp.m[0]);
+        thornton3(nb.ud, &Gp, rn, 1);
+    }
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1283,9 +1314,11 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
-    gf_real rn[6];
-    const gf_status st = noise3_at(motion->R.m[0], rn);
-    return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u);
+    // P^T R P judged and factored
+    gf_real rp[9], rn[6];
+    gather(motion->R.m[0], 3u, ekf->perm, rp);
+    const gf_status st = noise3_at(rp, rn);
+    return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u, 0);
 }
 
 // The checks of an EKF3 measurement model of m = 1 to 3 before its
@@ -1478,7 +1511,7 @@ gf_status ref_uducp2_predict(ref_udu2 *kf, const ref_kf2_pmodel *pm,
     if (u && !(Z(u->v[0]) + Z(u->v[1]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    return uduc2_predict_step(kf, &pm->model, pm->rn.ud, u);
+    return uduc2_predict_step(kf, &pm->model, pm->rn.ud, u, 1);
 }
 
 gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
@@ -1534,7 +1567,7 @@ gf_status ref_uducp3_predict(ref_udu3 *ekf, const ref_ekf3_pmotion *pm,
     if (!ekf || !pm) {
         return GF_ERR_ARG;
     }
-    return uduc3_predict_step(ekf, &pm->motion, pm->rn.ud, u);
+    return uduc3_predict_step(ekf, &pm->motion, pm->rn.ud, u, 1);
 }
 
 gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
@@ -1641,32 +1674,31 @@ static REF_NOINLINE gf_real quot(gf_real r, gf_real rl, gf_real d, gf_real dl,
     return q;
 }
 
-// KF2: t = ((s11 s01) (s01 s00)).
-static void prior2(const gf_real *s, gf_real ud[3])
+// The factors of P^T s P (n = 2 or 3, s rows of n), P the states
+// reversed: t_ij = s_(n-1-i)(n-1-j), read from s's upper triangle.
+static REF_NOINLINE void prior(const gf_real *s, unsigned n, gf_real *ud)
 {
-    gf_real l1, l01, l0, e = 0;
-    ud[2] = pivot(s[0], GF_R(0.0), &l1);
-    ud[1] = quot(s[1], GF_R(0.0), ud[2], l1, &l01);
-    const gf_real x = schur(s[3], ud[1], ud[2], ud[1], l01, l1, l01, &e);
-    ud[0] = pivot(x, e, &l0);
-}
-
-// EKF3: t = ((s22 s12 s02) (s12 s11 s01) (s02 s01 s00)), s rows of 3.
-static void prior3(const gf_real *s, gf_real ud[6])
-{
-    gf_real l2, l02, l12, l1, l01, l0, e = 0;
-    ud[5] = pivot(s[0], GF_R(0.0), &l2);
-    ud[3] = quot(s[2], GF_R(0.0), ud[5], l2, &l02);
-    ud[4] = quot(s[1], GF_R(0.0), ud[5], l2, &l12);
-    gf_real x = schur(s[4], ud[4], ud[5], ud[4], l12, l2, l12, &e);
-    ud[2] = pivot(x, e, &l1);
-    e = 0;
-    x = schur(s[5], ud[3], ud[5], ud[4], l02, l2, l12, &e);
-    ud[1] = quot(x, e, ud[2], l1, &l01);
-    e = 0;
-    x = schur(s[8], ud[1], ud[2], ud[1], l01, l1, l01, &e);
-    x = schur(x, ud[3], ud[5], ud[3], l02, l2, l02, &e);
-    ud[0] = pivot(x, e, &l0);
+    gf_real lo[6]; // the factors' low parts
+    for (unsigned j = n; j-- > 0u;) {
+        const unsigned sj = n - 1u - j;
+        gf_real e = 0, x = s[sj * n + sj], dl;
+        for (unsigned k = j + 1u; k < n; k++) {
+            x = schur(x, ud[UD(j, k)], ud[UD(k, k)], ud[UD(j, k)],
+                      lo[UD(j, k)], lo[UD(k, k)], lo[UD(j, k)], &e);
+        }
+        const gf_real dj = pivot(x, e, &dl);
+        for (unsigned i = 0; i < j; i++) {
+            // state n - 1 - i > sj
+            gf_real r = s[sj * n + n - 1u - i], rl = 0;
+            for (unsigned k = j + 1u; k < n; k++) {
+                r = schur(r, ud[UD(i, k)], ud[UD(k, k)], ud[UD(j, k)],
+                          lo[UD(i, k)], lo[UD(k, k)], lo[UD(j, k)], &rl);
+            }
+            ud[UD(i, j)] = quot(r, rl, dj, dl, &lo[UD(i, j)]);
+        }
+        ud[UD(j, j)] = dj;
+        lo[UD(j, j)] = dl;
+    }
 }
 
 gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -1682,7 +1714,7 @@ gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (st != GF_OK) {
         return st;
     }
-    prior2(sigma->m[0], nb.ud);
+    prior(sigma->m[0], 2u, nb.ud);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1703,9 +1735,7 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (st != GF_OK) {
         return st;
     }
-    prior3(sigma->m[0], nb.ud);
-    nb.mu.v[0] = mu->v[0];
-    nb.mu.v[1] = mu->v[1];
+    prior(sigma->m[0], 3u, nb.ud);
     nb.mu.v[2] = wrap(mu->v[2]);
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
