@@ -227,10 +227,8 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 // memset call, far slower on newlib-nano than its stores).
 #if defined(__GNUC__) && !defined(__clang__)
 #define REF_UNROLL _Pragma("GCC unroll 3")
-#define REF_UNROLL_W _Pragma("GCC unroll 6")
 #else
 #define REF_UNROLL
-#define REF_UNROLL_W
 #endif
 
 // Packed factors: U_ij (i < j) and d_j, as src/udu.h packs them.
@@ -895,77 +893,13 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
 REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
                        gf_real *o)
 {
-    for (unsigned i = 0; i < n; i++) {
-        for (unsigned j = 0; j < n; j++) {
-            o[i * n + j] = M[perm[i] * n + perm[j]];
-        }
-    }
-}
-
-// Thornton's time update through P, in place on ud (n = 2 or 3):
-//   Sigma_bar = W diag(D, e') W^T,  W = [P^T G P U | P^T F P],
-// G by state (rows of n), R = F diag(e) F^T packed in rn (by state), e'
-// its variances in the factors' order; P^T F P has a unit diagonal and
-// F_(perm i)(perm j) off it (zero below F's diagonal). Then the weighted
-// Gram-Schmidt from the last row up, as thornton2 (checked: a d_j below
-// GF_REAL_MIN is zero, with a zero column of U).
-REF_INLINE void thornton_p(unsigned n, gf_real *ud, const gf_real *g,
-                           const gf_real *rn, const unsigned char *perm)
-{
-    gf_real w[18], wd[6], c[6];
-    const unsigned cols = 2u * n;
     REF_UNROLL
     for (unsigned i = 0; i < n; i++) {
-        const unsigned pi = perm[i];
-        const gf_real *gi = &g[pi * n];
-        gf_real *wi = &w[i * cols];
-        wd[i] = ud[UD(i, i)];
-        wd[n + i] = rn[UD(pi, pi)];
+        const gf_real *mi = &M[perm[i] * n];
         REF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            const unsigned pj = perm[j];
-            // (P^T G P U)_ij = G_(pi)(pj) + sum_(l<j) G_(pi)(pl) U_lj
-            gf_real acc = gi[pj];
-            REF_UNROLL
-            for (unsigned l = 0; l < j; l++) {
-                acc += gi[perm[l]] * ud[UD(l, j)];
-            }
-            wi[j] = acc;
-            wi[n + j] = pi < pj ? rn[UD(pi, pj)] : GF_R(0.0);
+            o[i * n + j] = mi[perm[j]];
         }
-        wi[n + i] = GF_R(1.0);
-    }
-    REF_UNROLL
-    for (unsigned j = n; j-- > 0u;) {
-        const gf_real *wj = &w[j * cols];
-        gf_real dj = 0;
-        REF_UNROLL_W
-        for (unsigned k = 0; k < cols; k++) {
-            c[k] = wd[k] * wj[k];
-            dj += wj[k] * c[k];
-        }
-        gf_real inv = 0;
-        if (dj >= GF_REAL_MIN) {
-            inv = GF_R(1.0) / dj;
-        } else {
-            dj = 0;
-        }
-        REF_UNROLL
-        for (unsigned i = 0; i < j; i++) {
-            gf_real *wi = &w[i * cols];
-            gf_real acc = 0;
-            REF_UNROLL_W
-            for (unsigned k = 0; k < cols; k++) {
-                acc += wi[k] * c[k];
-            }
-            const gf_real u = acc * inv;
-            REF_UNROLL_W
-            for (unsigned k = 0; k < cols; k++) {
-                wi[k] -= u * wj[k];
-            }
-            ud[UD(i, j)] = u;
-        }
-        ud[UD(j, j)] = dj;
     }
 }
 
@@ -1077,13 +1011,10 @@ REF_INLINE gf_real model2_z(const gf_kf2_model *model)
 
 // The prediction once the model and u are checked and R factored (rn):
 // mu_bar = A mu + B u + c, Sigma_bar on the factors, into a copy written
-// back only if all of it is finite. rn: P^T R P's factors (bystate 0: the
-// plain step, which factors R at every call, in the belief's order, and
-// takes thornton2 on P^T A P), or R's by state (bystate 1: the prepared
-// step, R factored once; thornton_p).
+// back only if all of it is finite. Through P: thornton2 on P^T A P with
+// P^T R P's factors (rn: the belief's order).
 REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
-                                        const gf_real rn[3], const gf_vec2 *u,
-                                        int bystate)
+                                        const gf_real rn[3], const gf_vec2 *u)
 {
     const gf_mat2 *A = &model->A, *B = &model->B;
     ref_udu2 nb = *kf;
@@ -1094,13 +1025,9 @@ REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
         nb.mu.v[0] += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
         nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
     }
-    if (bystate) {
-        thornton_p(2u, nb.ud, A->m[0], rn, nb.perm);
-    } else {
-        gf_mat2 Ap;
-        gather(A->m[0], 2u, nb.perm, Ap.m[0]);
-        thornton2(nb.ud, &Ap, rn, 1);
-    }
+    gf_mat2 Ap;
+    gather(A->m[0], 2u, nb.perm, Ap.m[0]);
+    thornton2(nb.ud, &Ap, rn, 1);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1127,7 +1054,7 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
     gf_real rp[4], rn[3];
     gather(model->R.m[0], 2u, kf->perm, rp);
     const gf_status st = noise2_at(rp, 2u, rn);
-    return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u, 0);
+    return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
 }
 
 // The end of a measurement model's checks, once f holds 0 times every
@@ -1277,15 +1204,14 @@ REF_INLINE gf_real belief3_z(const gf_real mu[3], const gf_real ud[6])
            Z(ud[2] + ud[4] * ud[5] * ud[4]);
 }
 
-// The prediction once R is checked and factored (rn, as
-// uduc2_predict_step's, bystate the same). The callback's
+// The prediction once R is checked and factored (rn: P^T R P's, as
+// uduc2_predict_step's; thornton3 on P^T G P). The callback's
 // mu_bar and G are not tested apart: a NaN or inf in either reaches mu or
 // the factors (G_ij is a term of (G U)_ij), and the result is tested, as
 // the library does; u reaches only the callback.
 REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
                                         const gf_ekf3_motion *motion,
-                                        const gf_real rn[6], const gf_real *u,
-                                        int bystate)
+                                        const gf_real rn[6], const gf_real *u)
 {
     ref_udu3 nb = *ekf;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
@@ -1294,13 +1220,9 @@ REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
         return callback_status(st);
     }
     nb.mu.v[2] = wrap(nb.mu.v[2]);
-    if (bystate) {
-        thornton_p(3u, nb.ud, G.m[0], rn, nb.perm);
-    } else {
-        gf_mat3 Gp;
-        gather(G.m[0], 3u, nb.perm, Gp.m[0]);
-        thornton3(nb.ud, &Gp, rn, 1);
-    }
+    gf_mat3 Gp;
+    gather(G.m[0], 3u, nb.perm, Gp.m[0]);
+    thornton3(nb.ud, &Gp, rn, 1);
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1318,7 +1240,7 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
     gf_real rp[9], rn[6];
     gather(motion->R.m[0], 3u, ekf->perm, rp);
     const gf_status st = noise3_at(rp, rn);
-    return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u, 0);
+    return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u);
 }
 
 // The checks of an EKF3 measurement model of m = 1 to 3 before its
@@ -1478,10 +1400,16 @@ gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
         return GF_ERR_ARG;
     }
     ref_kf2_pmodel p;
-    const gf_status st = noise2(model->R.m[0], 2u, model2_z(model), p.rn.ud);
+    const gf_status st =
+        noise2(model->R.m[0], 2u, model2_z(model), p.rn[0].ud);
     if (st != GF_OK) {
         return st;
     }
+    // the states swapped
+    unsigned char perm[2] = {0, 1};
+    gf_real dp[2];
+    p.rn[1] = p.rn[0];
+    udu_swap(p.rn[1].ud, perm, dp, 2u, 0u);
     p.model = *model;
     *pm = p;
     return GF_OK;
@@ -1511,7 +1439,7 @@ gf_status ref_uducp2_predict(ref_udu2 *kf, const ref_kf2_pmodel *pm,
     if (u && !(Z(u->v[0]) + Z(u->v[1]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    return uduc2_predict_step(kf, &pm->model, pm->rn.ud, u, 1);
+    return uduc2_predict_step(kf, &pm->model, pm->rn[kf->perm[0]].ud, u);
 }
 
 gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
@@ -1537,9 +1465,19 @@ gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
         return GF_ERR_ARG;
     }
     ref_ekf3_pmotion p;
-    const gf_status st = noise3(motion->R.m[0], p.rn.ud);
+    ref_noise3 rn;
+    const gf_status st = noise3(motion->R.m[0], rn.ud);
     if (st != GF_OK) {
         return st;
+    }
+    // the other five orders of the states by adjacent swaps (at 1, 0, 1,
+    // 0, 1 from the states' own: each order once)
+    unsigned char perm[3] = {0, 1, 2};
+    gf_real dp[3];
+    p.rn[1] = rn;
+    for (unsigned t = 0; t < 5u; t++) {
+        udu_swap(rn.ud, perm, dp, 3u, (t + 1u) & 1u);
+        p.rn[perm[0] * 3u + perm[1]] = rn;
     }
     p.motion = *motion;
     *pm = p;
@@ -1567,7 +1505,8 @@ gf_status ref_uducp3_predict(ref_udu3 *ekf, const ref_ekf3_pmotion *pm,
     if (!ekf || !pm) {
         return GF_ERR_ARG;
     }
-    return uduc3_predict_step(ekf, &pm->motion, pm->rn.ud, u, 1);
+    const unsigned slot = ekf->perm[0] * 3u + ekf->perm[1];
+    return uduc3_predict_step(ekf, &pm->motion, pm->rn[slot].ud, u);
 }
 
 gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,

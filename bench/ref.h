@@ -135,7 +135,7 @@ gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma);
 // and info included; m as uduc's.
 typedef struct ref_kf2_pmodel {
     gf_kf2_model model;
-    ref_noise2 rn; // R's factors
+    ref_noise2 rn[2]; // P^T R P's factors for each order (by perm[0])
 } ref_kf2_pmodel;
 
 typedef struct ref_kf2_pmeas {
@@ -145,7 +145,7 @@ typedef struct ref_kf2_pmeas {
 
 typedef struct ref_ekf3_pmotion {
     gf_ekf3_motion motion;
-    ref_noise3 rn;
+    ref_noise3 rn[9]; // the same, by perm[0] * 3 + perm[1] (6 used)
 } ref_ekf3_pmotion;
 
 typedef struct ref_ekf3_pmeas {
