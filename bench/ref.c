@@ -889,16 +889,22 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
 
 #define ROOT_TELL GF_R(16.0)
 
-// P^T M P of an n x n M (rows of n) into o: o_ij = M_(perm i)(perm j).
+// P^T M P of an n x n M (rows of n) into o: o_ij = M_(perm i)(perm j),
+// perm's entries read once.
 REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
                        gf_real *o)
 {
+    unsigned p[3];
     REF_UNROLL
     for (unsigned i = 0; i < n; i++) {
-        const gf_real *mi = &M[perm[i] * n];
+        p[i] = perm[i];
+    }
+    REF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        const gf_real *mi = &M[p[i] * n];
         REF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            o[i * n + j] = mi[perm[j]];
+            o[i * n + j] = mi[p[j]];
         }
     }
 }
@@ -950,18 +956,36 @@ static REF_NOINLINE void udu_swap(gf_real *ud, unsigned char *perm,
 // Before a scalar update of the row h (by state) with noise q: its main
 // state made the root if it tells more than ROOT_TELL (n = 2). Sigma's
 // variances in the factors' order: sd0 = d0 + U01^2 d1, sd1 = d1.
+// The one swap, udu_swap's k = 0, is written in (the belief then stays in
+// registers); perm is (0 1) or (1 0), and h in the factors' order a
+// selection by perm[0].
 REF_INLINE void root2(ref_udu2 *b, const gf_real h[2], gf_real q,
                       gf_real dp[2])
 {
-    const gf_real *ud = b->ud;
-    const gf_real h0 = h[b->perm[0]], h1 = h[b->perm[1]];
+    gf_real *ud = b->ud;
+    const int sw = b->perm[0] != 0;
+    const gf_real h0 = sw ? h[1] : h[0], h1 = sw ? h[0] : h[1];
     if (!(GF_FABS(h0) > 0)) {
         return; // the root's state alone
     }
-    const gf_real p0 = h0 * h0 * (ud[0] + ud[1] * ud[1] * ud[2]);
-    const gf_real p1 = h1 * h1 * ud[2];
+    const gf_real d0 = ud[0], a = ud[1], d1 = ud[2];
+    const gf_real p0 = h0 * h0 * (d0 + a * a * d1);
+    const gf_real p1 = h1 * h1 * d1;
     if (!(p1 > p0) && p0 + p1 > ROOT_TELL * q) {
-        udu_swap(b->ud, b->perm, dp, 2u, 0u);
+        const gf_real dq = d0 + a * a * d1;
+        gf_real r = 0, dn = d1;
+        if (dq >= GF_REAL_MIN) {
+            r = d1 * (GF_R(1.0) / dq);
+            dn = d0 * r;
+        }
+        ud[0] = dn >= GF_REAL_MIN ? dn : GF_R(0.0);
+        ud[1] = a * r;
+        ud[2] = dq >= GF_REAL_MIN ? dq : GF_R(0.0);
+        b->perm[0] = (unsigned char)!sw;
+        b->perm[1] = (unsigned char)sw;
+        const gf_real x = dp[0];
+        dp[0] = dp[1];
+        dp[1] = x;
     }
 }
 
@@ -1026,7 +1050,7 @@ REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
         nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
     }
     gf_mat2 Ap;
-    gather(A->m[0], 2u, nb.perm, Ap.m[0]);
+    gather(A->m[0], 2u, kf->perm, Ap.m[0]);
     thornton2(nb.ud, &Ap, rn, 1);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
@@ -1143,7 +1167,9 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
         const gf_real q = qn[2u * i]; // d_i
         root2(&nb, w[i], q, dp);
         // the row in the factors' order
-        const gf_real c0 = w[i][nb.perm[0]], c1 = w[i][nb.perm[1]];
+        const int sw = nb.perm[0] != 0;
+        const gf_real c0 = sw ? w[i][1] : w[i][0];
+        const gf_real c1 = sw ? w[i][0] : w[i][1];
         const gf_real y = w[i][2] - (c0 * dp[0] + c1 * dp[1]);
         // An exact quantity (q = 0): s must be positive relative to its
         // terms before cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij
@@ -1173,8 +1199,9 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
         info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[nb.perm[0]] += dp[0];
-    nb.mu.v[nb.perm[1]] += dp[1];
+    const int sw = nb.perm[0] != 0;
+    nb.mu.v[0] += sw ? dp[1] : dp[0];
+    nb.mu.v[1] += sw ? dp[0] : dp[1];
     if (!(belief2_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1221,7 +1248,7 @@ REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
     }
     nb.mu.v[2] = wrap(nb.mu.v[2]);
     gf_mat3 Gp;
-    gather(G.m[0], 3u, nb.perm, Gp.m[0]);
+    gather(G.m[0], 3u, ekf->perm, Gp.m[0]);
     thornton3(nb.ud, &Gp, rn, 1);
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
