@@ -1010,10 +1010,17 @@ REF_INLINE void root3(ref_udu3 *b, const gf_real h[3], gf_real q,
     if (!(p0 + p1 + p2 > ROOT_TELL * q)) {
         return;
     }
+    // on a copy: the belief's own numbers stay in registers
+    ref_udu3 t = *b;
+    gf_real tp[3] = {dp[0], dp[1], dp[2]};
     if (!(p1 > p0)) {
-        udu_swap(b->ud, b->perm, dp, 3u, 0u);
+        udu_swap(t.ud, t.perm, tp, 3u, 0u);
     }
-    udu_swap(b->ud, b->perm, dp, 3u, 1u);
+    udu_swap(t.ud, t.perm, tp, 3u, 1u);
+    *b = t;
+    dp[0] = tp[0];
+    dp[1] = tp[1];
+    dp[2] = tp[2];
 }
 
 // 0 (finite) or NaN: every number of a 2-state belief and the variance
