@@ -826,6 +826,26 @@ REF_INLINE gf_status noise3(const gf_real *R, gf_real rn[6])
     return GF_OK;
 }
 
+// P^T M P of an n x n M (rows of n) into o: o_ij = M_(perm i)(perm j),
+// perm's entries read once.
+REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
+                       gf_real *o)
+{
+    unsigned p[3];
+    REF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        p[i] = perm[i];
+    }
+    REF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        const gf_real *mi = &M[p[i] * n];
+        REF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            o[i * n + j] = mi[p[j]];
+        }
+    }
+}
+
 // noise2 and noise3 out of line, one copy each for the checked floor's
 // plain calls: R in every prediction, a prior (init) and the Q of m > 1
 // quantities (the updates). Only the prepared path's prepare functions
@@ -839,6 +859,26 @@ static REF_NOINLINE gf_status noise2_at(const gf_real *R, unsigned stride,
 static REF_NOINLINE gf_status noise3_at(const gf_real *R, gf_real rn[6])
 {
     return noise3(R, rn);
+}
+
+// The same for a prediction's P^T R P (perm: the belief's order), gathered
+// in a frame of its own, not the prediction's (whose callback comes later).
+static REF_NOINLINE gf_status noise2_p(const gf_real *R,
+                                       const unsigned char *perm,
+                                       gf_real rn[3])
+{
+    gf_real rp[4];
+    gather(R, 2u, perm, rp);
+    return noise2_at(rp, 2u, rn);
+}
+
+static REF_NOINLINE gf_status noise3_p(const gf_real *R,
+                                       const unsigned char *perm,
+                                       gf_real rn[6])
+{
+    gf_real rp[9];
+    gather(R, 3u, perm, rp);
+    return noise3_at(rp, rn);
 }
 
 // A model callback's status, as the library passes it on: an unknown one,
@@ -889,26 +929,6 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
 
 #define ROOT_TELL GF_R(16.0)
 
-// P^T M P of an n x n M (rows of n) into o: o_ij = M_(perm i)(perm j),
-// perm's entries read once.
-REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
-                       gf_real *o)
-{
-    unsigned p[3];
-    REF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        p[i] = perm[i];
-    }
-    REF_UNROLL
-    for (unsigned i = 0; i < n; i++) {
-        const gf_real *mi = &M[p[i] * n];
-        REF_UNROLL
-        for (unsigned j = 0; j < n; j++) {
-            o[i * n + j] = mi[p[j]];
-        }
-    }
-}
-
 // Swaps the factors' indices k and k + 1 (n = 2 or 3), the same Sigma
 // with the state perm[k + 1] at k, and dp's entries with their states:
 // with a = U_k(k+1), d'_(k+1) = d_k + a^2 d_(k+1), r = d_(k+1) / d'_(k+1),
@@ -917,7 +937,7 @@ REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
 //   + a r U_i(k+1)  (i < k),
 // the later columns' rows k and k + 1 swapped; a d' below GF_REAL_MIN is
 // zero, with its column (as src/udu.h's gf_udu_swap).
-static REF_NOINLINE void udu_swap(gf_real *ud, unsigned char *perm,
+REF_INLINE void udu_swap(gf_real *ud, unsigned char *perm,
                                   gf_real *dp, unsigned n, unsigned k)
 {
     const unsigned ok = UD(0u, k), ol = UD(0u, k + 1u);
@@ -1010,17 +1030,10 @@ REF_INLINE void root3(ref_udu3 *b, const gf_real h[3], gf_real q,
     if (!(p0 + p1 + p2 > ROOT_TELL * q)) {
         return;
     }
-    // on a copy: the belief's own numbers stay in registers
-    ref_udu3 t = *b;
-    gf_real tp[3] = {dp[0], dp[1], dp[2]};
     if (!(p1 > p0)) {
-        udu_swap(t.ud, t.perm, tp, 3u, 0u);
+        udu_swap(b->ud, b->perm, dp, 3u, 0u);
     }
-    udu_swap(t.ud, t.perm, tp, 3u, 1u);
-    *b = t;
-    dp[0] = tp[0];
-    dp[1] = tp[1];
-    dp[2] = tp[2];
+    udu_swap(b->ud, b->perm, dp, 3u, 1u);
 }
 
 // 0 (finite) or NaN: every number of a 2-state belief and the variance
@@ -1082,9 +1095,8 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
         return GF_ERR_NONFINITE;
     }
     // P^T R P judged and factored
-    gf_real rp[4], rn[3];
-    gather(model->R.m[0], 2u, kf->perm, rp);
-    const gf_status st = noise2_at(rp, 2u, rn);
+    gf_real rn[3];
+    const gf_status st = noise2_p(model->R.m[0], kf->perm, rn);
     return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
 }
 
@@ -1271,9 +1283,8 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
         return GF_ERR_ARG;
     }
     // P^T R P judged and factored
-    gf_real rp[9], rn[6];
-    gather(motion->R.m[0], 3u, ekf->perm, rp);
-    const gf_status st = noise3_at(rp, rn);
+    gf_real rn[6];
+    const gf_status st = noise3_p(motion->R.m[0], ekf->perm, rn);
     return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u);
 }
 
@@ -1327,7 +1338,7 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         return callback_status(st);
     }
     gf_innovation in;
-    gf_real yw[3], f = 0;
+    gf_real *yw = zh.v, f = 0; // y_w where z_hat was
     in.m = m;
     in.y[1] = 0;
     in.y[2] = 0;
@@ -1360,9 +1371,13 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     for (unsigned i = 0; i < m; i++) {
         const gf_real q = qn[UD(i, i)];
         root3(&nb, H.m[i], q, dp);
-        // the row in the factors' order
-        const gf_real h[3] = {H.m[i][nb.perm[0]], H.m[i][nb.perm[1]],
-                              H.m[i][nb.perm[2]]};
+        // the row in the factors' order, in place
+        gf_real *h = H.m[i];
+        const gf_real h0 = h[nb.perm[0]], h1 = h[nb.perm[1]];
+        const gf_real h2 = h[nb.perm[2]];
+        h[0] = h0;
+        h[1] = h1;
+        h[2] = h2;
         const gf_real y = yw[i] - (h[0] * dp[0] + h[1] * dp[1] + h[2] * dp[2]);
         gf_real scale = 0; // as in uduc2_update_step
         if (!(q > 0)) {
@@ -1392,13 +1407,10 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         info_store(info, &in);
         return GF_ERR_GATED;
     }
-    gf_real dx[3];
-    dx[nb.perm[0]] = dp[0];
-    dx[nb.perm[1]] = dp[1];
-    dx[nb.perm[2]] = dp[2];
-    nb.mu.v[0] += dx[0];
-    nb.mu.v[1] += dx[1];
-    nb.mu.v[2] = wrap(nb.mu.v[2] + dx[2]);
+    nb.mu.v[nb.perm[0]] += dp[0];
+    nb.mu.v[nb.perm[1]] += dp[1];
+    nb.mu.v[nb.perm[2]] += dp[2];
+    nb.mu.v[2] = wrap(nb.mu.v[2]);
     if (!(belief3_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
