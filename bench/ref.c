@@ -11,7 +11,6 @@
 
 #include "ref.h"
 
-
 ref_kf2 ref_kf2_from(const gf_kf2 *kf)
 {
     ref_kf2 r;
@@ -194,14 +193,15 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 
 // ---- The sound floor: U D U^T carried between steps -----------------------
 //
-// One step of W1 and W2 on the factors Sigma = U D U^T (ref.h), in the
-// states' own order, written out for n = 2 and 3: Thornton's modified
-// weighted Gram-Schmidt for the prediction, Bierman's scalar update for
-// each measured quantity. The arithmetic is written once (the REF_INLINE
-// helpers below) and inlined into two variants:
-//   udu   no checks: R arrives as its factors (ref_noise2/3_from, once), a
-//         d_j of the prediction is divided by as it is (R's last variance
-//         is positive in both workloads), no NIS, no constant terms;
+// One step of W1 and W2 on the factors Sigma = P U D U^T P^T (ref.h),
+// written out for n = 2 and 3: Thornton's modified weighted Gram-Schmidt
+// for the prediction, Bierman's scalar update for each measured quantity.
+// The arithmetic is written once (the REF_INLINE helpers below) and
+// inlined into two variants:
+//   udu   no checks, the states in their own order (P = I): R arrives as
+//         its factors (ref_noise2/3_from, once), a d_j of the prediction
+//         is divided by as it is (R's last variance is positive in both
+//         workloads), no NIS, no constant terms;
 //   uduc  the checks the plain API promises (kf2.h, ekf3.h), each as cheap
 //         as a hand-written step can make it: every input finite (a sum of
 //         x * 0, NaN if one x is not), R judged and factored in closed
@@ -212,7 +212,10 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 //         the belief only on success. The m quantities of an update are
 //         whitened by Q's factors and taken one Bierman update each, in
 //         their own order (the library ranks them, most informative
-//         first, and may reorder the factors before one).
+//         first), each made the root first if it tells much; and the
+//         library's order of the factors and precision of the prior
+//         ("The factors' order", "The checked floor's init" below), which
+//         the float accuracy target needs.
 // The library's own guards (src/udu.h) come with uduc: a d_j or an
 // alpha_j below GF_REAL_MIN is zero, not divided by.
 
@@ -864,8 +867,7 @@ static REF_NOINLINE gf_status noise3_at(const gf_real *R, gf_real rn[6])
 // The same for a prediction's P^T R P (perm: the belief's order), gathered
 // in a frame of its own, not the prediction's (whose callback comes later).
 static REF_NOINLINE gf_status noise2_p(const gf_real *R,
-                                       const unsigned char *perm,
-                                       gf_real rn[3])
+                                       const unsigned char *perm, gf_real rn[3])
 {
     gf_real rp[4];
     gather(R, 2u, perm, rp);
@@ -873,8 +875,7 @@ static REF_NOINLINE gf_status noise2_p(const gf_real *R,
 }
 
 static REF_NOINLINE gf_status noise3_p(const gf_real *R,
-                                       const unsigned char *perm,
-                                       gf_real rn[6])
+                                       const unsigned char *perm, gf_real rn[6])
 {
     gf_real rp[9];
     gather(R, 3u, perm, rp);
@@ -937,8 +938,8 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
 //   + a r U_i(k+1)  (i < k),
 // the later columns' rows k and k + 1 swapped; a d' below GF_REAL_MIN is
 // zero, with its column (as src/udu.h's gf_udu_swap).
-REF_INLINE void udu_swap(gf_real *ud, unsigned char *perm,
-                                  gf_real *dp, unsigned n, unsigned k)
+REF_INLINE void udu_swap(gf_real *ud, unsigned char *perm, gf_real *dp,
+                         unsigned n, unsigned k)
 {
     const unsigned ok = UD(0u, k), ol = UD(0u, k + 1u);
     const gf_real a = ud[ol + k], dk = ud[ok + k], dl = ud[ol + k + 1u];
@@ -979,8 +980,7 @@ REF_INLINE void udu_swap(gf_real *ud, unsigned char *perm,
 // The one swap, udu_swap's k = 0, is written in (the belief then stays in
 // registers); perm is (0 1) or (1 0), and h in the factors' order a
 // selection by perm[0].
-REF_INLINE void root2(ref_udu2 *b, const gf_real h[2], gf_real q,
-                      gf_real dp[2])
+REF_INLINE void root2(ref_udu2 *b, const gf_real h[2], gf_real q, gf_real dp[2])
 {
     gf_real *ud = b->ud;
     const int sw = b->perm[0] != 0;
@@ -1011,8 +1011,7 @@ REF_INLINE void root2(ref_udu2 *b, const gf_real h[2], gf_real q,
 
 // The same for n = 3: sd0 = d0 + U01^2 d1 + U02^2 d2, sd1 = d1 + U12^2
 // d2, sd2 = d2; the main state the first of the largest share.
-REF_INLINE void root3(ref_udu3 *b, const gf_real h[3], gf_real q,
-                      gf_real dp[3])
+REF_INLINE void root3(ref_udu3 *b, const gf_real h[3], gf_real q, gf_real dp[3])
 {
     const gf_real *ud = b->ud;
     const gf_real h0 = h[b->perm[0]], h1 = h[b->perm[1]];
@@ -1437,7 +1436,9 @@ gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 // step then tests only what changes from step to step: u (KF2) and z
 // finite, the callbacks' status and outputs (EKF3), s (the exact-quantity
 // rule), the NIS, the gate and the result, computed on a copy of the
-// belief written only on success. The step itself is uduc's, inlined.
+// belief written only on success. The step itself is uduc's, inlined;
+// the prediction takes P^T R P's factors from the prepared model, which
+// holds them for every order of the states (made once, by swaps).
 
 gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
                                    const gf_kf2_model *model)
@@ -1446,8 +1447,7 @@ gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
         return GF_ERR_ARG;
     }
     ref_kf2_pmodel p;
-    const gf_status st =
-        noise2(model->R.m[0], 2u, model2_z(model), p.rn[0].ud);
+    const gf_status st = noise2(model->R.m[0], 2u, model2_z(model), p.rn[0].ud);
     if (st != GF_OK) {
         return st;
     }
@@ -1573,10 +1573,13 @@ gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
 
 // ---- The checked floor's init and covariance ----
 //
-// The prior judged and factored by hand as R is (noise2_at, noise3_at:
-// closed form for 2 x 2, diagonal or factored from the last state for
-// 3 x 3), mu finite first, the heading wrapped, the belief's numbers tested
-// finite before it is written.
+// The prior judged by hand as R is (noise2_at, noise3_at: closed form for
+// 2 x 2, diagonal or factored from the last state for 3 x 3), mu finite
+// first, then factored with the states reversed in about twice the
+// precision (prior: the library's gf_udu_factor_n, written for n <= 3;
+// the library's own copy, gf_udu_factor3, is 1064 B on Cortex-M4F -Os,
+// these helpers 852 B), the heading wrapped, the belief's numbers
+// tested finite before it is written.
 
 // The prior's factors, once noise2_at / noise3_at accepted it, with the
 // states reversed (perm (1 0), (2 1 0)), as the library's: t = P^T Sigma P
@@ -1668,8 +1671,8 @@ static REF_NOINLINE void prior(const gf_real *s, unsigned n, gf_real *ud)
         const unsigned sj = n - 1u - j;
         gf_real e = 0, x = s[sj * n + sj], dl;
         for (unsigned k = j + 1u; k < n; k++) {
-            x = schur(x, ud[UD(j, k)], ud[UD(k, k)], ud[UD(j, k)],
-                      lo[UD(j, k)], lo[UD(k, k)], lo[UD(j, k)], &e);
+            x = schur(x, ud[UD(j, k)], ud[UD(k, k)], ud[UD(j, k)], lo[UD(j, k)],
+                      lo[UD(k, k)], lo[UD(j, k)], &e);
         }
         const gf_real dj = pivot(x, e, &dl);
         for (unsigned i = 0; i < j; i++) {
@@ -1729,7 +1732,7 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     return GF_OK;
 }
 
-// Sigma = U D U^T in closed form, each variance a sum of d_j U_ij^2.
+// Sigma = P U D U^T P^T in closed form, each variance a sum of d_j U_ij^2.
 gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma)
 {
     if (!kf || !sigma) {

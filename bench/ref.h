@@ -106,7 +106,8 @@ void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 // gf_ekf3_update's statuses for the same inputs, the belief untouched on
 // any failure, info as theirs; the updates take m = 1 or 2 (KF2) and 1 to
 // 3 (EKF3) quantities, whitened by Q's factors and taken one at a time in
-// their own order (bench/ref.c).
+// their own order, each made the root of the factors first if it tells
+// much (bench/ref.c).
 gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
                             const gf_vec2 *u);
 gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
