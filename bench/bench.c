@@ -337,7 +337,8 @@ static inline gf_status ekf3_udu_step(int v, ref_udu3 *ekf, unsigned j)
 
 static inline double kf2_udu_loop(int v, unsigned long n)
 {
-    const ref_udu2 init = ref_udu2_from(&wl_w1_init);
+    const ref_udu2 init =
+        v == 0 ? ref_udu2_inorder(&wl_w1_init) : ref_udu2_from(&wl_w1_init);
     ref_udu2 kf = init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
@@ -354,7 +355,8 @@ static inline double kf2_udu_loop(int v, unsigned long n)
 
 static inline double ekf3_udu_loop(int v, unsigned long n)
 {
-    const ref_udu3 init = ref_udu3_from(&wl_w2_init);
+    const ref_udu3 init =
+        v == 0 ? ref_udu3_inorder(&wl_w2_init) : ref_udu3_from(&wl_w2_init);
     ref_udu3 ekf = init;
     for (unsigned long i = 0; i < n; i++) {
         unsigned j = (unsigned)(i & (TAB - 1));
@@ -407,7 +409,8 @@ static int udu_agree(int ekf3, int v, const char *wl, const char *part)
 {
     gf_real worst = 0, worst_mu = 0, mu;
     if (!ekf3) {
-        ref_udu2 kf = ref_udu2_from(&wl_w1_init);
+        ref_udu2 kf =
+            v == 0 ? ref_udu2_inorder(&wl_w1_init) : ref_udu2_from(&wl_w1_init);
         gf_kf2 lib = wl_w1_init;
         for (unsigned j = 0; j < TAB; j++) {
             if (kf2_udu_step(v, &kf, j) != GF_OK ||
@@ -420,7 +423,8 @@ static int udu_agree(int ekf3, int v, const char *wl, const char *part)
             worst_mu = mu > worst_mu ? mu : worst_mu;
         }
     } else {
-        ref_udu3 ekf = ref_udu3_from(&wl_w2_init);
+        ref_udu3 ekf =
+            v == 0 ? ref_udu3_inorder(&wl_w2_init) : ref_udu3_from(&wl_w2_init);
         gf_ekf3 lib = wl_w2_init;
         for (unsigned j = 0; j < TAB; j++) {
             if (ekf3_udu_step(v, &ekf, j) != GF_OK ||

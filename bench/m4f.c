@@ -174,7 +174,7 @@ static void w1(void)
     // The sound floor: unchecked (R's factors made once), then checked.
     const ref_noise2 rn = ref_noise2_from(&wl_w1_model.R);
     agree ag = {0, 0};
-    ref_udu2 ru = ref_udu2_from(&wl_w1_init);
+    ref_udu2 ru = ref_udu2_inorder(&wl_w1_init);
     for (unsigned i = 0; i < WL_TAB; i++) {
         bench_mark_start(&ru);
         ref_udu2_predict(&ru, &wl_w1_model, &rn);
@@ -269,7 +269,7 @@ static void w2(const char *name, unsigned m)
                                                          : ref_udu3_update_xyt;
     const ref_noise3 rn = ref_noise3_from(&wl_w2_motion.R);
     agree ag = {0, 0};
-    ref_udu3 ru = ref_udu3_from(&wl_w2_init);
+    ref_udu3 ru = ref_udu3_inorder(&wl_w2_init);
     for (unsigned i = 0; i < WL_TAB; i++) {
         bench_mark_start(&ru);
         ref_udu3_predict(&ru, &wl_w2_motion, &rn, wl_w2_u[i]);

@@ -193,14 +193,15 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 
 // ---- The sound floor: U D U^T carried between steps -----------------------
 //
-// One step of W1 and W2 on the factors Sigma = U D U^T (ref.h), in the
-// states' own order, written out for n = 2 and 3: Thornton's modified
-// weighted Gram-Schmidt for the prediction, Bierman's scalar update for
-// each measured quantity. The arithmetic is written once (the REF_INLINE
-// helpers below) and inlined into two variants:
-//   udu   no checks: R arrives as its factors (ref_noise2/3_from, once), a
-//         d_j of the prediction is divided by as it is (R's last variance
-//         is positive in both workloads), no NIS, no constant terms;
+// One step of W1 and W2 on the factors Sigma = P U D U^T P^T (ref.h),
+// written out for n = 2 and 3: Thornton's modified weighted Gram-Schmidt
+// for the prediction, Bierman's scalar update for each measured quantity.
+// The arithmetic is written once (the REF_INLINE helpers below) and
+// inlined into two variants:
+//   udu   no checks, the states in their own order (P = I): R arrives as
+//         its factors (ref_noise2/3_from, once), a d_j of the prediction
+//         is divided by as it is (R's last variance is positive in both
+//         workloads), no NIS, no constant terms;
 //   uduc  the checks the plain API promises (kf2.h, ekf3.h), each as cheap
 //         as a hand-written step can make it: every input finite (a sum of
 //         x * 0, NaN if one x is not), R judged and factored in closed
@@ -211,7 +212,10 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 //         the belief only on success. The m quantities of an update are
 //         whitened by Q's factors and taken one Bierman update each, in
 //         their own order (the library ranks them, most informative
-//         first, and may reorder the factors before one).
+//         first), each made the root first if it tells much; and the
+//         library's order of the factors and precision of the prior
+//         ("The factors' order", "The checked floor's init" below), which
+//         the float accuracy target needs.
 // The library's own guards (src/udu.h) come with uduc: a d_j or an
 // alpha_j below GF_REAL_MIN is zero, not divided by.
 
@@ -259,8 +263,10 @@ static void udu_factor(const gf_real *s, unsigned n, gf_real *ud)
     }
 }
 
-// Sigma_ij = sum_(k >= max(i, j)) U_ik d_k U_jk, U_kk = 1, into s (n x n).
-static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
+// Sigma_(perm i)(perm j) = sum_(k >= max(i, j)) U_ik d_k U_jk, U_kk = 1,
+// into s (n x n).
+static void udu_cov(const gf_real *ud, const unsigned char *perm, unsigned n,
+                    gf_real *s)
 {
     for (unsigned i = 0; i < n; i++) {
         for (unsigned j = i; j < n; j++) {
@@ -270,20 +276,21 @@ static void udu_cov(const gf_real *ud, unsigned n, gf_real *s)
                 const gf_real ujk = (k == j) ? GF_R(1.0) : ud[UD(j, k)];
                 acc += uik * ud[UD(k, k)] * ujk;
             }
-            s[i * n + j] = acc;
-            s[j * n + i] = acc;
+            s[perm[i] * n + perm[j]] = acc;
+            s[perm[j] * n + perm[i]] = acc;
         }
     }
 }
 
 // ref_udu2_dev and ref_udu3_dev for n states (lib: the library's Sigma,
 // n x n; angle: the index of a heading, n if none).
-static gf_real udu_dev(const gf_real *ud, const gf_real *mu, const gf_real *lib,
+static gf_real udu_dev(const gf_real *ud, const unsigned char *perm,
+                       const gf_real *mu, const gf_real *lib,
                        const gf_real *lib_mu, unsigned n, unsigned angle,
                        gf_real *mu_dev)
 {
     gf_real s[9], sd[3], worst = 0, worst_mu = 0;
-    udu_cov(ud, n, s);
+    udu_cov(ud, perm, n, s);
     for (unsigned i = 0; i < n; i++) {
         sd[i] = GF_SQRT(lib[i * n + i]);
         gf_real dm = mu[i] - lib_mu[i];
@@ -311,19 +318,43 @@ static gf_real udu_dev(const gf_real *ud, const gf_real *mu, const gf_real *lib,
 ref_udu2 ref_udu2_from(const gf_kf2 *kf)
 {
     ref_udu2 r;
-    gf_mat2 s;
-    (void)gf_kf2_cov(kf, &s);
     r.mu = kf->mu;
-    udu_factor(s.m[0], 2, r.ud);
+    for (unsigned k = 0; k < 3u; k++) {
+        r.ud[k] = kf->ud[k];
+    }
+    for (unsigned k = 0; k < sizeof r.perm; k++) {
+        r.perm[k] = kf->perm[k];
+    }
     return r;
 }
 
 ref_udu3 ref_udu3_from(const gf_ekf3 *ekf)
 {
     ref_udu3 r;
+    r.mu = ekf->mu;
+    for (unsigned k = 0; k < 6u; k++) {
+        r.ud[k] = ekf->ud[k];
+    }
+    for (unsigned k = 0; k < sizeof r.perm; k++) {
+        r.perm[k] = ekf->perm[k];
+    }
+    return r;
+}
+
+ref_udu2 ref_udu2_inorder(const gf_kf2 *kf)
+{
+    ref_udu2 r = {kf->mu, {0}, {0, 1}};
+    gf_mat2 s;
+    (void)gf_kf2_cov(kf, &s);
+    udu_factor(s.m[0], 2, r.ud);
+    return r;
+}
+
+ref_udu3 ref_udu3_inorder(const gf_ekf3 *ekf)
+{
+    ref_udu3 r = {ekf->mu, {0}, {0, 1, 2}};
     gf_mat3 s;
     (void)gf_ekf3_cov(ekf, &s);
-    r.mu = ekf->mu;
     udu_factor(s.m[0], 3, r.ud);
     return r;
 }
@@ -346,14 +377,14 @@ gf_real ref_udu2_dev(const ref_udu2 *r, const gf_kf2 *kf, gf_real *mu_dev)
 {
     gf_mat2 s;
     (void)gf_kf2_cov(kf, &s);
-    return udu_dev(r->ud, r->mu.v, s.m[0], kf->mu.v, 2, 2, mu_dev);
+    return udu_dev(r->ud, r->perm, r->mu.v, s.m[0], kf->mu.v, 2, 2, mu_dev);
 }
 
 gf_real ref_udu3_dev(const ref_udu3 *r, const gf_ekf3 *ekf, gf_real *mu_dev)
 {
     gf_mat3 s;
     (void)gf_ekf3_cov(ekf, &s);
-    return udu_dev(r->ud, r->mu.v, s.m[0], ekf->mu.v, 3, 2, mu_dev);
+    return udu_dev(r->ud, r->perm, r->mu.v, s.m[0], ekf->mu.v, 3, 2, mu_dev);
 }
 
 // Thornton's time update of 2 states, in place on ud:
@@ -798,6 +829,26 @@ REF_INLINE gf_status noise3(const gf_real *R, gf_real rn[6])
     return GF_OK;
 }
 
+// P^T M P of an n x n M (rows of n) into o: o_ij = M_(perm i)(perm j),
+// perm's entries read once.
+REF_INLINE void gather(const gf_real *M, unsigned n, const unsigned char *perm,
+                       gf_real *o)
+{
+    unsigned p[3];
+    REF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        p[i] = perm[i];
+    }
+    REF_UNROLL
+    for (unsigned i = 0; i < n; i++) {
+        const gf_real *mi = &M[p[i] * n];
+        REF_UNROLL
+        for (unsigned j = 0; j < n; j++) {
+            o[i * n + j] = mi[p[j]];
+        }
+    }
+}
+
 // noise2 and noise3 out of line, one copy each for the checked floor's
 // plain calls: R in every prediction, a prior (init) and the Q of m > 1
 // quantities (the updates). Only the prepared path's prepare functions
@@ -811,6 +862,24 @@ static REF_NOINLINE gf_status noise2_at(const gf_real *R, unsigned stride,
 static REF_NOINLINE gf_status noise3_at(const gf_real *R, gf_real rn[6])
 {
     return noise3(R, rn);
+}
+
+// The same for a prediction's P^T R P (perm: the belief's order), gathered
+// in a frame of its own, not the prediction's (whose callback comes later).
+static REF_NOINLINE gf_status noise2_p(const gf_real *R,
+                                       const unsigned char *perm, gf_real rn[3])
+{
+    gf_real rp[4];
+    gather(R, 2u, perm, rp);
+    return noise2_at(rp, 2u, rn);
+}
+
+static REF_NOINLINE gf_status noise3_p(const gf_real *R,
+                                       const unsigned char *perm, gf_real rn[6])
+{
+    gf_real rp[9];
+    gather(R, 3u, perm, rp);
+    return noise3_at(rp, rn);
 }
 
 // A model callback's status, as the library passes it on: an unknown one,
@@ -847,6 +916,125 @@ REF_INLINE void qsub(gf_mat3 *H, gf_real yw[3], unsigned i, gf_real u,
     yw[i] -= u * yw[k];
 }
 
+// ---- The factors' order (uduc, uducp) ----
+//
+// The checked floor keeps the library's order of the factors: Sigma =
+// P U D U^T P^T, perm[k] the state at the factors' index k. The prior is
+// factored with the states reversed (state 0, the measured position of
+// both workloads, at the root, the last index, whose d is its whole
+// variance and whose row of U Bierman's update leaves alone); a quantity
+// that tells more than ROOT_TELL (v = sum_s h_s^2 Sigma_ss above
+// ROOT_TELL times its whitened noise) has its main state (the largest
+// h_s^2 Sigma_ss) moved to the root first, by adjacent swaps, unless it
+// measures the root's state alone; the prediction works through P.
+
+#define ROOT_TELL GF_R(16.0)
+
+// Swaps the factors' indices k and k + 1 (n = 2 or 3), the same Sigma
+// with the state perm[k + 1] at k, and dp's entries with their states:
+// with a = U_k(k+1), d'_(k+1) = d_k + a^2 d_(k+1), r = d_(k+1) / d'_(k+1),
+//   U'_k(k+1) = a r,  d'_k = d_k r,
+//   U'_ik = U_i(k+1) - a U_ik,  U'_i(k+1) = (d_k / d'_(k+1)) U_ik
+//   + a r U_i(k+1)  (i < k),
+// the later columns' rows k and k + 1 swapped; a d' below GF_REAL_MIN is
+// zero, with its column (as src/udu.h's gf_udu_swap).
+REF_INLINE void udu_swap(gf_real *ud, unsigned char *perm, gf_real *dp,
+                         unsigned n, unsigned k)
+{
+    const unsigned ok = UD(0u, k), ol = UD(0u, k + 1u);
+    const gf_real a = ud[ol + k], dk = ud[ok + k], dl = ud[ol + k + 1u];
+    const gf_real dq = dk + a * a * dl;
+    gf_real r = 0, sk = 0, dn = dl;
+    if (dq >= GF_REAL_MIN) {
+        const gf_real inv = GF_R(1.0) / dq;
+        r = dl * inv;
+        sk = dk * inv;
+        dn = dk * r;
+    }
+    const gf_real beta = a * r;
+    const int zk = !(dn >= GF_REAL_MIN);
+    for (unsigned i = 0; i < k; i++) {
+        const gf_real uk = ud[ok + i], ul = ud[ol + i];
+        ud[ok + i] = zk ? GF_R(0.0) : ul - a * uk;
+        ud[ol + i] = sk * uk + beta * ul;
+    }
+    ud[ok + k] = zk ? GF_R(0.0) : dn;
+    ud[ol + k] = beta;
+    ud[ol + k + 1u] = (dq >= GF_REAL_MIN) ? dq : GF_R(0.0);
+    if (k + 2u < n) { // n = 3, k = 0: column 2's rows 0 and 1
+        const gf_real t = ud[3];
+        ud[3] = ud[4];
+        ud[4] = t;
+    }
+    const unsigned char t = perm[k];
+    perm[k] = perm[k + 1u];
+    perm[k + 1u] = t;
+    const gf_real x = dp[k];
+    dp[k] = dp[k + 1u];
+    dp[k + 1u] = x;
+}
+
+// Before a scalar update of the row h (by state) with noise q: its main
+// state made the root if it tells more than ROOT_TELL (n = 2). Sigma's
+// variances in the factors' order: sd0 = d0 + U01^2 d1, sd1 = d1.
+// The one swap, udu_swap's k = 0, is written in (the belief then stays in
+// registers); perm is (0 1) or (1 0), and h in the factors' order a
+// selection by perm[0].
+REF_INLINE void root2(ref_udu2 *b, const gf_real h[2], gf_real q, gf_real dp[2])
+{
+    gf_real *ud = b->ud;
+    const int sw = b->perm[0] != 0;
+    const gf_real h0 = sw ? h[1] : h[0], h1 = sw ? h[0] : h[1];
+    if (!(GF_FABS(h0) > 0)) {
+        return; // the root's state alone
+    }
+    const gf_real d0 = ud[0], a = ud[1], d1 = ud[2];
+    const gf_real p0 = h0 * h0 * (d0 + a * a * d1);
+    const gf_real p1 = h1 * h1 * d1;
+    if (!(p1 > p0) && p0 + p1 > ROOT_TELL * q) {
+        const gf_real dq = d0 + a * a * d1;
+        gf_real r = 0, dn = d1;
+        if (dq >= GF_REAL_MIN) {
+            r = d1 * (GF_R(1.0) / dq);
+            dn = d0 * r;
+        }
+        ud[0] = dn >= GF_REAL_MIN ? dn : GF_R(0.0);
+        ud[1] = a * r;
+        ud[2] = dq >= GF_REAL_MIN ? dq : GF_R(0.0);
+        b->perm[0] = (unsigned char)!sw;
+        b->perm[1] = (unsigned char)sw;
+        const gf_real x = dp[0];
+        dp[0] = dp[1];
+        dp[1] = x;
+    }
+}
+
+// The same for n = 3: sd0 = d0 + U01^2 d1 + U02^2 d2, sd1 = d1 + U12^2
+// d2, sd2 = d2; the main state the first of the largest share.
+REF_INLINE void root3(ref_udu3 *b, const gf_real h[3], gf_real q, gf_real dp[3])
+{
+    const gf_real *ud = b->ud;
+    const gf_real h0 = h[b->perm[0]], h1 = h[b->perm[1]];
+    const gf_real h2 = h[b->perm[2]];
+    if (!(GF_FABS(h0) + GF_FABS(h1) > 0)) {
+        return;
+    }
+    const gf_real p0 =
+        h0 * h0 * (ud[0] + ud[1] * ud[1] * ud[2] + ud[3] * ud[3] * ud[5]);
+    const gf_real p1 = h1 * h1 * (ud[2] + ud[4] * ud[4] * ud[5]);
+    const gf_real p2 = h2 * h2 * ud[5];
+    if (p2 > p0 && p2 > p1) {
+        return; // the root's state is the main one
+    }
+    if (!(p0 + p1 + p2 > ROOT_TELL * q)) {
+        return;
+    }
+    if (!(p1 > p0)) {
+        udu_swap(b->ud, b->perm, dp, 3u, 0u);
+    }
+    udu_swap(b->ud, b->perm, dp, 3u, 1u);
+}
+
 // 0 (finite) or NaN: every number of a 2-state belief and the variance
 // d0 + U01^2 d1 its factors give (d1 is one of them).
 REF_INLINE gf_real belief2_z(const gf_real mu[2], const gf_real ud[3])
@@ -866,7 +1054,8 @@ REF_INLINE gf_real model2_z(const gf_kf2_model *model)
 
 // The prediction once the model and u are checked and R factored (rn):
 // mu_bar = A mu + B u + c, Sigma_bar on the factors, into a copy written
-// back only if all of it is finite.
+// back only if all of it is finite. Through P: thornton2 on P^T A P with
+// P^T R P's factors (rn: the belief's order).
 REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
                                         const gf_real rn[3], const gf_vec2 *u)
 {
@@ -879,7 +1068,9 @@ REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
         nb.mu.v[0] += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
         nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
     }
-    thornton2(nb.ud, A, rn, 1);
+    gf_mat2 Ap;
+    gather(A->m[0], 2u, kf->perm, Ap.m[0]);
+    thornton2(nb.ud, &Ap, rn, 1);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -902,8 +1093,9 @@ gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
     if (!(z < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
+    // P^T R P judged and factored
     gf_real rn[3];
-    const gf_status st = noise2_at(model->R.m[0], 2u, rn);
+    const gf_status st = noise2_p(model->R.m[0], kf->perm, rn);
     return st != GF_OK ? st : uduc2_predict_step(kf, model, rn, u);
 }
 
@@ -987,11 +1179,16 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
     }
     ref_udu2 nb = *kf;
     gf_real *ud = nb.ud;
-    gf_real dx0 = 0, dx1 = 0;
+    gf_real dp[2] = {0, 0}; // mu - mu_bar in the factors' order
     in.nis = 0;
     for (unsigned i = 0; i < m; i++) {
-        const gf_real c0 = w[i][0], c1 = w[i][1], q = qn[2u * i]; // d_i
-        const gf_real y = w[i][2] - (c0 * dx0 + c1 * dx1);
+        const gf_real q = qn[2u * i]; // d_i
+        root2(&nb, w[i], q, dp);
+        // the row in the factors' order
+        const int sw = nb.perm[0] != 0;
+        const gf_real c0 = sw ? w[i][1] : w[i][0];
+        const gf_real c1 = sw ? w[i][0] : w[i][1];
+        const gf_real y = w[i][2] - (c0 * dp[0] + c1 * dp[1]);
         // An exact quantity (q = 0): s must be positive relative to its
         // terms before cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij
         // h_i|)^2
@@ -1010,8 +1207,8 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
         }
         const gf_real k = y * inv;
         in.nis += y * k;
-        dx0 += b[0] * k;
-        dx1 += b[1] * k;
+        dp[0] += b[0] * k;
+        dp[1] += b[1] * k;
     }
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
@@ -1020,8 +1217,9 @@ REF_INLINE gf_status uduc2_update_step(ref_udu2 *kf, const gf_kf2_meas *meas,
         info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[0] = m0 + dx0;
-    nb.mu.v[1] = m1 + dx1;
+    const int sw = nb.perm[0] != 0;
+    nb.mu.v[0] += sw ? dp[1] : dp[0];
+    nb.mu.v[1] += sw ? dp[0] : dp[1];
     if (!(belief2_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1051,7 +1249,8 @@ REF_INLINE gf_real belief3_z(const gf_real mu[3], const gf_real ud[6])
            Z(ud[2] + ud[4] * ud[5] * ud[4]);
 }
 
-// The prediction once R is checked and factored (rn). The callback's
+// The prediction once R is checked and factored (rn: P^T R P's, as
+// uduc2_predict_step's; thornton3 on P^T G P). The callback's
 // mu_bar and G are not tested apart: a NaN or inf in either reaches mu or
 // the factors (G_ij is a term of (G U)_ij), and the result is tested, as
 // the library does; u reaches only the callback.
@@ -1066,7 +1265,9 @@ REF_INLINE gf_status uduc3_predict_step(ref_udu3 *ekf,
         return callback_status(st);
     }
     nb.mu.v[2] = wrap(nb.mu.v[2]);
-    thornton3(nb.ud, &G, rn, 1);
+    gf_mat3 Gp;
+    gather(G.m[0], 3u, ekf->perm, Gp.m[0]);
+    thornton3(nb.ud, &Gp, rn, 1);
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1080,8 +1281,9 @@ gf_status ref_uduc3_predict(ref_udu3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion || !motion->g) {
         return GF_ERR_ARG;
     }
+    // P^T R P judged and factored
     gf_real rn[6];
-    const gf_status st = noise3_at(motion->R.m[0], rn);
+    const gf_status st = noise3_p(motion->R.m[0], ekf->perm, rn);
     return st != GF_OK ? st : uduc3_predict_step(ekf, motion, rn, u);
 }
 
@@ -1135,7 +1337,7 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         return callback_status(st);
     }
     gf_innovation in;
-    gf_real yw[3], f = 0;
+    gf_real *yw = zh.v, f = 0; // y_w where z_hat was
     in.m = m;
     in.y[1] = 0;
     in.y[2] = 0;
@@ -1163,12 +1365,19 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
     }
     ref_udu3 nb = *ekf;
     gf_real *ud = nb.ud;
-    gf_real dx0 = 0, dx1 = 0, dx2 = 0;
+    gf_real dp[3] = {0, 0, 0}; // mu - mu_bar in the factors' order
     in.nis = 0;
     for (unsigned i = 0; i < m; i++) {
-        const gf_real *h = H.m[i];
         const gf_real q = qn[UD(i, i)];
-        const gf_real y = yw[i] - (h[0] * dx0 + h[1] * dx1 + h[2] * dx2);
+        root3(&nb, H.m[i], q, dp);
+        // the row in the factors' order, in place
+        gf_real *h = H.m[i];
+        const gf_real h0 = h[nb.perm[0]], h1 = h[nb.perm[1]];
+        const gf_real h2 = h[nb.perm[2]];
+        h[0] = h0;
+        h[1] = h1;
+        h[2] = h2;
+        const gf_real y = yw[i] - (h[0] * dp[0] + h[1] * dp[1] + h[2] * dp[2]);
         gf_real scale = 0; // as in uduc2_update_step
         if (!(q > 0)) {
             const gf_real t1 = GF_FABS(h[1]) + GF_FABS(ud[1] * h[0]);
@@ -1186,9 +1395,9 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         }
         const gf_real k = y * inv;
         in.nis += y * k;
-        dx0 += b[0] * k;
-        dx1 += b[1] * k;
-        dx2 += b[2] * k;
+        dp[0] += b[0] * k;
+        dp[1] += b[1] * k;
+        dp[2] += b[2] * k;
     }
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
@@ -1197,9 +1406,10 @@ REF_INLINE gf_status uduc3_update_step(ref_udu3 *ekf, const gf_ekf3_meas *meas,
         info_store(info, &in);
         return GF_ERR_GATED;
     }
-    nb.mu.v[0] += dx0;
-    nb.mu.v[1] += dx1;
-    nb.mu.v[2] = wrap(nb.mu.v[2] + dx2);
+    nb.mu.v[nb.perm[0]] += dp[0];
+    nb.mu.v[nb.perm[1]] += dp[1];
+    nb.mu.v[nb.perm[2]] += dp[2];
+    nb.mu.v[2] = wrap(nb.mu.v[2]);
     if (!(belief3_z(nb.mu.v, ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1226,7 +1436,9 @@ gf_status ref_uduc3_update(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 // step then tests only what changes from step to step: u (KF2) and z
 // finite, the callbacks' status and outputs (EKF3), s (the exact-quantity
 // rule), the NIS, the gate and the result, computed on a copy of the
-// belief written only on success. The step itself is uduc's, inlined.
+// belief written only on success. The step itself is uduc's, inlined;
+// the prediction takes P^T R P's factors from the prepared model, which
+// holds them for every order of the states (made once, by swaps).
 
 gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
                                    const gf_kf2_model *model)
@@ -1235,10 +1447,15 @@ gf_status ref_uducp2_prepare_model(ref_kf2_pmodel *pm,
         return GF_ERR_ARG;
     }
     ref_kf2_pmodel p;
-    const gf_status st = noise2(model->R.m[0], 2u, model2_z(model), p.rn.ud);
+    const gf_status st = noise2(model->R.m[0], 2u, model2_z(model), p.rn[0].ud);
     if (st != GF_OK) {
         return st;
     }
+    // the states swapped
+    unsigned char perm[2] = {0, 1};
+    gf_real dp[2];
+    p.rn[1] = p.rn[0];
+    udu_swap(p.rn[1].ud, perm, dp, 2u, 0u);
     p.model = *model;
     *pm = p;
     return GF_OK;
@@ -1268,7 +1485,7 @@ gf_status ref_uducp2_predict(ref_udu2 *kf, const ref_kf2_pmodel *pm,
     if (u && !(Z(u->v[0]) + Z(u->v[1]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    return uduc2_predict_step(kf, &pm->model, pm->rn.ud, u);
+    return uduc2_predict_step(kf, &pm->model, pm->rn[kf->perm[0]].ud, u);
 }
 
 gf_status ref_uducp2_update(ref_udu2 *kf, const ref_kf2_pmeas *pq,
@@ -1294,9 +1511,19 @@ gf_status ref_uducp3_prepare_motion(ref_ekf3_pmotion *pm,
         return GF_ERR_ARG;
     }
     ref_ekf3_pmotion p;
-    const gf_status st = noise3(motion->R.m[0], p.rn.ud);
+    ref_noise3 rn;
+    const gf_status st = noise3(motion->R.m[0], rn.ud);
     if (st != GF_OK) {
         return st;
+    }
+    // the other five orders of the states by adjacent swaps (at 1, 0, 1,
+    // 0, 1 from the states' own: each order once)
+    unsigned char perm[3] = {0, 1, 2};
+    gf_real dp[3];
+    p.rn[1] = rn;
+    for (unsigned t = 0; t < 5u; t++) {
+        udu_swap(rn.ud, perm, dp, 3u, (t + 1u) & 1u);
+        p.rn[perm[0] * 3u + perm[1]] = rn;
     }
     p.motion = *motion;
     *pm = p;
@@ -1324,7 +1551,8 @@ gf_status ref_uducp3_predict(ref_udu3 *ekf, const ref_ekf3_pmotion *pm,
     if (!ekf || !pm) {
         return GF_ERR_ARG;
     }
-    return uduc3_predict_step(ekf, &pm->motion, pm->rn.ud, u);
+    const unsigned slot = ekf->perm[0] * 3u + ekf->perm[1];
+    return uduc3_predict_step(ekf, &pm->motion, pm->rn[slot].ud, u);
 }
 
 gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
@@ -1345,10 +1573,121 @@ gf_status ref_uducp3_update(ref_udu3 *ekf, const ref_ekf3_pmeas *pq,
 
 // ---- The checked floor's init and covariance ----
 //
-// The prior judged and factored by hand as R is (noise2_at, noise3_at:
-// closed form for 2 x 2, diagonal or factored from the last state for
-// 3 x 3), mu finite first, the heading wrapped, the belief's numbers tested
-// finite before it is written.
+// The prior judged by hand as R is (noise2_at, noise3_at: closed form for
+// 2 x 2, diagonal or factored from the last state for 3 x 3), mu finite
+// first, then factored with the states reversed in about twice the
+// precision (prior: the library's gf_udu_factor_n, written for n <= 3;
+// the library's own copy, gf_udu_factor3, is 1064 B on Cortex-M4F -Os,
+// these helpers 852 B), the heading wrapped, the belief's numbers
+// tested finite before it is written.
+
+// The prior's factors, once noise2_at / noise3_at accepted it, with the
+// states reversed (perm (1 0), (2 1 0)), as the library's: t = P^T Sigma P
+// (s's upper triangle read), column j from the last,
+//   d_j = t_jj - sum_(k>j) U_jk d_k U_jk,
+//   U_ij = (t_ij - sum_(k>j) U_ik d_k U_jk) / d_j,
+// each sum and quotient in about twice gf_real's precision (Dekker's
+// TwoProduct, Knuth's TwoSum, the factors' low parts l carried to first
+// order) and each factor rounded once: a d_j of a nearly singular prior is
+// the difference of nearly equal numbers, and the steps need it to its own
+// relative precision. Every positive pivot is kept; one below GF_REAL_MIN
+// is zero, with a zero column of U.
+
+// Veltkamp's splitting constant, 2^ceil(p / 2) + 1.
+#ifdef GF_SINGLE_PRECISION
+#define SPLIT GF_R(4097.0)
+#else
+#define SPLIT GF_R(134217729.0)
+#endif
+
+// a b - p for p = fl(a b), exactly; 0 where a split leaves the range.
+static REF_NOINLINE gf_real prod_err(gf_real a, gf_real b, gf_real p)
+{
+    const gf_real ca = SPLIT * a, cb = SPLIT * b;
+    const gf_real ah = ca - (ca - a), bh = cb - (cb - b);
+    const gf_real al = a - ah, bl = b - bh;
+    const gf_real e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    return GF_ISFINITE(e) ? e : GF_R(0.0);
+}
+
+// a + b - t for t = fl(a + b), exactly.
+REF_INLINE gf_real sum_err(gf_real a, gf_real b, gf_real t)
+{
+    const gf_real bb = t - a;
+    return (a - (t - bb)) + (b - bb);
+}
+
+// acc - a d b, its rounding and the low parts' terms (la, ld, lb) added
+// to *e.
+static REF_NOINLINE gf_real schur(gf_real acc, gf_real a, gf_real d, gf_real b,
+                                  gf_real la, gf_real ld, gf_real lb,
+                                  gf_real *e)
+{
+    const gf_real t1 = a * d, t = t1 * b, next = acc - t;
+    const gf_real c = prod_err(t1, b, t) + prod_err(a, d, t1) * b + t1 * lb +
+                      (la * d + a * ld) * b;
+    *e += sum_err(acc, -t, next) - c;
+    return next;
+}
+
+// d_j = x + e rounded once (e ignored if not finite), its low part in *l;
+// zero below GF_REAL_MIN.
+static REF_NOINLINE gf_real pivot(gf_real x, gf_real e, gf_real *l)
+{
+    e = GF_ISFINITE(e) ? e : GF_R(0.0);
+    const gf_real d = x + e;
+    const gf_real dl = sum_err(x, e, d);
+    const int pos = d >= GF_REAL_MIN;
+    *l = (pos && GF_ISFINITE(dl)) ? dl : GF_R(0.0);
+    return pos ? d : GF_R(0.0);
+}
+
+// U_ij = (r + rl) / (d + dl) rounded once, its low part in *l; 0 if d is.
+static REF_NOINLINE gf_real quot(gf_real r, gf_real rl, gf_real d, gf_real dl,
+                                 gf_real *l)
+{
+    gf_real q = 0, ql = 0;
+    if (d > 0) {
+        rl = GF_ISFINITE(rl) ? rl : GF_R(0.0);
+        q = r / d;
+        const gf_real p = q * d;
+        ql = (((r - p) - prod_err(q, d, p)) + rl - q * dl) / d;
+        ql = GF_ISFINITE(ql) ? ql : GF_R(0.0);
+        const gf_real u = q + ql;
+        ql = sum_err(q, ql, u);
+        q = u;
+        ql = GF_ISFINITE(ql) ? ql : GF_R(0.0);
+    }
+    *l = ql;
+    return q;
+}
+
+// The factors of P^T s P (n = 2 or 3, s rows of n), P the states
+// reversed: t_ij = s_(n-1-i)(n-1-j), read from s's upper triangle.
+static REF_NOINLINE void prior(const gf_real *s, unsigned n, gf_real *ud)
+{
+    gf_real lo[6]; // the factors' low parts
+    for (unsigned j = n; j-- > 0u;) {
+        const unsigned sj = n - 1u - j;
+        gf_real e = 0, x = s[sj * n + sj], dl;
+        for (unsigned k = j + 1u; k < n; k++) {
+            x = schur(x, ud[UD(j, k)], ud[UD(k, k)], ud[UD(j, k)], lo[UD(j, k)],
+                      lo[UD(k, k)], lo[UD(j, k)], &e);
+        }
+        const gf_real dj = pivot(x, e, &dl);
+        for (unsigned i = 0; i < j; i++) {
+            // state n - 1 - i > sj
+            gf_real r = s[sj * n + n - 1u - i], rl = 0;
+            for (unsigned k = j + 1u; k < n; k++) {
+                r = schur(r, ud[UD(i, k)], ud[UD(k, k)], ud[UD(j, k)],
+                          lo[UD(i, k)], lo[UD(k, k)], lo[UD(j, k)], &rl);
+            }
+            ud[UD(i, j)] = quot(r, rl, dj, dl, &lo[UD(i, j)]);
+        }
+        ud[UD(j, j)] = dj;
+        lo[UD(j, j)] = dl;
+    }
+}
 
 gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
 {
@@ -1358,12 +1697,12 @@ gf_status ref_uduc2_init(ref_udu2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     if (!(Z(mu->v[0]) + Z(mu->v[1]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    ref_udu2 nb;
-    const gf_status st = noise2_at(sigma->m[0], 2u, nb.ud);
+    ref_udu2 nb = {*mu, {0}, {1, 0}};
+    const gf_status st = noise2_at(sigma->m[0], 2u, nb.ud); // the verdict
     if (st != GF_OK) {
         return st;
     }
-    nb.mu = *mu;
+    prior(sigma->m[0], 2u, nb.ud);
     if (!(belief2_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
@@ -1379,13 +1718,12 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     if (!(Z(mu->v[0]) + Z(mu->v[1]) + Z(mu->v[2]) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
     }
-    ref_udu3 nb;
-    const gf_status st = noise3_at(sigma->m[0], nb.ud);
+    ref_udu3 nb = {*mu, {0}, {2, 1, 0}};
+    const gf_status st = noise3_at(sigma->m[0], nb.ud); // the verdict
     if (st != GF_OK) {
         return st;
     }
-    nb.mu.v[0] = mu->v[0];
-    nb.mu.v[1] = mu->v[1];
+    prior(sigma->m[0], 3u, nb.ud);
     nb.mu.v[2] = wrap(mu->v[2]);
     if (!(belief3_z(nb.mu.v, nb.ud) < GF_R(1.0))) {
         return GF_ERR_NONFINITE;
@@ -1394,7 +1732,7 @@ gf_status ref_uduc3_init(ref_udu3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
     return GF_OK;
 }
 
-// Sigma = U D U^T in closed form, each variance a sum of d_j U_ij^2.
+// Sigma = P U D U^T P^T in closed form, each variance a sum of d_j U_ij^2.
 gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma)
 {
     if (!kf || !sigma) {
@@ -1402,10 +1740,11 @@ gf_status ref_udu2_cov(const ref_udu2 *kf, gf_mat2 *sigma)
     }
     const gf_real d0 = kf->ud[0], u01 = kf->ud[1], d1 = kf->ud[2];
     const gf_real s01 = u01 * d1;
-    sigma->m[0][0] = d0 + u01 * s01;
+    const unsigned p0 = kf->perm[0];
+    sigma->m[p0][p0] = d0 + u01 * s01;
     sigma->m[0][1] = s01;
     sigma->m[1][0] = s01;
-    sigma->m[1][1] = d1;
+    sigma->m[1u - p0][1u - p0] = d1;
     return GF_OK;
 }
 
@@ -1418,12 +1757,13 @@ gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma)
     const gf_real d0 = ud[0], u01 = ud[1], d1 = ud[2];
     const gf_real u02 = ud[3], u12 = ud[4], d2 = ud[5];
     const gf_real s02 = u02 * d2, s12 = u12 * d2, t01 = u01 * d1;
+    const unsigned p0 = ekf->perm[0], p1 = ekf->perm[1], p2 = ekf->perm[2];
     gf_real(*o)[3] = sigma->m;
-    o[0][0] = d0 + u01 * t01 + u02 * s02;
-    o[0][1] = o[1][0] = t01 + u02 * s12;
-    o[0][2] = o[2][0] = s02;
-    o[1][1] = d1 + u12 * s12;
-    o[1][2] = o[2][1] = s12;
-    o[2][2] = d2;
+    o[p0][p0] = d0 + u01 * t01 + u02 * s02;
+    o[p0][p1] = o[p1][p0] = t01 + u02 * s12;
+    o[p0][p2] = o[p2][p0] = s02;
+    o[p1][p1] = d1 + u12 * s12;
+    o[p1][p2] = o[p2][p1] = s12;
+    o[p2][p2] = d2;
     return GF_OK;
 }

@@ -34,24 +34,29 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 
 // ---- The sound floor: Sigma carried as U D U^T between steps -----------
 //
-// The same steps on the factors Sigma = U D U^T (U unit upper triangular,
-// D >= 0 diagonal, packed as the library's: U_ij (i < j) at j (j + 1) / 2
-// + i, d_j at j (j + 1) / 2 + j), in the states' own order (no
-// permutation): Thornton's modified weighted Gram-Schmidt for the
-// prediction, Bierman's scalar update for the correction. The fewest
-// instructions a filter that stays positive semidefinite by construction
-// can spend on W1 and W2. "udu": no checks, R given as its factors
-// (ref_noise2/3_from, once); "uduc": the same arithmetic with the checks
-// gf_kf2/gf_ekf3's plain API promises, R taken as a matrix and judged and
-// factored at every call (bench/ref.c says which, and how).
+// The same steps on the factors Sigma = P U D U^T P^T (U unit upper
+// triangular, D >= 0 diagonal, packed as the library's: U_ij (i < j) at
+// j (j + 1) / 2 + i, d_j at j (j + 1) / 2 + j; P a permutation of the
+// states, perm[k] the state of the factors' index k, as the library's):
+// Thornton's modified weighted Gram-Schmidt for the prediction, Bierman's
+// scalar update for the correction. The fewest instructions a filter that
+// stays positive semidefinite by construction can spend on W1 and W2.
+// "udu": no checks, the states in their own order (perm the identity,
+// not read), R given as its factors (ref_noise2/3_from, once); "uduc": the
+// checks gf_kf2/gf_ekf3's plain API promises, R taken as a matrix and
+// judged and factored at every call, and the library's order of the
+// factors: the prior's states reversed, and a quantity that tells much
+// made the root first (bench/ref.c says which, and how).
 typedef struct ref_udu2 {
     gf_vec2 mu;
     gf_real ud[3];
+    unsigned char perm[sizeof(gf_real)];
 } ref_udu2;
 
 typedef struct ref_udu3 {
     gf_vec3 mu;
     gf_real ud[6];
+    unsigned char perm[sizeof(gf_real)];
 } ref_udu3;
 
 // R = F diag(e) F^T, F unit upper triangular, packed as a belief's factors
@@ -64,10 +69,14 @@ typedef struct ref_noise3 {
     gf_real ud[6];
 } ref_noise3;
 
-// The library's belief (Sigma through the accessor) and a noise matrix,
-// factored in the states' order (not measured).
+// The library's belief as the checked floors carry it (its mean, factors
+// and permutation, copied); the same belief factored again in the states'
+// own order (Sigma through the accessor, perm the identity), for udu; a
+// noise matrix factored in the states' order (not measured).
 ref_udu2 ref_udu2_from(const gf_kf2 *kf);
 ref_udu3 ref_udu3_from(const gf_ekf3 *ekf);
+ref_udu2 ref_udu2_inorder(const gf_kf2 *kf);
+ref_udu3 ref_udu3_inorder(const gf_ekf3 *ekf);
 ref_noise2 ref_noise2_from(const gf_mat2 *R);
 ref_noise3 ref_noise3_from(const gf_mat3 *R);
 
@@ -97,7 +106,8 @@ void ref_udu3_update_xyt(ref_udu3 *ekf, const gf_ekf3_meas *meas,
 // gf_ekf3_update's statuses for the same inputs, the belief untouched on
 // any failure, info as theirs; the updates take m = 1 or 2 (KF2) and 1 to
 // 3 (EKF3) quantities, whitened by Q's factors and taken one at a time in
-// their own order (bench/ref.c).
+// their own order, each made the root of the factors first if it tells
+// much (bench/ref.c).
 gf_status ref_uduc2_predict(ref_udu2 *kf, const gf_kf2_model *model,
                             const gf_vec2 *u);
 gf_status ref_uduc2_update(ref_udu2 *kf, const gf_kf2_meas *meas,
@@ -126,7 +136,7 @@ gf_status ref_udu3_cov(const ref_udu3 *ekf, gf_mat3 *sigma);
 // and info included; m as uduc's.
 typedef struct ref_kf2_pmodel {
     gf_kf2_model model;
-    ref_noise2 rn; // R's factors
+    ref_noise2 rn[2]; // P^T R P's factors for each order (by perm[0])
 } ref_kf2_pmodel;
 
 typedef struct ref_kf2_pmeas {
@@ -136,7 +146,7 @@ typedef struct ref_kf2_pmeas {
 
 typedef struct ref_ekf3_pmotion {
     gf_ekf3_motion motion;
-    ref_noise3 rn;
+    ref_noise3 rn[9]; // the same, by perm[0] * 3 + perm[1] (6 used)
 } ref_ekf3_pmotion;
 
 typedef struct ref_ekf3_pmeas {

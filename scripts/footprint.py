@@ -749,7 +749,8 @@ def report(root, build_root):
               "`bench/ref.c`'s hand-written U D U^T steps with the checks the "
               "plain API promises: the priors, R and Q judged and factored in "
               "closed form, updates of m = 1 to 3 measured quantities "
-              "whitened by Q's factors, as the library's), "
+              "whitened by Q's factors, as the library's; and the "
+              "library's order of the factors and precision of the prior), "
               "`-Os`, against the same base. Bytes:", "",
               "| target | floor flash | delta flash | delta RAM "
               "| delta: bench/ref.c | core (models, angles) | libm | libc "
