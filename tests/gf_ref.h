@@ -803,7 +803,8 @@ static inline int gr_update_batch(gr_filt *f, int m, gf_real Hin[3][3],
         }
     }
     gr_pert_cov(f, m, Q);
-    gr_real PH[3][3], S[3][3], L[3][3], D[3], y[3], Si[3][3];
+    // (D set: gcc -O3 cannot see gr_ldl write the m entries it reads)
+    gr_real PH[3][3], S[3][3], L[3][3], D[3] = {0, 0, 0}, y[3], Si[3][3];
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < m; j++) {
             PH[i][j] = 0;
