@@ -211,8 +211,8 @@ void ref_ekf3_update_xyt(ref_ekf3 *ekf, const gf_ekf3_meas *meas,
 //         the variances they give); the work done on locals and written to
 //         the belief only on success. The m quantities of an update are
 //         whitened by Q's factors and taken one Bierman update each, in
-//         their own order (the library ranks them, most informative
-//         first), each made the root first if it tells much; and the
+//         their own order (as the library's), each made the root first
+//         if it tells much; and the
 //         library's order of the factors and precision of the prior
 //         ("The factors' order", "The checked floor's init" below), which
 //         the float accuracy target needs.
