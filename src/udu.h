@@ -595,8 +595,8 @@ GF_ALWAYS_INLINE void gf_udu_swap(unsigned n, unsigned k, gf_real *ud,
 
 // One scalar correction (Bierman's update), in place on ud, for the
 // measured quantity z = h x + v, v ~ N(0, r), r >= 0, whose innovation at
-// the current mean is y; h by state, dx in the factors' order. With
-// hp = P^T h, f = U^T hp, g = D f and alpha_(-1) = r,
+// the current mean is y; hp = P^T h and dx in the factors' order. With
+// f = U^T hp, g = D f and alpha_(-1) = r,
 //   alpha_j = alpha_(j-1) + f_j g_j,
 //   d_j    <- d_j alpha_(j-1) / alpha_j,
 //   U_ij   <- U_ij - b_i f_j / alpha_(j-1),  b_i <- b_i + U_ij g_j (i < j),
@@ -614,9 +614,9 @@ GF_ALWAYS_INLINE void gf_udu_swap(unsigned n, unsigned k, gf_real *ud,
 // ud and dx are partly written then. b: scratch of n. (f_j is taken from
 // column j of U before the column changes.)
 GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
-                                         const unsigned char *perm,
-                                         const gf_real *h, gf_real r, gf_real y,
-                                         gf_real *dx, gf_real *nis, gf_real *b)
+                                         const gf_real *hp, gf_real r,
+                                         gf_real y, gf_real *dx, gf_real *nis,
+                                         gf_real *b)
 {
     // (oj: column j of the packed factors, ud[oj + i] = U_ij, ud[oj + j] =
     // d_j)
@@ -625,10 +625,10 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
     if (!(r > 0)) {
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            gf_real t = GF_FABS(h[perm[j]]);
+            gf_real t = GF_FABS(hp[j]);
             GF_UNROLL
             for (unsigned i = 0; i < j; i++) {
-                t += GF_FABS(ud[GF_UD(i, j)] * h[perm[i]]);
+                t += GF_FABS(ud[GF_UD(i, j)] * hp[i]);
             }
             scale += ud[GF_UD(j, j)] * t * t;
         }
@@ -638,10 +638,10 @@ GF_ALWAYS_INLINE gf_status gf_udu_update(unsigned n, gf_real *ud,
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         // f_j = (U^T hp)_j
-        gf_real fj = h[perm[j]];
+        gf_real fj = hp[j];
         GF_UNROLL
         for (unsigned i = 0; i < j; i++) {
-            fj += ud[oj + i] * h[perm[i]];
+            fj += ud[oj + i] * hp[i];
         }
         const gf_real d = ud[oj + j];
         const gf_real gj = d * fj;
@@ -737,14 +737,14 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 // The step mu - mu_bar is added to x (n entries, by state: mu_bar on
 // entry, mu on GF_OK), *nis receives the sum of the scalar NIS, which is
 // y^T S^-1 y. Statuses as gf_udu_update. Scratch,
-// caller-owned, vectors of n: dp (P^T dx), b
+// caller-owned, vectors of n: dp (P^T dx), hp (P^T h_i), b
 // (gf_udu_update's).
 GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
                                             unsigned char *perm, unsigned m,
                                             const gf_real *hw, const gf_real *e,
                                             const gf_real *yw, gf_real *x,
                                             gf_real *nis, gf_real *dp,
-                                            gf_real *b)
+                                            gf_real *hp, gf_real *b)
 {
     *nis = 0;
     GF_UNROLL
@@ -784,14 +784,14 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
                 }
             }
         }
-        // In the factors' order: dp = P^T dx
+        // In the factors' order: hp = P^T h_i, dp = P^T dx
         gf_real yi = yw[i];
         GF_UNROLL
         for (unsigned j = 0; j < n; j++) {
-            yi -= h[perm[j]] * dp[j];
+            hp[j] = h[perm[j]];
+            yi -= hp[j] * dp[j];
         }
-        const gf_status st =
-            gf_udu_update(n, ud, perm, h, e[i], yi, dp, nis, b);
+        const gf_status st = gf_udu_update(n, ud, hp, e[i], yi, dp, nis, b);
         if (st != GF_OK) {
             return st;
         }
@@ -803,14 +803,15 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
     return GF_OK;
 }
 
-// gf_udu_correct_v on the caller's scratch: sv 2n entries.
+// gf_udu_correct_v on the caller's scratch: sv 3n entries.
 GF_ALWAYS_INLINE gf_status gf_udu_correct_s(unsigned n, gf_real *ud,
                                             unsigned char *perm, unsigned m,
                                             const gf_real *hw, const gf_real *e,
                                             const gf_real *yw, gf_real *x,
                                             gf_real *nis, gf_real *sv)
 {
-    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, sv, &sv[n]);
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, sv, &sv[n],
+                            &sv[2u * n]);
 }
 
 // gf_udu_correct_v with its scratch on its own stack, an array per vector
@@ -822,10 +823,10 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           gf_real *nis)
 {
     gf_real dp[GF_UDU_NMAX];
-    // (set, for gcc's analyzer, which cannot follow b through the
+    // (set, for gcc's analyzer, which cannot follow hp and b through the
     // loops that write them; the stores are dead in an optimised build)
-    gf_real b[GF_UDU_NMAX] = {0};
-    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, dp, b);
+    gf_real hp[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, dp, hp, b);
 }
 
 #endif
