@@ -22,13 +22,13 @@ void gf_udu_factor3(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
 
 // The caller's scratch of the steps for n states (gf_real): W, n rows of
 // 2n, at 0; its weights, 2n, at GF_UDU_WD(n); the steps' vectors at
-// GF_UDU_SV(n), 3n (gf_udu_correct_s's sv; gf_udu_predict_s's v takes
-// 2n of them): 2 n^2 + 5 n in all.
+// GF_UDU_SV(n), 4n (gf_udu_correct_s's sv; gf_udu_predict_s's v takes
+// 2n of them): 2 n^2 + 6 n in all.
 #define GF_UDU_WD(n) ((size_t)(n)*2u * (size_t)(n))
 #define GF_UDU_SV(n) ((size_t)(n)*2u * ((size_t)(n) + 1u))
 
 // gf_udu_predict_s for n = 2 and n = 3, on the caller's scratch w (2 n^2
-// + 5 n entries); gf_udu_correct_s for n = 2 and 3 on
+// + 6 n entries); gf_udu_correct_s for n = 2 and 3 on
 // work->b, with the whitened innovations in work->s (the step added to
 // work->b's mean), the NIS into work->in.nis, the scratch in
 // work->w (few arguments: no stack arguments on Arm, so that

@@ -522,11 +522,14 @@ GF_ALWAYS_INLINE void gf_udu_predict(unsigned n, const gf_real *ud,
 }
 
 // The state measured by the row h (by state) with the largest share of
-// h Sigma h^T, h_s^2 Sigma_ss (Sigma_ss = sum_(k >= i) U_ik^2 d_k for the
-// state s = perm[i]); *total the sum of the shares, in the factors' order.
+// h Sigma h^T, h_s^2 Sigma_ss; sigma_d (if not NULL) receives Sigma's
+// diagonal in the factors' order: sigma_d[i] = sum_(k >= i) U_ik^2 d_k,
+// the variance of the state perm[i]; *total the sum of the shares, in the
+// factors' order.
 GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
                                             const unsigned char *perm,
-                                            const gf_real *h, gf_real *total)
+                                            const gf_real *h, gf_real *sigma_d,
+                                            gf_real *total)
 {
     unsigned best = 0;
     gf_real most = -1, acc = 0;
@@ -538,6 +541,9 @@ GF_ALWAYS_INLINE unsigned gf_udu_main_state(unsigned n, const gf_real *ud,
             v += ud[GF_UD(i, k)] * ud[GF_UD(i, k)] * ud[GF_UD(k, k)];
         }
         const unsigned s = perm[i];
+        if (sigma_d) {
+            sigma_d[i] = v;
+        }
         const gf_real part = h[s] * h[s] * v;
         acc += part;
         if (part > most) {
@@ -736,20 +742,28 @@ GF_ALWAYS_INLINE void gf_udu_whiten_rows(const gf_real *f,
 //   y_i = yw_i - hw_i . dx,  then gf_udu_update.
 // The step mu - mu_bar is added to x (n entries, by state: mu_bar on
 // entry, mu on GF_OK), *nis receives the sum of the scalar NIS, which is
-// y^T S^-1 y. Statuses as gf_udu_update. Scratch,
-// caller-owned, vectors of n: dp (P^T dx), hp (P^T h_i), b
-// (gf_udu_update's).
-GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
-                                            unsigned char *perm, unsigned m,
-                                            const gf_real *hw, const gf_real *e,
-                                            const gf_real *yw, gf_real *x,
-                                            gf_real *nis, gf_real *dp,
-                                            gf_real *hp, gf_real *b)
+// y^T S^-1 y. Statuses as gf_udu_update. Scratch, caller-owned, vectors
+// of n: sd (Sigma's diagonal in the factors' order; NULL: no pre-test,
+// below), dp (P^T dx), hp (P^T h_i), b (gf_udu_update's).
+GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
+    unsigned n, gf_real *ud, unsigned char *perm, unsigned m, const gf_real *hw,
+    const gf_real *e, const gf_real *yw, gf_real *x, gf_real *nis, gf_real *sd,
+    gf_real *dp, gf_real *hp, gf_real *b)
 {
     *nis = 0;
     GF_UNROLL
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
+    }
+    // Of m > 1 quantities, one is first judged on sd, the variances the
+    // last search for a main state found (kept with their states through
+    // the swaps): O(n), where the search is O(n^2). Variances only shrink
+    // in an update, so a quantity that tells too little on sd does now.
+    // (Worth it for large n; KF2 and EKF3 search on every quantity.)
+    const int pre = sd != NULL && m > 1u;
+    if (pre) {
+        gf_real t;
+        (void)gf_udu_main_state(n, ud, perm, hw, sd, &t);
     }
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[i * n];
@@ -764,12 +778,18 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
                 others = 1;
             }
         }
-        if (others) {
-            gf_real v;
-            const unsigned main = gf_udu_main_state(n, ud, perm, h, &v);
+        gf_real v = 0;
+        if (others && pre) {
+            GF_UNROLL
+            for (unsigned j = 0; j < n; j++) {
+                v += h[perm[j]] * h[perm[j]] * sd[j];
+            }
+        }
+        if (others && (!pre || v > GF_UDU_ROOT_TELL * e[i])) {
+            const unsigned main = gf_udu_main_state(n, ud, perm, h, sd, &v);
             if (v > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
-                // main's index moved last one swap at a time, dp's
-                // entries with their states
+                // main's index moved last one swap at a time, dp's and
+                // sd's entries with their states
                 unsigned at = 0;
                 for (unsigned j = 0; j < n; j++) {
                     if (perm[j] == main) {
@@ -780,6 +800,11 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
                     const gf_real dk = dp[k];
                     dp[k] = dp[k + 1u];
                     dp[k + 1u] = dk;
+                    if (sd) {
+                        const gf_real sk = sd[k];
+                        sd[k] = sd[k + 1u];
+                        sd[k + 1u] = sk;
+                    }
                     gf_udu_swap(n, k, ud, perm);
                 }
             }
@@ -803,7 +828,7 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(unsigned n, gf_real *ud,
     return GF_OK;
 }
 
-// gf_udu_correct_v on the caller's scratch: sv 3n entries.
+// gf_udu_correct_v on the caller's scratch: sv 4n entries.
 GF_ALWAYS_INLINE gf_status gf_udu_correct_s(unsigned n, gf_real *ud,
                                             unsigned char *perm, unsigned m,
                                             const gf_real *hw, const gf_real *e,
@@ -811,11 +836,12 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_s(unsigned n, gf_real *ud,
                                             gf_real *nis, gf_real *sv)
 {
     return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, sv, &sv[n],
-                            &sv[2u * n]);
+                            &sv[2u * n], &sv[3u * n]);
 }
 
 // gf_udu_correct_v with its scratch on its own stack, an array per vector
-// (n <= GF_UDU_NMAX).
+// (n <= GF_UDU_NMAX), and no pre-test (sd NULL): for n <= 3 the search
+// costs about what the test does, and sd would cost the frame 16 B.
 GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
                                           unsigned char *perm, unsigned m,
                                           const gf_real *hw, const gf_real *e,
@@ -826,7 +852,7 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct(unsigned n, gf_real *ud,
     // (set, for gcc's analyzer, which cannot follow hp and b through the
     // loops that write them; the stores are dead in an optimised build)
     gf_real hp[GF_UDU_NMAX] = {0}, b[GF_UDU_NMAX] = {0};
-    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, dp, hp, b);
+    return gf_udu_correct_v(n, ud, perm, m, hw, e, yw, x, nis, NULL, dp, hp, b);
 }
 
 #endif

@@ -68,8 +68,8 @@ typedef struct gf_kf_innovation {
 typedef struct gf_kf_work {
     gf_kf b; // the new belief, until it is whole
     // Gram-Schmidt rows (n rows of 2n), their weights (2n), the factored
-    // steps' vectors (3n)
-    gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX + 5 * GF_KF_NMAX];
+    // steps' vectors (4n)
+    gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX + 6 * GF_KF_NMAX];
     gf_real x[GF_KF_NMAX * GF_KF_NMAX]; // Jacobians, whitened rows
     gf_real s[8 * GF_KF_NMAX];          // vectors
     unsigned k[GF_KF_NMAX];             // a pivot order
