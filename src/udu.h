@@ -760,8 +760,8 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
     // the swaps): O(n), where the search is O(n^2). Variances only shrink
     // in an update, so a quantity that tells too little on sd does now.
     // (Worth it for large n; KF2 and EKF3 search on every quantity.)
-    const int pre = sd != NULL && m > 1u;
-    if (pre) {
+    const gf_real *const pre = (m > 1u) ? sd : NULL;
+    if (pre != NULL) {
         gf_real t;
         (void)gf_udu_main_state(n, ud, perm, hw, sd, &t);
     }
@@ -779,13 +779,13 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
             }
         }
         gf_real v = 0;
-        if (others && pre) {
+        if (others && pre != NULL) {
             GF_UNROLL
             for (unsigned j = 0; j < n; j++) {
-                v += h[perm[j]] * h[perm[j]] * sd[j];
+                v += h[perm[j]] * h[perm[j]] * pre[j];
             }
         }
-        if (others && (!pre || v > GF_UDU_ROOT_TELL * e[i])) {
+        if (others && (pre == NULL || v > GF_UDU_ROOT_TELL * e[i])) {
             const unsigned main = gf_udu_main_state(n, ud, perm, h, sd, &v);
             if (v > GF_UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
                 // main's index moved last one swap at a time, dp's and
@@ -800,7 +800,7 @@ GF_ALWAYS_INLINE gf_status gf_udu_correct_v(
                     const gf_real dk = dp[k];
                     dp[k] = dp[k + 1u];
                     dp[k + 1u] = dk;
-                    if (sd) {
+                    if (sd != NULL) {
                         const gf_real sk = sd[k];
                         sd[k] = sd[k + 1u];
                         sd[k + 1u] = sk;
