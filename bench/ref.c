@@ -1062,12 +1062,15 @@ REF_INLINE gf_status uduc2_predict_step(ref_udu2 *kf, const gf_kf2_model *model,
     const gf_mat2 *A = &model->A, *B = &model->B;
     ref_udu2 nb = *kf;
     const gf_real m0 = kf->mu.v[0], m1 = kf->mu.v[1];
-    nb.mu.v[0] = A->m[0][0] * m0 + A->m[0][1] * m1 + model->c.v[0];
-    nb.mu.v[1] = A->m[1][0] * m0 + A->m[1][1] * m1 + model->c.v[1];
+    // each state's own term last, as the library
+    gf_real a0 = model->c.v[0] + A->m[0][1] * m1;
+    gf_real a1 = model->c.v[1] + A->m[1][0] * m0;
     if (u) {
-        nb.mu.v[0] += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
-        nb.mu.v[1] += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
+        a0 += B->m[0][0] * u->v[0] + B->m[0][1] * u->v[1];
+        a1 += B->m[1][0] * u->v[0] + B->m[1][1] * u->v[1];
     }
+    nb.mu.v[0] = a0 + A->m[0][0] * m0;
+    nb.mu.v[1] = a1 + A->m[1][1] * m1;
     gf_mat2 Ap;
     gather(A->m[0], 2u, kf->perm, Ap.m[0]);
     thornton2(nb.ud, &Ap, rn, 1);

@@ -303,21 +303,29 @@ static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
 {
     const unsigned n = kf->n;
     gf_real *mu_bar = GF_KFC_S(work, 4);
-    // (A mu)_i + c_i, then + (B u)_i: KF2's order of operations
+    // mu_bar_i: c_i, the other states' terms and (B u)_i first, the
+    // state's own term A_ii mu_i last (docs/numerics.md); KF2's order of
+    // operations
+    const gf_real *x = kf->mu, *c = model->c;
+    const unsigned nu = (u != NULL) ? model->nu : 0u;
     for (unsigned i = 0; i < n; i++) {
-        gf_real acc = model->A[(size_t)i * n] * kf->mu[0];
-        for (unsigned j = 1; j < n; j++) {
-            acc += model->A[i * n + j] * kf->mu[j];
+        const gf_real *a = &model->A[i * n];
+        gf_real acc = (c != NULL) ? c[i] : GF_R(0.0);
+        for (unsigned j = 0; j < i; j++) {
+            acc += a[j] * x[j];
         }
-        acc += model->c ? model->c[i] : GF_R(0.0);
-        if (u && model->nu > 0u) {
-            gf_real bu = model->B[(size_t)i * model->nu] * u[0];
-            for (unsigned j = 1; j < model->nu; j++) {
-                bu += model->B[i * model->nu + j] * u[j];
+        for (unsigned j = i + 1u; j < n; j++) {
+            acc += a[j] * x[j];
+        }
+        if (nu > 0u) {
+            const gf_real *b = &model->B[i * nu];
+            gf_real bu = b[0] * u[0];
+            for (unsigned j = 1; j < nu; j++) {
+                bu += b[j] * u[j];
             }
             acc += bu;
         }
-        mu_bar[i] = acc;
+        mu_bar[i] = acc + a[i] * x[i];
     }
     return gf_kfc_predict(kf, mu_bar, model->A, Rf, Rd, work);
 }

@@ -553,6 +553,78 @@ static void prepared_same_as_plain(void **state)
     assert_true(gated > 0u && refused > 0u);
 }
 
+// The prediction's mean rounded once: a model that carries each state
+// over (A_ii = 1) and adds small terms to it (A_ij mu_j, c_i, (B u)_i on a
+// grid fine enough that their sum is exact in float) must give
+// mu_bar_i = the exact sum rounded to gf_real once, in KF2 and in gf_kf:
+// the state's own term is added last. Seeded data: a position in
+// +-[256, 512) on its float grid, a velocity below 2 in magnitude, dt in
+// eighths, c and u below 1 on the 2^-22 grid (every product and partial
+// sum of the small terms exact in float; the long double sum exact). The
+// order that adds the large term first rounds two or three times, and the
+// count of cases where it would differ shows the data tells them apart.
+static void predict_mean_rounded_once(void **state)
+{
+    (void)state;
+    gr_rng rng = {0x6d75626172ull};
+    const long double g22 = 0x1.0p-22L;
+    unsigned other_order_differs = 0;
+    const unsigned cases = 2000;
+    for (unsigned k = 0; k < cases; k++) {
+        const gf_real dt = (gf_real)(gr_below(&rng, 7u) + 1u) * GF_R(0.125);
+        gf_real x = (gf_real)(256.0L + gr_below(&rng, 1u << 23) * 0x1.0p-15L);
+        if (gr_below(&rng, 2u)) {
+            x = -x;
+        }
+        const gf_real v =
+            (gf_real)(((long double)gr_below(&rng, 1u << 21) - 0x1.0p20L) *
+                      0x1.0p-19L);
+        gf_real cu[4];
+        for (int i = 0; i < 4; i++) {
+            cu[i] = (gf_real)(((long double)gr_below(&rng, 1u << 23) -
+                               0x1.0p22L) *
+                              g22);
+        }
+        const gf_kf2_model mo = {
+            .A = {{{1, dt}, {0, 1}}},
+            .B = {{{1, 0}, {0, 1}}},
+            .R = {{{GF_R(0.01), 0}, {0, GF_R(0.01)}}},
+            .c = {{cu[0], cu[1]}},
+        };
+        const gf_vec2 u = {{cu[2], cu[3]}};
+        const gf_real want[2] = {
+            (gf_real)((long double)x + (long double)cu[0] +
+                      (long double)dt * v + (long double)cu[2]),
+            (gf_real)((long double)v + (long double)cu[1] +
+                      (long double)cu[3])};
+        // the large term first, as a plain A mu + c + B u would
+        volatile gf_real first = x + dt * v;
+        first = first + cu[0];
+        first = first + cu[2];
+        other_order_differs += first != want[0];
+
+        const gf_vec2 mu = {{x, v}};
+        const gf_mat2 sigma = {{{1, 0}, {0, 1}}};
+        gf_kf2 kf;
+        assert_int_equal(gf_kf2_init(&kf, &mu, &sigma), GF_OK);
+        assert_int_equal(gf_kf2_predict(&kf, &mo, &u), GF_OK);
+        assert_true(kf.mu.v[0] == want[0] && kf.mu.v[1] == want[1]);
+
+        gf_kf_work work;
+        gf_kf g;
+        const gf_kf_model gm = {2u, mo.A.m[0], mo.B.m[0], mo.R.m[0], mo.c.v};
+        assert_int_equal(gf_kf_init(&g, 2u, mu.v, sigma.m[0], &work), GF_OK);
+        assert_int_equal(gf_kf_predict(&g, &gm, u.v, &work), GF_OK);
+        assert_true(g.mu[0] == want[0] && g.mu[1] == want[1]);
+    }
+    print_message("predicted means rounded once in %u cases; the large term "
+                  "first would round %u of them differently\n",
+                  cases, other_order_differs);
+#ifdef GF_SINGLE_PRECISION
+    assert_true(other_order_differs > cases / 10u);
+#endif
+}
+
 // The reference on a case whose answer is known exactly: prior diag(4,
 // 9), x measured with Q = 1: S = 5, K = (4/5, 0), Sigma = diag(4/5, 9),
 // NIS = z^2 / 5; its sequential form; its PSD test.
@@ -622,6 +694,7 @@ int main(void)
         cmocka_unit_test(random_ekf3_linear),
         cmocka_unit_test(random_ekf3_turn),
         cmocka_unit_test(prepared_same_as_plain),
+        cmocka_unit_test(predict_mean_rounded_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
