@@ -309,7 +309,7 @@ static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
     const gf_real *x = kf->mu, *c = model->c;
     const unsigned nu = (u != NULL) ? model->nu : 0u;
     for (unsigned i = 0; i < n; i++) {
-        const gf_real *a = &model->A[i * n];
+        const gf_real *a = &model->A[(size_t)i * n];
         gf_real acc = (c != NULL) ? c[i] : GF_R(0.0);
         for (unsigned j = 0; j < i; j++) {
             acc += a[j] * x[j];
@@ -318,7 +318,7 @@ static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
             acc += a[j] * x[j];
         }
         if (nu > 0u) {
-            const gf_real *b = &model->B[i * nu];
+            const gf_real *b = &model->B[(size_t)i * nu];
             gf_real bu = b[0] * u[0];
             for (unsigned j = 1; j < nu; j++) {
                 bu += b[j] * u[j];

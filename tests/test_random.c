@@ -581,9 +581,9 @@ static void predict_mean_rounded_once(void **state)
                       0x1.0p-19L);
         gf_real cu[4];
         for (int i = 0; i < 4; i++) {
-            cu[i] = (gf_real)(((long double)gr_below(&rng, 1u << 23) -
-                               0x1.0p22L) *
-                              g22);
+            cu[i] =
+                (gf_real)(((long double)gr_below(&rng, 1u << 23) - 0x1.0p22L) *
+                          g22);
         }
         const gf_kf2_model mo = {
             .A = {{{1, dt}, {0, 1}}},
@@ -592,11 +592,11 @@ static void predict_mean_rounded_once(void **state)
             .c = {{cu[0], cu[1]}},
         };
         const gf_vec2 u = {{cu[2], cu[3]}};
-        const gf_real want[2] = {
-            (gf_real)((long double)x + (long double)cu[0] +
-                      (long double)dt * v + (long double)cu[2]),
-            (gf_real)((long double)v + (long double)cu[1] +
-                      (long double)cu[3])};
+        const gf_real want[2] = {(gf_real)((long double)x + (long double)cu[0] +
+                                           (long double)dt * v +
+                                           (long double)cu[2]),
+                                 (gf_real)((long double)v + (long double)cu[1] +
+                                           (long double)cu[3])};
         // the large term first, as a plain A mu + c + B u would
         volatile gf_real first = x + dt * v;
         first = first + cu[0];
