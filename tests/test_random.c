@@ -593,7 +593,7 @@ static void predict_mean_rounded_once(void **state)
         };
         const gf_vec2 u = {{cu[2], cu[3]}};
         const gf_real want[2] = {(gf_real)((long double)x + (long double)cu[0] +
-                                           (long double)dt * v +
+                                           (long double)dt * (long double)v +
                                            (long double)cu[2]),
                                  (gf_real)((long double)v + (long double)cu[1] +
                                            (long double)cu[3])};
