@@ -73,9 +73,7 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 // The checks of a measurement model before its callback, in the order of
 // the status rules: GF_ERR_ARG (h NULL; m not 1..3), GF_ERR_NONFINITE
 // (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's verdict
-// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, q holds Q's factors (q may
-// be NULL for m = 1: one quantity's Q is its own factorisation, F = 1,
-// e = Q, and nothing is written).
+// (GF_ERR_NONFINITE, GF_ERR_NOT_PSD); on GF_OK, q holds Q's factors.
 static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
                                  gf_ekf3_qfactors *q)
 {
@@ -91,8 +89,7 @@ static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
         return GF_ERR_ARG;
     }
     if (m == 1u) {
-        return q ? gf_noise1_check(meas->Q.m[0][0], q->Qf, q->Qe, q->Qorder)
-                 : gf_noise1_check(meas->Q.m[0][0], NULL, NULL, NULL);
+        return gf_noise1_check(meas->Q.m[0][0], q->Qf, q->Qe, q->Qorder);
     }
     return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
 }
@@ -187,21 +184,56 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_vec3 *mu_bar,
     return GF_OK;
 }
 
-// The correction (Table 3.3, lines 4-6) once Q is factored (q; NULL for
-// one quantity, whose noise is read from meas): z_hat =
-// h(mu_bar) and H from the callback, y = z - z_hat (angle residuals
-// wrapped), both whitened by Q's factors (y_w = F^-1 y, H_w = F^-1 H),
-// then one scalar update per quantity (gf_udu_correct), the gate on the
-// total NIS, and the belief written only if every quantity passed and all
-// is finite.
-static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                                  const gf_ekf3_qfactors *q, const gf_vec3 *z,
-                                  gf_innovation *info)
+// What the correction takes of Q's factors and z, by value: on the
+// Cortex-M4F the order in a core register and z, F and e in s0-s8, so
+// that each entry point's last call, to ekf3_update_step, is a tail call
+// (nothing of theirs is left in memory) and the deepest frame is the
+// correction's own, however deep the checks before it went.
+typedef struct ekf3_qargs {
+    unsigned order; // F's pivot order, a byte per step (o0 | o1 << 8 | ...)
+    gf_vec3 z;      // z's m entries, zero beyond
+    // F's entries below its diagonal, by pivot step: F_(o1)(o0),
+    // F_(o2)(o0), F_(o2)(o1) (zero beyond m)
+    gf_vec3 f;
+    gf_vec3 e; // the whitened quantities' noises (zero beyond m)
+} ekf3_qargs;
+
+GF_ALWAYS_INLINE ekf3_qargs ekf3_qargs_of(const gf_ekf3_qfactors *q, unsigned m,
+                                          const gf_vec3 *z)
+{
+    ekf3_qargs a;
+    a.order = 0;
+    GF_UNROLL
+    for (unsigned i = 0; i < 3u; i++) {
+        a.order |= (i < m ? q->Qorder[i] : i) << (8u * i);
+        a.z.v[i] = i < m ? z->v[i] : GF_R(0.0);
+        a.e.v[i] = i < m ? q->Qe[i] : GF_R(0.0);
+        a.f.v[i] = 0;
+    }
+    if (m > 1u) {
+        a.f.v[0] = q->Qf[q->Qorder[1] * m + q->Qorder[0]];
+    }
+    if (m > 2u) {
+        a.f.v[1] = q->Qf[q->Qorder[2] * m + q->Qorder[0]];
+        a.f.v[2] = q->Qf[q->Qorder[2] * m + q->Qorder[1]];
+    }
+    return a;
+}
+
+// The correction (Table 3.3, lines 4-6) once Q is factored (order, qf,
+// qe: ekf3_qargs): z_hat = h(mu_bar) and H from the callback, y = z -
+// z_hat (angle residuals wrapped), both whitened by Q's factors (y_w =
+// F^-1 y, H_w = F^-1 H), then one scalar update per quantity
+// (gf_udu_correct), the gate on the total NIS, and the belief written
+// only if every quantity passed and all is finite. yw holds z on entry,
+// then y, then y_w.
+GF_NOIPA gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                    gf_innovation *info, unsigned order,
+                                    gf_vec3 yw, gf_vec3 qf, gf_vec3 qe)
 {
     const unsigned m = meas->m;
     gf_mat3 H;
     gf_innovation in;
-    gf_real yw[3];
     {
         // z_hat and the rows of H the callback fills arrive as zeros
         gf_vec3 zh;
@@ -231,23 +263,32 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         for (unsigned i = 0; i < 3u; i++) {
             in.y[i] = 0;
             if (i < m) {
-                in.y[i] = z->v[i] - zh.v[i];
+                in.y[i] = yw.v[i] - zh.v[i];
                 if (meas->angle_mask & (1u << i)) {
                     in.y[i] = gf_angle_wrap(in.y[i]);
                 }
             }
-            yw[i] = in.y[i];
+            yw.v[i] = in.y[i];
         }
     }
     if (m > 1u) {
-        // H_w = F^-1 H, y_w = F^-1 y
-        gf_udu_whiten_rows(q->Qf, q->Qorder, m, H.m[0], 3);
-        gf_udu_whiten_rows(q->Qf, q->Qorder, m, yw, 1);
+        // H_w = F^-1 H, y_w = F^-1 y, F's entries below its diagonal put
+        // back where gf_cov_factor wrote them (rows of m): the whitening
+        // reads no other
+        const unsigned o[3] = {order & 255u, (order >> 8u) & 255u,
+                               order >> 16u};
+        gf_real f[9];
+        f[o[1] * m + o[0]] = qf.v[0];
+        if (m > 2u) {
+            f[o[2] * m + o[0]] = qf.v[1];
+            f[o[2] * m + o[1]] = qf.v[2];
+        }
+        gf_udu_whiten_rows(f, o, m, H.m[0], 3);
+        gf_udu_whiten_rows(f, o, m, yw.v, 1);
     }
     gf_ekf3 nb = *ekf;
-    gf_status st =
-        gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0],
-                       q ? q->Qe : &meas->Q.m[0][0], yw, nb.mu.v, &in.nis);
+    gf_status st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], qe.v, yw.v,
+                                  nb.mu.v, &in.nis);
     if (st != GF_OK) {
         return st;
     }
@@ -293,14 +334,17 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (!ekf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    // (one quantity's noise is read from meas itself)
-    if (meas->m == 1u) {
-        const gf_status st = ekf3_meas_check(meas, z, NULL);
-        return st != GF_OK ? st : ekf3_update_step(ekf, meas, NULL, z, info);
+    ekf3_qargs a;
+    {
+        // (Q's factors in memory only until they are arguments)
+        gf_ekf3_qfactors q;
+        const gf_status st = ekf3_meas_check(meas, z, &q);
+        if (st != GF_OK) {
+            return st;
+        }
+        a = ekf3_qargs_of(&q, meas->m, z);
     }
-    gf_ekf3_qfactors q;
-    const gf_status st = ekf3_meas_check(meas, z, &q);
-    return st != GF_OK ? st : ekf3_update_step(ekf, meas, &q, z, info);
+    return ekf3_update_step(ekf, meas, info, a.order, a.z, a.f, a.e);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
@@ -352,5 +396,6 @@ gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    return ekf3_update_step(ekf, &pq->meas, &pq->q, z, info);
+    const ekf3_qargs a = ekf3_qargs_of(&pq->q, pq->meas.m, z);
+    return ekf3_update_step(ekf, &pq->meas, info, a.order, a.z, a.f, a.e);
 }

@@ -29,6 +29,17 @@
 #define GF_NOINLINE static
 #endif
 
+// Kept a function of its own, with the parameters it is written with (no
+// clone that passes them otherwise): for a callee whose arguments must stay
+// in registers, so that its callers' calls to it are tail calls.
+#if defined(__GNUC__) && !defined(__clang__)
+#define GF_NOIPA static __attribute__((noipa))
+#elif defined(__GNUC__)
+#define GF_NOIPA static __attribute__((noinline))
+#else
+#define GF_NOIPA static
+#endif
+
 // Before each loop over states or measured quantities: unrolled where the
 // trip count is known (a filter's own n), at -Os too (docs/performance.md
 // has what it costs and saves); clang unrolls such loops by itself. A loop
