@@ -88,10 +88,30 @@ static gf_status ekf3_meas_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    if (m == 1u) {
-        return gf_noise1_check(meas->Q.m[0][0], q->Qf, q->Qe, q->Qorder);
+    GF_UNROLL
+    for (unsigned i = 0; i < 3u; i++) {
+        q->Qf[i] = q->Qe[i] = 0;
     }
-    return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
+    if (m == 1u) {
+        // one quantity's Q is its own factorisation: F = 1, e = Q
+        q->Qe[0] = meas->Q.m[0][0];
+        q->Qorder = 0x020100u; // the order 0, 1, 2
+        return gf_noise1_check(meas->Q.m[0][0], NULL, NULL, NULL);
+    }
+    gf_real f[9];
+    unsigned o[3];
+    o[2] = 2u;
+    const gf_status st = gf_cov_factor(meas->Q.m[0], 3, m, f, q->Qe, o);
+    if (st != GF_OK) {
+        return st;
+    }
+    q->Qf[0] = f[o[1] * m + o[0]];
+    if (m > 2u) {
+        q->Qf[1] = f[o[2] * m + o[0]];
+        q->Qf[2] = f[o[2] * m + o[1]];
+    }
+    q->Qorder = o[0] | o[1] << 8u | o[2] << 16u;
+    return GF_OK;
 }
 
 // The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
@@ -184,54 +204,25 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_vec3 *mu_bar,
     return GF_OK;
 }
 
-// What the correction takes of Q's factors and z, by value: on the
-// Cortex-M4F the order in a core register and z, F and e in s0-s8, so
-// that each entry point's last call, to ekf3_update_step, is a tail call
-// (nothing of theirs is left in memory) and the deepest frame is the
-// correction's own, however deep the checks before it went.
-typedef struct ekf3_qargs {
-    unsigned order; // F's pivot order, a byte per step (o0 | o1 << 8 | ...)
-    gf_vec3 z;      // z's m entries, zero beyond
-    // F's entries below its diagonal, by pivot step: F_(o1)(o0),
-    // F_(o2)(o0), F_(o2)(o1) (zero beyond m)
-    gf_vec3 f;
-    gf_vec3 e; // the whitened quantities' noises (zero beyond m)
-} ekf3_qargs;
-
-GF_ALWAYS_INLINE ekf3_qargs ekf3_qargs_of(const gf_ekf3_qfactors *q, unsigned m,
-                                          const gf_vec3 *z)
-{
-    ekf3_qargs a;
-    a.order = 0;
-    GF_UNROLL
-    for (unsigned i = 0; i < 3u; i++) {
-        a.order |= (i < m ? q->Qorder[i] : i) << (8u * i);
-        a.z.v[i] = i < m ? z->v[i] : GF_R(0.0);
-        a.e.v[i] = i < m ? q->Qe[i] : GF_R(0.0);
-        a.f.v[i] = 0;
-    }
-    if (m > 1u) {
-        a.f.v[0] = q->Qf[q->Qorder[1] * m + q->Qorder[0]];
-    }
-    if (m > 2u) {
-        a.f.v[1] = q->Qf[q->Qorder[2] * m + q->Qorder[0]];
-        a.f.v[2] = q->Qf[q->Qorder[2] * m + q->Qorder[1]];
-    }
-    return a;
-}
-
-// The correction (Table 3.3, lines 4-6) once Q is factored (order, qf,
-// qe: ekf3_qargs): z_hat = h(mu_bar) and H from the callback, y = z -
-// z_hat (angle residuals wrapped), both whitened by Q's factors (y_w =
-// F^-1 y, H_w = F^-1 H), then one scalar update per quantity
-// (gf_udu_correct), the gate on the total NIS, and the belief written
-// only if every quantity passed and all is finite. yw holds z on entry,
-// then y, then y_w.
+// The correction (Table 3.3, lines 4-6) once Q is factored: z_hat =
+// h(mu_bar) and H from the callback, y = z - z_hat (angle residuals
+// wrapped), both whitened by Q's factors (y_w = F^-1 y, H_w = F^-1 H),
+// then one scalar update per quantity (gf_udu_correct), the gate on the
+// total NIS, and the belief written only if every quantity passed and all
+// is finite. z and Q's factors (gf_ekf3_qfactors: order Qorder, f Qf, e
+// Qe) come by value, numbers and not pointers: in registers (on the
+// Cortex-M4F z, f and e in s0-s8), so that each entry point's last call,
+// to this function, is a tail call and the deepest frame is this one,
+// however deep the checks before it went.
 GF_NOIPA gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                                     gf_innovation *info, unsigned order,
-                                    gf_vec3 yw, gf_vec3 qf, gf_vec3 qe)
+                                    gf_real z0, gf_real z1, gf_real z2,
+                                    gf_real f0, gf_real f1, gf_real f2,
+                                    gf_real e0, gf_real e1, gf_real e2)
 {
     const unsigned m = meas->m;
+    const gf_real e[3] = {e0, e1, e2};
+    gf_real yw[3] = {z0, z1, z2}; // z, then y, then y_w
     gf_mat3 H;
     gf_innovation in;
     {
@@ -263,12 +254,12 @@ GF_NOIPA gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         for (unsigned i = 0; i < 3u; i++) {
             in.y[i] = 0;
             if (i < m) {
-                in.y[i] = yw.v[i] - zh.v[i];
+                in.y[i] = yw[i] - zh.v[i];
                 if (meas->angle_mask & (1u << i)) {
                     in.y[i] = gf_angle_wrap(in.y[i]);
                 }
             }
-            yw.v[i] = in.y[i];
+            yw[i] = in.y[i];
         }
     }
     if (m > 1u) {
@@ -278,17 +269,17 @@ GF_NOIPA gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
         const unsigned o[3] = {order & 255u, (order >> 8u) & 255u,
                                order >> 16u};
         gf_real f[9];
-        f[o[1] * m + o[0]] = qf.v[0];
+        f[o[1] * m + o[0]] = f0;
         if (m > 2u) {
-            f[o[2] * m + o[0]] = qf.v[1];
-            f[o[2] * m + o[1]] = qf.v[2];
+            f[o[2] * m + o[0]] = f1;
+            f[o[2] * m + o[1]] = f2;
         }
         gf_udu_whiten_rows(f, o, m, H.m[0], 3);
-        gf_udu_whiten_rows(f, o, m, yw.v, 1);
+        gf_udu_whiten_rows(f, o, m, yw, 1);
     }
     gf_ekf3 nb = *ekf;
-    gf_status st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], qe.v, yw.v,
-                                  nb.mu.v, &in.nis);
+    gf_status st =
+        gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], e, yw, nb.mu.v, &in.nis);
     if (st != GF_OK) {
         return st;
     }
@@ -328,23 +319,37 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     return st != GF_OK ? st : ekf3_predict(ekf, motion, u, rf, rd);
 }
 
+// ekf3_update_step with z's m entries and Q's factors q as it takes them.
+GF_ALWAYS_INLINE gf_status ekf3_update_with(gf_ekf3 *ekf,
+                                            const gf_ekf3_meas *meas,
+                                            const gf_ekf3_qfactors *q,
+                                            const gf_vec3 *z,
+                                            gf_innovation *info)
+{
+    const unsigned m = meas->m;
+    return ekf3_update_step(ekf, meas, info, q->Qorder, z->v[0],
+                            m > 1u ? z->v[1] : GF_R(0.0),
+                            m > 2u ? z->v[2] : GF_R(0.0), q->Qf[0], q->Qf[1],
+                            q->Qf[2], q->Qe[0], q->Qe[1], q->Qe[2]);
+}
+
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                          const gf_vec3 *z, gf_innovation *info)
 {
     if (!ekf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    ekf3_qargs a;
+    gf_ekf3_qfactors a;
     {
-        // (Q's factors in memory only until they are arguments)
+        // (the factors' copy in memory gone before the last call)
         gf_ekf3_qfactors q;
         const gf_status st = ekf3_meas_check(meas, z, &q);
         if (st != GF_OK) {
             return st;
         }
-        a = ekf3_qargs_of(&q, meas->m, z);
+        a = q;
     }
-    return ekf3_update_step(ekf, meas, info, a.order, a.z, a.f, a.e);
+    return ekf3_update_with(ekf, meas, &a, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,
@@ -396,6 +401,5 @@ gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,
     if (!gf_all_finite(z->v, pq->meas.m)) {
         return GF_ERR_NONFINITE;
     }
-    const ekf3_qargs a = ekf3_qargs_of(&pq->q, pq->meas.m, z);
-    return ekf3_update_step(ekf, &pq->meas, info, a.order, a.z, a.f, a.e);
+    return ekf3_update_with(ekf, &pq->meas, &pq->q, z, info);
 }
