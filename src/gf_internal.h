@@ -79,6 +79,36 @@ GF_ALWAYS_INLINE int gf_all_finite(const gf_real *x, unsigned n)
     return gf_sum_finite(gf_nan_sum(GF_R(0.0), x, n));
 }
 
+// Entry i of a predicted mean, mu_bar_i = (A x)_i + (B u)_i + c_i, for
+// every linear filter in one order: c_i, the other states' terms and
+// (B u)_i first, the state's own term A_ii x_i last (docs/numerics.md,
+// "The mean"). a: row i of A (n entries); b: row i of B and u (nu
+// entries; no control term when nu is 0 or either is NULL).
+GF_ALWAYS_INLINE gf_real gf_mean_row(const gf_real *a, const gf_real *x,
+                                     unsigned n, unsigned i, gf_real c,
+                                     const gf_real *b, const gf_real *u,
+                                     unsigned nu)
+{
+    gf_real acc = c;
+    GF_UNROLL
+    for (unsigned j = 0; j < i; j++) {
+        acc += a[j] * x[j];
+    }
+    GF_UNROLL
+    for (unsigned j = i + 1u; j < n; j++) {
+        acc += a[j] * x[j];
+    }
+    if (nu > 0u && b != NULL && u != NULL) {
+        gf_real bu = b[0] * u[0];
+        GF_UNROLL
+        for (unsigned j = 1; j < nu; j++) {
+            bu += b[j] * u[j];
+        }
+        acc += bu;
+    }
+    return acc + a[i] * x[i];
+}
+
 // 1 if both entries of x are finite.
 static inline int gf_vec2_is_finite(const gf_vec2 *x)
 {

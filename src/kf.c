@@ -303,29 +303,13 @@ static gf_status kf_predict_step(gf_kf *kf, const gf_kf_model *model,
 {
     const unsigned n = kf->n;
     gf_real *mu_bar = GF_KFC_S(work, 4);
-    // mu_bar_i: c_i, the other states' terms and (B u)_i first, the
-    // state's own term A_ii mu_i last (docs/numerics.md); KF2's order of
-    // operations
-    const gf_real *x = kf->mu, *c = model->c;
+    const gf_real *c = model->c;
     const unsigned nu = (u != NULL) ? model->nu : 0u;
     for (unsigned i = 0; i < n; i++) {
-        const gf_real *a = &model->A[(size_t)i * n];
-        gf_real acc = (c != NULL) ? c[i] : GF_R(0.0);
-        for (unsigned j = 0; j < i; j++) {
-            acc += a[j] * x[j];
-        }
-        for (unsigned j = i + 1u; j < n; j++) {
-            acc += a[j] * x[j];
-        }
-        if (nu > 0u) {
-            const gf_real *b = &model->B[(size_t)i * nu];
-            gf_real bu = b[0] * u[0];
-            for (unsigned j = 1; j < nu; j++) {
-                bu += b[j] * u[j];
-            }
-            acc += bu;
-        }
-        mu_bar[i] = acc + a[i] * x[i];
+        mu_bar[i] =
+            gf_mean_row(&model->A[(size_t)i * n], kf->mu, n, i,
+                        (c != NULL) ? c[i] : GF_R(0.0),
+                        (nu > 0u) ? &model->B[(size_t)i * nu] : NULL, u, nu);
     }
     return gf_kfc_predict(kf, mu_bar, model->A, Rf, Rd, work);
 }

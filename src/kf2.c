@@ -102,17 +102,11 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
                                   const gf_vec2 *u)
 {
     gf_kf2 nb = *kf;
-    const gf_real *mu = kf->mu.v;
-    // mu_bar_i: c_i, the other state's term and (B u)_i first, the
-    // state's own term A_ii mu_i last (docs/numerics.md)
+    const gf_real *uv = (u != NULL) ? u->v : NULL;
     GF_UNROLL
     for (unsigned i = 0; i < 2u; i++) {
-        const unsigned o = 1u - i;
-        gf_real acc = model->c.v[i] + model->A.m[i][o] * mu[o];
-        if (u) {
-            acc += model->B.m[i][0] * u->v[0] + model->B.m[i][1] * u->v[1];
-        }
-        nb.mu.v[i] = acc + model->A.m[i][i] * mu[i];
+        nb.mu.v[i] = gf_mean_row(model->A.m[i], kf->mu.v, 2u, i, model->c.v[i],
+                                 model->B.m[i], uv, 2u);
     }
     {
         gf_real w[2u * 2u * 2u], wd[2u * 2u];
