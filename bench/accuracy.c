@@ -23,6 +23,16 @@
 // sqrt(ref_ii ref_jj); mu, max_i |mu_i - ref_i| / sqrt(ref_Sigma_ii), the
 // heading on the circle; per scenario the worst over its compared steps,
 // then the worst and the median over scenarios.
+//
+// Beside them, an ideal filter: the reference's own steps, exact but for one
+// rounding, of its mean to gf_real after every step (the heading as the
+// filters store it, wrapped), its covariance kept exact. Every filter whose
+// belief holds its mean in gf_real makes that rounding (or a larger one),
+// so the ideal filter's errors are what that rounding alone brings about:
+// where its worst errors are above a tenth of the textbook filter's, the
+// ten-times goal asks for less error than the mean's rounding gives, and
+// is out of reach but by luck (another rounding of the same size may
+// happen to cancel on a given scenario).
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -84,6 +94,20 @@ typedef struct fig {
     unsigned n, refused;
 } fig;
 
+// The ideal filter's rounding: the mean to gf_real, the heading (angle: entry 2)
+// as its wrapped value rounds (the branch of the reference kept).
+static void round_mean(gr_filt *f, int angle)
+{
+    for (int i = 0; i < f->n; i++) {
+        if (angle && i == 2) {
+            const gr_real w = gr_wrap(f->mu[i]);
+            f->mu[i] += (gr_real)(gf_real)w - w;
+        } else {
+            f->mu[i] = (gr_real)(gf_real)f->mu[i];
+        }
+    }
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -118,15 +142,18 @@ static void tb_belief(const gr_tb *t, gr_real mu[3], gr_real P[3][3])
     }
 }
 
-// One family: fills g (gaussfilt) and t (textbook) from `count` scenarios.
-static void run(int kind, unsigned count, double digits, fig *g, fig *t)
+// One family: fills g (gaussfilt), t (textbook) and b (the ideal filter) from
+// `count` scenarios.
+static void run(int kind, unsigned count, double digits, fig *g, fig *t, fig *b)
 {
     const int angle = kind != GR_KF2;
     for (unsigned index = 0; index < count; index++) {
         gr_scen sc;
         gr_scen_make(&sc, kind, SEED, index, LONG_RUN);
-        gr_filt ref, pa, pb;
+        gr_filt ref, pa, pb, low;
         gr_filt_init(&ref, &sc, 0, 0);
+        gr_filt_init(&low, &sc, 0, 0);
+        round_mean(&low, angle);
         gr_filt_init(&pa, &sc, GR_U, 0x5eed0001ull + index);
         gr_filt_init(&pb, &sc, -GR_U, 0x5eed8001ull + index);
         lib l;
@@ -135,8 +162,8 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
         }
         gr_tb tb;
         gr_tb_init(&tb, &sc);
-        int g_live = 1, t_live = 1, sync = 1;
-        double gs = 0, gm = 0, ts = 0, tm = 0;
+        int g_live = 1, t_live = 1, b_live = 1, sync = 1;
+        double gs = 0, gm = 0, ts = 0, tm = 0, bs = 0, bm = 0;
         int any = 0;
         for (int step = 0; step < sc.pre + sc.steps && sync; step++) {
             if (lib_predict(&l, &sc) != GF_OK) {
@@ -144,22 +171,25 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
             }
             gr_tb_predict(&tb, &sc);
             gr_scen_move(&sc);
-            gr_filt *f[3] = {&ref, &pa, &pb};
-            for (int i = 0; i < 3; i++) {
+            gr_filt *f[4] = {&ref, &pa, &pb, &low};
+            for (int i = 0; i < 4; i++) {
                 if (kind == GR_EKF3_TURN) {
                     gr_predict_turn(f[i], sc.u, sc.R);
                 } else {
                     gr_predict_lin(f[i], sc.A, sc.c, sc.R);
                 }
             }
+            round_mean(&low, angle);
             if (step >= sc.pre) {
                 gf_real z[3];
                 gr_scen_measure(&sc, z);
-                gr_filt nr = ref, na = pa, nb = pb;
+                gr_filt nr = ref, na = pa, nb = pb, nl = low;
                 gr_real nis;
                 int ok = gr_update_batch(&nr, sc.m, sc.H, sc.Q, z, &nis) &&
                          gr_update_batch(&na, sc.m, sc.H, sc.Q, z, &nis) &&
                          gr_update_batch(&nb, sc.m, sc.H, sc.Q, z, &nis);
+                b_live =
+                    b_live && gr_update_batch(&nl, sc.m, sc.H, sc.Q, z, &nis);
                 gf_innovation info;
                 gf_status st = lib_update(&l, &sc, z, 0, &info);
                 int tok = t_live ? gr_tb_update(&tb, &sc, z) : 0;
@@ -183,6 +213,10 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
                 ref = nr;
                 pa = na;
                 pb = nb;
+                if (b_live) {
+                    low = nl;
+                    round_mean(&low, angle);
+                }
             }
             if (!sc.compare || !sc.q_pd) {
                 continue;
@@ -204,6 +238,11 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
             gr_errors(&ref, mu, P, 0, &es, &em);
             ts = fmax(ts, es);
             tm = fmax(tm, em);
+            if (b_live) {
+                gr_errors(&ref, low.mu, low.P, angle, &es, &em);
+                bs = fmax(bs, es);
+                bm = fmax(bm, em);
+            }
             any = 1;
         }
         if (any) {
@@ -213,17 +252,22 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t)
             t->s[t->n] = ts;
             t->m[t->n] = tm;
             t->n++;
+            b->s[b->n] = bs;
+            b->m[b->n] = bm;
+            b->n++;
         }
     }
 }
 
-static void report(const char *name, fig *g, fig *t, unsigned count, int *met,
-                   int *met10)
+static void report(const char *name, fig *g, fig *t, fig *b, unsigned count,
+                   int *met, int *met10, int *reach10)
 {
     double gws = worst(g->s, g->n), gwm = worst(g->m, g->n);
     double tws = worst(t->s, t->n), twm = worst(t->m, t->n);
     double gms = median(g->s, g->n), gmm = median(g->m, g->n);
     double tms = median(t->s, t->n), tmm = median(t->m, t->n);
+    double bws = worst(b->s, b->n), bwm = worst(b->m, b->n);
+    double bms = median(b->s, b->n), bmm = median(b->m, b->n);
     printf("%-18s %5u scenarios, %5u compared\n", name, count, g->n);
     printf("  %-9s Sigma worst %9.3g median %9.3g | mu worst %9.3g median "
            "%9.3g | refused %u\n",
@@ -231,48 +275,59 @@ static void report(const char *name, fig *g, fig *t, unsigned count, int *met,
     printf("  %-9s Sigma worst %9.3g median %9.3g | mu worst %9.3g median "
            "%9.3g | refused %u\n",
            "textbook", tws, tms, twm, tmm, t->refused);
+    printf("  %-9s Sigma worst %9.3g median %9.3g | mu worst %9.3g median "
+           "%9.3g | (exact, its mean rounded)\n",
+           "ideal", bws, bms, bwm, bmm);
     int ok = gws <= tws && gwm <= twm && gms <= tms && gmm <= tmm &&
              g->refused <= t->refused;
     int ok10 = ok && gws * 10 <= tws && gwm * 10 <= twm;
+    int in10 = bws * 10 <= tws && bwm * 10 <= twm;
     printf("  target (no larger, no more refusals): %s; ten times smaller "
-           "(worst): %s\n",
-           ok ? "met" : "NOT met", ok10 ? "met" : "NOT met");
+           "(worst): %s (the ideal filter: %s)\n",
+           ok ? "met" : "NOT met", ok10 ? "met" : "NOT met",
+           in10 ? "within it" : "misses it too");
     *met &= ok;
     *met10 &= ok10;
+    *reach10 &= in10;
 }
 
 // One set of steps (64 times the copies' spread below `digits`): every
-// family, then all together. buf holds 16 count doubles.
+// family, then all together. buf holds 24 count doubles.
 static void run_set(unsigned count, double digits, double *buf, int *m_all,
-                    int *m10_all, int *met, int *met10)
+                    int *m10_all, int *r10_all, int *met, int *met10)
 {
     static const char *const names[] = {"KF2", "EKF3 linear",
                                         "EKF3 forward_turn"};
     printf("\n-- steps where 64 x the copies' spread < %g\n", digits);
     fig all_g = {buf, buf + 3 * count, 0, 0};
     fig all_t = {buf + 6 * count, buf + 9 * count, 0, 0};
-    double *s_g = buf + 12 * count; // the family's four arrays
+    fig all_b = {buf + 12 * count, buf + 15 * count, 0, 0};
+    double *s_g = buf + 18 * count; // the family's six arrays
+    int reach = 1;                  // (per family: printed, not summed)
     for (int kind = GR_KF2; kind <= GR_EKF3_TURN; kind++) {
         fig g = {s_g, s_g + count, 0, 0};
         fig t = {s_g + 2 * count, s_g + 3 * count, 0, 0};
-        run(kind, count, digits, &g, &t);
+        fig b = {s_g + 4 * count, s_g + 5 * count, 0, 0};
+        run(kind, count, digits, &g, &t, &b);
         for (unsigned i = 0; i < g.n; i++) {
             all_g.s[all_g.n] = g.s[i];
             all_g.m[all_g.n++] = g.m[i];
             all_t.s[all_t.n] = t.s[i];
             all_t.m[all_t.n++] = t.m[i];
+            all_b.s[all_b.n] = b.s[i];
+            all_b.m[all_b.n++] = b.m[i];
         }
         all_g.refused += g.refused;
         all_t.refused += t.refused;
-        report(names[kind], &g, &t, count, met, met10);
+        report(names[kind], &g, &t, &b, count, met, met10, &reach);
     }
-    report("all", &all_g, &all_t, 3 * count, m_all, m10_all);
+    report("all", &all_g, &all_t, &all_b, 3 * count, m_all, m10_all, r10_all);
 }
 
 int main(int argc, char **argv)
 {
     unsigned count = argc > 1 ? (unsigned)strtoul(argv[1], NULL, 10) : 3000;
-    double *buf = malloc(sizeof(double) * 4 * 4 * (size_t)count);
+    double *buf = malloc(sizeof(double) * 24 * (size_t)count);
     if (!buf) {
         return 1;
     }
@@ -283,16 +338,19 @@ int main(int argc, char **argv)
     // Two sets of steps: every step the reference's perturbed copies leave
     // a digit in (64 times their spread below 1), and the well-conditioned
     // ones (below 1e-3: three digits).
-    int m_all = 1, m10_all = 1, met = 1, met10 = 1;
-    run_set(count, 1.0, buf, &m_all, &m10_all, &met, &met10);
-    run_set(count, 1e-3, buf, &m_all, &m10_all, &met, &met10);
+    int m_all = 1, m10_all = 1, r10_all = 1, met = 1, met10 = 1;
+    run_set(count, 1.0, buf, &m_all, &m10_all, &r10_all, &met, &met10);
+    run_set(count, 1e-3, buf, &m_all, &m10_all, &r10_all, &met, &met10);
     const char *p = sizeof(gf_real) == 4 ? "float" : "double";
     printf("\ntarget \"%s error no larger than a %s textbook Joseph "
            "filter's, and no more refusals\", over both sets: %s (every "
-           "family: %s); goal beyond, ten times smaller: %s\n",
+           "family: %s); goal beyond, ten times smaller: %s (%s)\n",
            p, sizeof(gf_real) == 4 ? "float32" : "double",
            m_all ? "met" : "NOT met", met ? "met" : "NOT met",
-           m10_all ? "met" : "NOT met");
+           m10_all ? "met" : "NOT met",
+           r10_all ? "within the ideal filter's reach on both sets"
+                   : "out of reach: an ideal filter, exact but for its mean's "
+                     "rounding, misses it too");
     free(buf);
     return 0;
 }
