@@ -5,7 +5,9 @@
 
 #include "gaussfilt/ekf.h"
 
+#include "gf_internal.h"
 #include "kf_core.h"
+#include "udu.h"
 
 gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
                       const gf_real *sigma, unsigned angles, gf_kf_work *work)
@@ -30,8 +32,8 @@ static gf_status ekf_predict_step(gf_kf *ekf, const gf_ekf_motion *motion,
                                   const gf_real *Rd, gf_kf_work *work)
 {
     const unsigned n = ekf->n;
-    gf_real *mu_bar = GF_KFC_S(work, 4);
-    gf_real *G = work->x;
+    gf_real *mu_bar = work->mean;
+    gf_real *G = work->rows;
     for (unsigned i = 0; i < n; i++) {
         mu_bar[i] = ekf->mu[i];
         for (unsigned j = 0; j < n; j++) {
@@ -87,17 +89,17 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
 }
 
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
-// (angle residuals wrapped) into work->in.y and work->s, H whitened in place (it is
-// work->x), gf_kfc_update_begin; the caller then makes the correction
-// (gf_kfc_update on work->x) a tail call.
-static gf_status ekf_update_begin(const gf_kf *ekf, const gf_ekf_meas *meas,
-                                  const gf_real *z, const gf_real *Qf,
-                                  const unsigned *Qorder, gf_kf_work *work)
+// (angle residuals wrapped) into work->in.y, H whitened by Q's factors
+// (H_w = F_Q^-1 H, in work->rows), then the correction (gf_kfc_correct).
+static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
+                                 const gf_real *z, const gf_real *Qf,
+                                 const gf_real *Qe, const unsigned *Qorder,
+                                 gf_kf_innovation *info, gf_kf_work *work)
 {
     const unsigned n = ekf->n, m = meas->m;
-    gf_real *zh = GF_KFC_S(work, 4);
+    gf_real *zh = work->mean;
     gf_real *y = work->in.y;
-    gf_real *H = work->x;
+    gf_real *H = work->rows;
     for (unsigned i = 0; i < m; i++) {
         zh[i] = 0;
         for (unsigned j = 0; j < n; j++) {
@@ -116,25 +118,9 @@ static gf_status ekf_update_begin(const gf_kf *ekf, const gf_ekf_meas *meas,
         if ((meas->angle_mask >> i) & 1u) {
             y[i] = gf_angle_wrap(y[i]);
         }
-        work->s[i] = y[i];
     }
-    if (m > 1u) {
-        gf_udu_whiten_rows(Qf, Qorder, m, H, n);
-    }
-    return gf_kfc_update_begin(ekf, m, Qf, Qorder, work);
-}
-
-// gf_kfc_meas_check, Q's factors into work->f, then ekf_update_begin.
-// The factors' pointer is this frame's, so that gf_ekf_update keeps no
-// local whose address is taken (its last call is then a tail call).
-GF_NOINLINE gf_status ekf_meas_check(const gf_kf *ekf, const gf_ekf_meas *meas,
-                                     const gf_real *z, gf_kf_work *work)
-{
-    const gf_kf_factors *q = NULL;
-    const gf_status st =
-        gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
-    return st != GF_OK ? st
-                       : ekf_update_begin(ekf, meas, z, q->F, q->order, work);
+    gf_udu_whiten(Qf, Qorder, m, H, n);
+    return gf_kfc_correct(ekf, m, H, Qf, Qe, Qorder, meas->gate, info, work);
 }
 
 gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
@@ -144,11 +130,12 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         ekf->n > GF_KF_NMAX) {
         return GF_ERR_ARG;
     }
-    // Q's factors in work->f, then the correction, a tail call
-    const gf_status st = ekf_meas_check(ekf, meas, z, work);
-    return st != GF_OK
-               ? st
-               : gf_kfc_update(ekf, work->x, work->f.d, meas->gate, info, work);
+    const gf_kf_factors *q = NULL;
+    const gf_status st =
+        gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
+    return st != GF_OK ? st
+                       : ekf_update_step(ekf, meas, z, q->F, q->d, q->order,
+                                         info, work);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -180,9 +167,6 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    const gf_status st =
-        ekf_update_begin(ekf, &pq->meas, z, pq->Qf, pq->Qorder, work);
-    return st != GF_OK
-               ? st
-               : gf_kfc_update(ekf, work->x, pq->Qe, pq->meas.gate, info, work);
+    return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info,
+                           work);
 }

@@ -6,50 +6,18 @@
 #ifndef GAUSSFILT_SRC_INTERNAL_H
 #define GAUSSFILT_SRC_INTERNAL_H
 
+#include <stddef.h>
+
 #include "gaussfilt/mat.h"
 
 #include "gf_names.h"
 
-// Inlined into every caller by gcc and clang, at -Os too, for helpers whose
-// own frame would otherwise sit on top of a large caller's
-// (docs/firmware.md, the stack); a plain inline elsewhere.
-#if defined(__GNUC__)
-#define GF_ALWAYS_INLINE static inline __attribute__((always_inline))
-#else
-#define GF_ALWAYS_INLINE static inline
-#endif
-
-// Kept a function of its own: for a loop nest that runs faster with the
-// registers to itself than inlined into a caller that keeps values live,
-// or for a frame that must be gone (or never under another) when the
-// caller makes its deepest call.
+// Kept a function of its own (UKF3's steps, whose frames must not sit
+// under each other's).
 #if defined(__GNUC__)
 #define GF_NOINLINE static __attribute__((noinline))
 #else
 #define GF_NOINLINE static
-#endif
-
-// Kept a function of its own, with the parameters it is written with (no
-// clone that passes them otherwise): for a callee whose arguments must stay
-// in registers, so that its callers' calls to it are tail calls.
-#if defined(__GNUC__) && !defined(__clang__)
-#define GF_NOIPA static __attribute__((noipa))
-#elif defined(__GNUC__)
-#define GF_NOIPA static __attribute__((noinline))
-#else
-#define GF_NOIPA static
-#endif
-
-// Before each loop over states or measured quantities: unrolled where the
-// trip count is known (a filter's own n), at -Os too (docs/performance.md
-// has what it costs and saves); clang unrolls such loops by itself. A loop
-// whose count is known only at run time stays a loop at -Os.
-#ifndef GF_UNROLL
-#if defined(__GNUC__) && !defined(__clang__)
-#define GF_UNROLL _Pragma("GCC unroll 6")
-#else
-#define GF_UNROLL
-#endif
 #endif
 
 // Finiteness in one pass with no branch: x_i * 0 is 0 for a finite x_i
@@ -58,23 +26,22 @@
 // entries of x to a running z (start at 0); gf_sum_finite tells whether
 // every number added so far was finite (z is +-0 or NaN, and only NaN
 // fails z < 1). Needs IEEE arithmetic (no -ffinite-math-only).
-GF_ALWAYS_INLINE gf_real gf_nan_sum(gf_real z, const gf_real *x, unsigned n)
+static inline gf_real gf_nan_sum(gf_real z, const gf_real *x, unsigned n)
 {
     gf_real acc = z;
-    GF_UNROLL
     for (unsigned i = 0; i < n; i++) {
         acc += x[i] * GF_R(0.0);
     }
     return acc;
 }
 
-GF_ALWAYS_INLINE int gf_sum_finite(gf_real z)
+static inline int gf_sum_finite(gf_real z)
 {
     return z < GF_R(1.0);
 }
 
 // 1 if the n entries of x are all finite.
-GF_ALWAYS_INLINE int gf_all_finite(const gf_real *x, unsigned n)
+static inline int gf_all_finite(const gf_real *x, unsigned n)
 {
     return gf_sum_finite(gf_nan_sum(GF_R(0.0), x, n));
 }
@@ -84,29 +51,44 @@ GF_ALWAYS_INLINE int gf_all_finite(const gf_real *x, unsigned n)
 // (B u)_i first, the state's own term A_ii x_i last (docs/numerics.md,
 // "The mean"). a: row i of A (n entries); b: row i of B and u (nu
 // entries; no control term when nu is 0 or either is NULL).
-GF_ALWAYS_INLINE gf_real gf_mean_row(const gf_real *a, const gf_real *x,
+static inline gf_real gf_mean_row(const gf_real *a, const gf_real *x,
                                      unsigned n, unsigned i, gf_real c,
                                      const gf_real *b, const gf_real *u,
                                      unsigned nu)
 {
     gf_real acc = c;
-    GF_UNROLL
     for (unsigned j = 0; j < i; j++) {
         acc += a[j] * x[j];
     }
-    GF_UNROLL
     for (unsigned j = i + 1u; j < n; j++) {
         acc += a[j] * x[j];
     }
     if (nu > 0u && b != NULL && u != NULL) {
         gf_real bu = b[0] * u[0];
-        GF_UNROLL
-        for (unsigned j = 1; j < nu; j++) {
+            for (unsigned j = 1; j < nu; j++) {
             bu += b[j] * u[j];
         }
         acc += bu;
     }
     return acc + a[i] * x[i];
+}
+
+// The tail every update shares once it has the NIS and the new belief
+// (finite: 1 if all of it is finite): GF_ERR_NONFINITE for a NIS that is
+// not finite, GF_ERR_GATED for a NIS above a set gate (gate > 0; the
+// caller still stores the innovation), GF_ERR_NONFINITE for a belief that
+// is not finite (the caller keeps the last good one), else GF_OK (the
+// caller stores the innovation and the belief).
+static inline gf_status gf_update_status(gf_real nis, gf_real gate,
+                                         int finite)
+{
+    if (!GF_ISFINITE(nis)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (gate > 0 && nis > gate) {
+        return GF_ERR_GATED;
+    }
+    return finite ? GF_OK : GF_ERR_NONFINITE;
 }
 
 // 1 if both entries of x are finite.
@@ -173,7 +155,7 @@ static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
 // column. The one implementation: gf_mat3_sqrt_psd unpacks it; UKF3 and
 // PF3 keep it packed (no 3x3 temporary). Entries of l beyond the block
 // are zeroed.
-GF_ALWAYS_INLINE void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
+static inline void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
                                          gf_real l[6])
 {
     for (unsigned k = 0; k < 6u; k++) {

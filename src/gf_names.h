@@ -13,25 +13,23 @@
 #include "gaussfilt/config.h"
 
 // ldl.h: defined in ldl.c
-#define gf_ldl_core GF_NAME(gf_ldl_core)
-#define gf_ldl_small GF_NAME(gf_ldl_small)
+#define gf_cov_factor GF_NAME(gf_cov_factor)
 
-// steps.h: defined in steps.c and steps4.c
-#define gf_udu_correct2 GF_NAME(gf_udu_correct2)
-#define gf_udu_factor3 GF_NAME(gf_udu_factor3)
-#define gf_udu_correct3 GF_NAME(gf_udu_correct3)
-#define gf_udu_correct4 GF_NAME(gf_udu_correct4)
-#define gf_udu_predict2 GF_NAME(gf_udu_predict2)
-#define gf_udu_predict3 GF_NAME(gf_udu_predict3)
-#define gf_udu_predict4 GF_NAME(gf_udu_predict4)
+// udu.h: defined in udu.c
+#define gf_belief_finite GF_NAME(gf_belief_finite)
+#define gf_udu_correct GF_NAME(gf_udu_correct)
+#define gf_udu_factor GF_NAME(gf_udu_factor)
+#define gf_udu_predict GF_NAME(gf_udu_predict)
+#define gf_udu_swap GF_NAME(gf_udu_swap)
+#define gf_udu_to_cov GF_NAME(gf_udu_to_cov)
+#define gf_udu_whiten GF_NAME(gf_udu_whiten)
 
 // kf_core.h: defined in kf.c
+#define gf_kfc_correct GF_NAME(gf_kfc_correct)
 #define gf_kfc_init GF_NAME(gf_kfc_init)
 #define gf_kfc_keep GF_NAME(gf_kfc_keep)
 #define gf_kfc_meas_check GF_NAME(gf_kfc_meas_check)
 #define gf_kfc_noise GF_NAME(gf_kfc_noise)
 #define gf_kfc_predict GF_NAME(gf_kfc_predict)
-#define gf_kfc_update GF_NAME(gf_kfc_update)
-#define gf_kfc_update_begin GF_NAME(gf_kfc_update_begin)
 
 #endif

@@ -46,7 +46,7 @@ gf_status gf_if2_from_moments(gf_if2 *inf, const gf_vec2 *mu,
 // The moments of a canonical belief with positive-definite Omega, written
 // straight to mu and sigma: the callers pass their own scratch and keep it
 // only on GF_OK (no second copy here, on top of theirs).
-static gf_status moments(const gf_if2 *inf, gf_vec2 *mu, gf_mat2 *sigma)
+static gf_status if2_moments(const gf_if2 *inf, gf_vec2 *mu, gf_mat2 *sigma)
 {
     // Sigma = Omega^-1, mu = Sigma xi
     const gf_status st = gf_mat2_spd_inv(&inf->omega, sigma);
@@ -67,7 +67,7 @@ gf_status gf_if2_to_moments(const gf_if2 *inf, gf_vec2 *mu, gf_mat2 *sigma)
     }
     gf_vec2 m;
     gf_mat2 s;
-    gf_status st = moments(inf, &m, &s);
+    gf_status st = if2_moments(inf, &m, &s);
     if (st != GF_OK) {
         return st;
     }
@@ -98,7 +98,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
     // Omega^-1 and Omega^-1 xi: the first inversion
     gf_vec2 mu;
     gf_mat2 sigma;
-    st = moments(inf, &mu, &sigma);
+    st = if2_moments(inf, &mu, &sigma);
     if (st != GF_OK) {
         return st;
     }
@@ -143,13 +143,13 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 // The innovation of the moments form (for info and the gate):
 // y = z - c - C mu_bar, NIS = y^T (C Sigma_bar C^T + Q)^-1 y, into out
 // (the caller's scratch, kept only on GF_OK; the caller judges the NIS).
-static gf_status innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
+static gf_status if2_innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
                             const gf_vec2 *z, gf_innovation *out)
 {
     const unsigned m = meas->m;
     gf_vec2 mu;
     gf_mat2 sig, S;
-    gf_status st = moments(inf, &mu, &sig);
+    gf_status st = if2_moments(inf, &mu, &sig);
     if (st != GF_OK) {
         return st;
     }
@@ -238,13 +238,13 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
 
     gf_innovation in = {0u, {0, 0, 0}, 0};
     if (info || meas->gate > 0) {
-        st = innovation(inf, meas, z, &in);
+        st = if2_innovation(inf, meas, z, &in);
         if (st != GF_OK) {
             return st;
         }
-        st = gf_innovation_verdict(&in, meas->gate, info);
+        st = gf_update_status(in.nis, meas->gate, 1);
         if (st != GF_OK) {
-            return st;
+            return gf_innovation_keep(st, &in, info); // (gated: info kept)
         }
     }
 
@@ -280,8 +280,11 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
             }
         }
 
-        st = gf_update_done(
-            gf_mat2_is_finite(&r.omega) && gf_vec2_is_finite(&r.xi), &in, info);
+        st = gf_innovation_keep(
+            (gf_mat2_is_finite(&r.omega) && gf_vec2_is_finite(&r.xi))
+                ? GF_OK
+                : GF_ERR_NONFINITE,
+            &in, info);
         if (st == GF_OK) {
             *inf = r;
         }

@@ -1,25 +1,17 @@
 // SPDX-License-Identifier: MIT
 // gaussfilt: the steps gf_kf and gf_ekf share (defined in kf.c), on the
-// factored core of src/udu.h compiled for n up to GF_KF_NMAX. Not
-// installed, not part of the API.
+// factored core of src/udu.h, for n states up to GF_KF_NMAX, the scratch
+// in the caller's gf_kf_work. Not installed, not part of the API.
 #ifndef GAUSSFILT_SRC_KF_CORE_H
 #define GAUSSFILT_SRC_KF_CORE_H
 
-#include "gaussfilt/ekf.h"
+#include "gaussfilt/kf.h"
 
-// The steps are compiled for n = 2 and 3, where the loops unroll, and
-// for any n, where they stay loops (gcc unrolls no loop of unknown count
-// at -Os).
-#define GF_UNROLL _Pragma("GCC unroll 6")
-#ifndef GF_UDU_NMAX
-#define GF_UDU_NMAX GF_KF_NMAX
-#endif
-#include "udu.h"
+#include "gf_internal.h"
 
-// The verdict on an n x n covariance s passed in (finite, symmetric, PSD)
-// and, where fac is not NULL, its factors F diag(d) F^T with their pivot
-// order (gf_cov_factor's) in work->f (*fac points there on GF_OK). The
-// Schur complements in work->x.
+// The verdict on an n x n covariance s passed in (gf_cov_factor) and, where
+// fac is not NULL, its factors in work->noise (*fac points there on
+// GF_OK).
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
                        const gf_kf_factors **fac);
 
@@ -41,22 +33,16 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
                             gf_real gate, const gf_real *z, gf_kf_work *work,
                             const gf_kf_factors **fac);
 
-// The correction once the measurement is checked, in two calls. First
-// gf_kfc_update_begin, with the innovation y (m entries) in work->in.y
-// and in work->s: y_w = F_Q^-1 y there (Q's factors Qf, Qorder), the
-// belief copied into work->b
-// (returns GF_OK). Then gf_kfc_update with the whitened rows hw (m x n,
-// F_Q^-1 H) and Q's variances Qe: one scalar update per quantity, the
-// gate on the total NIS, the belief and info written only if every
-// quantity passed. Two calls, so that a caller's frame is gone (a tail
-// call) before the correction's deepest calls.
-gf_status gf_kfc_update_begin(const gf_kf *kf, unsigned m, const gf_real *Qf,
-                              const unsigned *Qorder, gf_kf_work *work);
-gf_status gf_kfc_update(gf_kf *kf, const gf_real *hw, const gf_real *Qe,
-                        gf_real gate, gf_kf_innovation *info, gf_kf_work *work);
-
-// The vector k (0..7) of n entries in work->s.
-#define GF_KFC_S(work, k) (&(work)->s[(size_t)(k)*GF_KF_NMAX])
+// The correction once the measurement is checked, with the innovation y
+// (m entries) in work->in.y and the whitened rows hw (m x n, F_Q^-1 H):
+// y_w = F_Q^-1 y (Q's factors Qf, Qorder), one scalar update per quantity
+// with the noises Qe (gf_udu_correct), the angle states wrapped, the gate
+// on the total NIS; the belief and info written only if every quantity
+// passed and the result is finite.
+gf_status gf_kfc_correct(gf_kf *kf, unsigned m, const gf_real *hw,
+                         const gf_real *Qf, const gf_real *Qe,
+                         const unsigned *Qorder, gf_real gate,
+                         gf_kf_innovation *info, gf_kf_work *work);
 
 // Copies a noise's factors (m x m) into a prepared model's arrays (order
 // may be NULL).

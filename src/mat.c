@@ -3,7 +3,8 @@
 
 #include "gaussfilt/mat.h"
 
-#include "udu.h"
+#include "gf_internal.h"
+#include "ldl.h"
 
 // ---- 2x2 -----------------------------------------------------------------
 
@@ -67,8 +68,12 @@ int gf_mat2_is_finite(const gf_mat2 *a)
 
 gf_status gf_mat2_check_psd(const gf_mat2 *s)
 {
-    // (gf_cov_factor's closed form for 2 x 2: no call)
-    return s ? gf_cov_factor(s->m[0], 2, 2, NULL, NULL, NULL) : GF_ERR_ARG;
+    if (!s) {
+        return GF_ERR_ARG;
+    }
+    gf_real a[4];
+    unsigned p[2];
+    return gf_cov_factor(s->m[0], 2, 2, NULL, NULL, NULL, a, p);
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
@@ -221,7 +226,9 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    return gf_cov_factor(s->m[0], 3, n, NULL, NULL, NULL);
+    gf_real a[9];
+    unsigned p[3];
+    return gf_cov_factor(s->m[0], 3, n, NULL, NULL, NULL, a, p);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)

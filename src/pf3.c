@@ -2,6 +2,8 @@
 #include "gaussfilt/pf3.h"
 
 #include "gf_filter.h"
+#include "gf_internal.h"
+#include "gf_meas3.h"
 
 // exp() of gf_real; -DGF_EXP=... overrides it (config.h does not define it).
 #ifndef GF_EXP
@@ -14,7 +16,7 @@
 
 // Total weight W; GF_ERR_NONFINITE or GF_ERR_UNDEFINED (a negative weight,
 // W not positive) when the weights cannot be used.
-static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
+static gf_status pf3_total_weight(const gf_pf3 *pf, gf_real *total)
 {
     gf_real w = 0;
     for (unsigned k = 0; k < pf->n; k++) {
@@ -42,14 +44,14 @@ static gf_status total_weight(const gf_pf3 *pf, gf_real *total)
 __attribute__((noinline))
 #endif
 static void
-sqrt_psd(const gf_mat3 *s, gf_real l[6])
+pf3_sqrt_psd(const gf_mat3 *s, gf_real l[6])
 {
     gf_sqrt_psd_packed(s, 3, l);
 }
 
 // x = mu + L n, n ~ N(0, I), L packed (GF_TRI): gf_rng_mvn3's arithmetic,
 // the zero entries of L included, with no 3x3 matrix. x may be mu.
-static void draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6], gf_vec3 *x)
+static void pf3_draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6], gf_vec3 *x)
 {
     gf_real nv[3];
     for (unsigned i = 0; i < 3u; i++) {
@@ -72,7 +74,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
         return st;
     }
     gf_real L[6];
-    sqrt_psd(sigma, L);
+    pf3_sqrt_psd(sigma, L);
     // Dry run: every draw mu + L n_k must be finite before anything is
     // written (an enormous sigma could overflow). The generator is then
     // seeded again, so the draws kept are the ones checked.
@@ -80,7 +82,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     (void)gf_rng_seed(&rng, seed);
     for (unsigned k = 0; k < n; k++) {
         gf_vec3 x;
-        draw(&rng, mu, L, &x);
+        pf3_draw(&rng, mu, L, &x);
         if (!gf_vec3_is_finite_n(&x, 3)) {
             return GF_ERR_NONFINITE;
         }
@@ -88,7 +90,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
     // x^[k] ~ N(mu, Sigma), then w^[k] = 1/n
     (void)gf_rng_seed(&rng, seed);
     for (unsigned k = 0; k < n; k++) {
-        draw(&rng, mu, L, &particles[k].x);
+        pf3_draw(&rng, mu, L, &particles[k].x);
         particles[k].x.v[2] = gf_angle_wrap(particles[k].x.v[2]);
     }
     const gf_real w = GF_R(1.0) / (gf_real)n;
@@ -108,7 +110,7 @@ gf_status gf_pf3_init(gf_pf3 *pf, gf_pf3_particle *particles, unsigned n,
 __attribute__((noinline))
 #endif
 static gf_status
-propagate(const gf_ekf3_motion *motion, const gf_vec3 *p, const gf_real *u,
+pf3_propagate(const gf_ekf3_motion *motion, const gf_vec3 *p, const gf_real *u,
           gf_vec3 *x)
 {
     // G is not used, but it arrives as the identity (ekf3.h's promise to
@@ -134,7 +136,7 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
         return st;
     }
     gf_real L[6];
-    sqrt_psd(&motion->R, L);
+    pf3_sqrt_psd(&motion->R, L);
     // x_t^[k] = g(u, x_{t-1}^[k]) + L n^[k], n^[k] ~ N(0, I), heading
     // wrapped (G discarded). Pass 0 is a dry run on a copy of the
     // generator that writes nothing and stops at the first failure; pass 1
@@ -145,9 +147,9 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
         gf_rng *rng = (pass == 0u) ? &dry : &pf->rng;
         for (unsigned k = 0; k < pf->n; k++) {
             gf_vec3 x;
-            st = propagate(motion, &pf->p[k].x, u, &x);
+            st = pf3_propagate(motion, &pf->p[k].x, u, &x);
             if (st == GF_OK) {
-                draw(rng, &x, L, &x);
+                pf3_draw(rng, &x, L, &x);
                 x.v[2] = gf_angle_wrap(x.v[2]);
                 if (!gf_vec3_is_finite_n(&x, 3)) {
                     st = GF_ERR_NONFINITE;
@@ -167,7 +169,7 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
 // d2 = r^T Q^-1 r, r = z - h(x) (flagged entries wrapped), l = chol(Q)
 // packed as GF_TRI. H goes to a scratch matrix that is gone before the
 // solve.
-static gf_status mahalanobis(const gf_ekf3_meas *meas, const gf_real l[6],
+static gf_status pf3_mahalanobis(const gf_ekf3_meas *meas, const gf_real l[6],
                              const gf_vec3 *z, const gf_vec3 *x, gf_real *d2)
 {
     const unsigned m = meas->m;
@@ -207,7 +209,8 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
     if (!pf || !pf->p) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_meas3_check(meas, z);
+    gf_status st =
+        z ? gf_meas3_check(meas, z, NULL, NULL, NULL) : GF_ERR_ARG;
     if (st != GF_OK) {
         return st;
     }
@@ -225,7 +228,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
         return st;
     }
     gf_real total;
-    st = total_weight(pf, &total);
+    st = pf3_total_weight(pf, &total);
     if (st != GF_OK) {
         return st;
     }
@@ -236,7 +239,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
     gf_real best = 0, d2min = 0;
     for (unsigned k = 0; k < pf->n; k++) {
         gf_real d2;
-        st = mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
+        st = pf3_mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
         if (st != GF_OK) {
             return st;
         }
@@ -261,7 +264,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
     gf_real sum = 0;
     for (unsigned k = 0; k < pf->n; k++) {
         gf_real d2 = 0;
-        (void)mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
+        (void)pf3_mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
         gf_real w = 0;
         if (pf->p[k].w > 0) {
             w = GF_EXP(GF_LOG(pf->p[k].w) - GF_R(0.5) * d2 - best);
@@ -282,7 +285,7 @@ gf_status gf_pf3_resample(gf_pf3 *pf)
         return GF_ERR_ARG;
     }
     gf_real total;
-    gf_status st = total_weight(pf, &total);
+    gf_status st = pf3_total_weight(pf, &total);
     if (st != GF_OK) {
         return st;
     }
@@ -344,7 +347,7 @@ gf_status gf_pf3_neff(const gf_pf3 *pf, gf_real *neff)
         return GF_ERR_ARG;
     }
     gf_real total;
-    gf_status st = total_weight(pf, &total);
+    gf_status st = pf3_total_weight(pf, &total);
     if (st != GF_OK) {
         return st;
     }
@@ -364,7 +367,7 @@ gf_status gf_pf3_estimate(const gf_pf3 *pf, gf_vec3 *mu, gf_mat3 *sigma)
         return GF_ERR_ARG;
     }
     gf_real total;
-    gf_status st = total_weight(pf, &total);
+    gf_status st = pf3_total_weight(pf, &total);
     if (st != GF_OK) {
         return st;
     }

@@ -2,6 +2,8 @@
 #include "gaussfilt/ukf3.h"
 
 #include "gf_filter.h"
+#include "gf_internal.h"
+#include "gf_meas3.h"
 
 #define N_STATE 3u
 #define N_SIGMA (2u * N_STATE + 1u)
@@ -28,7 +30,7 @@
 // WEIGHTED added to k, entry k of w_i off_j (the weight read here, not
 // passed in).
 #define WEIGHTED 4u
-static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
+static inline gf_real ukf3_offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
                              unsigned k)
 {
     const unsigned i = (j - 1u) % N_STATE;
@@ -42,18 +44,18 @@ static inline gf_real offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
 }
 
 // chi_j = mu + off_j.
-UKF3_SMALL_CALL void sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
+UKF3_SMALL_CALL void ukf3_sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
                                  unsigned j, gf_vec3 *chi)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
-        const gf_real o = offset(ukf, l, j, k);
+        const gf_real o = ukf3_offset(ukf, l, j, k);
         chi->v[k] = ukf->mu.v[k] + o;
     }
 }
 
 // Entry e of a residual finished by the bits of wrap_flagged for it: bit
 // 0 clear, zeroed; else bit 3 set, wrapped; else kept.
-GF_ALWAYS_INLINE void wrap_entry(gf_real *e, unsigned b)
+static inline void ukf3_wrap_entry(gf_real *e, unsigned b)
 {
     if ((b & 1u) == 0u) {
         *e = 0;
@@ -68,24 +70,24 @@ GF_ALWAYS_INLINE void wrap_entry(gf_real *e, unsigned b)
 // entries from n on zeroed: the second half of a residual, and the last
 // step of a mean. The one helper that calls gf_angle_wrap; entry by entry,
 // with the bits (k: entry k kept, 3 + k: entry k wrapped).
-UKF3_SMALL_CALL void wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_mask)
+UKF3_SMALL_CALL void ukf3_wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_mask)
 {
     const unsigned keep = (1u << n) - 1u;
     const unsigned bits = keep | ((angle_mask & keep) << N_STATE);
-    wrap_entry(&d->v[0], bits);
-    wrap_entry(&d->v[1], bits >> 1);
-    wrap_entry(&d->v[2], bits >> 2);
+    ukf3_wrap_entry(&d->v[0], bits);
+    ukf3_wrap_entry(&d->v[1], bits >> 1);
+    ukf3_wrap_entry(&d->v[2], bits >> 2);
 }
 
 // d = p - ref on the first n entries, those flagged in angle_mask wrapped,
 // the rest zero; d may be p or ref.
-GF_ALWAYS_INLINE void residual(const gf_vec3 *p, const gf_vec3 *ref, unsigned n,
+static inline void ukf3_residual(const gf_vec3 *p, const gf_vec3 *ref, unsigned n,
                                unsigned angle_mask, gf_vec3 *d)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
         d->v[k] = p->v[k] - ref->v[k];
     }
-    wrap_flagged(d, n, angle_mask);
+    ukf3_wrap_flagged(d, n, angle_mask);
 }
 
 // The sums take differences of images of nearby points and weigh them by
@@ -150,7 +152,7 @@ typedef struct ukf3_belief {
 // l = sqrt(Sigma), packed: gf_sqrt_psd_packed in a frame of its own, so
 // that the steps' large frames neither hold its inlined arithmetic's
 // temporaries nor save the registers it keeps across the square roots.
-GF_NOINLINE void sigma_sqrt(const gf_mat3 *sigma, gf_real l[6])
+GF_NOINLINE void ukf3_sigma_sqrt(const gf_mat3 *sigma, gf_real l[6])
 {
     gf_sqrt_psd_packed(sigma, N_STATE, l);
 }
@@ -175,7 +177,7 @@ typedef struct ukf3_pred {
 
 // Image j's terms (j > 0), e_j = chi_bar*_j - chi_bar*_0 in e, added to
 // the sums.
-GF_NOINLINE void predict_add(ukf3_pred *w, const gf_vec3 *e)
+GF_NOINLINE void ukf3_predict_add(ukf3_pred *w, const gf_vec3 *e)
 {
     const gf_real wi = w->ukf->wi;
     for (unsigned a = 0; a < N_STATE; a++) {
@@ -193,11 +195,11 @@ GF_NOINLINE void predict_add(ukf3_pred *w, const gf_vec3 *e)
 // G = I in w->nb.sigma, then chi_j (sigma_point, a tail call): a call of
 // its own, so that predict_point keeps fewer registers (and saves fewer)
 // across g's call.
-UKF3_SMALL_CALL void point_start(ukf3_pred *w, unsigned j, gf_vec3 *chi)
+UKF3_SMALL_CALL void ukf3_point_start(ukf3_pred *w, unsigned j, gf_vec3 *chi)
 {
     static const gf_mat3 identity = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
     w->nb.sigma = identity;
-    sigma_point(w->ukf, w->l, j, chi);
+    ukf3_sigma_point(w->ukf, w->l, j, chi);
 }
 
 // Point j through g: chi_j, then chi_bar*_j = g(u, chi_j) in e (G is not
@@ -207,11 +209,11 @@ UKF3_SMALL_CALL void point_start(ukf3_pred *w, unsigned j, gf_vec3 *chi)
 // only the point and its image are on the stack above the working set
 // while g runs; the sums are added in a call of their own after g has
 // returned.
-GF_NOINLINE gf_status predict_point(ukf3_pred *w, unsigned j)
+GF_NOINLINE gf_status ukf3_predict_point(ukf3_pred *w, unsigned j)
 {
     gf_vec3 chi;
     gf_vec3 e;
-    point_start(w, j, &chi);
+    ukf3_point_start(w, j, &chi);
     e = chi;
     const gf_status st =
         w->motion->g(w->motion->ctx, &chi, w->u, &e, &w->nb.sigma);
@@ -224,15 +226,15 @@ GF_NOINLINE gf_status predict_point(ukf3_pred *w, unsigned j)
     if (j == 0u) {
         w->nb.mu = e; // chi_bar*_0, the centre's image
     } else {
-        residual(&e, &w->nb.mu, N_STATE, HEADING_MASK, &e);
-        predict_add(w, &e);
+        ukf3_residual(&e, &w->nb.mu, N_STATE, HEADING_MASK, &e);
+        ukf3_predict_add(w, &e);
     }
     return GF_OK;
 }
 
 // The prediction's moments from the sums, into w->nb, checked finite and
 // resolved (not yet PSD).
-GF_NOINLINE gf_status predict_moments(ukf3_pred *w)
+GF_NOINLINE gf_status ukf3_predict_moments(ukf3_pred *w)
 {
     const gf_ukf3 *ukf = w->ukf;
     for (unsigned a = 0; a < N_STATE; a++) {
@@ -248,7 +250,7 @@ GF_NOINLINE gf_status predict_moments(ukf3_pred *w)
         }
         w->nb.mu.v[a] = w->nb.mu.v[a] + w->m.v[a];
     }
-    wrap_flagged(&w->nb.mu, N_STATE, HEADING_MASK);
+    ukf3_wrap_flagged(&w->nb.mu, N_STATE, HEADING_MASK);
     if (!gf_vec3_is_finite_n(&w->nb.mu, N_STATE) ||
         !gf_mat3_is_finite(&w->nb.sigma)) {
         return GF_ERR_NONFINITE;
@@ -291,7 +293,7 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
     w.u = u;
     w.m.v[0] = w.m.v[1] = w.m.v[2] = 0;
     w.b = w.m;
-    sigma_sqrt(&ukf->sigma, w.l);
+    ukf3_sigma_sqrt(&ukf->sigma, w.l);
     for (unsigned a = 0; a < N_STATE; a++) { // R, symmetrized
         w.s[GF_TRI(a, a)] = motion->R.m[a][a];
         for (unsigned c = a + 1u; c < N_STATE; c++) {
@@ -300,12 +302,12 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
         }
     }
     for (unsigned j = 0; j < N_SIGMA; j++) {
-        st = predict_point(&w, j);
+        st = ukf3_predict_point(&w, j);
         if (st != GF_OK) {
             return st;
         }
     }
-    st = predict_moments(&w);
+    st = ukf3_predict_moments(&w);
     if (st != GF_OK) {
         return st;
     }
@@ -348,17 +350,17 @@ typedef struct ukf3_point {
 // dz_j = Z_j - Z_0 in p->dz (angles wrapped), Z_0 in w->y; GF_OK. A
 // status, so that point_image ends in a call of it that is a tail call
 // (point_image's frame given back before wrap_flagged runs).
-UKF3_SMALL_CALL gf_status point_residual(const gf_ekf3_meas *meas,
+UKF3_SMALL_CALL gf_status ukf3_point_residual(const gf_ekf3_meas *meas,
                                          ukf3_point *p, const ukf3_upd *w)
 {
-    residual(&p->dz, &w->y, meas->m, meas->angle_mask, &p->dz);
+    ukf3_residual(&p->dz, &w->y, meas->m, meas->angle_mask, &p->dz);
     return GF_OK;
 }
 
 // dz = h(chi) (first m entries, the rest zero), checked finite, h's H (not
 // read) into w->sigma; kept as Z_0 in w->y (j = 0) or taken as its
 // residual dz_j (point_residual).
-UKF3_SMALL_CALL gf_status point_image(const gf_ekf3_meas *meas, unsigned j,
+UKF3_SMALL_CALL gf_status ukf3_point_image(const gf_ekf3_meas *meas, unsigned j,
                                       ukf3_point *p, ukf3_upd *w)
 {
     p->dz.v[0] = p->dz.v[1] = p->dz.v[2] = 0;
@@ -373,12 +375,12 @@ UKF3_SMALL_CALL gf_status point_image(const gf_ekf3_meas *meas, unsigned j,
         w->y = p->dz;
         return GF_OK;
     }
-    return point_residual(meas, p, w);
+    return ukf3_point_residual(meas, p, w);
 }
 
 // S = Q (m x m, symmetrized; lower triangle packed, zero past the m x m
 // block), Sigma^xz = 0 and m_z = 0, before the sums over the points.
-UKF3_SMALL_CALL void moments_init(const gf_ekf3_meas *meas, ukf3_upd *w)
+UKF3_SMALL_CALL void ukf3_moments_init(const gf_ekf3_meas *meas, ukf3_upd *w)
 {
     static const gf_mat3 zero = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     for (unsigned a = 0; a < N_STATE; a++) {
@@ -394,7 +396,7 @@ UKF3_SMALL_CALL void moments_init(const gf_ekf3_meas *meas, ukf3_upd *w)
 
 // Point j's terms (j > 0) of m_z, S and Sigma^xz added to w, dz_j in dz
 // (zero past the m measured entries, so the sums there stay zero).
-UKF3_SMALL_CALL void update_add(const gf_ukf3 *ukf, unsigned j,
+UKF3_SMALL_CALL void ukf3_update_add(const gf_ukf3 *ukf, unsigned j,
                                 const gf_vec3 *dz, ukf3_upd *w)
 {
     for (unsigned a = 0; a < N_STATE; a++) {
@@ -405,7 +407,7 @@ UKF3_SMALL_CALL void update_add(const gf_ukf3 *ukf, unsigned j,
         }
     }
     for (unsigned a = 0; a < N_STATE; a++) {
-        const gf_real wo = offset(ukf, w->l, j, WEIGHTED + a);
+        const gf_real wo = ukf3_offset(ukf, w->l, j, WEIGHTED + a);
         for (unsigned b = 0; b < N_STATE; b++) {
             w->pxz.m[a][b] += wo * dz->v[b];
         }
@@ -419,7 +421,7 @@ UKF3_SMALL_CALL void update_add(const gf_ukf3 *ukf, unsigned j,
 // sum_j |dz_j,k| <= sqrt(6 raw / w_i), raw = s_kk - Q_kk, so
 //   b_k^2 <= (eps w_i)^2 (2 (12 |z0_k|)^2 + 12 raw / w_i).
 // GF_ERR_UNDEFINED when an entry is not resolved, else GF_OK.
-static gf_status update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+static gf_status ukf3_update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                                  const gf_vec3 *z0, const gf_real s[6])
 {
     const gf_real ew = GF_REAL_EPSILON * ukf->wi;
@@ -448,18 +450,18 @@ static gf_status update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
 // 3.4's Sigma^xz has dz_j - m_z in place of dz_j; the off_j sum to zero.
 // A call of its own: only the point and its image are on the stack above
 // the working set while h runs.
-GF_NOINLINE gf_status update_points(const gf_ukf3 *ukf,
+GF_NOINLINE gf_status ukf3_update_points(const gf_ukf3 *ukf,
                                     const gf_ekf3_meas *meas, ukf3_upd *w)
 {
     ukf3_point p;
     for (unsigned j = 0; j < N_SIGMA; j++) {
-        sigma_point(ukf, w->l, j, &p.chi);
-        const gf_status st = point_image(meas, j, &p, w);
+        ukf3_sigma_point(ukf, w->l, j, &p.chi);
+        const gf_status st = ukf3_point_image(meas, j, &p, w);
         if (st != GF_OK) {
             return st;
         }
         if (j > 0u) {
-            update_add(ukf, j, &p.dz, w);
+            ukf3_update_add(ukf, j, &p.dz, w);
         }
     }
     return GF_OK;
@@ -469,12 +471,12 @@ GF_NOINLINE gf_status update_points(const gf_ukf3 *ukf,
 // first):
 //   z_hat = Z_0 + m_z,  S += (beta - alpha^2) m_z m_z^T,
 // then y = z - z_hat (angle residuals wrapped) in w->y.
-GF_NOINLINE gf_status update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+GF_NOINLINE gf_status ukf3_update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                                   const gf_vec3 *z, ukf3_upd *w)
 {
     const unsigned m = meas->m;
     const unsigned mask = meas->angle_mask;
-    const gf_status st = update_resolved(ukf, meas, &w->y, w->s);
+    const gf_status st = ukf3_update_resolved(ukf, meas, &w->y, w->s);
     if (st != GF_OK) {
         return st;
     }
@@ -485,9 +487,9 @@ GF_NOINLINE gf_status update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         }
         w->y.v[a] = w->y.v[a] + w->mu.v[a];
     }
-    wrap_flagged(&w->y, m, mask);
+    ukf3_wrap_flagged(&w->y, m, mask);
     // y = z - z_hat, angle residuals wrapped
-    residual(z, &w->y, m, mask, &w->y);
+    ukf3_residual(z, &w->y, m, mask, &w->y);
     return GF_OK;
 }
 
@@ -498,7 +500,7 @@ GF_NOINLINE gf_status update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
 // gain K = Sigma^xz S^-1 gives
 //   mu = mu_bar + K y = mu_bar + W^T u  (heading wrapped),
 //   Sigma = Sigma_bar - K S K^T = Sigma_bar - W^T W  (symmetric as built).
-GF_NOINLINE gf_status update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+GF_NOINLINE gf_status ukf3_update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                                   gf_innovation *info, ukf3_upd *w)
 {
     const unsigned m = meas->m;
@@ -532,8 +534,8 @@ GF_NOINLINE gf_status update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     if (!GF_ISFINITE(in.nis)) {
         return GF_ERR_NONFINITE;
     }
-    if (gf_gated(&in, meas->gate, info)) {
-        return GF_ERR_GATED;
+    if (gf_update_status(in.nis, meas->gate, 1) == GF_ERR_GATED) {
+        return gf_innovation_keep(GF_ERR_GATED, &in, info);
     }
     for (unsigned a = 0; a < N_STATE; a++) { // row a of Sigma^xz: L_S w = p_a
         for (unsigned i = 0; i < m; i++) {
@@ -567,8 +569,8 @@ GF_NOINLINE gf_status update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
 }
 
 // The posterior of w into ukf, and the innovation into info (if not
-// NULL: gf_info_store's fields), once the posterior is accepted.
-UKF3_SMALL_CALL void update_commit(gf_ukf3 *ukf, unsigned m,
+// NULL: gf_innovation_keep's fields), once the posterior is accepted.
+UKF3_SMALL_CALL void ukf3_update_commit(gf_ukf3 *ukf, unsigned m,
                                    gf_innovation *info, const ukf3_upd *w)
 {
     ukf->mu = w->mu;
@@ -585,24 +587,24 @@ UKF3_SMALL_CALL void update_commit(gf_ukf3 *ukf, unsigned m,
 // The update once its inputs are checked: the points, the gain, then the
 // posterior's verdict (gf_mat3_check_psd) from this frame, which holds
 // the working set alone; ukf and info written only if it is PSD.
-GF_NOINLINE gf_status update_step(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
+GF_NOINLINE gf_status ukf3_update_step(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                                   const gf_vec3 *z, gf_innovation *info)
 {
     ukf3_upd w;
-    sigma_sqrt(&ukf->sigma, w.l);
-    moments_init(meas, &w);
-    gf_status st = update_points(ukf, meas, &w);
+    ukf3_sigma_sqrt(&ukf->sigma, w.l);
+    ukf3_moments_init(meas, &w);
+    gf_status st = ukf3_update_points(ukf, meas, &w);
     if (st == GF_OK) {
-        st = update_zhat(ukf, meas, z, &w);
+        st = ukf3_update_zhat(ukf, meas, z, &w);
     }
     if (st == GF_OK) {
-        st = update_gain(ukf, meas, info, &w);
+        st = ukf3_update_gain(ukf, meas, info, &w);
     }
     if (st == GF_OK) {
         st = gf_mat3_check_psd(&w.sigma, N_STATE);
     }
     if (st == GF_OK) {
-        update_commit(ukf, meas->m, info, &w);
+        ukf3_update_commit(ukf, meas->m, info, &w);
     }
     return st;
 }
@@ -613,7 +615,8 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     if (!ukf) {
         return GF_ERR_ARG;
     }
-    gf_status st = gf_meas3_check(meas, z);
+    gf_status st =
+        z ? gf_meas3_check(meas, z, NULL, NULL, NULL) : GF_ERR_ARG;
     if (st != GF_OK) {
         return st;
     }
@@ -622,5 +625,5 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         return st;
     }
     // the update's frame only now, once the checks' calls have returned
-    return update_step(ukf, meas, z, info);
+    return ukf3_update_step(ukf, meas, z, info);
 }

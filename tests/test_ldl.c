@@ -1,13 +1,11 @@
 // SPDX-License-Identifier: MIT
-// The verdict on a covariance passed in, two ways: gf_ldl for n <= 3 with
-// no scratch (ldl.c's scalar form, the one every fixed-size filter
-// reaches) against gf_ldl with its scratch given (the loop every n takes),
-// bit for bit, factors included; and gf_mat2_check_psd / gf_mat3_check_psd
-// against gf_cov_factor_n with scratch. On seeded random matrices and edge
+// The verdict on a covariance passed in (gf_cov_factor): its factors
+// multiply back to the matrix, and gf_mat2_check_psd / gf_mat3_check_psd
+// give its verdict. On seeded random matrices and edge
 // cases: zero variances, rank-deficient, near-singular, indefinite, scaled
 // by 2^-60 and 2^60, asymmetric beyond the tolerance, negative variances,
 // signed zeros, infinities and NaNs in the triangle read. Also the
-// factorisation of a prior (gf_udu_factor_n) against exact factors, and a
+// factorisation of a prior (gf_udu_factor) against exact factors, and a
 // swap of two indices of the factors (gf_udu_swap) keeping Sigma.
 #include <float.h>
 #include <math.h>
@@ -98,40 +96,68 @@ static void draw(gf_rng *rng, unsigned n, unsigned stride, gf_real *s)
     }
 }
 
-// gf_ldl both ways on s: the same status and the same bytes in every
-// output (a NULL output left out on both).
-static void check_both_ways(const gf_real *s, unsigned stride, unsigned n,
-                            unsigned outputs)
+// gf_cov_factor on s with its factors and without: the same status; on
+// GF_OK, factors in their pivot order (F unit lower triangular there,
+// d >= 0) whose F diag(d) F^T is s, within GF_PD_RTOL (a pivot up to it
+// is zero) times sqrt(s_ii s_jj).
+static void check_factors(const gf_real *s, unsigned stride, unsigned n)
 {
-    factors a, b;
-    memset(&a, SENTINEL, sizeof a);
-    memset(&b, SENTINEL, sizeof b);
+    factors f;
+    memset(&f, SENTINEL, sizeof f);
     gf_real scratch[9];
     unsigned p[3];
-    const int wf = (outputs & 1u) != 0u, wd = (outputs & 2u) != 0u,
-              wo = (outputs & 4u) != 0u;
-    const gf_status st_core =
-        gf_ldl(s, stride, n, wf ? a.F : NULL, wd ? a.d : NULL,
-               wo ? a.order : NULL, scratch, p);
-    const gf_status st_small =
-        gf_ldl(s, stride, n, wf ? b.F : NULL, wd ? b.d : NULL,
-               wo ? b.order : NULL, NULL, NULL);
-    if (st_core != st_small || memcmp(&a, &b, sizeof a) != 0) {
-        print_error("n = %u, stride %u, outputs %u: status %d (scratch) vs "
-                    "%d (none); s =",
-                    n, stride, outputs, (int)st_core, (int)st_small);
-        for (unsigned i = 0; i < n; i++) {
-            for (unsigned j = 0; j < n; j++) {
-                print_error(" %a", (double)s[i * stride + j]);
+    const gf_status st =
+        gf_cov_factor(s, stride, n, f.F, f.d, f.order, scratch, p);
+    const gf_status verdict =
+        gf_cov_factor(s, stride, n, NULL, NULL, NULL, scratch, p);
+    if (st != verdict) {
+        print_error("n = %u, stride %u: status %d with factors, %d without\n",
+                    n, stride, (int)st, (int)verdict);
+        fail();
+    }
+    if (st != GF_OK) {
+        return;
+    }
+    unsigned at[3]; // the step of each state
+    for (unsigned u = 0; u < n; u++) {
+        assert_true(f.order[u] < n);
+        at[f.order[u]] = u;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        assert_true(f.d[i] >= 0);
+        for (unsigned j = 0; j < n; j++) {
+            if (i == j) {
+                assert_true(f.F[i * n + j] == GF_R(1.0));
+            } else if (at[i] < at[j]) {
+                assert_true(f.F[i * n + j] == GF_R(0.0));
             }
         }
-        print_error("\n");
-        fail();
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            long double acc = 0;
+            for (unsigned k = 0; k < n; k++) {
+                acc += (long double)f.F[i * n + k] * (long double)f.d[k] *
+                       (long double)f.F[j * n + k];
+            }
+            const long double sij = (long double)s[(i < j ? i : j) * stride +
+                                                   (i < j ? j : i)];
+            const long double tol =
+                4.0L * (long double)GF_PD_RTOL *
+                sqrtl((long double)s[i * stride + i] *
+                      (long double)s[j * stride + j]);
+            if (!(fabsl(acc - sij) <= tol)) {
+                print_error("n = %u, (%u, %u): F diag(d) F^T %Lg, s %Lg\n", n,
+                            i, j, acc, sij);
+                fail();
+            }
+        }
     }
 }
 
-// gf_ldl without scratch is gf_ldl with it, bit for bit.
-static void small_matches_core(void **state)
+// gf_cov_factor's factors multiply back to the matrix, and its verdict is
+// the same without them.
+static void factors_match(void **state)
 {
     (void)state;
     gf_rng rng;
@@ -142,10 +168,10 @@ static void small_matches_core(void **state)
         const unsigned stride = (t / 3u) % 2u ? 3u : n;
         gf_real s[9];
         draw(&rng, n, stride, s);
-        check_both_ways(s, stride, n, gf_rng_u32(&rng) % 8u);
+        check_factors(s, stride, n);
         gf_real a[9];
         unsigned p[3];
-        if (gf_ldl(s, stride, n, NULL, NULL, NULL, a, p) == GF_OK) {
+        if (gf_cov_factor(s, stride, n, NULL, NULL, NULL, a, p) == GF_OK) {
             ok++;
         } else {
             not_psd++;
@@ -158,7 +184,7 @@ static void small_matches_core(void **state)
 
 // The edge cases by hand: zero, one or all variances zero, coupled or
 // not; a coupling at the bound; the pivot's choice tied.
-static void small_edge_cases(void **state)
+static void edge_cases(void **state)
 {
     (void)state;
     const gf_real m = GF_REAL_MIN, big = GF_R(1e30);
@@ -186,14 +212,12 @@ static void small_edge_cases(void **state)
     };
     for (unsigned c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         for (unsigned n = 1; n <= 3; n++) {
-            for (unsigned outputs = 0; outputs < 8u; outputs++) {
-                check_both_ways(cases[c], 3, n, outputs);
-            }
+            check_factors(cases[c], 3, n);
         }
     }
 }
 
-// The verdict of gf_cov_factor_n with scratch (the symmetry and variance
+// The verdict of gf_cov_factor (the symmetry and variance
 // checks, then gf_ldl's loop), after gf_mat3_check_psd's finiteness check.
 static gf_status reference_verdict(const gf_real *s, unsigned stride,
                                    unsigned n)
@@ -207,7 +231,7 @@ static gf_status reference_verdict(const gf_real *s, unsigned stride,
     }
     gf_real a[9];
     unsigned p[3];
-    return gf_cov_factor_n(s, stride, n, NULL, NULL, NULL, a, p);
+    return gf_cov_factor(s, stride, n, NULL, NULL, NULL, a, p);
 }
 
 // s (n x n, rows of 3) times 2^e into z.
@@ -338,9 +362,9 @@ static void draw_pairs(gf_rng *rng, unsigned n, gf_real *s)
     }
 }
 
-// gf_cov_factor_n on covariances of more than 3 states, each coupled to at
-// most one other (factored pair by pair): the verdict gf_ldl gives the
-// whole matrix, and on GF_OK factors in their pivot order (F unit lower
+// gf_cov_factor on covariances of more than 3 states, each coupled to at
+// most one other: the same verdict with its factors and without, and on
+// GF_OK factors in their pivot order (F unit lower
 // triangular there, d >= 0) whose F diag(d) F^T is the matrix.
 static void pairs_match_ldl(void **state)
 {
@@ -354,8 +378,8 @@ static void pairs_match_ldl(void **state)
         gf_real d[PAIRS_NMAX], a[PAIRS_NMAX * PAIRS_NMAX];
         unsigned order[PAIRS_NMAX], p[PAIRS_NMAX];
         draw_pairs(&rng, n, s);
-        const gf_status want = gf_ldl(s, n, n, NULL, NULL, NULL, a, p);
-        const gf_status got = gf_cov_factor_n(s, n, n, F, d, order, a, p);
+        const gf_status want = gf_cov_factor(s, n, n, NULL, NULL, NULL, a, p);
+        const gf_status got = gf_cov_factor(s, n, n, F, d, order, a, p);
         assert_int_equal(got, want);
         if (got != GF_OK) {
             not_psd++;
@@ -400,7 +424,7 @@ static void pairs_match_ldl(void **state)
     assert_true(not_psd > DRAWS / 100u);
 }
 
-// A prior's factors as every init takes them (gf_udu_factor_n) against
+// A prior's factors as every init takes them (gf_udu_factor) against
 // the exact factors of the matrix given, on seeded random nearly singular
 // priors of 2 to 4 states (rows alike to 1e-3, so correlations to within
 // about 1e-6 of 1; units 2^-30 to 2^30). The exact factors are computed
@@ -478,7 +502,7 @@ static void prior_factors_match_exact(void **state)
         }
         gf_real ud[GF_UD_SIZE(FAC_NMAX)], lo[GF_UD_SIZE(FAC_NMAX)];
         unsigned char perm[sizeof(gf_real)];
-        gf_udu_factor_n(s, n, n, ud, perm, lo);
+        gf_udu_factor(s, n, n, ud, perm, lo);
         checked++;
         for (unsigned j = 0; j < n; j++) {
             assert_int_equal(perm[j], n - 1u - j);
@@ -636,8 +660,8 @@ static void swap_keeps_sigma(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(small_matches_core),
-        cmocka_unit_test(small_edge_cases),
+        cmocka_unit_test(factors_match),
+        cmocka_unit_test(edge_cases),
         cmocka_unit_test(check_psd_matches_reference),
         cmocka_unit_test(pairs_match_ldl),
         cmocka_unit_test(prior_factors_match_exact),

@@ -111,13 +111,11 @@ typedef struct gf_ekf3_pmotion {
     gf_real Rd[3];
 } gf_ekf3_pmotion;
 
-// What an update needs of a checked Q = F diag(Qe) F^T (F unit lower
-// triangular in the order of its pivots o0, o1, o2: src/udu.h), entries
-// beyond m zero.
+// What an update needs of a checked Q: its factors, as gf_kf2_qfactors'.
 typedef struct gf_ekf3_qfactors {
-    gf_real Qf[3];   // F's entries below its diagonal: F_o1o0, F_o2o0, F_o2o1
-    gf_real Qe[3];   // the noises of the whitened quantities
-    unsigned Qorder; // the pivots, a byte each: o0 | o1 << 8 | o2 << 16
+    gf_real Qf[9];      // Q = F diag(Qe) F^T: F, m x m, rows of m
+    gf_real Qe[3];      // the noises of the whitened quantities
+    unsigned Qorder[3]; // F's pivot order (F is unit lower triangular in it)
 } gf_ekf3_qfactors;
 
 // A checked measurement model. Fill with gf_ekf3_prepare_meas only.

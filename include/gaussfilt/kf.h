@@ -66,15 +66,17 @@ typedef struct gf_kf_innovation {
 // step's stack depth does not grow with GF_KF_NMAX (docs/api.md gives its
 // size per GF_KF_NMAX).
 typedef struct gf_kf_work {
-    gf_kf b; // the new belief, until it is whole
-    // Gram-Schmidt rows (n rows of 2n), their weights (2n), the factored
-    // steps' vectors (4n)
-    gf_real w[GF_KF_NMAX * 2 * GF_KF_NMAX + 6 * GF_KF_NMAX];
-    gf_real x[GF_KF_NMAX * GF_KF_NMAX]; // Jacobians, whitened rows
-    gf_real s[8 * GF_KF_NMAX];          // vectors
-    unsigned k[GF_KF_NMAX];             // a pivot order
-    gf_kf_factors f;                    // R's or Q's factors
-    gf_kf_innovation in;                // an update's innovation, until kept
+    gf_kf belief; // the new belief, until it is whole
+    // the factored steps' own: Thornton's rows and weights, Bierman's
+    // vectors, the factorisation's low parts
+    gf_real steps[2 * GF_KF_NMAX * GF_KF_NMAX + 4 * GF_KF_NMAX];
+    gf_real rows[GF_KF_NMAX * GF_KF_NMAX]; // G, or the whitened C or H
+    gf_real mean[GF_KF_NMAX];              // mu_bar, or z_hat
+    gf_real yw[GF_KF_NMAX];                // the whitened innovation
+    gf_real ldl[GF_KF_NMAX * GF_KF_NMAX];  // gf_cov_factor's Schur complements
+    unsigned pivots[GF_KF_NMAX];           // and its states left
+    gf_kf_factors noise;                   // R's or Q's factors
+    gf_kf_innovation in; // an update's innovation, until kept
 } gf_kf_work;
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
