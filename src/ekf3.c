@@ -143,7 +143,8 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     return GF_OK;
 }
 
-// The correction once Q is factored (q), Table 3.3, lines 4-6: z_hat =
+// The correction, Table 3.3, lines 4-6, with Q's factors q (a prepared
+// model's; NULL: meas and z are checked and Q factored here): z_hat =
 // h(mu_bar) and H from the callback (both preset to zeros), y = z - z_hat
 // (angle residuals wrapped), both whitened by Q's factors (y_w = F^-1 y,
 // H_w = F^-1 H), then one scalar update per quantity (gf_udu_correct), the
@@ -153,34 +154,40 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                                   const gf_ekf3_qfactors *q, const gf_vec3 *z,
                                   gf_innovation *info)
 {
+    gf_ekf3_qfactors own;
+    gf_status st = GF_OK;
+    if (!q) {
+        st = gf_meas3_check(meas, z, own.Qf, own.Qe, own.Qorder);
+        if (st != GF_OK) {
+            return st;
+        }
+        q = &own;
+    }
     const unsigned m = meas->m;
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    gf_vec3 zh = {{0, 0, 0}};
-    gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    gf_vec3 yw = {{0, 0, 0}}; // z_hat, then y, then y_w
+    st = meas->h(meas->ctx, &ekf->mu, &yw, &H);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
     // only the m rows are the callback's answer
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), zh.v, m), H.m[0],
+    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), yw.v, m), H.m[0],
                                   3u * m))) {
         return GF_ERR_NONFINITE;
     }
     gf_innovation in = {m, {0, 0, 0}, 0};
-    gf_real yw[3] = {0, 0, 0};
     for (unsigned i = 0; i < m; i++) {
-        in.y[i] = z->v[i] - zh.v[i];
+        in.y[i] = z->v[i] - yw.v[i];
         if (meas->angle_mask & (1u << i)) {
             in.y[i] = gf_angle_wrap(in.y[i]);
         }
-        yw[i] = in.y[i];
+        yw.v[i] = in.y[i];
     }
-    // H is 3 x 3 with rows of 3: the m rows whitened in place, then
-    // packed into rows of 3 for the correction (they are already)
     gf_udu_whiten(q->Qf, q->Qorder, m, H.m[0], 3);
-    gf_udu_whiten(q->Qf, q->Qorder, m, yw, 1);
+    gf_udu_whiten(q->Qf, q->Qorder, m, yw.v, 1);
     gf_ekf3 nb = *ekf;
     gf_real work[GF_UDU_CORRECT_WORK(3u)];
-    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], q->Qe, yw, nb.mu.v,
+    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], q->Qe, yw.v, nb.mu.v,
                         &in.nis, work);
     if (st != GF_OK) {
         return st;
@@ -211,9 +218,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (!ekf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_ekf3_qfactors q;
-    const gf_status st = gf_meas3_check(meas, z, q.Qf, q.Qe, q.Qorder);
-    return st != GF_OK ? st : ekf3_update_step(ekf, meas, &q, z, info);
+    return ekf3_update_step(ekf, meas, NULL, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,

@@ -85,17 +85,20 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
         nb->perm[k] = 0;
     }
     gf_udu_factor(sigma, n, n, nb->ud, nb->perm, work->steps);
-    for (unsigned i = 0; i < GF_KF_NMAX; i++) {
-        nb->mu[i] = i < n ? mu[i] : GF_R(0.0);
+    for (unsigned i = 0; i < n; i++) {
+        nb->mu[i] = mu[i];
     }
     kfc_wrap(nb->mu, n, angles);
-    for (unsigned k = GF_KF_TRI(n); k < GF_KF_TRI(GF_KF_NMAX); k++) {
-        nb->ud[k] = 0;
-    }
     if (!gf_belief_finite(nb->mu, nb->ud, n)) {
         return GF_ERR_NONFINITE; // a variance at the end of the range
     }
-    *kf = *nb;
+    kfc_copy(kf, nb);
+    for (unsigned i = n; i < GF_KF_NMAX; i++) {
+        kf->mu[i] = 0;
+    }
+    for (unsigned k = GF_KF_TRI(n); k < GF_KF_TRI(GF_KF_NMAX); k++) {
+        kf->ud[k] = 0;
+    }
     return GF_OK;
 }
 
