@@ -250,12 +250,11 @@ void gf_udu_whiten(const gf_real *F, const unsigned *order, unsigned m,
 }
 
 // The state measured by the row h (by state) with the largest share of
-// h Sigma h^T, h_s^2 Sigma_ss; sigma_d receives Sigma's diagonal in the
-// factors' order, sigma_d[i] = sum_(k >= i) U_ik^2 d_k; *total the sum of
-// the shares.
+// h Sigma h^T, h_s^2 Sigma_ss (Sigma_ss = sum_(k >= i) U_ik^2 d_k for the
+// state s = perm[i]); *total the sum of the shares.
 static unsigned udu_main_state(unsigned n, const gf_real *ud,
                                const unsigned char *perm, const gf_real *h,
-                               gf_real *sigma_d, gf_real *total)
+                               gf_real *total)
 {
     unsigned best = 0;
     gf_real most = -1, acc = 0;
@@ -265,7 +264,6 @@ static unsigned udu_main_state(unsigned n, const gf_real *ud,
             v += ud[GF_UD(i, k)] * ud[GF_UD(i, k)] * ud[GF_UD(k, k)];
         }
         const unsigned s = perm[i];
-        sigma_d[i] = v;
         const gf_real part = h[s] * h[s] * v;
         acc += part;
         if (part > most) {
@@ -394,62 +392,30 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                          const gf_real *yw, gf_real *x, gf_real *nis,
                          gf_real *work)
 {
-    gf_real *sd = work;          // Sigma's diagonal, in the factors' order
-    gf_real *dp = &work[n];      // P^T dx
-    gf_real *hp = &work[2u * n]; // P^T h_i
-    gf_real *b = &work[3u * n];  // Bierman's b
+    gf_real *dp = work;          // P^T dx
+    gf_real *hp = &work[n];      // P^T h_i
+    gf_real *b = &work[2u * n];  // Bierman's b
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
     }
-    // Bierman's update changes no entry of U for the state at the root
-    // (the last index), and loses digits in the entries of a state it
-    // measures far more precisely than it was known: a quantity that
-    // tells more than UDU_ROOT_TELL (sum_s h_s^2 Sigma_ss / e_i: by how
-    // much it can shrink a variance) first makes the state it measures
-    // most the root. Of m > 1 quantities, each is first judged on sd, the
-    // variances before the first (kept with their states through the
-    // swaps): variances only shrink in an update, so one that tells too
-    // little on sd does now, and the O(n^2) search is skipped.
-    const int pre = m > 1u;
-    if (pre) {
-        gf_real t;
-        (void)udu_main_state(n, ud, perm, hw, sd, &t);
-    }
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[i * n];
-        // (a quantity of the root's state alone is in place already)
-        int others = 0;
-        for (unsigned j = 0; j + 1u < n; j++) {
-            if (GF_FABS(h[perm[j]]) > 0) {
-                others = 1;
-            }
-        }
-        gf_real v = 0;
-        if (others && pre) {
-            for (unsigned j = 0; j < n; j++) {
-                v += h[perm[j]] * h[perm[j]] * sd[j];
-            }
-        }
-        if (others && (!pre || v > UDU_ROOT_TELL * e[i])) {
-            const unsigned main = udu_main_state(n, ud, perm, h, sd, &v);
-            if (v > UDU_ROOT_TELL * e[i] && perm[n - 1u] != main) {
-                // main's index moved last one swap at a time, dp's and
-                // sd's entries with their states
-                unsigned at = 0;
-                for (unsigned j = 0; j < n; j++) {
-                    if (perm[j] == main) {
-                        at = j;
-                    }
-                }
-                for (unsigned k = at; k + 1u < n; k++) {
-                    const gf_real dk = dp[k], sk = sd[k];
-                    dp[k] = dp[k + 1u];
-                    dp[k + 1u] = dk;
-                    sd[k] = sd[k + 1u];
-                    sd[k + 1u] = sk;
-                    gf_udu_swap(n, k, ud, perm);
-                }
+        // Bierman's update changes no entry of U for the state at the root
+        // (the last index), and loses digits in the entries of a state it
+        // measures far more precisely than it was known: a quantity that
+        // tells more than UDU_ROOT_TELL (sum_s h_s^2 Sigma_ss / e_i: by how
+        // much it can shrink a variance) first makes the state it measures
+        // most the root, one swap of adjacent indices at a time (dp's
+        // entries move with their states).
+        gf_real v;
+        const unsigned main = udu_main_state(n, ud, perm, h, &v);
+        for (unsigned k = 0; v > UDU_ROOT_TELL * e[i] && k + 1u < n; k++) {
+            if (perm[k] == main) {
+                const gf_real dk = dp[k];
+                dp[k] = dp[k + 1u];
+                dp[k + 1u] = dk;
+                gf_udu_swap(n, k, ud, perm);
             }
         }
         // in the factors' order: hp = P^T h_i, y_i = yw_i - h_i . dx
