@@ -42,14 +42,18 @@ static gf_status ldl_factor(const gf_real *s, unsigned stride, unsigned n,
     }
     unsigned t = 0;
     for (; t < n; t++) {
-        // the pivot: the largest a_jj / s_jj left (a tie keeps p's order;
-        // at t = 0, the first state of positive variance)
+        // the pivot: the first state of positive variance first (every
+        // ratio below is 1 there, 0 for a zero variance), then the largest
+        // a_jj / s_jj left (a tie keeps p's order)
         gf_real best = -1;
         unsigned at = t;
-        for (unsigned u = t; u < n; u++) {
+        for (unsigned u = t; u < n && t + 1u < n; u++) {
             const unsigned k = p[u];
             const gf_real skk = s[k * stride + k];
-            const gf_real ratio = (skk > 0) ? a[k * n + k] / skk : GF_R(0.0);
+            gf_real ratio = (skk > 0) ? GF_R(1.0) : GF_R(0.0);
+            if (t > 0u && skk > 0) {
+                ratio = a[k * n + k] / skk;
+            }
             if (ratio > best) {
                 best = ratio;
                 at = u;

@@ -139,9 +139,10 @@ void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm, unsigned n,
 
 int gf_belief_finite(const gf_real *mu, const gf_real *ud, unsigned n)
 {
-    // mu, the factors, and each variance sum_(k >= i) U_ik d_k U_ik as
-    // gf_udu_to_cov computes it (finite factors can still give a variance
-    // beyond the largest gf_real)
+    // mu, and each variance sum_(k >= i) U_ik d_k U_ik as gf_udu_to_cov
+    // computes it: every factor is a term of one of them, so a factor that
+    // is not finite makes its variance NaN or infinite, as does a variance
+    // beyond the largest gf_real
     gf_real acc = gf_nan_sum(GF_R(0.0), mu, n);
     for (unsigned i = 0; i < n; i++) {
         gf_real v = ud[GF_UD(i, i)];
@@ -150,7 +151,7 @@ int gf_belief_finite(const gf_real *mu, const gf_real *ud, unsigned n)
         }
         acc += v * GF_R(0.0);
     }
-    return gf_sum_finite(gf_nan_sum(acc, ud, GF_UD_SIZE(n)));
+    return gf_sum_finite(acc);
 }
 
 // ---- prediction: Thornton's time update ---------------------------------
