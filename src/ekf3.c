@@ -81,9 +81,8 @@ static gf_status ekf3_motion_check(const gf_ekf3_motion *motion, gf_real Rf[9],
     if (!motion->g) {
         return GF_ERR_ARG;
     }
-    gf_real a[9];
-    unsigned order[3], p[3];
-    return gf_cov_factor(motion->R.m[0], 3, 3, Rf, Rd, order, a, p);
+    unsigned order[3];
+    return gf_cov_factor(motion->R.m[0], 3, 3, Rf, Rd, order);
 }
 
 gf_status gf_ekf3_init(gf_ekf3 *ekf, const gf_vec3 *mu, const gf_mat3 *sigma)
@@ -157,7 +156,7 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     gf_ekf3_qfactors own;
     gf_status st = GF_OK;
     if (!q) {
-        st = gf_meas3_check(meas, z, own.Qf, own.Qe, own.Qorder);
+        st = gf_meas3_check(meas, z, &own);
         if (st != GF_OK) {
             return st;
         }
@@ -243,8 +242,7 @@ gf_status gf_ekf3_prepare_meas(gf_ekf3_pmeas *pq, const gf_ekf3_meas *meas)
         return GF_ERR_ARG;
     }
     gf_ekf3_pmeas p = {*meas, {{0}, {0}, {0}}};
-    const gf_status st =
-        gf_meas3_check(meas, NULL, p.q.Qf, p.q.Qe, p.q.Qorder);
+    const gf_status st = gf_meas3_check(meas, NULL, &p.q);
     if (st != GF_OK) {
         return st;
     }

@@ -12,12 +12,11 @@
 // The checks every update with an EKF3 measurement model starts with, in
 // the order of the status rules: GF_ERR_ARG (meas or h NULL, m not 1..3),
 // GF_ERR_NONFINITE (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's
-// verdict (gf_cov_factor); on GF_OK, where Qf is not NULL, Q = F diag(Qe)
+// verdict (gf_cov_factor); on GF_OK, q holds Q's factors: Q = F diag(Qe)
 // F^T, F in Qf (m x m, rows of m) unit lower triangular in the order
 // Qorder.
 static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
-                                       const gf_vec3 *z, gf_real Qf[9],
-                                       gf_real Qe[3], unsigned Qorder[3])
+                                       const gf_vec3 *z, gf_ekf3_qfactors *q)
 {
     if (!meas || !meas->h || meas->m < 1u || meas->m > 3u) {
         return GF_ERR_ARG;
@@ -33,9 +32,7 @@ static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_real a[9];
-    unsigned p[3];
-    return gf_cov_factor(meas->Q.m[0], 3, m, Qf, Qe, Qorder, a, p);
+    return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
 }
 
 #endif

@@ -51,14 +51,9 @@ static void kfc_wrap(gf_real *x, unsigned n, unsigned angles)
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
                        const gf_kf_factors **fac)
 {
-    if (!fac) {
-        return gf_cov_factor(s, n, n, NULL, NULL, NULL, work->ldl,
-                             work->pivots);
-    }
     gf_kf_factors *f = &work->noise;
-    const gf_status st = gf_cov_factor(s, n, n, f->F, f->d, f->order,
-                                       work->ldl, work->pivots);
-    if (st == GF_OK) {
+    const gf_status st = gf_cov_factor(s, n, n, f->F, f->d, f->order);
+    if (st == GF_OK && fac) {
         *fac = f;
     }
     return st;

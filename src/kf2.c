@@ -22,9 +22,8 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
     if (!gf_sum_finite(z)) {
         return GF_ERR_NONFINITE;
     }
-    gf_real a[4];
-    unsigned order[2], p[2];
-    return gf_cov_factor(model->R.m[0], 2, 2, Rf, Rd, order, a, p);
+    unsigned order[2];
+    return gf_cov_factor(model->R.m[0], 2, 2, Rf, Rd, order);
 }
 
 // The checks of a measurement model (and of z, if not NULL), in the order
@@ -48,10 +47,8 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_real a[4];
-    unsigned p[2];
     const gf_status st =
-        gf_cov_factor(meas->Q.m[0], 2, m, q->Qf, q->Qe, q->Qorder, a, p);
+        gf_cov_factor(meas->Q.m[0], 2, m, q->Qf, q->Qe, q->Qorder);
     if (st != GF_OK) {
         return st;
     }

@@ -4,7 +4,7 @@
 #include "ldl.h"
 
 // 1 if the state k, one of the zero ones left, is coupled to each zero one
-// before it (p[t..u-1]) within the 2x2 bound a_ik^2 <= a_ii a_kk, both
+// before it (p[t..] up to k) within the 2x2 bound a_ik^2 <= a_ii a_kk, both
 // sides widened by GF_PD_RTOL times their variance: (a_ik / a_ii) a_ik <=
 // a_kk, with no product that could overflow, and for a_ii = 0 only
 // a_ik = 0; the same answer for any power of two times s.
@@ -26,14 +26,46 @@ static int ldl_zero_coupled(const gf_real *s, unsigned stride, unsigned n,
     return 1;
 }
 
-// The pivoted LDL^T of gf_cov_factor (s checked finite and symmetric):
-// a holds the Schur complements (by state, rows of n, kept symmetric: each
-// entry computed once, from the upper triangle, and mirrored), p[t..n-1]
-// the states not pivots yet.
-static gf_status ldl_factor(const gf_real *s, unsigned stride, unsigned n,
-                            gf_real *F, gf_real *d, unsigned *order,
-                            gf_real *a, unsigned *p)
+gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
+                        gf_real *F, gf_real *d, unsigned *order)
 {
+    // Every entry finite (gf_nan_sum), then symmetric, variances >= 0.
+    gf_real z = 0;
+    for (unsigned i = 0; i < n; i++) {
+        z = gf_nan_sum(z, &s[i * stride], n);
+    }
+    if (!gf_sum_finite(z)) {
+        return GF_ERR_NONFINITE;
+    }
+    int diagonal = 1;
+    for (unsigned i = 0; i < n; i++) {
+        if (s[i * stride + i] < 0) {
+            return GF_ERR_NOT_PSD;
+        }
+        for (unsigned j = i + 1u; j < n; j++) {
+            const gf_real x = s[i * stride + j], y = s[j * stride + i];
+            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
+                return GF_ERR_NOT_PSD;
+            }
+            diagonal = diagonal && !(GF_FABS(x) + GF_FABS(y) > 0);
+        }
+    }
+    if (diagonal) { // its own factorisation: F = I, d the variances
+        for (unsigned i = 0; i < n; i++) {
+            d[i] = s[i * stride + i];
+            order[i] = i;
+            for (unsigned j = 0; j < n; j++) {
+                F[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
+            }
+        }
+        return GF_OK;
+    }
+    // The pivoted LDL^T, in F: a column of F holds the Schur complements
+    // a_ik of the states not pivots yet (kept symmetric: each entry computed
+    // once, from the upper triangle, and mirrored) until its state is a
+    // pivot, then its column of F. order[t..n-1]: the states not pivots yet.
+    gf_real *a = F;
+    unsigned *p = order;
     for (unsigned i = 0; i < n; i++) {
         p[i] = i;
         for (unsigned k = 0; k < n; k++) {
@@ -66,19 +98,13 @@ static gf_status ldl_factor(const gf_real *s, unsigned stride, unsigned n,
         if (!(pj > GF_PD_RTOL * s[j * stride + j])) { // (NaN fails)
             break; // this one and every state left are zero: below
         }
-        if (d) {
-            d[j] = pj;
-        }
-        for (unsigned u = 0; F != NULL && u < n; u++) {
-            F[p[u] * n + j] = (u == t) ? GF_R(1.0) : GF_R(0.0);
-        }
-        // a_ik -= (a_ij / a_jj) a_jk over the states left
+        d[j] = pj;
+        // a_ik -= (a_ij / a_jj) a_jk over the states left; l = a_ij / a_jj
+        // is F_ij, in a_ij's place
         for (unsigned u = t + 1u; u < n; u++) {
             const unsigned i = p[u];
             const gf_real l = a[i * n + j] / pj;
-            if (F) {
-                F[i * n + j] = l;
-            }
+            a[i * n + j] = l;
             for (unsigned v = t + 1u; v < n && !(l >= 0 && l <= 0); v++) {
                 const unsigned k = p[v];
                 if (k >= i) {
@@ -87,62 +113,25 @@ static gf_status ldl_factor(const gf_real *s, unsigned stride, unsigned n,
                 }
             }
         }
+        // column j of F: 1 at j, 0 on the earlier pivots' rows
+        for (unsigned u = 0; u <= t; u++) {
+            F[p[u] * n + j] = (u == t) ? GF_R(1.0) : GF_R(0.0);
+        }
     }
-    // The states left (p[t..n-1], if any) have zero variance: d_k = 0 and
-    // column k of F the unit vector.
+    // The states left (p[t..n-1], if any) have zero variance, each within
+    // GF_PD_RTOL: then d_k = 0 and column k of F the unit vector.
     for (unsigned u = t; u < n; u++) {
         const unsigned k = p[u];
         if (!(a[k * n + k] >= -GF_PD_RTOL * s[k * stride + k]) ||
             !ldl_zero_coupled(s, stride, n, a, p, t, k)) {
             return GF_ERR_NOT_PSD;
         }
-        if (d) {
-            d[k] = 0;
-        }
-        for (unsigned i = 0; F != NULL && i < n; i++) {
+    }
+    for (unsigned u = t; u < n; u++) {
+        const unsigned k = p[u];
+        d[k] = 0;
+        for (unsigned i = 0; i < n; i++) {
             F[i * n + k] = (i == k) ? GF_R(1.0) : GF_R(0.0);
-        }
-    }
-    for (unsigned u = 0; order != NULL && u < n; u++) {
-        order[u] = p[u];
-    }
-    return GF_OK;
-}
-
-gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
-                        gf_real *F, gf_real *d, unsigned *order, gf_real *a,
-                        unsigned *p)
-{
-    // Every entry finite (gf_nan_sum), then symmetric, variances >= 0.
-    gf_real z = 0;
-    for (unsigned i = 0; i < n; i++) {
-        z = gf_nan_sum(z, &s[i * stride], n);
-    }
-    if (!gf_sum_finite(z)) {
-        return GF_ERR_NONFINITE;
-    }
-    gf_real off = 0; // the sum of |off-diagonal entries|
-    for (unsigned i = 0; i < n; i++) {
-        if (s[i * stride + i] < 0) {
-            return GF_ERR_NOT_PSD;
-        }
-        for (unsigned j = i + 1u; j < n; j++) {
-            const gf_real x = s[i * stride + j], y = s[j * stride + i];
-            if (!(GF_FABS(x - y) <= GF_SYM_RTOL * (GF_FABS(x) + GF_FABS(y)))) {
-                return GF_ERR_NOT_PSD;
-            }
-            off += GF_FABS(x) + GF_FABS(y);
-        }
-    }
-    if (off > 0) {
-        return ldl_factor(s, stride, n, F, d, order, a, p);
-    }
-    // diagonal: F = I, d = the variances
-    for (unsigned i = 0; F != NULL && i < n; i++) {
-        d[i] = s[i * stride + i];
-        order[i] = i;
-        for (unsigned j = 0; j < n; j++) {
-            F[i * n + j] = (i == j) ? GF_R(1.0) : GF_R(0.0);
         }
     }
     return GF_OK;

@@ -7,8 +7,8 @@
 
 #include "gf_internal.h"
 
-// The verdict on the leading n x n block of s (rows of `stride`) and, where
-// F, d and order are not NULL, its factors:
+// The verdict on the leading n x n block of s (rows of `stride`) and its
+// factors:
 //   GF_ERR_NONFINITE  an entry is not finite;
 //   GF_ERR_NOT_PSD    not symmetric within GF_SYM_RTOL
 //                     (|s_ij - s_ji| <= GF_SYM_RTOL (|s_ij| + |s_ji|), the
@@ -24,9 +24,9 @@
 // times its variance is zero, and so is every state left (none is larger):
 // each must have a variance left >= -GF_PD_RTOL times its own, and each
 // pair of them the 2 x 2 bound s_ik^2 <= s_ii s_kk, both sides widened by
-// GF_PD_RTOL times their variance. Scratch: a (n x n) and p (n).
+// GF_PD_RTOL times their variance. F, d and order are written on failure
+// too (a caller that wants the verdict alone passes scratch).
 gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
-                        gf_real *F, gf_real *d, unsigned *order, gf_real *a,
-                        unsigned *p);
+                        gf_real *F, gf_real *d, unsigned *order);
 
 #endif

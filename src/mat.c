@@ -71,9 +71,9 @@ gf_status gf_mat2_check_psd(const gf_mat2 *s)
     if (!s) {
         return GF_ERR_ARG;
     }
-    gf_real a[4];
-    unsigned p[2];
-    return gf_cov_factor(s->m[0], 2, 2, NULL, NULL, NULL, a, p);
+    gf_real F[4], d[2];
+    unsigned order[2];
+    return gf_cov_factor(s->m[0], 2, 2, F, d, order);
 }
 
 gf_status gf_mat2_spd_inv(const gf_mat2 *s, gf_mat2 *inv)
@@ -226,9 +226,9 @@ gf_status gf_mat3_check_psd(const gf_mat3 *s, unsigned n)
     if (!s || n < 1 || n > 3) {
         return GF_ERR_ARG;
     }
-    gf_real a[9];
-    unsigned p[3];
-    return gf_cov_factor(s->m[0], 3, n, NULL, NULL, NULL, a, p);
+    gf_real F[9], d[3];
+    unsigned order[3];
+    return gf_cov_factor(s->m[0], 3, n, F, d, order);
 }
 
 gf_status gf_mat3_chol(const gf_mat3 *s, unsigned n, gf_mat3 *l)

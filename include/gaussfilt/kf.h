@@ -73,8 +73,6 @@ typedef struct gf_kf_work {
     gf_real rows[GF_KF_NMAX * GF_KF_NMAX]; // G, or the whitened C or H
     gf_real mean[GF_KF_NMAX];              // mu_bar, or z_hat
     gf_real yw[GF_KF_NMAX];                // the whitened innovation
-    gf_real ldl[GF_KF_NMAX * GF_KF_NMAX];  // gf_cov_factor's Schur complements
-    unsigned pivots[GF_KF_NMAX];           // and its states left
     gf_kf_factors noise;                   // R's or Q's factors
     gf_kf_innovation in; // an update's innovation, until kept
 } gf_kf_work;
