@@ -153,49 +153,56 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                                   const gf_ekf3_qfactors *q, const gf_vec3 *z,
                                   gf_innovation *info)
 {
-    gf_ekf3_qfactors own;
-    gf_status st = GF_OK;
-    if (!q) {
-        st = gf_meas3_check(meas, z, &own);
-        if (st != GF_OK) {
-            return st;
-        }
-        q = &own;
-    }
     const unsigned m = meas->m;
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     gf_vec3 yw = {{0, 0, 0}}; // z_hat, then y, then y_w
-    st = meas->h(meas->ctx, &ekf->mu, &yw, &H);
-    if (st != GF_OK) {
-        return gf_callback_status(st);
-    }
-    // only the m rows are the callback's answer
-    if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), yw.v, m), H.m[0],
-                                  3u * m))) {
-        return GF_ERR_NONFINITE;
-    }
+    gf_real e[3];             // the whitened quantities' noises
     gf_innovation in = {m, {0, 0, 0}, 0};
-    for (unsigned i = 0; i < m; i++) {
-        in.y[i] = z->v[i] - yw.v[i];
-        if (meas->angle_mask & (1u << i)) {
-            in.y[i] = gf_angle_wrap(in.y[i]);
+    gf_status st = GF_OK;
+    {
+        gf_ekf3_qfactors own;
+        const gf_ekf3_qfactors *qf = q;
+        if (!qf) {
+            st = gf_meas3_check(meas, z, &own);
+            if (st != GF_OK) {
+                return st;
+            }
+            qf = &own;
         }
-        yw.v[i] = in.y[i];
+        st = meas->h(meas->ctx, &ekf->mu, &yw, &H);
+        if (st != GF_OK) {
+            return gf_callback_status(st);
+        }
+        // only the m rows are the callback's answer
+        if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), yw.v, m),
+                                      H.m[0], 3u * m))) {
+            return GF_ERR_NONFINITE;
+        }
+        for (unsigned i = 0; i < m; i++) {
+            in.y[i] = z->v[i] - yw.v[i];
+            if (meas->angle_mask & (1u << i)) {
+                in.y[i] = gf_angle_wrap(in.y[i]);
+            }
+            yw.v[i] = in.y[i];
+            e[i] = qf->Qe[i];
+        }
+        gf_udu_whiten(qf->Qf, qf->Qorder, m, H.m[0], 3);
+        gf_udu_whiten(qf->Qf, qf->Qorder, m, yw.v, 1);
     }
-    gf_udu_whiten(q->Qf, q->Qorder, m, H.m[0], 3);
-    gf_udu_whiten(q->Qf, q->Qorder, m, yw.v, 1);
-    gf_ekf3 nb = *ekf;
-    gf_real work[GF_UDU_CORRECT_WORK(3u)];
-    st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], q->Qe, yw.v, nb.mu.v,
-                        &in.nis, work);
-    if (st != GF_OK) {
-        return st;
-    }
-    nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    st = gf_update_status(in.nis, meas->gate,
-                          gf_belief_finite(nb.mu.v, nb.ud, 3));
-    if (st == GF_OK) {
-        *ekf = nb;
+    {
+        gf_ekf3 nb = *ekf;
+        gf_real work[GF_UDU_CORRECT_WORK(3u)];
+        st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], e, yw.v, nb.mu.v,
+                            &in.nis, work);
+        if (st != GF_OK) {
+            return st;
+        }
+        nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
+        st = gf_update_status(in.nis, meas->gate,
+                              gf_belief_finite(nb.mu.v, nb.ud, 3));
+        if (st == GF_OK) {
+            *ekf = nb;
+        }
     }
     return gf_innovation_keep(st, &in, info);
 }
