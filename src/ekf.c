@@ -89,7 +89,7 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
 }
 
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
-// (angle residuals wrapped) into work->in.y, H whitened by Q's factors
+// (angle residuals wrapped) into work->in.y and work->yw, H whitened by Q's factors
 // (H_w = F_Q^-1 H, in work->rows), then the correction (gf_kfc_correct).
 static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
                                  const gf_real *z, const gf_real *Qf,
@@ -118,6 +118,7 @@ static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
         if ((meas->angle_mask >> i) & 1u) {
             y[i] = gf_angle_wrap(y[i]);
         }
+        work->yw[i] = y[i];
     }
     gf_udu_whiten(Qf, Qorder, m, H, n);
     return gf_kfc_correct(ekf, m, H, Qf, Qe, Qorder, meas->gate, info, work);

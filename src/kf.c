@@ -13,8 +13,9 @@
 
 // ---- shared with ekf.c ---------------------------------------------------
 
-// dst's mu and factors = src's, for n states.
-static void kfc_copy_moments(gf_kf *restrict dst, const gf_kf *restrict src,
+// dst's mu and factors = src's, for n states. (The copies are functions of
+// their own, where restrict holds: the compiler's memcpy, never memmove.)
+GF_NOINLINE void kfc_copy_moments(gf_kf *restrict dst, const gf_kf *restrict src,
                              unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
@@ -27,7 +28,7 @@ static void kfc_copy_moments(gf_kf *restrict dst, const gf_kf *restrict src,
 
 // *dst = *src for the parts an n-state belief uses (n, angles, mu, the
 // factors and the permutation): the rest of dst is left as it is.
-static void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
+GF_NOINLINE void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
 {
     const unsigned n = src->n;
     dst->n = n;
@@ -139,9 +140,6 @@ gf_status gf_kfc_correct(gf_kf *kf, unsigned m, const gf_real *hw,
     gf_kf_innovation *in = &work->in;
     const unsigned n = kf->n;
     in->m = m;
-    for (unsigned i = 0; i < m; i++) {
-        work->yw[i] = in->y[i];
-    }
     gf_udu_whiten(Qf, Qorder, m, work->yw, 1);
     kfc_copy(nb, kf);
     gf_status st = gf_udu_correct(n, nb->ud, nb->perm, m, hw, Qe, work->yw,
@@ -326,8 +324,8 @@ static gf_status kf_meas_check(unsigned n, const gf_kf_meas *meas,
     return GF_OK;
 }
 
-// y = z - c - C mu_bar into work->in.y: (z_i - c_i) - (C mu)_i, KF2's
-// order of operations.
+// y = z - c - C mu_bar into work->in.y and work->yw (y_w to be):
+// (z_i - c_i) - (C mu)_i, KF2's order of operations.
 static void kf_innovation(const gf_kf *kf, const gf_kf_meas *meas,
                           const gf_real *z, gf_kf_work *work)
 {
@@ -338,6 +336,7 @@ static void kf_innovation(const gf_kf *kf, const gf_kf_meas *meas,
             dot += meas->C[(size_t)i * n + j] * kf->mu[j];
         }
         work->in.y[i] = z[i] - (meas->c ? meas->c[i] : GF_R(0.0)) - dot;
+        work->yw[i] = work->in.y[i];
     }
 }
 

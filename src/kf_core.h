@@ -34,8 +34,8 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
                             const gf_kf_factors **fac);
 
 // The correction once the measurement is checked, with the innovation y
-// (m entries) in work->in.y and the whitened rows hw (m x n, F_Q^-1 H):
-// y_w = F_Q^-1 y (Q's factors Qf, Qorder), one scalar update per quantity
+// (m entries) in work->in.y and in work->yw, and the whitened rows hw (m x
+// n, F_Q^-1 H): y_w = F_Q^-1 y in work->yw (Q's factors Qf, Qorder), one scalar update per quantity
 // with the noises Qe (gf_udu_correct), the angle states wrapped, the gate
 // on the total NIS; the belief and info written only if every quantity
 // passed and the result is finite.
