@@ -408,9 +408,16 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
         // tells more than UDU_ROOT_TELL (sum_s h_s^2 Sigma_ss / e_i: by how
         // much it can shrink a variance) first makes the state it measures
         // most the root, one swap of adjacent indices at a time (dp's
-        // entries move with their states).
-        gf_real v;
-        const unsigned main = udu_main_state(n, ud, perm, h, &v);
+        // entries move with their states). A quantity of the root's state
+        // alone is in place already.
+        gf_real v = 0;
+        unsigned main = perm[n - 1u];
+        for (unsigned j = 0; j + 1u < n; j++) {
+            if (GF_FABS(h[perm[j]]) > 0) {
+                main = udu_main_state(n, ud, perm, h, &v);
+                break;
+            }
+        }
         for (unsigned k = 0; v > UDU_ROOT_TELL * e[i] && k + 1u < n; k++) {
             if (perm[k] == main) {
                 const gf_real dk = dp[k];
