@@ -174,8 +174,8 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
             return gf_callback_status(st);
         }
         // only the m rows are the callback's answer
-        if (!gf_sum_finite(gf_nan_sum(gf_nan_sum(GF_R(0.0), yw.v, m),
-                                      H.m[0], 3u * m))) {
+        if (!gf_sum_finite(
+                gf_nan_sum(gf_nan_sum(GF_R(0.0), yw.v, m), H.m[0], 3u * m))) {
             return GF_ERR_NONFINITE;
         }
         for (unsigned i = 0; i < m; i++) {

@@ -34,9 +34,8 @@ static inline gf_status gf_prior3_check(const gf_vec3 *mu, const gf_mat3 *sigma)
 // may carry the padding bytes of the local (after m, in double), which
 // callers comparing the whole struct would see change from call to call.
 // Returns st.
-static inline gf_status gf_innovation_keep(gf_status st,
-                                           const gf_innovation *in,
-                                           gf_innovation *info)
+static inline gf_status
+gf_innovation_keep(gf_status st, const gf_innovation *in, gf_innovation *info)
 {
     if (info && (st == GF_OK || st == GF_ERR_GATED)) {
         info->m = in->m;

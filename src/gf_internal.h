@@ -53,9 +53,9 @@ static inline int gf_all_finite(const gf_real *x, unsigned n)
 // "The mean"). a: row i of A (n entries); b: row i of B and u (nu
 // entries; no control term when nu is 0 or either is NULL).
 static inline gf_real gf_mean_row(const gf_real *a, const gf_real *x,
-                                     unsigned n, unsigned i, gf_real c,
-                                     const gf_real *b, const gf_real *u,
-                                     unsigned nu)
+                                  unsigned n, unsigned i, gf_real c,
+                                  const gf_real *b, const gf_real *u,
+                                  unsigned nu)
 {
     gf_real acc = c;
     for (unsigned j = 0; j < i; j++) {
@@ -66,7 +66,7 @@ static inline gf_real gf_mean_row(const gf_real *a, const gf_real *x,
     }
     if (nu > 0u && b != NULL && u != NULL) {
         gf_real bu = b[0] * u[0];
-            for (unsigned j = 1; j < nu; j++) {
+        for (unsigned j = 1; j < nu; j++) {
             bu += b[j] * u[j];
         }
         acc += bu;
@@ -80,8 +80,7 @@ static inline gf_real gf_mean_row(const gf_real *a, const gf_real *x,
 // caller still stores the innovation), GF_ERR_NONFINITE for a belief that
 // is not finite (the caller keeps the last good one), else GF_OK (the
 // caller stores the innovation and the belief).
-static inline gf_status gf_update_status(gf_real nis, gf_real gate,
-                                         int finite)
+static inline gf_status gf_update_status(gf_real nis, gf_real gate, int finite)
 {
     if (!GF_ISFINITE(nis)) {
         return GF_ERR_NONFINITE;
@@ -157,7 +156,7 @@ static inline gf_status gf_chol_packed(gf_real l[6], unsigned n)
 // PF3 keep it packed (no 3x3 temporary). Entries of l beyond the block
 // are zeroed.
 static inline void gf_sqrt_psd_packed(const gf_mat3 *s, unsigned n,
-                                         gf_real l[6])
+                                      gf_real l[6])
 {
     for (unsigned k = 0; k < 6u; k++) {
         l[k] = 0;

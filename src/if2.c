@@ -144,7 +144,7 @@ gf_status gf_if2_predict(gf_if2 *inf, const gf_kf2_model *model,
 // y = z - c - C mu_bar, NIS = y^T (C Sigma_bar C^T + Q)^-1 y, into out
 // (the caller's scratch, kept only on GF_OK; the caller judges the NIS).
 static gf_status if2_innovation(const gf_if2 *inf, const gf_kf2_meas *meas,
-                            const gf_vec2 *z, gf_innovation *out)
+                                const gf_vec2 *z, gf_innovation *out)
 {
     const unsigned m = meas->m;
     gf_vec2 mu;

@@ -15,8 +15,8 @@
 
 // dst's mu and factors = src's, for n states. (The copies are functions of
 // their own, where restrict holds: the compiler's memcpy, never memmove.)
-GF_NOINLINE void kfc_copy_moments(gf_kf *restrict dst, const gf_kf *restrict src,
-                             unsigned n)
+GF_NOINLINE void kfc_copy_moments(gf_kf *restrict dst,
+                                  const gf_kf *restrict src, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
         dst->mu[i] = src->mu[i];

@@ -129,8 +129,8 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
     gf_udu_whiten(q->Qf, q->Qorder, m, yw, 1);
     gf_kf2 nb = *kf;
     gf_real work[GF_UDU_CORRECT_WORK(2u)];
-    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, q->Cw.m[0], q->Qe,
-                                  yw, nb.mu.v, &in.nis, work);
+    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, q->Cw.m[0], q->Qe, yw,
+                                  nb.mu.v, &in.nis, work);
     if (st != GF_OK) {
         return st;
     }

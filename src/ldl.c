@@ -32,7 +32,7 @@ gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
     // Every entry finite (gf_nan_sum), then symmetric, variances >= 0.
     gf_real z = 0;
     for (unsigned i = 0; i < n; i++) {
-        z = gf_nan_sum(z, &s[i * stride], n);
+        z = gf_nan_sum(z, &s[(size_t)i * stride], n);
     }
     if (!gf_sum_finite(z)) {
         return GF_ERR_NONFINITE;

@@ -51,7 +51,8 @@ pf3_sqrt_psd(const gf_mat3 *s, gf_real l[6])
 
 // x = mu + L n, n ~ N(0, I), L packed (GF_TRI): gf_rng_mvn3's arithmetic,
 // the zero entries of L included, with no 3x3 matrix. x may be mu.
-static void pf3_draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6], gf_vec3 *x)
+static void pf3_draw(gf_rng *rng, const gf_vec3 *mu, const gf_real l[6],
+                     gf_vec3 *x)
 {
     gf_real nv[3];
     for (unsigned i = 0; i < 3u; i++) {
@@ -111,7 +112,7 @@ __attribute__((noinline))
 #endif
 static gf_status
 pf3_propagate(const gf_ekf3_motion *motion, const gf_vec3 *p, const gf_real *u,
-          gf_vec3 *x)
+              gf_vec3 *x)
 {
     // G is not used, but it arrives as the identity (ekf3.h's promise to
     // every motion callback).
@@ -170,7 +171,8 @@ gf_status gf_pf3_predict(gf_pf3 *pf, const gf_ekf3_motion *motion,
 // packed as GF_TRI. H goes to a scratch matrix that is gone before the
 // solve.
 static gf_status pf3_mahalanobis(const gf_ekf3_meas *meas, const gf_real l[6],
-                             const gf_vec3 *z, const gf_vec3 *x, gf_real *d2)
+                                 const gf_vec3 *z, const gf_vec3 *x,
+                                 gf_real *d2)
 {
     const unsigned m = meas->m;
     gf_vec3 r = {{0, 0, 0}};

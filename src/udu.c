@@ -48,8 +48,8 @@ static gf_real udu_schur(gf_real x, const gf_real *ud, const gf_real *lo,
         const gf_real b = ud[GF_UD(j, k)];
         const gf_real t1 = a * d, t = t1 * b, next = acc - t;
         // a d b (with the low parts) - t
-        const gf_real c = udu_prod_err(t1, b, t) +
-                          udu_prod_err(a, d, t1) * b + t1 * lo[GF_UD(j, k)] +
+        const gf_real c = udu_prod_err(t1, b, t) + udu_prod_err(a, d, t1) * b +
+                          t1 * lo[GF_UD(j, k)] +
                           (lo[GF_UD(i, k)] * d + a * lo[GF_UD(k, k)]) * b;
         e += udu_sum_err(acc, -t, next) - c;
         acc = next;
@@ -71,8 +71,7 @@ void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
     for (unsigned j = n; j-- > 0u;) {
         const unsigned sj = perm[j];
         gf_real dl;
-        const gf_real d0 =
-            udu_schur(s[sj * stride + sj], ud, lo, n, j, j, &dl);
+        const gf_real d0 = udu_schur(s[sj * stride + sj], ud, lo, n, j, j, &dl);
         // d_j = dj + dl, dj rounded to nearest
         gf_real dj = d0 + dl;
         dl = udu_sum_err(d0, dl, dj);
@@ -83,9 +82,9 @@ void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
         for (unsigned i = 0; i < j; i++) {
             const unsigned si = perm[i];
             gf_real rl;
-            const gf_real r = udu_schur(
-                s[(si < sj ? si : sj) * stride + (si < sj ? sj : si)], ud, lo,
-                n, i, j, &rl);
+            const gf_real r =
+                udu_schur(s[(si < sj ? si : sj) * stride + (si < sj ? sj : si)],
+                          ud, lo, n, i, j, &rl);
             // U_ij = (r + rl) / (dj + dl) = q + ql
             gf_real q = 0, ql = 0;
             if (pos) {
@@ -167,7 +166,7 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
                      gf_real *ud, gf_real *c)
 {
     for (unsigned j = n; j-- > 0u;) {
-        const gf_real *wj = &w[j * cols];
+        const gf_real *wj = &w[(size_t)j * cols];
         gf_real dj = 0;
         for (unsigned k = 0; k < cols; k++) {
             c[k] = wd[k] * wj[k];
@@ -178,7 +177,7 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
         }
         const gf_real inv = (dj > 0) ? GF_R(1.0) / dj : GF_R(0.0);
         for (unsigned i = 0; i < j; i++) {
-            gf_real *wi = &w[i * cols];
+            gf_real *wi = &w[(size_t)i * cols];
             gf_real acc = 0;
             for (unsigned k = 0; k < cols; k++) {
                 acc += wi[k] * c[k];
@@ -198,17 +197,18 @@ void gf_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
                     const gf_real *Rf, const gf_real *Rd, gf_real *work)
 {
     const unsigned cols = 2u * n;
-    gf_real *w = work;                // W, n rows of 2n
-    gf_real *wd = &work[n * cols];    // its weights, 2n
-    gf_real *v = &work[(n + 1u) * cols]; // a row of P^T A P; then mwgs's c
+    gf_real *w = work;                     // W, n rows of 2n
+    gf_real *wd = &work[(size_t)n * cols]; // its weights, 2n
+    // a row of P^T A P; then mwgs's c
+    gf_real *v = &work[((size_t)n + 1u) * cols];
     for (unsigned j = 0; j < n; j++) {
         wd[j] = ud[GF_UD(j, j)];
         wd[n + j] = Rd[j];
     }
     // (P^T A P U)_ij = A_(pi)(pj) + sum_(l<j) A_(pi)(pl) U_lj, and P^T F_R
     for (unsigned i = 0; i < n; i++) {
-        const gf_real *ai = &A[perm[i] * n];
-        gf_real *wi = &w[i * cols];
+        const gf_real *ai = &A[(size_t)perm[i] * n];
+        gf_real *wi = &w[(size_t)i * cols];
         for (unsigned l = 0; l < n; l++) {
             v[l] = ai[perm[l]];
             wi[n + l] = Rf[perm[i] * n + l];
@@ -236,7 +236,7 @@ void gf_udu_whiten(const gf_real *F, const unsigned *order, unsigned m,
                    gf_real *x, unsigned cols)
 {
     for (unsigned t = 1; t < m; t++) {
-        gf_real *xi = &x[order[t] * cols];
+        gf_real *xi = &x[(size_t)order[t] * cols];
         for (unsigned u = 0; u < t; u++) {
             const unsigned k = order[u];
             const gf_real fik = F[order[t] * m + k];
@@ -393,15 +393,15 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                          const gf_real *yw, gf_real *x, gf_real *nis,
                          gf_real *work)
 {
-    gf_real *dp = work;          // P^T dx
-    gf_real *hp = &work[n];      // P^T h_i
-    gf_real *b = &work[2u * n];  // Bierman's b
+    gf_real *dp = work;                 // P^T dx
+    gf_real *hp = &work[n];             // P^T h_i
+    gf_real *b = &work[(size_t)2u * n]; // Bierman's b
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
     }
     for (unsigned i = 0; i < m; i++) {
-        const gf_real *h = &hw[i * n];
+        const gf_real *h = &hw[(size_t)i * n];
         // Bierman's update changes no entry of U for the state at the root
         // (the last index), and loses digits in the entries of a state it
         // measures far more precisely than it was known: a quantity that
@@ -418,7 +418,8 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                 break;
             }
         }
-        for (unsigned k = 0; v > UDU_ROOT_TELL * e[i] && k + 1u < n; k++) {
+        const int to_root = v > UDU_ROOT_TELL * e[i];
+        for (unsigned k = 0; to_root && k + 1u < n; k++) {
             if (perm[k] == main) {
                 const gf_real dk = dp[k];
                 dp[k] = dp[k + 1u];

@@ -30,8 +30,8 @@
 // WEIGHTED added to k, entry k of w_i off_j (the weight read here, not
 // passed in).
 #define WEIGHTED 4u
-static inline gf_real ukf3_offset(const gf_ukf3 *ukf, const gf_real l[6], unsigned j,
-                             unsigned k)
+static inline gf_real ukf3_offset(const gf_ukf3 *ukf, const gf_real l[6],
+                                  unsigned j, unsigned k)
 {
     const unsigned i = (j - 1u) % N_STATE;
     const unsigned e = k % WEIGHTED;
@@ -45,7 +45,7 @@ static inline gf_real ukf3_offset(const gf_ukf3 *ukf, const gf_real l[6], unsign
 
 // chi_j = mu + off_j.
 UKF3_SMALL_CALL void ukf3_sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
-                                 unsigned j, gf_vec3 *chi)
+                                      unsigned j, gf_vec3 *chi)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
         const gf_real o = ukf3_offset(ukf, l, j, k);
@@ -70,7 +70,8 @@ static inline void ukf3_wrap_entry(gf_real *e, unsigned b)
 // entries from n on zeroed: the second half of a residual, and the last
 // step of a mean. The one helper that calls gf_angle_wrap; entry by entry,
 // with the bits (k: entry k kept, 3 + k: entry k wrapped).
-UKF3_SMALL_CALL void ukf3_wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_mask)
+UKF3_SMALL_CALL void ukf3_wrap_flagged(gf_vec3 *d, unsigned n,
+                                       unsigned angle_mask)
 {
     const unsigned keep = (1u << n) - 1u;
     const unsigned bits = keep | ((angle_mask & keep) << N_STATE);
@@ -81,8 +82,8 @@ UKF3_SMALL_CALL void ukf3_wrap_flagged(gf_vec3 *d, unsigned n, unsigned angle_ma
 
 // d = p - ref on the first n entries, those flagged in angle_mask wrapped,
 // the rest zero; d may be p or ref.
-static inline void ukf3_residual(const gf_vec3 *p, const gf_vec3 *ref, unsigned n,
-                               unsigned angle_mask, gf_vec3 *d)
+static inline void ukf3_residual(const gf_vec3 *p, const gf_vec3 *ref,
+                                 unsigned n, unsigned angle_mask, gf_vec3 *d)
 {
     for (unsigned k = 0; k < N_STATE; k++) {
         d->v[k] = p->v[k] - ref->v[k];
@@ -351,7 +352,7 @@ typedef struct ukf3_point {
 // status, so that point_image ends in a call of it that is a tail call
 // (point_image's frame given back before wrap_flagged runs).
 UKF3_SMALL_CALL gf_status ukf3_point_residual(const gf_ekf3_meas *meas,
-                                         ukf3_point *p, const ukf3_upd *w)
+                                              ukf3_point *p, const ukf3_upd *w)
 {
     ukf3_residual(&p->dz, &w->y, meas->m, meas->angle_mask, &p->dz);
     return GF_OK;
@@ -361,7 +362,7 @@ UKF3_SMALL_CALL gf_status ukf3_point_residual(const gf_ekf3_meas *meas,
 // read) into w->sigma; kept as Z_0 in w->y (j = 0) or taken as its
 // residual dz_j (point_residual).
 UKF3_SMALL_CALL gf_status ukf3_point_image(const gf_ekf3_meas *meas, unsigned j,
-                                      ukf3_point *p, ukf3_upd *w)
+                                           ukf3_point *p, ukf3_upd *w)
 {
     p->dz.v[0] = p->dz.v[1] = p->dz.v[2] = 0;
     const gf_status st = meas->h(meas->ctx, &p->chi, &p->dz, &w->sigma);
@@ -397,7 +398,7 @@ UKF3_SMALL_CALL void ukf3_moments_init(const gf_ekf3_meas *meas, ukf3_upd *w)
 // Point j's terms (j > 0) of m_z, S and Sigma^xz added to w, dz_j in dz
 // (zero past the m measured entries, so the sums there stay zero).
 UKF3_SMALL_CALL void ukf3_update_add(const gf_ukf3 *ukf, unsigned j,
-                                const gf_vec3 *dz, ukf3_upd *w)
+                                     const gf_vec3 *dz, ukf3_upd *w)
 {
     for (unsigned a = 0; a < N_STATE; a++) {
         const gf_real wz = ukf->wi * dz->v[a];
@@ -421,8 +422,9 @@ UKF3_SMALL_CALL void ukf3_update_add(const gf_ukf3 *ukf, unsigned j,
 // sum_j |dz_j,k| <= sqrt(6 raw / w_i), raw = s_kk - Q_kk, so
 //   b_k^2 <= (eps w_i)^2 (2 (12 |z0_k|)^2 + 12 raw / w_i).
 // GF_ERR_UNDEFINED when an entry is not resolved, else GF_OK.
-static gf_status ukf3_update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
-                                 const gf_vec3 *z0, const gf_real s[6])
+static gf_status ukf3_update_resolved(const gf_ukf3 *ukf,
+                                      const gf_ekf3_meas *meas,
+                                      const gf_vec3 *z0, const gf_real s[6])
 {
     const gf_real ew = GF_REAL_EPSILON * ukf->wi;
     for (unsigned k = 0; k < meas->m; k++) {
@@ -451,7 +453,7 @@ static gf_status ukf3_update_resolved(const gf_ukf3 *ukf, const gf_ekf3_meas *me
 // A call of its own: only the point and its image are on the stack above
 // the working set while h runs.
 GF_NOINLINE gf_status ukf3_update_points(const gf_ukf3 *ukf,
-                                    const gf_ekf3_meas *meas, ukf3_upd *w)
+                                         const gf_ekf3_meas *meas, ukf3_upd *w)
 {
     ukf3_point p;
     for (unsigned j = 0; j < N_SIGMA; j++) {
@@ -471,8 +473,9 @@ GF_NOINLINE gf_status ukf3_update_points(const gf_ukf3 *ukf,
 // first):
 //   z_hat = Z_0 + m_z,  S += (beta - alpha^2) m_z m_z^T,
 // then y = z - z_hat (angle residuals wrapped) in w->y.
-GF_NOINLINE gf_status ukf3_update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
-                                  const gf_vec3 *z, ukf3_upd *w)
+GF_NOINLINE gf_status ukf3_update_zhat(const gf_ukf3 *ukf,
+                                       const gf_ekf3_meas *meas,
+                                       const gf_vec3 *z, ukf3_upd *w)
 {
     const unsigned m = meas->m;
     const unsigned mask = meas->angle_mask;
@@ -500,8 +503,9 @@ GF_NOINLINE gf_status ukf3_update_zhat(const gf_ukf3 *ukf, const gf_ekf3_meas *m
 // gain K = Sigma^xz S^-1 gives
 //   mu = mu_bar + K y = mu_bar + W^T u  (heading wrapped),
 //   Sigma = Sigma_bar - K S K^T = Sigma_bar - W^T W  (symmetric as built).
-GF_NOINLINE gf_status ukf3_update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *meas,
-                                  gf_innovation *info, ukf3_upd *w)
+GF_NOINLINE gf_status ukf3_update_gain(const gf_ukf3 *ukf,
+                                       const gf_ekf3_meas *meas,
+                                       gf_innovation *info, ukf3_upd *w)
 {
     const unsigned m = meas->m;
     // S = L_S L_S^T in place (a non-finite entry fails it too)
@@ -571,7 +575,7 @@ GF_NOINLINE gf_status ukf3_update_gain(const gf_ukf3 *ukf, const gf_ekf3_meas *m
 // The posterior of w into ukf, and the innovation into info (if not
 // NULL: gf_innovation_keep's fields), once the posterior is accepted.
 UKF3_SMALL_CALL void ukf3_update_commit(gf_ukf3 *ukf, unsigned m,
-                                   gf_innovation *info, const ukf3_upd *w)
+                                        gf_innovation *info, const ukf3_upd *w)
 {
     ukf->mu = w->mu;
     ukf->sigma = w->sigma;
@@ -588,7 +592,7 @@ UKF3_SMALL_CALL void ukf3_update_commit(gf_ukf3 *ukf, unsigned m,
 // posterior's verdict (gf_mat3_check_psd) from this frame, which holds
 // the working set alone; ukf and info written only if it is PSD.
 GF_NOINLINE gf_status ukf3_update_step(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
-                                  const gf_vec3 *z, gf_innovation *info)
+                                       const gf_vec3 *z, gf_innovation *info)
 {
     ukf3_upd w;
     ukf3_sigma_sqrt(&ukf->sigma, w.l);

@@ -129,12 +129,11 @@ static void check_factors(const gf_real *s, unsigned stride, unsigned n)
                 acc += (long double)f.F[i * n + k] * (long double)f.d[k] *
                        (long double)f.F[j * n + k];
             }
-            const long double sij = (long double)s[(i < j ? i : j) * stride +
-                                                   (i < j ? j : i)];
-            const long double tol =
-                4.0L * (long double)GF_PD_RTOL *
-                sqrtl((long double)s[i * stride + i] *
-                      (long double)s[j * stride + j]);
+            const long double sij =
+                (long double)s[(i < j ? i : j) * stride + (i < j ? j : i)];
+            const long double tol = 4.0L * (long double)GF_PD_RTOL *
+                                    sqrtl((long double)s[i * stride + i] *
+                                          (long double)s[j * stride + j]);
             if (!(fabsl(acc - sij) <= tol)) {
                 print_error("n = %u, (%u, %u): F diag(d) F^T %Lg, s %Lg\n", n,
                             i, j, acc, sij);

@@ -74,7 +74,7 @@ typedef struct gf_kf_work {
     gf_real mean[GF_KF_NMAX];              // mu_bar, or z_hat
     gf_real yw[GF_KF_NMAX];                // the whitened innovation
     gf_kf_factors noise;                   // R's or Q's factors
-    gf_kf_innovation in; // an update's innovation, until kept
+    gf_kf_innovation in;                   // an update's innovation, until kept
 } gf_kf_work;
 
 // The motion model x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R).
