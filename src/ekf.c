@@ -26,7 +26,8 @@ static gf_status ekf_motion_check(unsigned n, const gf_ekf_motion *motion,
 }
 
 // mu_bar = g(u, mu) and G from the callback (mu_bar preset to mu, G to the
-// identity), then the factored prediction.
+// identity), GF_ERR_NONFINITE unless both are finite, then the factored
+// prediction.
 static gf_status ekf_predict_step(gf_kf *ekf, const gf_ekf_motion *motion,
                                   const gf_real *u, const gf_real *Rf,
                                   const gf_real *Rd, gf_kf_work *work)
@@ -44,9 +45,12 @@ static gf_status ekf_predict_step(gf_kf *ekf, const gf_ekf_motion *motion,
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    // A NaN or inf in mu_bar or G reaches the result (G_ij is a term of
-    // (G U)_ij with U_jj = 1), so does an overflow: one test of the result
-    // stands for all.
+    // The callback's answer judged as gf_kf_predict judges A; an overflow
+    // in the step is the result's test's (gf_kfc_predict).
+    if (!gf_sum_finite(
+            gf_nan_sum(gf_nan_sum(GF_R(0.0), mu_bar, n), G, n * n))) {
+        return GF_ERR_NONFINITE;
+    }
     return gf_kfc_predict(ekf, mu_bar, G, Rf, Rd, work);
 }
 

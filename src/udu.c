@@ -78,7 +78,7 @@ void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
         if (!GF_ISFINITE(dl)) {
             dl = 0;
         }
-        const int pos = dj >= GF_REAL_MIN;
+        const int pos = !(dj < GF_REAL_MIN);
         for (unsigned i = 0; i < j; i++) {
             const unsigned si = perm[i];
             gf_real rl;
@@ -127,7 +127,7 @@ void gf_udu_to_cov(const gf_real *ud, const unsigned char *perm, unsigned n,
         }
     }
     for (unsigned i = 0; i < n; i++) {
-        if (!(s[i * stride + i] >= GF_REAL_MIN)) {
+        if (s[i * stride + i] < GF_REAL_MIN) {
             for (unsigned j = 0; j < n; j++) {
                 s[i * stride + j] = 0;
                 s[j * stride + i] = 0;
@@ -161,7 +161,9 @@ int gf_belief_finite(const gf_real *mu, const gf_real *ud, unsigned n)
 //   U_ij = (w_i . c) / d_j,  w_i -= U_ij w_j   (i < j).
 // Each d_j is a weighted sum of squares: never negative. A d_j below
 // GF_REAL_MIN is zero, with a zero column of U: that state is known
-// exactly once the later ones are. w is overwritten; c: scratch of cols.
+// exactly once the later ones are; a NaN (from a NaN or an infinity in W)
+// is kept, for the filter's test of the result to refuse (at n = 1 it is
+// the only trace). w is overwritten; c: scratch of cols.
 static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
                      gf_real *ud, gf_real *c)
 {
@@ -172,7 +174,7 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
             c[k] = wd[k] * wj[k];
             dj += wj[k] * c[k];
         }
-        if (!(dj >= GF_REAL_MIN)) {
+        if (dj < GF_REAL_MIN) {
             dj = 0;
         }
         const gf_real inv = (dj > 0) ? GF_R(1.0) / dj : GF_R(0.0);
@@ -289,7 +291,7 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm)
         dp = dk * r;
     }
     const gf_real beta = a * r;
-    const int zk = !(dp >= GF_REAL_MIN);
+    const int zk = dp < GF_REAL_MIN;
     for (unsigned i = 0; i < k; i++) {
         const gf_real uk = ud[ok + i], ul = ud[ol + i];
         ud[ok + i] = zk ? GF_R(0.0) : ul - a * uk;
@@ -297,7 +299,7 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm)
     }
     ud[ok + k] = zk ? GF_R(0.0) : dp;
     ud[ol + k] = beta;
-    ud[ol + k + 1u] = (dq >= GF_REAL_MIN) ? dq : GF_R(0.0);
+    ud[ol + k + 1u] = (dq < GF_REAL_MIN) ? GF_R(0.0) : dq;
     for (unsigned j = k + 2u; j < n; j++) {
         const unsigned oj = GF_UD(0u, j);
         const gf_real t = ud[oj + k];
@@ -379,7 +381,7 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
     for (unsigned j = 0; j < n; j++) {
         gf_real *uj = &ud[GF_UD(0u, j)];
         dx[j] += b[j] * k;
-        if (!(uj[j] >= GF_REAL_MIN)) {
+        if (uj[j] < GF_REAL_MIN) {
             for (unsigned i = 0; i <= j; i++) {
                 uj[i] = 0;
             }

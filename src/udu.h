@@ -41,7 +41,8 @@
 //   U_ij = (s_ij - sum_(k>j) U_ik t_k) / d_j,
 // each sum and quotient in about twice gf_real's precision, each factor
 // rounded once. A pivot below GF_REAL_MIN is zero, with a zero column of
-// U. perm's entries n.. up to sizeof(gf_real) are set to 0. work: scratch
+// U. (Here and in every step a NaN is kept, never taken for a number below
+// GF_REAL_MIN: the filters' test of the result refuses it.) perm's entries n.. up to sizeof(gf_real) are set to 0. work: scratch
 // of GF_UDU_FACTOR_WORK(n).
 void gf_udu_factor(const gf_real *s, unsigned stride, unsigned n, gf_real *ud,
                    unsigned char *perm, gf_real *work);

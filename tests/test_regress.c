@@ -729,6 +729,74 @@ static void prior_at_the_end_of_the_range(void **state)
     assert_int_equal(stn, st); // the same prior, the same verdict as KF2's
 }
 
+// The motion callback of ekf_predict_refuses_a_nonfinite_jacobian: G =
+// the identity but for entry `at` (row-major), which is `bad`; or, for
+// `at` >= n^2, mu_bar's entry at - n^2.
+typedef struct bad_motion {
+    unsigned at;
+    gf_real bad;
+} bad_motion;
+
+static gf_status bad_motion_fn(void *ctx, unsigned n, const gf_real *mu,
+                               const gf_real *u, gf_real *mu_bar, gf_real *G)
+{
+    const bad_motion *b = (const bad_motion *)ctx;
+    (void)mu;
+    (void)u;
+    if (b->at < n * n) {
+        G[b->at] = b->bad;
+    } else {
+        mu_bar[b->at - n * n] = b->bad;
+    }
+    return GF_OK;
+}
+
+// gf_ekf_predict with a NaN or an infinity anywhere in the callback's G
+// (or mu_bar) is GF_ERR_NONFINITE, the belief bit for bit as it was, as
+// gf_kf_predict refuses such an A; at n = 1 a d_j of NaN was once taken
+// for one below GF_REAL_MIN and zeroed (GF_OK, Sigma = 0: the prior and R
+// lost). For n = 1..4, on a correlated prior and on a zero prior (where
+// an infinity times a zero weight is a NaN), plain and prepared.
+static void ekf_predict_refuses_a_nonfinite_jacobian(void **state)
+{
+    (void)state;
+    const gf_real bads[2] = {(gf_real)NAN, (gf_real)INFINITY};
+    gf_kf_work work;
+    for (unsigned n = 1; n <= 4u; n++) {
+        gf_real mu[4], sig[16], zero[16], R[16];
+        for (unsigned i = 0; i < n; i++) {
+            mu[i] = (gf_real)(i + 1u);
+            for (unsigned j = 0; j < n; j++) {
+                sig[i * n + j] = (i == j) ? GF_R(2.0) : GF_R(0.5);
+                zero[i * n + j] = 0;
+                R[i * n + j] = (i == j) ? GF_R(0.25) : GF_R(0.0);
+            }
+        }
+        const gf_real *priors[2] = {sig, zero};
+        for (unsigned p = 0; p < 2u; p++) {
+            for (unsigned at = 0; at < n * n + n; at++) {
+                for (unsigned v = 0; v < 2u; v++) {
+                    bad_motion b = {at, bads[v]};
+                    const gf_ekf_motion mo = {bad_motion_fn, &b, R};
+                    gf_kf ekf;
+                    memset(&ekf, 0, sizeof ekf);
+                    assert_int_equal(
+                        gf_ekf_init(&ekf, n, mu, priors[p], 0, &work), GF_OK);
+                    CHECK_FAILS_UNCHANGED(
+                        GF_ERR_NONFINITE, &ekf,
+                        gf_ekf_predict(&ekf, &mo, NULL, &work));
+                    gf_ekf_pmotion pm;
+                    assert_int_equal(gf_ekf_prepare_motion(&pm, n, &mo, &work),
+                                     GF_OK);
+                    CHECK_FAILS_UNCHANGED(
+                        GF_ERR_NONFINITE, &ekf,
+                        gf_ekf_predict_prepared(&ekf, &pm, NULL, &work));
+                }
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -742,6 +810,7 @@ int main(void)
         cmocka_unit_test(one_answer_per_call),
         cmocka_unit_test(largest_covariance_stays_finite),
         cmocka_unit_test(prior_at_the_end_of_the_range),
+        cmocka_unit_test(ekf_predict_refuses_a_nonfinite_jacobian),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
