@@ -74,16 +74,16 @@ gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
     }
     unsigned t = 0;
     for (; t < n; t++) {
-        // the pivot: the first state of positive variance first (every
-        // ratio below is 1 there, 0 for a zero variance), then the largest
-        // a_jj / s_jj left (a tie keeps p's order)
+        // the pivot: the largest a_jj / s_jj left, in [0, 1] (a tie keeps
+        // p's order, so the search ends at a ratio of 1: a state untouched
+        // so far, a_jj = s_jj; at t = 0, the first of positive variance)
         gf_real best = -1;
         unsigned at = t;
-        for (unsigned u = t; u < n && t + 1u < n; u++) {
+        for (unsigned u = t; u < n && t + 1u < n && best < 1; u++) {
             const unsigned k = p[u];
             const gf_real skk = s[k * stride + k];
             gf_real ratio = (skk > 0) ? GF_R(1.0) : GF_R(0.0);
-            if (t > 0u && skk > 0) {
+            if (skk > 0 && a[k * n + k] < skk) {
                 ratio = a[k * n + k] / skk;
             }
             if (ratio > best) {
