@@ -7,32 +7,15 @@
 #include "gaussfilt/ekf3.h"
 
 #include "gf_internal.h"
-#include "ldl.h"
 
 // The checks every update with an EKF3 measurement model starts with, in
 // the order of the status rules: GF_ERR_ARG (meas or h NULL, m not 1..3),
 // GF_ERR_NONFINITE (z if not NULL, gate), GF_ERR_ARG (gate < 0), then Q's
-// verdict (gf_cov_factor); on GF_OK, q holds Q's factors: Q = F diag(Qe)
-// F^T, F in Qf (m x m, rows of m) unit lower triangular in the order
-// Qorder.
-static inline gf_status gf_meas3_check(const gf_ekf3_meas *meas,
-                                       const gf_vec3 *z, gf_ekf3_qfactors *q)
-{
-    if (!meas || !meas->h || meas->m < 1u || meas->m > 3u) {
-        return GF_ERR_ARG;
-    }
-    const unsigned m = meas->m;
-    gf_real f = meas->gate * GF_R(0.0);
-    if (z) {
-        f = gf_nan_sum(f, z->v, m);
-    }
-    if (!gf_sum_finite(f)) {
-        return GF_ERR_NONFINITE;
-    }
-    if (meas->gate < 0) {
-        return GF_ERR_ARG;
-    }
-    return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
-}
+// verdict (gf_cov_factor); on GF_OK, where q is not NULL, q holds Q's
+// factors: Q = F diag(Qe) F^T, F in Qf (m x m, rows of m) unit lower
+// triangular in the order Qorder. (Defined in meas3.c: a verdict alone
+// keeps the factors in its own frame, not its caller's.)
+gf_status gf_meas3_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
+                         gf_ekf3_qfactors *q);
 
 #endif

@@ -15,6 +15,9 @@
 // ldl.h: defined in ldl.c
 #define gf_cov_factor GF_NAME(gf_cov_factor)
 
+// gf_meas3.h: defined in meas3.c
+#define gf_meas3_check GF_NAME(gf_meas3_check)
+
 // udu.h: defined in udu.c
 #define gf_belief_finite GF_NAME(gf_belief_finite)
 #define gf_udu_correct GF_NAME(gf_udu_correct)
