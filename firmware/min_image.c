@@ -1,48 +1,23 @@
 // SPDX-License-Identifier: MIT
-// The minimal firmware image of the footprint report. Built three times
-// from this file: gf_fw_min (GF_FW_WITH_FILTERS: one KF2 step and one EKF3
-// step with the built-in models, the exercises' numbers), gf_fw_base (the
-// same inputs and outputs, no filter) and gf_fw_floor (GF_FW_FLOOR too: the
-// same calls to the hand-written checked sound floor of bench/ref.c, U D
-// U^T with the plain API's checks, in the library's place; the built-in
-// models still the library's). The difference of an image and the base is
-// what its filters cost. Inputs and outputs are volatile so that nothing
-// is folded away at compile time.
+// The minimal firmware images of the footprint report, built from this file
+// with the filters their macros name (firmware/CMakeLists.txt):
+//   gf_fw_base      none: the same inputs and outputs, no filter;
+//   gf_fw_kf2       GF_FW_KF2: one KF2 init, predict, update and cov;
+//   gf_fw_ekf3      GF_FW_EKF3: the same for EKF3 with the built-in models
+//                   (gf_ekf3_motion_forward_turn, gf_ekf3_meas_x);
+//   gf_fw_kf4       GF_FW_KF: the same for gf_kf at n = 4, m = 2 (a 2-D
+//                   constant-velocity target, its position measured);
+//   gf_fw_kf2_ekf3  GF_FW_KF2 and GF_FW_EKF3.
+// An image's flash minus the base image's is what its filters cost. Inputs
+// and outputs are volatile so that nothing is folded away at compile time.
 #include "gaussfilt/gaussfilt.h"
 
-#ifdef GF_FW_WITH_FILTERS
-#ifdef GF_FW_FLOOR
-#include "ref.h"
-typedef ref_udu2 fw_kf2;
-typedef ref_udu3 fw_ekf3;
-#define fw_kf2_init ref_uduc2_init
-#define fw_kf2_predict ref_uduc2_predict
-#define fw_kf2_update ref_uduc2_update
-#define fw_kf2_cov ref_udu2_cov
-#define fw_ekf3_init ref_uduc3_init
-#define fw_ekf3_predict ref_uduc3_predict
-#define fw_ekf3_update ref_uduc3_update
-#define fw_ekf3_cov ref_udu3_cov
-#else
-typedef gf_kf2 fw_kf2;
-typedef gf_ekf3 fw_ekf3;
-#define fw_kf2_init gf_kf2_init
-#define fw_kf2_predict gf_kf2_predict
-#define fw_kf2_update gf_kf2_update
-#define fw_kf2_cov gf_kf2_cov
-#define fw_ekf3_init gf_ekf3_init
-#define fw_ekf3_predict gf_ekf3_predict
-#define fw_ekf3_update gf_ekf3_update
-#define fw_ekf3_cov gf_ekf3_cov
-#endif
-#endif
-
 volatile gf_real gf_fw_in[4] = {GF_R(1.0), GF_R(0.0), GF_R(5.0), GF_R(-0.7)};
-volatile gf_real gf_fw_out[6];
+volatile gf_real gf_fw_out[8];
 volatile int gf_fw_status;
 
-#ifdef GF_FW_WITH_FILTERS
 // The models never change: const, so they live in flash.
+#ifdef GF_FW_KF2
 static const gf_kf2_model kf2_model = {
     .A = {{{GF_R(1.0), GF_R(1.0)}, {GF_R(0.0), GF_R(1.0)}}},
     .B = {{{GF_R(0.5), GF_R(0.0)}, {GF_R(1.0), GF_R(0.0)}}},
@@ -56,6 +31,27 @@ static const gf_kf2_meas kf2_meas = {
     .c = {{GF_R(0.0), GF_R(0.0)}},
     .gate = GF_R(0.0),
 };
+
+// KF2: one predict and one update (Table 2.1's measurement).
+static int run_kf2(void)
+{
+    gf_kf2 kf;
+    const gf_vec2 mu0 = {{GF_R(0.0), GF_R(0.0)}};
+    const gf_mat2 s0 = {{{GF_R(0.0), GF_R(0.0)}, {GF_R(0.0), GF_R(0.0)}}};
+    int st = (int)gf_kf2_init(&kf, &mu0, &s0);
+    const gf_vec2 u = {{gf_fw_in[1], GF_R(0.0)}};
+    st |= (int)gf_kf2_predict(&kf, &kf2_model, &u);
+    const gf_vec2 z = {{gf_fw_in[2], GF_R(0.0)}};
+    st |= (int)gf_kf2_update(&kf, &kf2_meas, &z, 0);
+    gf_mat2 s1;
+    st |= (int)gf_kf2_cov(&kf, &s1);
+    gf_fw_out[0] = kf.mu.v[0];
+    gf_fw_out[1] = s1.m[0][0];
+    return st;
+}
+#endif
+
+#ifdef GF_FW_EKF3
 static const gf_ekf3_motion ekf3_motion = {
     .g = gf_ekf3_motion_forward_turn,
     .ctx = 0,
@@ -73,48 +69,97 @@ static const gf_ekf3_meas ekf3_meas = {
     .angle_mask = 0,
     .gate = GF_R(0.0),
 };
-#endif
 
-int main(void)
+// EKF3: Tables 4.1 and 4.2, move forward then observe x.
+static int run_ekf3(void)
 {
-#ifdef GF_FW_WITH_FILTERS
-    // KF2: one predict and one update (Table 2.1's measurement).
-    fw_kf2 kf;
-    const gf_vec2 mu0 = {{GF_R(0.0), GF_R(0.0)}};
-    const gf_mat2 s0 = {{{GF_R(0.0), GF_R(0.0)}, {GF_R(0.0), GF_R(0.0)}}};
-    int st = (int)fw_kf2_init(&kf, &mu0, &s0);
-    const gf_vec2 u = {{gf_fw_in[1], GF_R(0.0)}};
-    st |= (int)fw_kf2_predict(&kf, &kf2_model, &u);
-    const gf_vec2 z = {{gf_fw_in[2], GF_R(0.0)}};
-    st |= (int)fw_kf2_update(&kf, &kf2_meas, &z, 0);
-    gf_mat2 s1;
-    st |= (int)fw_kf2_cov(&kf, &s1);
-    gf_fw_out[0] = kf.mu.v[0];
-    gf_fw_out[1] = s1.m[0][0];
-
-    // EKF3: Tables 4.1 and 4.2, move forward then observe x.
-    fw_ekf3 ekf;
+    gf_ekf3 ekf;
     const gf_vec3 m0 = {{GF_R(0.0), GF_R(0.0), GF_R(0.0)}};
     const gf_mat3 p0 = {{{GF_R(0.01), GF_R(0.0), GF_R(0.0)},
                          {GF_R(0.0), GF_R(0.01), GF_R(0.0)},
                          {GF_R(0.0), GF_R(0.0), GF_R(10000.0)}}};
-    st |= (int)fw_ekf3_init(&ekf, &m0, &p0);
+    int st = (int)gf_ekf3_init(&ekf, &m0, &p0);
     const gf_real du[2] = {gf_fw_in[0], GF_R(0.0)};
-    st |= (int)fw_ekf3_predict(&ekf, &ekf3_motion, du);
+    st |= (int)gf_ekf3_predict(&ekf, &ekf3_motion, du);
     const gf_vec3 zx = {{gf_fw_in[3], GF_R(0.0), GF_R(0.0)}};
-    st |= (int)fw_ekf3_update(&ekf, &ekf3_meas, &zx, 0);
+    st |= (int)gf_ekf3_update(&ekf, &ekf3_meas, &zx, 0);
     gf_fw_out[2] = ekf.mu.v[0];
     gf_fw_out[3] = ekf.mu.v[1];
     gf_mat3 p1;
-    st |= (int)fw_ekf3_cov(&ekf, &p1);
+    st |= (int)gf_ekf3_cov(&ekf, &p1);
     gf_fw_out[4] = p1.m[0][0];
     gf_fw_out[5] = p1.m[1][1];
-    gf_fw_status = st;
-#else
+    return st;
+}
+#endif
+
+#ifdef GF_FW_KF
+// A 2-D constant-velocity target, states (x, y, vx, vy), a step of 1 s,
+// its position measured.
+static const gf_real kf_A[16] = {
+    GF_R(1.0), GF_R(0.0), GF_R(1.0), GF_R(0.0),
+    GF_R(0.0), GF_R(1.0), GF_R(0.0), GF_R(1.0),
+    GF_R(0.0), GF_R(0.0), GF_R(1.0), GF_R(0.0),
+    GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(1.0),
+};
+// White acceleration of unit density: [1/3 1/2; 1/2 1] per axis.
+static const gf_real kf_R[16] = {
+    GF_R(0.333333), GF_R(0.0), GF_R(0.5), GF_R(0.0),
+    GF_R(0.0), GF_R(0.333333), GF_R(0.0), GF_R(0.5),
+    GF_R(0.5), GF_R(0.0), GF_R(1.0), GF_R(0.0),
+    GF_R(0.0), GF_R(0.5), GF_R(0.0), GF_R(1.0),
+};
+static const gf_real kf_C[8] = {
+    GF_R(1.0), GF_R(0.0), GF_R(0.0), GF_R(0.0),
+    GF_R(0.0), GF_R(1.0), GF_R(0.0), GF_R(0.0),
+};
+static const gf_real kf_Q[4] = {GF_R(4.0), GF_R(0.0), GF_R(0.0), GF_R(4.0)};
+static const gf_kf_model kf_model = {
+    .nu = 0, .A = kf_A, .B = 0, .R = kf_R, .c = 0};
+static const gf_kf_meas kf_meas = {
+    .m = 2, .C = kf_C, .Q = kf_Q, .c = 0, .gate = GF_R(0.0)};
+// The steps' scratch: static, as firmware keeps it.
+static gf_kf_work kf_work;
+
+static int run_kf(void)
+{
+    gf_kf kf;
+    const gf_real mu0[4] = {GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(0.0)};
+    const gf_real s0[16] = {
+        GF_R(100.0), GF_R(0.0), GF_R(0.0), GF_R(0.0),
+        GF_R(0.0), GF_R(100.0), GF_R(0.0), GF_R(0.0),
+        GF_R(0.0), GF_R(0.0), GF_R(10.0), GF_R(0.0),
+        GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(10.0),
+    };
+    int st = (int)gf_kf_init(&kf, 4, mu0, s0, &kf_work);
+    st |= (int)gf_kf_predict(&kf, &kf_model, 0, &kf_work);
+    const gf_real z[2] = {gf_fw_in[2], gf_fw_in[3]};
+    st |= (int)gf_kf_update(&kf, &kf_meas, z, 0, &kf_work);
+    gf_real s1[16];
+    st |= (int)gf_kf_cov(&kf, s1);
+    gf_fw_out[6] = kf.mu[0];
+    gf_fw_out[7] = s1[0];
+    return st;
+}
+#endif
+
+int main(void)
+{
+    int st = 0;
+#ifdef GF_FW_KF2
+    st |= run_kf2();
+#endif
+#ifdef GF_FW_EKF3
+    st |= run_ekf3();
+#endif
+#ifdef GF_FW_KF
+    st |= run_kf();
+#endif
+#if !defined(GF_FW_KF2) && !defined(GF_FW_EKF3) && !defined(GF_FW_KF)
     for (int i = 0; i < 4; i++) {
         gf_fw_out[i] = gf_fw_in[i];
     }
-    gf_fw_status = 0;
 #endif
+    gf_fw_status = st;
     return 0;
 }

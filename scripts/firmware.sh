@@ -53,26 +53,35 @@ gf_fw_build() {
 # The symbols a filter image must not contain: allocation, stdio, exit.
 GF_FW_FORBIDDEN='malloc|_malloc_r|calloc|_calloc_r|realloc|_realloc_r|free|_free_r|printf|_printf_r|vfprintf|_vfprintf_r|iprintf|puts|putchar|exit|_exit|abort|atexit'
 
-# gf_fw_link_check TARGET DIR: the minimal image in DIR links none of
-# GF_FW_FORBIDDEN. Prints what of the C library it does link.
+# The minimal images (firmware/min_image.c) that run filters.
+GF_FW_IMAGES="kf2 ekf3 kf4 kf2_ekf3"
+
+# gf_fw_link_check TARGET DIR: no minimal image in DIR links any of
+# GF_FW_FORBIDDEN, and in the float build none links double arithmetic.
+# Prints what the KF2 + EKF3 image links besides the core.
 gf_fw_link_check() {
-    local target=$1 dir=$2 nm bad
+    local target=$1 dir=$2 nm bad img elf single=0
     nm="$(gf_fw_prefix "$target")nm"
-    [ -f "$dir/gf_fw_min.elf" ] || gf_die "$dir/gf_fw_min.elf is missing"
-    bad=$("$nm" "$dir/gf_fw_min.elf" | awk '{print $NF}' |
-        grep -Ex "$GF_FW_FORBIDDEN" | tr '\n' ' ' || true)
-    [ -z "$bad" ] || gf_die "$target: the KF2+EKF3 image links $bad"
-    # In the float build a double libm call or soft-double helper means a
-    # float was promoted somewhere.
-    if grep -q 'GAUSSFILT_SINGLE_PRECISION:BOOL=ON' "$dir/CMakeCache.txt"; then
-        bad=$("$nm" "$dir/gf_fw_min.elf" | awk '{print $NF}' |
-            grep -Ex '__aeabi_d[a-z0-9]+|__[a-z]+df[0-9]|(sin|cos|sqrt|ceil|floor|atan2|log|fabs)' |
-            tr '\n' ' ' || true)
-        [ -z "$bad" ] || gf_die "$target (float): double arithmetic pulled in: $bad"
-        echo "$target (float): no double libm function or soft-double helper"
-    fi
-    echo "$target: KF2+EKF3 image links no malloc/free/printf/exit;" \
-        "functions in it besides the core's: $("$nm" --defined-only "$dir/gf_fw_min.elf" |
+    grep -q 'GAUSSFILT_SINGLE_PRECISION:BOOL=ON' "$dir/CMakeCache.txt" && single=1
+    for img in $GF_FW_IMAGES; do
+        elf=$dir/gf_fw_$img.elf
+        [ -f "$elf" ] || gf_die "$elf is missing"
+        bad=$("$nm" "$elf" | awk '{print $NF}' |
+            grep -Ex "$GF_FW_FORBIDDEN" | tr '\n' ' ' || true)
+        [ -z "$bad" ] || gf_die "$target: gf_fw_$img links $bad"
+        # In the float build a double libm call or soft-double helper means
+        # a float was promoted somewhere.
+        if [ $single = 1 ]; then
+            bad=$("$nm" "$elf" | awk '{print $NF}' |
+                grep -Ex '__aeabi_d[a-z0-9]+|__[a-z]+df[0-9]|(sin|cos|sqrt|ceil|floor|atan2|log|fabs)' |
+                tr '\n' ' ' || true)
+            [ -z "$bad" ] || gf_die "$target (float): double arithmetic pulled in by gf_fw_$img: $bad"
+        fi
+    done
+    [ $single = 0 ] ||
+        echo "$target (float): no double libm function or soft-double helper in any image"
+    echo "$target: the images ($GF_FW_IMAGES) link no malloc/free/printf/exit;" \
+        "functions in the KF2 + EKF3 image besides the core's: $("$nm" --defined-only "$dir/gf_fw_kf2_ekf3.elf" |
             awk '$2 ~ /^[Tt]$/ && $3 !~ /^(gf_|main$|Reset_Handler$|Fault_Handler$|_start$|\$)/ {print $3}' |
             sort -u | tr '\n' ' ')"
 }

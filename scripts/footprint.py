@@ -1,36 +1,29 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """The firmware footprint report, from the build trees scripts/footprint
-made: per module and target .text/.rodata/.data/.bss, sizeof of the public
-structs, worst-case stack depth of every public function, and the minimal
-image's cost, in the float build at -Os (fw-TARGET-float), with the
-targets stated met or not; beside it the cost of the same image with the
-hand-written checked sound floor of bench/ref.c in the filters' place
-(gf_fw_floor), held against the same targets. Prints a Markdown fragment; --docs FILE splices
-it into FILE between its footprint markers.
+made (fw-TARGET-float: float, -Os): the flash of each minimal image of
+firmware/min_image.c over the base image, per target, with the flash
+targets stated met or not; the worst-case stack depth of every public
+function against the stack target of its target; per module
+.text/.rodata/.data/.bss and sizeof of the public structs; and what the
+KF2-alone and EKF3-alone images consist of, function by function
+(Cortex-M4F). Prints Markdown; --docs FILE splices the first part into FILE
+between its firmware:footprint markers and the per-function tables between
+its firmware:flash markers.
 
-Stack depth: a function's own frame is gcc's -fstack-usage figure (.su) for
-the core and, for what the core calls in libm, libc and libgcc (which Debian
-builds without -fstack-usage), the frame read from the prologue of its
-disassembly (push/vpush/sub sp on Arm, addi sp on RISC-V). Edges come from
-gcc's -fcallgraph-info (.ci) plus the call relocations of the disassembly,
-so libgcc's soft-float helpers (invisible to .ci) are counted. The only
+Stack depth: a function's own frame is gcc's -fstack-usage figure (.su)
+for the core and, for what the core calls in libm, libc and libgcc (which
+Debian builds without -fstack-usage), the frame read from the prologue of
+its disassembly (push/vpush/sub sp on Arm, addi sp on RISC-V). The depth is
+a walk over the call graph: depth(f) = frame(f) + the deepest depth of
+what f calls or jumps to. Every jump to another function counts as a call,
+its frame on top of the caller's, whether or not the caller has released
+its frame by then. The edges are gcc's -fcallgraph-info (.ci) plus the call
+and jump relocations of the disassembly: .ci is written before gcc expands
+library calls of its own (libgcc's soft-float helpers, memcpy and memset
+for block copies), and libm, libc and libgcc have no .ci at all. The only
 indirect calls are EKF3's model callbacks; they are counted as the deepest
-built-in model (see CALLBACKS) and the caller's frame at the call is
-reported so that a user callback's own depth can be added.
-
-Tail calls: a function that ends in a jump to another has released its
-own frame when the callee runs, so depth(f) = max(frame(f) + the deepest of
-its ordinary calls, the deepest of its tail calls). The jumps: on Arm a
-`b.w`/`b` with an R_ARM_THM_JUMP24/R_ARM_JUMP24 relocation (Cortex-M0+'s
-Thumb-1 has none: gcc calls there); on RISC-V `auipc tN` with
-R_RISCV_CALL(_PLT) followed by `jr tN` (gcc's `tail`), or `j` with
-R_RISCV_JAL. A jump counts as a tail call only when the disassembly shows
-it: the straight-line code right before it (back to the previous branch or
-branch target) gives back exactly the function's whole frame (Arm:
-pop/ldmia without pc, add sp, vpop; RISC-V: addi sp), so sp is the
-caller's again at the jump. Any other jump is counted like a call: its
-frame on top of the caller's whole frame (conservative).
+built-in model (see CALLBACKS).
 """
 import argparse
 import datetime
@@ -45,48 +38,47 @@ TARGETS = [
     ("cortex-m0plus", "Cortex-M0+", "arm-none-eabi-"),
     ("riscv32", "RV32IMAFC", "riscv64-unknown-elf-"),
 ]
+# The minimal images (firmware/min_image.c), each measured against
+# gf_fw_base.
+IMAGES = [
+    ("kf2", "KF2 alone"),
+    ("ekf3", "EKF3 alone (built-in models)"),
+    ("kf4", "`gf_kf`, n = 4, m = 2 alone"),
+    ("kf2_ekf3", "KF2 + EKF3"),
+]
+# Flash targets (bytes over the base image), per (image, target).
+FLASH_TARGETS = {
+    ("kf2", "cortex-m4f"): 3 * 1024,
+    ("ekf3", "cortex-m4f"): 4608,
+    ("kf4", "cortex-m4f"): 5 * 1024,
+    ("kf2_ekf3", "cortex-m4f"): 6 * 1024,
+    ("kf2", "cortex-m0plus"): 6 * 1024,
+}
+# Stack target of every public function, per target.
+STACK_TARGETS = {"cortex-m4f": 320, "cortex-m0plus": 448, "riscv32": 320}
 # The modules: every src/*.c the build compiled, in this order first.
-MODULE_ORDER = ["ldl", "mat", "cov2", "kf2", "ekf3", "status", "rng", "if2", "ukf3",
-                "pf3"]
+MODULE_ORDER = ["ldl", "udu", "mat", "cov2", "kf2", "ekf3", "kf", "ekf",
+                "status", "rng", "if2", "ukf3", "pf3"]
 STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_ekf3_motion", "gf_ekf3_meas", "gf_innovation", "gf_ellipse",
            "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
            "gf_if2", "gf_ukf3", "gf_ukf3_params", "gf_pf3", "gf_pf3_particle",
            "gf_rng"]
 # Indirect calls: which functions a callback slot runs when the built-in
-# models are used.
+# models are used (static functions named with their object, qualify).
 CALLBACKS = {
-    # EKF3's entry points call the motion model themselves; the update's
-    # measurement model is called from its step.
-    "gf_ekf3_predict": ["gf_ekf3_motion_forward_turn"],
-    "gf_ekf3_predict_prepared": ["gf_ekf3_motion_forward_turn"],
-    "gf_ekf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ekf3.c:ekf3_predict_step": ["gf_ekf3_motion_forward_turn"],
     "ekf3.c:ekf3_update_step": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # UKF3 and PF3 take EKF3's callbacks (PF3's from static helpers;
-    # UKF3's predict from predict_point, a call of its own, its update
-    # from point_image, a call of its own under -Os, inlined into
-    # update_points elsewhere).
-    "gf_ukf3_predict": ["gf_ekf3_motion_forward_turn"],
-    "ukf3.c:predict_point": ["gf_ekf3_motion_forward_turn"],
-    "gf_ukf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "ukf3.c:point_image": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "ukf3.c:update_points": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    # PF3's predict calls g from propagate (not inlined under -Os), or
-    # itself where propagate is inlined (other optimisation levels). Static
-    # functions are named with their object (qualify).
-    "gf_pf3_predict": ["gf_ekf3_motion_forward_turn"],
-    "pf3.c:propagate": ["gf_ekf3_motion_forward_turn"],
-    "gf_pf3_update": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "pf3.c:mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "ukf3.c:ukf3_predict_point": ["gf_ekf3_motion_forward_turn"],
+    "ukf3.c:ukf3_point_image": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
+    "pf3.c:pf3_propagate": ["gf_ekf3_motion_forward_turn"],
+    "pf3.c:pf3_mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
 }
-# Any other function with an indirect call: counted as the deepest of all
-# the built-in models (and named in the report's notes).
+# Any other function with an indirect call (gf_ekf's steps: it has no
+# built-in models): counted as the deepest of EKF3's built-in models, and
+# named in the report's notes.
 ALL_MODELS = ["gf_ekf3_motion_forward_turn", "gf_ekf3_meas_x",
               "gf_ekf3_meas_xy"]
-STACK_LIMIT = 256
-IMAGE_LIMIT = 6 * 1024
-CORE_LIMIT = 3 * 1024
-BELIEF_LIMITS = {"gf_kf2": 24, "gf_ekf3": 48}
 # A double-precision libm function or soft-double helper in a float image
 # means a float was promoted somewhere.
 DOUBLE_SYMS = re.compile(
@@ -264,125 +256,31 @@ def prologue_frame(insns, arm):
     return best
 
 
+
+
+# Calls and jumps to other functions, by their relocations.
 CALL_RELOCS = re.compile(r"R_(ARM_THM_CALL|ARM_CALL|ARM_THM_JUMP24|"
                          r"ARM_JUMP24|RISCV_CALL|RISCV_CALL_PLT|RISCV_JAL)\s+"
                          r"([\w.$]+)")
-ARM_JUMP_RELOCS = ("ARM_THM_JUMP24", "ARM_JUMP24")
-# Arm instructions that end a straight-line run of code: branches, returns
-# (pop/ldmia with pc), IT blocks (conditional instructions follow).
-ARM_FLOW = re.compile(r"^(b|bl|blx|bx|cbz|cbnz|tbb|tbh|it\w*)(\.[nw])?$|"
-                      r"^b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le)"
-                      r"(\.[nw])?$")
-ARM_TARGET = re.compile(r"^(?:\w+, )*([0-9a-f]+) <[\w.$]+\+0x[0-9a-f]+>$")
-RISCV_FLOW = re.compile(r"^(c\.)?(b\w*|j|jal|jalr|jr|ret|tail|call|ebreak|"
-                        r"ecall|mret)$")
-RISCV_TARGET = re.compile(r"^(?:[\w.]+,)*([0-9a-f]+) <[\w.$+]+>$")
-
-
-def arm_release(text):
-    """Bytes an Arm instruction gives back to the stack (pop/ldmia sp!
-    without pc, add sp, vpop); None if it returns or moves sp down."""
-    parts = text.split(None, 1)
-    op, args = parts[0], parts[1] if len(parts) > 1 else ""
-    lst = ARM_REG_LIST.search(args)
-    if op in ("pop", "pop.w") or (op in ("ldmia", "ldmia.w") and
-                                   args.startswith("sp!")):
-        return None if "pc" in lst.group(1) else count_regs(lst.group(1), 4)
-    if op in ("vpop", "vldmia") and lst and (op == "vpop" or
-                                             args.startswith("sp!")):
-        regs = lst.group(1)
-        return count_regs(regs, 8 if "d" in regs else 4)
-    m = re.match(r"^sp, (sp, )?#(\d+)$", args)
-    if m and op in ("add", "add.w", "addw"):
-        return int(m.group(2))
-    if op in ("push", "push.w", "vpush", "stmdb", "vstmdb", "sub", "sub.w",
-              "subw") and args.startswith("sp"):
-        return None
-    return 0
-
-
-def riscv_release(text):
-    """Bytes a RISC-V instruction gives back to the stack (addi sp,sp,N);
-    None if it moves sp down."""
-    parts = text.split(None, 1)
-    m = re.match(r"^sp,sp,(-?\d+)$", parts[1] if len(parts) > 1 else "")
-    if m and parts[0] in ("addi", "add", "c.addi", "c.addi16sp"):
-        n = int(m.group(1))
-        return n if n >= 0 else None
-    return 0
-
-
-def branch_targets(insns, arm, labels):
-    """The addresses a function's code branches to (insns: (address, text);
-    labels: addresses of its local labels), or None if it has a computed
-    branch (targets unknown: none of its jumps is judged a tail call)."""
-    flow, target_re = (ARM_FLOW, ARM_TARGET) if arm else \
-        (RISCV_FLOW, RISCV_TARGET)
-    targets = set(labels)
-    for _, text in insns:
-        parts = text.split(None, 1)
-        if not parts:
-            continue
-        if arm and (parts[0] in ("tbb", "tbh") or (len(parts) > 1 and
-                                                  parts[1].startswith("pc"))):
-            return None
-        m = target_re.match(parts[1]) if len(parts) > 1 else None
-        if m and flow.match(parts[0]):
-            targets.add(int(m.group(1), 16))
-    return targets
-
-
-def tail_call(insns, i, frame, arm, targets):
-    """True if the jump at insns[i] (address, text) runs after the
-    function's whole frame is released: the straight-line code before it
-    (back to a branch, or to a branch target, included) gives back exactly
-    `frame` bytes. targets: branch_targets() of the function, not None."""
-    flow = ARM_FLOW if arm else RISCV_FLOW
-    released = 0
-    for addr, text in reversed(insns[:i]):
-        op = text.split(None, 1)[0] if text else ""
-        if flow.match(op):
-            break
-        r = arm_release(text) if arm else riscv_release(text)
-        if r is None:
-            return False
-        released += r
-        if addr in targets:
-            break
-    return released == frame
 
 
 def disassemble(prefix, archive, arm, members=None):
-    """{function: (frame, callees, has_indirect, tail_callees)} for an
-    archive: tail_callees are the targets of the tail calls tail_call
-    accepts; any other call or jump is in callees. members: the core's
-    (archive_members), whose static functions are qualified."""
+    """{function: (frame, callees, has_indirect)} for an archive: frame
+    from the prologue, callees every function it calls or jumps to
+    (relocations, and the direct bl/jal the assembler resolved itself).
+    members: the core's (archive_members), whose static functions are
+    qualified."""
     out = run([prefix + "objdump", "-dr", "--no-show-raw-insn", archive])
     members = members or {}
     stem = None
     q = lambda n: qualify(members, stem, n)  # noqa: E731
     funcs, aliases = {}, {}
     name, insns, callees, indirect = None, [], set(), False
-    addrs, jumps, labels = [], [], set()
 
     def flush():
         if name:
             old = funcs.get(name)
-            frame = prologue_frame(insns, arm)
-            tails = set()
-            code = list(zip(addrs, insns))
-            targets = branch_targets(code, arm, labels) if jumps else None
-            for i, target in jumps:
-                # RISC-V's auipc tN must be followed by jr tN.
-                ok = arm or insns[i].split()[0] == "j" or (
-                    i + 1 < len(insns) and insns[i + 1].split() ==
-                    ["jr", insns[i].split(None, 1)[1].split(",")[0]])
-                if ok and targets is not None and \
-                        tail_call(code, i, frame, arm, targets):
-                    tails.add(target)
-                else:
-                    callees.add(target)
-            new = (frame, callees, indirect, tails - callees)
+            new = (prologue_frame(insns, arm), callees - {name}, indirect)
             if old is None or new[0] > old[0]:
                 funcs[name] = new
 
@@ -398,14 +296,10 @@ def disassemble(prefix, archive, arm, members=None):
         if m:
             section_fn = m.group(1)
             continue
-        m = re.match(r"^([0-9a-f]+) <([\w.$]+)>:$", line)
-        if m and m.group(2).startswith(".L"):
-            labels.add(int(m.group(1), 16))  # RISC-V keeps its local labels
         m = re.match(r"^[0-9a-f]+ <([\w.$]+)>:$", line)
         if m and not m.group(1).startswith(".L"):
             flush()
             name, insns, callees, indirect = q(m.group(1)), [], set(), False
-            addrs, jumps, labels = [], [], set()
             # picolibc labels cosf's code _cosf; its section says cosf.
             if section_fn and q(section_fn) != name:
                 aliases[name] = section_fn
@@ -416,19 +310,7 @@ def disassemble(prefix, archive, arm, members=None):
         m = CALL_RELOCS.search(line)
         if m:
             if not m.group(2).startswith(".L"):
-                # The relocation follows its instruction: a jump (b/b.w) is
-                # a tail call candidate, judged at flush().
-                parts = insns[-1].split(None, 1) if insns else [""]
-                op = parts[0]
-                rd = parts[1].split(",")[0] if len(parts) > 1 else ""
-                if (arm and m.group(1) in ARM_JUMP_RELOCS and
-                        op in ("b", "b.w")) or \
-                        (not arm and m.group(1).startswith("RISCV_CALL") and
-                         op == "auipc" and rd != "ra") or \
-                        (not arm and m.group(1) == "RISCV_JAL" and op == "j"):
-                    jumps.append((len(insns) - 1, q(m.group(2))))
-                else:
-                    callees.add(q(m.group(2)))
+                callees.add(q(m.group(2)))
             continue
         m = re.match(r"^\s+([0-9a-f]+):\s+(.*)$", line)
         if not m or m.group(2).startswith("R_"):
@@ -436,7 +318,6 @@ def disassemble(prefix, archive, arm, members=None):
         text = m.group(2).split(";")[0].split("#")[0].strip() \
             if not arm else m.group(2).split("@")[0].split(";")[0].strip()
         insns.append(text)
-        addrs.append(int(m.group(1), 16))
         parts = text.split(None, 1)
         op = parts[0] if parts else ""
         args = parts[1] if len(parts) > 1 else ""
@@ -444,13 +325,15 @@ def disassemble(prefix, archive, arm, members=None):
             if op == "blx" and re.match(r"^(r\d+|ip|lr|sl|fp)$", args):
                 indirect = True
             bm = re.match(r"^[0-9a-f]+ <([\w.$]+)>$", args)
-            if op in ("bl", "blx") and bm and q(bm.group(1)) != name:
+            if op in ("bl", "blx", "b", "b.w", "b.n") and bm and \
+                    not bm.group(1).startswith(".L"):
                 callees.add(q(bm.group(1)))
         else:
             if op in ("jalr", "c.jalr") and not args.startswith("ra"):
                 indirect = True
             bm = re.match(r"^(ra,)?[0-9a-f]+ <([\w.$]+)>$", args)
-            if op == "jal" and bm and q(bm.group(2)) != name:
+            if op in ("jal", "j") and bm and \
+                    not bm.group(2).startswith(".L"):
                 callees.add(q(bm.group(2)))
     flush()
     for a, n in aliases.items():
@@ -459,9 +342,9 @@ def disassemble(prefix, archive, arm, members=None):
 
 
 def libraries(build):
-    """The C library, libm and libgcc archives the minimal image linked."""
+    """The C library, libm and libgcc archives the minimal images linked."""
     libs = []
-    for line in open(os.path.join(build, "gf_fw_min.map")):
+    for line in open(os.path.join(build, "gf_fw_kf2_ekf3.map")):
         m = re.match(r"^LOAD (\S+/lib(c|m|gcc|c_nano|m_nano)\.a)$", line)
         if m and m.group(1) not in libs:
             libs.append(os.path.normpath(m.group(1)))
@@ -474,6 +357,8 @@ UNREACHABLE = {"__kernel_rem_pio2f"}
 
 
 def stack_report(prefix, build, exclude=frozenset()):
+    """({public function: (frame, depth, chain)}, notes): depth through the
+    deepest chain of calls and jumps, each on top of its caller's frame."""
     arm = prefix.startswith("arm")
     members = archive_members(prefix, build)
     su = read_su(build, members)
@@ -522,12 +407,7 @@ def stack_report(prefix, build, exclude=frozenset()):
         unknown.add(n)
         return 0
 
-    none = (0, set(), False, set())
-
-    def tails(n):
-        """Verified tail calls only (disassemble); .ci lists them as edges
-        too, so callees() leaves them out."""
-        return (core.get(n, none) if n in su else ext.get(n, none))[3]
+    none = (0, set(), False)
 
     def callees(n):
         c = set()
@@ -542,39 +422,33 @@ def stack_report(prefix, build, exclude=frozenset()):
             c |= linked(CALLBACKS.get(plain(n), ALL_MODELS))
         c.discard("__indirect_call")
         c = {x for x in c if not RISCV_SAVE.match(x)}  # in frame(n)
-        c -= tails(n)
         c.discard(n)
         return {x.replace("__builtin_", "") for x in c}
 
     memo = {}
 
     def depth(n, path=()):
-        """(depth, deepest callee, 1 if that is a tail call): frame(n) plus
-        the deepest ordinary call, or the deepest tail call if deeper (n's
-        frame is gone by then)."""
+        """(depth, deepest callee): frame(n) plus the deepest of what n
+        calls or jumps to."""
         if n in path:
             sys.exit("recursion: " + " -> ".join(path + (n,)))
         if n not in memo:
-            best, via, tail = frame(n), None, 0
+            best, via = frame(n), None
             for c in sorted(callees(n) - exclude):
                 d = frame(n) + depth(c, path + (n,))[0]
                 if d > best:
                     best, via = d, c
-            for c in sorted(tails(n) - exclude):
-                d = depth(c, path + (n,))[0]
-                if d > best:
-                    best, via, tail = d, c, 1
-            memo[n] = (best, via, tail)
+            memo[n] = (best, via)
         return memo[n]
 
     public = sorted(n for n in su if n.startswith("gf_"))
     rows = {}
     for n in public:
-        d, via, tail = depth(n)
+        d, via = depth(n)
         chain = plain(n)
         while via:
-            chain += (" ⇢ " if tail else " → ") + plain(via)
-            _, via, tail = memo[via]
+            chain += " → " + plain(via)
+            _, via = memo[via]
         rows[plain(n)] = (su[n], d, chain)
     return rows, mismatches, unknown, guessed
 
@@ -586,13 +460,21 @@ def image_sizes(prefix, elf):
     return int(text), int(data), int(bss)
 
 
+def flash(sizes):
+    """Flash of an image: text (and rodata) + the data's initial values."""
+    return sizes[0] + sizes[1]
+
+
+# Output sections that take no flash: not loaded, or zero-initialised RAM.
 NOT_LOADED = (".debug", ".comment", ".ARM.attributes", ".riscv.attributes",
-              ".stab", ".note", ".gnu")
+              ".stab", ".note", ".gnu", ".bss", ".sbss", ".tbss", ".noinit",
+              ".heap", ".stack")
 
 
-def map_breakdown(mapfile):
-    """Bytes per origin (core, libm, libc, libgcc, app) in the final image."""
-    acc = {}
+def map_sections(mapfile):
+    """The loaded input sections of an image: (address, size, origin), the
+    origin one of core, libm, libc, libgcc, app."""
+    out = []
     text = open(mapfile).read()
     text = text[text.index("Linker script and memory map"):]
     pending, out_sect = None, ""
@@ -612,13 +494,13 @@ def map_breakdown(mapfile):
             continue
         sect = m.group(1) or pending
         pending = None
-        size, origin = int(m.group(3), 16), m.group(4)
-        if not sect or size == 0 or out_sect.startswith(NOT_LOADED):
+        addr, size = int(m.group(2), 16), int(m.group(3), 16)
+        origin = m.group(4)
+        if not sect or size == 0 or sect == "COMMON" or \
+                out_sect.startswith(NOT_LOADED):
             continue
         if "libgaussfilt.a" in origin:
-            key = "gaussfilt"
-        elif "gf_fw_ref.dir" in origin:
-            key = "floor"  # bench/ref.c, in gf_fw_floor only
+            key = "core"
         elif re.search(r"/libm(_nano)?\.a\(", origin):
             key = "libm"
         elif re.search(r"/libgcc\.a\(", origin):
@@ -628,12 +510,54 @@ def map_breakdown(mapfile):
             key = "libm" if "libm_" in origin else "libc"
         else:
             key = "app"
+        out.append((addr, size, key))
+    return out
+
+
+def map_breakdown(mapfile):
+    """Bytes per origin (core, libm, libc, libgcc, app) in the image."""
+    acc = {}
+    for _, size, key in map_sections(mapfile):
         acc[key] = acc.get(key, 0) + size
     return acc
 
 
-def fmt_delta(b):
-    return f"{b} B ({b / 1024:.2f} KiB)"
+def image_symbols(prefix, build, img):
+    """{name: (size, origin)} of the sized symbols an image holds in
+    flash (code, constants, initialised data), link suffix _f32 dropped."""
+    elf = os.path.join(build, f"gf_fw_{img}.elf")
+    sections = map_sections(os.path.join(build, f"gf_fw_{img}.map"))
+    out = {}
+    for line in run([prefix + "nm", "-S", "--size-sort", elf]).splitlines():
+        parts = line.split()
+        if len(parts) != 4 or parts[2] not in "TtRrDdWw":
+            continue
+        addr, size, name = int(parts[0], 16), int(parts[1], 16), parts[3]
+        origin = next((k for a, s, k in sections if a <= addr < a + s), "?")
+        out[re.sub(r"_f32$", "", name)] = (size, origin)
+    return out
+
+
+def image_functions(prefix, build, img):
+    """The symbols an image adds to the base image: (name, size, origin);
+    main by how much it grew."""
+    base = image_symbols(prefix, build, "base")
+    syms = image_symbols(prefix, build, img)
+    out = {}
+    for n, (size, origin) in syms.items():
+        if n not in base:
+            out[n] = (size, origin)
+        elif n == "main" and size != base[n][0]:
+            out["main (the calls)"] = (size - base[n][0], "app")
+    return out
+
+
+def kib(b):
+    return f"{b / 1024:.2f} KiB"
+
+
+def fmt_b(b):
+    return f"{b:,} B"
 
 
 def report(root, build_root):
@@ -658,115 +582,138 @@ def report(root, build_root):
             "structs": struct_sizes(pfx, build),
             "stack": stack_report(pfx, build),
             "stack_reach": stack_report(pfx, build, UNREACHABLE),
-            "base": image_sizes(pfx, os.path.join(build, "gf_fw_base.elf")),
-            "min": image_sizes(pfx, os.path.join(build, "gf_fw_min.elf")),
-            "breakdown": map_breakdown(os.path.join(build, "gf_fw_min.map")),
-            "basebd": map_breakdown(os.path.join(build, "gf_fw_base.map")),
-            "syms": run([pfx + "nm", os.path.join(build, "gf_fw_min.elf")]),
-            "floor": image_sizes(pfx, os.path.join(build, "gf_fw_floor.elf")),
-            "floorbd": map_breakdown(os.path.join(build, "gf_fw_floor.map")),
+            "images": {img: image_sizes(pfx, os.path.join(
+                build, f"gf_fw_{img}.elf")) for img, _ in
+                [("base", "")] + IMAGES},
+            "bd": {img: map_breakdown(os.path.join(
+                build, f"gf_fw_{img}.map")) for img, _ in
+                [("base", "")] + IMAGES},
+            "syms": run([pfx + "nm", os.path.join(build,
+                                                  "gf_fw_kf2_ekf3.elf")]),
         }
-
-    # Targets.
     m4 = results["cortex-m4f"]
-    flash = lambda s: s[0] + s[1]  # noqa: E731  text (+rodata) + data copy
-    d_flash = flash(m4["min"]) - flash(m4["base"])
+    met = lambda ok: "**met**" if ok else "**NOT met**"  # noqa: E731
+
+    def delta(key, img):
+        ims = results[key]["images"]
+        return flash(ims[img]) - flash(ims["base"])
+
+    # Flash per image and target.
+    lines += ["Flash each minimal image adds to the base image "
+              "(`firmware/min_image.c`: init, predict, update and the cov "
+              "accessor of its filters, inputs and outputs volatile; the base "
+              "image has the same start-up and I/O and no filter), text + "
+              "data, C library, libm and libgcc included:", "",
+              "| image | " + " | ".join(results[k]["label"]
+                                        for k, _, _ in TARGETS) + " |",
+              "|---|" + "---|" * len(TARGETS)]
+    for img, label in IMAGES:
+        cells = []
+        for key, _, _ in TARGETS:
+            d = delta(key, img)
+            lim = FLASH_TARGETS.get((img, key))
+            cell = f"{fmt_b(d)} ({kib(d)})"
+            if lim is not None:
+                cell += f"; target {kib(lim)}: {met(d <= lim)}"
+            cells.append(cell)
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    lines.append(f"| base image (absolute) | " + " | ".join(
+        fmt_b(flash(results[k]["images"]["base"])) for k, _, _ in TARGETS)
+        + " |")
+    lines.append("")
+
+    lines += ["What the delta is made of, Cortex-M4F (bytes, from the link "
+              "map; per function: [where the flash goes](#where-the-flash-goes)):", "",
+              "| image | delta | core | libm | libc | libgcc | `main`'s calls "
+              "and models |", "|---|---|---|---|---|---|---|"]
+    for img, label in IMAGES:
+        bd, bb = m4["bd"][img], m4["bd"]["base"]
+        part = lambda k: bd.get(k, 0) - bb.get(k, 0)  # noqa: E731
+        lines.append(f"| {label} | {delta('cortex-m4f', img)} | "
+                     f"{part('core')} | {part('libm')} | {part('libc')} | "
+                     f"{part('libgcc')} | {part('app')} |")
+    lines.append("")
+
     dbl = sorted({ln.split()[-1] for ln in m4["syms"].splitlines()
                   if DOUBLE_SYMS.match(ln.split()[-1])})
-    kf2 = m4["structs"]["gf_kf2"]
-    ekf3 = m4["structs"]["gf_ekf3"]
-    # The stack budget holds for every public function of every module
-    # (KF2, EKF3, their helpers, and IF2, UKF3, PF3, the generator).
-    worst = max((d, n) for n, (_, d, _) in m4["stack"][0].items())
-    reach = max((d, n) for n, (_, d, _) in m4["stack_reach"][0].items())
-    met = lambda ok: "**met**" if ok else "**NOT met**"  # noqa: E731
-    # The hand-written checked sound floor in the filters' place
-    # (gf_fw_floor): its flash over the base image, and its own code (what
-    # the library's core code is to the library's image: bench/ref.c's
-    # functions and the library's built-in models and angle helpers it
-    # calls; main's calls and the C library excluded).
-    f_flash = flash(m4["floor"]) - flash(m4["base"])
-    fbd, bbd = m4["floorbd"], m4["basebd"]
-    f_own = fbd.get("floor", 0) + fbd.get("gaussfilt", 0) - \
-        bbd.get("gaussfilt", 0)
-    l_own = m4["breakdown"].get("gaussfilt", 0) - bbd.get("gaussfilt", 0)
-    side = lambda ok: "within" if ok else "above"  # noqa: E731
-    lines += [
-        "| target (Cortex-M4F, float, `-Os`) | limit | measured | |",
-        "|---|---|---|---|",
-        f"| KF2 + EKF3 image minus the same image without them (flash, "
-        f"libm included) | 6 KiB | {fmt_delta(d_flash)} | "
-        f"{met(d_flash <= IMAGE_LIMIT)} |",
-        f"| the same with the hand-written checked sound floor in the "
-        f"filters' place (`bench/ref.c`, below) | 6 KiB | "
-        f"{fmt_delta(f_flash)} | the floor is "
-        f"{side(f_flash <= IMAGE_LIMIT)} it |",
-        f"| the core's own code in that image (the library's: its objects; "
-        f"the floor's: `bench/ref.c`'s functions and the built-in models it "
-        f"calls) | 3 KiB | library {fmt_delta(l_own)}, floor "
-        f"{fmt_delta(f_own)} | {met(l_own <= CORE_LIMIT)}; the floor is "
-        f"{side(f_own <= CORE_LIMIT)} it |",
-        f"| one KF2 belief (`sizeof(gf_kf2)`) | 24 B | {kf2} B | "
-        f"{met(kf2 <= BELIEF_LIMITS['gf_kf2'])} |",
-        f"| one EKF3 belief (`sizeof(gf_ekf3)`) | 48 B | {ekf3} B | "
-        f"{met(ekf3 <= BELIEF_LIMITS['gf_ekf3'])} |",
-        f"| deepest public function, every module (built-in models) | 256 B "
-        f"| {worst[0]} B (`{worst[1]}`) | {met(worst[0] <= STACK_LIMIT)} |",
-        f"| the same, without newlib's large-argument path of sinf/cosf "
-        f"(`__kernel_rem_pio2f`, unreachable: the heading is wrapped to "
-        f"(-pi, pi]) | 256 B | {reach[0]} B (`{reach[1]}`) | "
-        f"{met(reach[0] <= STACK_LIMIT)} |",
-        "",
-        f"Double promoted in the float image: "
-        + (", ".join(f"`{s}`" for s in dbl) if dbl else "none (no double "
-           "libm function, no soft-double helper)") + ".",
-        "",
-    ]
+    lines += ["Double promoted in the float KF2 + EKF3 image (Cortex-M4F): "
+              + (", ".join(f"`{s}`" for s in dbl) if dbl else "none (no "
+                 "double libm function, no soft-double helper)") + ".", ""]
 
-    # Minimal images.
-    lines += ["Minimal images (`firmware/min_image.c`: one KF2 predict/update, "
-              "one EKF3 predict/update with the built-in models; the base "
-              "image has the same start-up and I/O, no filter), `-Os`. "
-              "Bytes:", "",
-              "| target | base flash | KF2+EKF3 flash | delta flash | delta RAM "
-              "| delta: core | libm | libc | libgcc |",
-              "|---|---|---|---|---|---|---|---|---|"]
-    for key, _, _ in TARGETS:
-        r = results[key]
-        df = flash(r["min"]) - flash(r["base"])
-        dr = (r["min"][1] + r["min"][2]) - (r["base"][1] + r["base"][2])
-        bd, bb = r["breakdown"], r["basebd"]
-        part = lambda k: bd.get(k, 0) - bb.get(k, 0)  # noqa: E731
-        lines.append(f"| {r['label']} | {flash(r['base'])} | {flash(r['min'])} "
-                     f"| {df} | {dr} | {part('gaussfilt')} | {part('libm')} "
-                     f"| {part('libc')} | {part('libgcc')} |")
+    # Stack.
+    lines += ["Stack: the deepest public function of every module (EKF3's "
+              "callbacks counted as the deepest built-in model), counted "
+              "with every jump as a call:", "",
+              "| target | limit | deepest public function | depth | | "
+              "functions over the limit |",
+              "|---|---|---|---|---|---|"]
+    for key, label, _ in TARGETS:
+        rows = results[key]["stack"][0]
+        lim = STACK_TARGETS[key]
+        d, n = max((d, n) for n, (_, d, _) in rows.items())
+        over = sorted(n for n, (_, dd, _) in rows.items() if dd > lim)
+        lines.append(f"| {label} | {lim} B | `{n}` | {d} B | {met(d <= lim)}"
+                     f" | " + (", ".join(f"`{o}` ({rows[o][1]})" for o in over)
+                               if over else "none") + " |")
     lines.append("")
+    reach = []
+    for key, label, _ in TARGETS:
+        full = results[key]["stack"][0]
+        part = results[key]["stack_reach"][0]
+        lim = STACK_TARGETS[key]
+        changed = sorted(n for n in full if part[n][1] != full[n][1])
+        if changed:
+            d, n = max((d, n) for n, (_, d, _) in part.items())
+            over = sorted(x for x, (_, dd, _) in part.items() if dd > lim)
+            reach.append(f"{label}: deepest `{n}` {d} B ({met(d <= lim)}), "
+                         f"over the limit: "
+                         + (", ".join(f"`{o}`" for o in over) if over
+                            else "none"))
+    if reach:
+        lines += ["The same without the large-argument path of the C "
+                  "library's sinf/cosf (`__kernel_rem_pio2f`, unreachable "
+                  "from the core: it wraps the heading to (-pi, pi] before "
+                  "it calls them): " + "; ".join(reach) + ".", ""]
 
-    # The floor's image.
-    lines += ["The checked sound floor's image (`firmware/min_image.c` with "
-              "`GF_FW_FLOOR`: the same calls, init, predict, update and cov "
-              "of KF2 and EKF3 with the built-in models, made to "
-              "`bench/ref.c`'s hand-written U D U^T steps with the checks the "
-              "plain API promises: the priors, R and Q judged and factored in "
-              "closed form, updates of m = 1 to 3 measured quantities "
-              "whitened by Q's factors, as the library's; and the "
-              "library's order of the factors and precision of the prior), "
-              "`-Os`, against the same base. Bytes:", "",
-              "| target | floor flash | delta flash | delta RAM "
-              "| delta: bench/ref.c | core (models, angles) | libm | libc "
-              "| libgcc | the library's delta flash |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
-    for key, _, _ in TARGETS:
-        r = results[key]
-        df = flash(r["floor"]) - flash(r["base"])
-        dr = (r["floor"][1] + r["floor"][2]) - (r["base"][1] + r["base"][2])
-        bd, bb = r["floorbd"], r["basebd"]
-        part = lambda k: bd.get(k, 0) - bb.get(k, 0)  # noqa: E731
-        lines.append(f"| {r['label']} | {flash(r['floor'])} | {df} | {dr} "
-                     f"| {part('floor')} | {part('gaussfilt')} "
-                     f"| {part('libm')} | {part('libc')} | {part('libgcc')} "
-                     f"| {flash(r['min']) - flash(r['base'])} |")
+    lines += ["Worst-case stack depth of every public function (bytes: own "
+              "frame from `-fstack-usage`; depth = frame + the deepest of "
+              "what the function calls or jumps to, libm, libc and libgcc "
+              "included, a jump counted like a call, its frame on top of the "
+              "caller's; **!**: over the target's limit). A user model adds "
+              "max(0, its own depth - the built-in's) to EKF3's steps.", "",
+              "| function | " + " | ".join(
+                  f"{results[k]['label']} frame / depth" for k, _, _ in TARGETS)
+              + " | deepest chain (Cortex-M4F) |",
+              "|---|" + "---|" * len(TARGETS) + "---|"]
+    for n in sorted(m4["stack"][0]):
+        cells = []
+        for key, _, _ in TARGETS:
+            f, d, _ = results[key]["stack"][0][n]
+            flag = " **!**" if d > STACK_TARGETS[key] else ""
+            cells.append(f"{f} / {d}{flag}")
+        chain = m4["stack"][0][n][2]
+        lines.append(f"| `{n}` | " + " | ".join(cells) + f" | {chain} |")
     lines.append("")
+    notes = []
+    for key, label, _ in TARGETS:
+        _, mism, unknown, guessed = results[key]["stack"]
+        if mism:
+            notes.append(f"{label}: prologue and .su disagree: "
+                         + "; ".join(mism) + ".")
+        if unknown:
+            notes.append(f"{label}: no frame found for "
+                         + ", ".join(sorted(unknown)) + " (counted as 0).")
+        if guessed:
+            notes.append(f"{label}: the indirect calls of "
+                         + ", ".join(f"`{g}`" for g in sorted(guessed))
+                         + " counted as the deepest built-in model.")
+    if not any(results[k]["stack"][1] or results[k]["stack"][2]
+               for k, _, _ in TARGETS):
+        notes.insert(0, "Cross-check: for every core function the frame read "
+                     "from the disassembly's prologue equals gcc's `.su` "
+                     "figure, on all three targets; every callee has a known "
+                     "frame.")
+    lines += ["Stack analysis notes: " + " ".join(notes), ""]
 
     # Modules.
     lines += ["Library objects, per module (bytes; `.data` and `.bss` must "
@@ -785,7 +732,8 @@ def report(root, build_root):
             else:
                 s = mods.get(mod, {"text": 0, "rodata": 0, "data": 0,
                                    "bss": 0})
-            cells.append(f"{s['text']} / {s['rodata']} / {s['data']} / {s['bss']}")
+            cells.append(f"{s['text']} / {s['rodata']} / {s['data']} / "
+                         f"{s['bss']}")
         name = f"`{mod}.c`" if mod != "total" else "**total**"
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     lines.append("")
@@ -793,72 +741,80 @@ def report(root, build_root):
     # Structs.
     lines += ["`sizeof` of the public structs (bytes, float build; the double "
               "build doubles every `gf_real`):", "",
-              "| struct | " + " | ".join(results[k]["label"] for k, _, _ in TARGETS) + " |",
+              "| struct | " + " | ".join(results[k]["label"]
+                                         for k, _, _ in TARGETS) + " |",
               "|---|" + "---|" * len(TARGETS)]
     for st in STRUCTS:
         lines.append(f"| `{st}` | " + " | ".join(
-            str(results[k]["structs"][st]) for k, _, _ in TARGETS) + " |")
-    lines.append("")
-
-    # Stack.
-    lines += ["Worst-case stack depth of every public function (bytes: own "
-              "frame from `-fstack-usage`, depth through the deepest call "
-              "chain, libm/libc/libgcc included). EKF3's callbacks are counted "
-              "as the deepest built-in model; a user model adds "
-              "max(0, its own depth - the built-in's) on top of the caller's "
-              "frame. A tail call (⇢ in the chains: on Arm a `b.w` with an "
-              "R_ARM_THM_JUMP24 relocation, on RISC-V `auipc tN` + `jr tN` "
-              "with R_RISCV_CALL_PLT or `j` with R_RISCV_JAL; accepted only "
-              "where the disassembly shows the caller's whole frame given back "
-              "right before the jump) runs after the caller's frame is "
-              "released: depth = max(frame + deepest call, deepest tail call). "
-              "Any other jump is counted like a call (its frame on top of the "
-              "caller's); Cortex-M0+ code has no tail calls to other "
-              "functions.", "",
-              "| function | " + " | ".join(
-                  f"{results[k]['label']} frame / depth" for k, _, _ in TARGETS)
-              + " | deepest chain (Cortex-M4F) |",
-              "|---|" + "---|" * len(TARGETS) + "---|"]
-    for n in sorted(m4["stack"][0]):
-        cells = []
-        for key, _, _ in TARGETS:
-            f, d, _ = results[key]["stack"][0][n]
-            flag = " **!**" if d > STACK_LIMIT else ""
-            cells.append(f"{f} / {d}{flag}")
-        chain = m4["stack"][0][n][2]
-        lines.append(f"| `{n}` | " + " | ".join(cells) + f" | {chain} |")
-    lines.append("")
-    notes = []
-    for key, label, _ in TARGETS:
-        _, mism, unknown, guessed = results[key]["stack"]
-        if mism:
-            notes.append(f"{label}: prologue and .su disagree: " + "; ".join(mism))
-        if unknown:
-            notes.append(f"{label}: no frame found for " + ", ".join(sorted(unknown))
-                         + " (counted as 0)")
-        if guessed:
-            notes.append(f"{label}: the indirect calls of "
-                         + ", ".join(f"`{g}`" for g in sorted(guessed))
-                         + " counted as the deepest built-in model.")
-    if notes:
-        lines += ["Stack analysis notes: " + " ".join(notes), ""]
-    else:
-        lines += ["Cross-check: for every core function the frame read from "
-                  "the disassembly's prologue equals gcc's `.su` figure, on "
-                  "all three targets; every callee has a known frame.", ""]
-    return "\n".join(lines)
+            str(results[k]["structs"].get(st, "-")) for k, _, _ in TARGETS)
+            + " |")
+    return "\n".join(lines) + "\n", functions_report(build_root, results)
 
 
-BEGIN = "<!-- firmware:footprint:begin -->"
-END = "<!-- firmware:footprint:end -->"
+def functions_report(build_root, results):
+    """The KF2-alone and EKF3-alone images on Cortex-M4F, function by
+    function: what each adds to the base image."""
+    pfx = "arm-none-eabi-"
+    build = os.path.join(build_root, "fw-cortex-m4f-float")
+    kf2 = image_functions(pfx, build, "kf2")
+    ekf3 = image_functions(pfx, build, "ekf3")
+    both = set(kf2) & set(ekf3)
+
+    def key(n):
+        size = max(kf2.get(n, (0,))[0], ekf3.get(n, (0,))[0])
+        return (n not in both, -size, n)
+
+    ims = results["cortex-m4f"]["images"]
+    d = {img: flash(ims[img]) - flash(ims["base"]) for img in ("kf2", "ekf3")}
+    lines = ["What the KF2-alone and EKF3-alone images add to the base image "
+             "on the Cortex-M4F, symbol by symbol (`nm --size-sort` of each "
+             "image, the symbols the base image does not have; bytes; "
+             "link suffix `_f32` dropped). Symbols in both images first: "
+             "the shared core and what it takes from the C library.", "",
+             "| symbol | from | KF2 alone | EKF3 alone |",
+             "|---|---|---|---|"]
+    for n in sorted(set(kf2) | set(ekf3), key=key):
+        origin = (kf2.get(n) or ekf3.get(n))[1]
+        cell = lambda t: str(t[n][0]) if n in t else ""  # noqa: E731
+        lines.append(f"| `{n}` | {origin} | {cell(kf2)} | {cell(ekf3)} |")
+    shared = {img: sum(t[n][0] for n in both if t[n][1] == "core")
+              for img, t in (("kf2", kf2), ("ekf3", ekf3))}
+    listed = {img: sum(s for s, _ in t.values())
+              for img, t in (("kf2", kf2), ("ekf3", ekf3))}
+    lines += [f"| **the core functions in both images** | core | "
+              f"{shared['kf2']} | {shared['ekf3']} |",
+              f"| **listed** | | {listed['kf2']} | {listed['ekf3']} |",
+              f"| alignment and unnamed constants | | "
+              f"{d['kf2'] - listed['kf2']} | {d['ekf3'] - listed['ekf3']} |",
+              f"| **delta flash** | | {d['kf2']} | {d['ekf3']} |", ""]
+    for img, label, t in (("kf2", "KF2 alone", kf2),
+                          ("ekf3", "EKF3 alone", ekf3)):
+        lim = FLASH_TARGETS[(img, "cortex-m4f")]
+        lines.append(f"- {label}: {d[img]} B against {lim} B: the core "
+                     f"functions it shares with the other image are "
+                     f"{shared[img]} B of it, "
+                     f"{100 * shared[img] / d[img]:.0f}%"
+                     + (f", {shared[img] - lim:+d} B against the target "
+                        "on their own." if shared[img] > lim else "."))
+    return "\n".join(lines) + "\n"
 
 
-def splice(doc, text):
+MARKERS = {
+    "footprint": ("<!-- firmware:footprint:begin -->",
+                  "<!-- firmware:footprint:end -->"),
+    "flash": ("<!-- firmware:flash:begin -->",
+              "<!-- firmware:flash:end -->"),
+}
+
+
+def splice(doc, parts):
     s = open(doc).read()
-    if BEGIN not in s or END not in s:
-        sys.exit(f"{doc}: no {BEGIN} / {END} lines")
-    block = f"{BEGIN}\n{text}\n{END}"
-    s = s[:s.index(BEGIN)] + block + s[s.index(END) + len(END):]
+    for name, text in parts.items():
+        begin, end = MARKERS[name]
+        if begin not in s or end not in s:
+            sys.exit(f"{doc}: no {begin} / {end} lines")
+        s = s[:s.index(begin)] + f"{begin}\n{text}{end}" + \
+            s[s.index(end) + len(end):]
     open(doc, "w").write(s)
 
 
@@ -868,10 +824,11 @@ def main():
     ap.add_argument("--docs", metavar="FILE")
     args = ap.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    text = report(root, args.build)
+    text, funcs = report(root, args.build)
     print(text)
+    print(funcs)
     if args.docs:
-        splice(args.docs, text)
+        splice(args.docs, {"footprint": text, "flash": funcs})
 
 
 if __name__ == "__main__":

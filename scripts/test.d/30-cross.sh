@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Cross-builds of the core, warnings as errors, for every firmware target
 # (Cortex-M4F, Cortex-M0+, RV32IMAFC) in float and double, and the link
-# check: a minimal image running KF2 and EKF3 pulls in no malloc, free,
-# printf or exit, and every link name carries the precision. The firmware
+# check: the minimal images (KF2, EKF3, gf_kf, KF2 + EKF3) pull in no
+# malloc, free, printf or exit, and every link name carries the precision. The firmware
 # project takes gaussfilt by add_subdirectory() and links no libm of its own:
 # the gaussfilt target brings it.
 #
