@@ -95,7 +95,8 @@ static int run_ekf3(void)
 
 #ifdef GF_FW_KF
 // A 2-D constant-velocity target, states (x, y, vx, vy), a step of 1 s,
-// its position measured.
+// its position measured. The matrices are laid out a row a line.
+// clang-format off
 static const gf_real kf_A[16] = {
     GF_R(1.0), GF_R(0.0), GF_R(1.0), GF_R(0.0),
     GF_R(0.0), GF_R(1.0), GF_R(0.0), GF_R(1.0),
@@ -114,6 +115,7 @@ static const gf_real kf_C[8] = {
     GF_R(0.0), GF_R(1.0), GF_R(0.0), GF_R(0.0),
 };
 static const gf_real kf_Q[4] = {GF_R(4.0), GF_R(0.0), GF_R(0.0), GF_R(4.0)};
+// clang-format on
 static const gf_kf_model kf_model = {
     .nu = 0, .A = kf_A, .B = 0, .R = kf_R, .c = 0};
 static const gf_kf_meas kf_meas = {
@@ -124,6 +126,7 @@ static gf_kf_work kf_work;
 static int run_kf(void)
 {
     gf_kf kf;
+    // clang-format off
     const gf_real mu0[4] = {GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(0.0)};
     const gf_real s0[16] = {
         GF_R(100.0), GF_R(0.0), GF_R(0.0), GF_R(0.0),
@@ -131,6 +134,7 @@ static int run_kf(void)
         GF_R(0.0), GF_R(0.0), GF_R(10.0), GF_R(0.0),
         GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(10.0),
     };
+    // clang-format on
     int st = (int)gf_kf_init(&kf, 4, mu0, s0, &kf_work);
     st |= (int)gf_kf_predict(&kf, &kf_model, 0, &kf_work);
     const gf_real z[2] = {gf_fw_in[2], gf_fw_in[3]};
