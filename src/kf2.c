@@ -108,8 +108,8 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
     return GF_OK;
 }
 
-// The correction once meas and z are checked, Q factored and C whitened
-// (q):
+// The correction with Q factored and C whitened (q: a prepared model's;
+// NULL: meas and z are checked and q made here, as EKF3's update does):
 //   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
@@ -117,6 +117,14 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
                                  const gf_kf2_qfactors *q, const gf_vec2 *z,
                                  gf_innovation *info)
 {
+    gf_kf2_qfactors own;
+    if (!q) {
+        const gf_status cst = kf2_meas_check(meas, z, &own);
+        if (cst != GF_OK) {
+            return cst;
+        }
+        q = &own;
+    }
     const unsigned m = meas->m;
     gf_innovation in = {m, {0, 0, 0}, 0};
     gf_real yw[2];
@@ -159,9 +167,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_kf2_qfactors q;
-    const gf_status st = kf2_meas_check(meas, z, &q);
-    return st != GF_OK ? st : kf2_update_step(kf, meas, &q, z, info);
+    return kf2_update_step(kf, meas, NULL, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
