@@ -10,6 +10,8 @@
 // exact for the small k that occur here.
 #include "gaussfilt/mat.h"
 
+#include "gf_internal.h"
+
 #ifdef GF_SINGLE_PRECISION
 #define MAGIC GF_R(12582912.0)    // 1.5 * 2^23
 #define TURNS_MAX GF_R(4194304.0) // 2^22

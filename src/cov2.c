@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/cov2.h"
 
+#include "gf_internal.h"
+
 gf_status gf_cov2_correlation(const gf_mat2 *s, gf_real *rho)
 {
     if (!s || !rho) {

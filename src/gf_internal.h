@@ -6,6 +6,18 @@
 #ifndef GAUSSFILT_SRC_INTERNAL_H
 #define GAUSSFILT_SRC_INTERNAL_H
 
+// No product and sum of the core is fused into one rounding, whatever the
+// build's flags: the factorisation computes rounding errors exactly, and
+// the same bits on every target need the same roundings. Every source of
+// the core includes this header directly (scripts/check-includes). (gcc ignores the standard pragma and
+// takes its own; clang takes the standard one, except under
+// -ffp-contract=fast, which overrides every pragma: docs/firmware.md.)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off")
+#else
+#pragma STDC FP_CONTRACT OFF
+#endif
+
 #include <stddef.h>
 
 #include "gaussfilt/mat.h"

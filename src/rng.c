@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/rng.h"
 
+#include "gf_internal.h"
+
 static uint32_t rotl(uint32_t x, unsigned k)
 {
     return (x << k) | (x >> (32u - k));

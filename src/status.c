@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "gaussfilt/status.h"
 
+#include "gf_internal.h"
+
 const char *gf_status_str(gf_status status)
 {
     switch (status) {
