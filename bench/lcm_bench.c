@@ -78,8 +78,9 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
     int64_t t = now_ns();
     gaussfilt_lcm_belief_t b;
     if (gaussfilt_lcm_belief_t_decode(rbuf->data, 0, (int)rbuf->data_size, &b) <
-        0)
+        0) {
         return;
+    }
     r->beliefs++;
     int k = b.track - r->first;
     int64_t input_seq = b.input_seq;
@@ -101,8 +102,9 @@ typedef struct rx_arg {
 static void *rx_thread(void *p)
 {
     rx_arg *a = p;
-    while (!a->r->stop)
+    while (!a->r->stop) {
         lcm_handle_timeout(a->lcm, 50);
+    }
     return NULL;
 }
 
@@ -128,30 +130,31 @@ int main(int argc, char **argv)
     gf_rt rt = {-1, -1, 0, 0, 0, 0, 0};
     char placement[96];
     for (i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--url") == 0)
+        if (strcmp(argv[i], "--url") == 0) {
             url = argv[i + 1];
-        else if (strcmp(argv[i], "--belief-url") == 0)
+        } else if (strcmp(argv[i], "--belief-url") == 0) {
             burl = argv[i + 1];
-        else if (strcmp(argv[i], "--rate") == 0)
+        } else if (strcmp(argv[i], "--rate") == 0) {
             rate = atof(argv[i + 1]);
-        else if (strcmp(argv[i], "--seconds") == 0)
+        } else if (strcmp(argv[i], "--seconds") == 0) {
             seconds = atof(argv[i + 1]);
-        else if (strcmp(argv[i], "--tracks") == 0)
+        } else if (strcmp(argv[i], "--tracks") == 0) {
             tracks = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--first") == 0)
+        } else if (strcmp(argv[i], "--first") == 0) {
             first = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--tick") == 0)
+        } else if (strcmp(argv[i], "--tick") == 0) {
             tick_min = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--cpu") == 0)
+        } else if (strcmp(argv[i], "--cpu") == 0) {
             rt.cpu = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--rx-cpu") == 0)
+        } else if (strcmp(argv[i], "--rx-cpu") == 0) {
             rt.rx_cpu = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--rt") == 0)
+        } else if (strcmp(argv[i], "--rt") == 0) {
             rt.prio = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--dump") == 0)
+        } else if (strcmp(argv[i], "--dump") == 0) {
             dump = argv[i + 1];
-        else
+        } else {
             break;
+        }
     }
     if (i != argc || !url || rate < 0 || seconds <= 0 || tracks < 1 ||
         tracks > MAX_TRACKS || tick_min < 0) {
@@ -188,15 +191,17 @@ int main(int argc, char **argv)
     lcm_subscription_set_queue_capacity(s, 1 << 20);
     rx_arg ra = {sub, &r};
     pthread_t th;
-    if (pthread_create(&th, NULL, rx_thread, &ra) != 0)
+    if (pthread_create(&th, NULL, rx_thread, &ra) != 0) {
         return 1;
+    }
     gf_rt_pin_main(&rt, "gf_lcmbench"); // after: the receivers keep rx_cpu
     gf_rt_describe(&rt, placement, sizeof placement);
 
     uint8_t buf[512];
     char ch[MAX_TRACKS][32];
-    for (i = 0; i < tracks; i++)
+    for (i = 0; i < tracks; i++) {
         snprintf(ch[i], sizeof ch[i], "GF_MEAS_%d", first + i);
+    }
     gaussfilt_lcm_measurement_t m;
     double z0 = 0.0, q00 = 10.0, *q0 = &q00; // m = 1: z[1], q[1][1]
     memset(&m, 0, sizeof m);
@@ -216,8 +221,9 @@ int main(int argc, char **argv)
     long sent = 0, seq = 0, pub_fail = 0;
     for (;;) {
         int64_t t = now_ns();
-        if (t >= t_end || seq >= r.per_track - 1)
+        if (t >= t_end || seq >= r.per_track - 1) {
             break;
+        }
         if (period > 0) {
             long due = (long)((double)(t - t0) / period) + 1;
             if (sent >= due) {
@@ -236,8 +242,9 @@ int main(int argc, char **argv)
             }
         }
         int k = (int)(sent % tracks);
-        if (k == 0)
+        if (k == 0) {
             seq++;
+        }
         m.track = first + k;
         m.seq = seq;
         m.utime = seq * 10000; // 100 Hz in simulated time
@@ -245,8 +252,9 @@ int main(int argc, char **argv)
         int len = gaussfilt_lcm_measurement_t_encode(buf, 0, sizeof buf, &m);
         int64_t tp = now_ns();
         r.t_pub[(long)k * r.per_track + (seq - 1)] = tp;
-        if (lcm_publish(pub, ch[k], buf, (unsigned)len) != 0)
+        if (lcm_publish(pub, ch[k], buf, (unsigned)len) != 0) {
             pub_fail++;
+        }
         pub_cost[sent] = now_ns() - tp; // sent < per_track * tracks
         sent++;
     }
@@ -260,24 +268,28 @@ int main(int argc, char **argv)
     int64_t *lat = malloc((size_t)(sent + 1) * sizeof(int64_t));
     int64_t *llat = malloc((size_t)(sent + 1) * sizeof(int64_t));
     FILE *df = dump ? fopen(dump, "w") : NULL;
-    if (!lat || !llat || (dump && !df))
+    if (!lat || !llat || (dump && !df)) {
         return 1;
+    }
     for (int k = 0; k < tracks; k++) {
         for (long q = 0; q < r.per_track; q++) {
             long idx = (long)k * r.per_track + q;
-            if (!r.t_pub[idx] || !r.t_rx[idx])
+            if (!r.t_pub[idx] || !r.t_rx[idx]) {
                 continue;
+            }
             llat[matched] = r.t_lcm[idx] - r.t_pub[idx];
             lat[matched] = r.t_rx[idx] - r.t_pub[idx];
-            if (df)
+            if (df) {
                 fprintf(
                     df, "%.1f %.1f %.1f\n", (double)(r.t_pub[idx] - t0) / 1e3,
                     (double)lat[matched] / 1e3, (double)llat[matched] / 1e3);
+            }
             matched++;
         }
     }
-    if (df)
+    if (df) {
         fclose(df);
+    }
     qsort(lat, (size_t)matched, sizeof(int64_t), cmp_i64);
     qsort(llat, (size_t)matched, sizeof(int64_t), cmp_i64);
     qsort(pub_cost, (size_t)sent, sizeof(int64_t), cmp_i64);
@@ -286,19 +298,22 @@ int main(int argc, char **argv)
            "seconds=%.3f rate=%.0f beliefs=%lu matched=%ld lost=%ld",
            rate, sent, pub_fail, secs, (double)sent / secs, r.beliefs, matched,
            sent - matched);
-    if (matched > 0)
+    if (matched > 0) {
         printf(" p50_us=%.1f p99_us=%.1f max_us=%.1f",
                (double)lat[matched / 2] / 1e3,
                (double)lat[(long)((double)matched * 0.99)] / 1e3,
                (double)lat[matched - 1] / 1e3);
-    if (matched > 0)
+    }
+    if (matched > 0) {
         printf(" lcm_rx_p50_us=%.1f lcm_rx_p99_us=%.1f",
                (double)llat[matched / 2] / 1e3,
                (double)llat[(long)((double)matched * 0.99)] / 1e3);
-    if (sent > 0)
+    }
+    if (sent > 0) {
         printf(" publish_p50_us=%.1f publish_p99_us=%.1f",
                (double)pub_cost[sent / 2] / 1e3,
                (double)pub_cost[(long)((double)sent * 0.99)] / 1e3);
+    }
     printf(" tick_ns=%lld %s\n", (long long)tick, placement);
     free(lat);
     free(llat);

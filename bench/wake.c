@@ -32,9 +32,11 @@ static void *ponger(void *arg)
     char c;
     gf_rt rt = {p->cpu, -1, 50, 0, 0, 0, 0}; // the calling thread only
     (void)gf_rt_setup(&rt, "gf_wake");
-    for (int i = 0; i < p->rounds; i++)
-        if (read(p->in, &c, 1) != 1 || write(p->out, &c, 1) != 1)
+    for (int i = 0; i < p->rounds; i++) {
+        if (read(p->in, &c, 1) != 1 || write(p->out, &c, 1) != 1) {
             return NULL;
+        }
+    }
     return NULL;
 }
 
@@ -48,12 +50,14 @@ static int measure(int cpu, int idle_us, int rounds, long *rt, char *placed,
                    size_t len)
 {
     int a2b[2], b2a[2];
-    if (pipe(a2b) != 0 || pipe(b2a) != 0)
+    if (pipe(a2b) != 0 || pipe(b2a) != 0) {
         return -1;
+    }
     pong p = {a2b[0], b2a[1], cpu, rounds};
     pthread_t th;
-    if (pthread_create(&th, NULL, ponger, &p) != 0)
+    if (pthread_create(&th, NULL, ponger, &p) != 0) {
         return -1;
+    }
     gf_rt me = {0, -1, 40, 0, 0, 0, 0};
     (void)gf_rt_setup(&me, "gf_wake");
     gf_rt_describe(&me, placed, len);
@@ -62,12 +66,14 @@ static int measure(int cpu, int idle_us, int rounds, long *rt, char *placed,
     for (int i = 0; i < rounds; i++) {
         struct timespec t0, t1;
         clock_gettime(CLOCK_MONOTONIC, &t0);
-        if (write(a2b[1], &c, 1) != 1 || read(b2a[0], &c, 1) != 1)
+        if (write(a2b[1], &c, 1) != 1 || read(b2a[0], &c, 1) != 1) {
             return -1;
+        }
         clock_gettime(CLOCK_MONOTONIC, &t1);
         rt[i] = (t1.tv_sec - t0.tv_sec) * 1000000000L + t1.tv_nsec - t0.tv_nsec;
-        if (idle_us > 0)
+        if (idle_us > 0) {
             nanosleep(&gap, NULL);
+        }
     }
     pthread_join(th, NULL);
     close(a2b[0]), close(a2b[1]), close(b2a[0]), close(b2a[1]);
@@ -84,8 +90,9 @@ int main(int argc, char **argv)
         return 2;
     }
     long *rt = malloc(sizeof *rt * (size_t)rounds);
-    if (!rt)
+    if (!rt) {
         return 1;
+    }
     char placed[64] = "";
     for (int cpu = ncpu > 1 ? 1 : 0; cpu >= 0; cpu--) {
         for (int idle = 0; idle <= 200; idle += 200) {

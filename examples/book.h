@@ -75,8 +75,9 @@ static inline int gf_book_option(gf_book *b, int argc, char **argv, int *i)
     char *end = NULL;
     double x;
     if (strcmp(o, "--meas-var") != 0 && strcmp(o, "--z") != 0 &&
-        strcmp(o, "--steps") != 0 && strcmp(o, "--heading-var") != 0)
+        strcmp(o, "--steps") != 0 && strcmp(o, "--heading-var") != 0) {
         return 0;
+    }
     if (v == NULL) {
         fprintf(stderr, "%s needs a value\n", o);
         return -1;
@@ -119,19 +120,23 @@ static inline int gf_book_differs(const gf_book *b, const char *table,
             n += (size_t)snprintf(out + n, size - n, __VA_ARGS__);             \
     } while (0)
     if (strcmp(table, "2.1") == 0) {
-        if (gf_book_changed(b->ex2_q, GF_BOOK_EX2_Q))
+        if (gf_book_changed(b->ex2_q, GF_BOOK_EX2_Q)) {
             GF_BOOK_ADD("%s--meas-var %g (the book: %g)", n ? ", " : "",
                         b->ex2_q, GF_BOOK_EX2_Q);
-        if (gf_book_changed(b->ex2_z, GF_BOOK_EX2_Z))
+        }
+        if (gf_book_changed(b->ex2_z, GF_BOOK_EX2_Z)) {
             GF_BOOK_ADD("%s--z %g (the book: %g)", n ? ", " : "", b->ex2_z,
                         GF_BOOK_EX2_Z);
-        if (b->ex2_steps != GF_BOOK_EX2_STEPS)
+        }
+        if (b->ex2_steps != GF_BOOK_EX2_STEPS) {
             GF_BOOK_ADD("%s--steps %d (the book: %d)", n ? ", " : "",
                         b->ex2_steps, GF_BOOK_EX2_STEPS);
+        }
     } else if (strcmp(table, "4.2") == 0) {
-        if (gf_book_changed(b->ex4_heading_var, GF_BOOK_EX4_HEADING_VAR))
+        if (gf_book_changed(b->ex4_heading_var, GF_BOOK_EX4_HEADING_VAR)) {
             GF_BOOK_ADD("--heading-var %g (the book: %g)", b->ex4_heading_var,
                         GF_BOOK_EX4_HEADING_VAR);
+        }
     }
 #undef GF_BOOK_ADD
     return n > 0;

@@ -29,15 +29,19 @@ static void put_belief(int track, int seq, int stage, int n, const gf_real *mu,
                        const gf_real *sigma, int stride)
 {
     int i, j;
-    if (g_beliefs == NULL)
+    if (g_beliefs == NULL) {
         return;
+    }
     fprintf(g_beliefs, "%d %d %d %d", track, seq, stage, n);
-    for (i = 0; i < 3; i++)
+    for (i = 0; i < 3; i++) {
         fprintf(g_beliefs, " %.17g", i < n ? (double)mu[i] : 0.0);
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
             fprintf(g_beliefs, " %.17g",
                     i < n && j < n ? (double)sigma[i * stride + j] : 0.0);
+        }
+    }
     fprintf(g_beliefs, "\n");
 }
 
@@ -145,8 +149,9 @@ int main(int argc, char **argv)
     const char *beliefs_path = NULL;
     for (int i = 1; i < argc;) {
         int r = gf_book_option(&book, argc, argv, &i);
-        if (r < 0)
+        if (r < 0) {
             return 2;
+        }
         if (r == 0 && strcmp(argv[i], "--beliefs") == 0 && i + 1 < argc) {
             beliefs_path = argv[i + 1];
             i += 2;

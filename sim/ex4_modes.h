@@ -62,10 +62,12 @@ static inline gf_ex4_half gf_ex4_half_plane(const float *x, const float *y,
     gf_ex4_half h = {0, 0, 0, 0, 0};
     double total = 0, best = -1;
     int k;
-    for (k = 0; k < count; k++)
+    for (k = 0; k < count; k++) {
         total += (double)w[k];
-    if (!(total > 0))
+    }
+    if (!(total > 0)) {
         return h;
+    }
     for (k = 0; k < count; k++) {
         if (sign * (double)y[k] > 0) {
             double d =
@@ -96,8 +98,9 @@ static inline double gf_ex4_mass_near(const float *x, const float *y,
     int k;
     for (k = 0; k < count; k++) {
         total += (double)w[k];
-        if (hypot((double)x[k] - px, (double)y[k] - py) < r)
+        if (hypot((double)x[k] - px, (double)y[k] - py) < r) {
             near += (double)w[k];
+        }
     }
     return total > 0 ? near / total : 1.0;
 }

@@ -84,12 +84,15 @@ static void print_belief(const gf_wire_belief *b)
 {
     int i, j;
     printf("mu = (");
-    for (i = 0; i < b->n; i++)
+    for (i = 0; i < b->n; i++) {
         printf("%s%9.4f", i ? " " : "", b->mean[i]);
+    }
     printf(")  Sigma = (");
-    for (i = 0; i < b->n; i++)
-        for (j = 0; j < b->n; j++)
+    for (i = 0; i < b->n; i++) {
+        for (j = 0; j < b->n; j++) {
             printf("%s%10.4f", j ? " " : (i ? "; " : ""), b->cov[i][j]);
+        }
+    }
     printf(")");
 }
 
@@ -99,8 +102,9 @@ static int compare(const gf_wire_belief *b, const want *w)
     int i, j, ok = b->status == 0 && b->stage == w->stage && b->n == w->n;
     for (i = 0; i < w->n; i++) {
         ok &= close_to(b->mean[i], w->mean[i], TOL);
-        for (j = 0; j < w->n; j++)
+        for (j = 0; j < w->n; j++) {
             ok &= close_to(b->cov[i][j], w->cov[i][j], TOL);
+        }
     }
     return ok;
 }
@@ -131,8 +135,9 @@ static int run_rows(const check *c, const want *w, const int *seq, int rows)
                 x.n = (int8_t)w[r].n;
                 for (i = 0; i < w[r].n; i++) {
                     x.mean[i] = w[r].mean[i];
-                    for (j = 0; j < w[r].n; j++)
+                    for (j = 0; j < w[r].n; j++) {
                         x.cov[i][j] = w[r].cov[i][j];
+                    }
                 }
                 print_belief(&x);
             }
@@ -187,25 +192,31 @@ static int table_1_1(const check *c)
         sr = gf_cov2_correlation(&m, &rho);
         se = gf_cov2_ellipse(&m, GF_R(0.68), &e);
         printf("  t = %2d  rho = ", t);
-        if (sr == GF_OK)
+        if (sr == GF_OK) {
             printf("%.4f", (double)rho);
-        else
+        } else {
             printf("%s", gf_status_str(sr));
-        if (se == GF_OK)
+        }
+        if (se == GF_OK) {
             printf("   ellipse a = %.3f b = %.3f angle = %.1f deg\n",
                    (double)e.a, (double)e.b,
                    (double)e.angle * 180.0 / 3.14159265358979323846);
-        else
+        } else {
             printf("   ellipse %s\n", gf_status_str(se));
-        if (t == 0 && sr != GF_ERR_UNDEFINED)
+        }
+        if (t == 0 && sr != GF_ERR_UNDEFINED) {
             fails++; // rho_0 is undefined: both variances are zero
-        if (t == 1 && !(sr == GF_OK && close_to((double)rho, 1.0, TOL)))
+        }
+        if (t == 1 && !(sr == GF_OK && close_to((double)rho, 1.0, TOL))) {
             fails++;
-        if (t == 10 && !(sr == GF_OK && fabs((double)rho - 0.87) <= 0.005))
+        }
+        if (t == 10 && !(sr == GF_OK && fabs((double)rho - 0.87) <= 0.005)) {
             fails++;
+        }
     }
-    if (c->count < 11)
+    if (c->count < 11) {
         fails++;
+    }
     printf("  worked: rho starts at 1 (t = 1) and converges to 0.87 "
            "(sqrt(3)/2 = 0.866)\n");
     return fails;
@@ -330,22 +341,24 @@ int main(int argc, char **argv)
 
     gf_help(argc, argv, help_text);
     for (i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--url") == 0)
+        if (strcmp(argv[i], "--url") == 0) {
             url = argv[i + 1];
-        else if (strcmp(argv[i], "--table") == 0)
+        } else if (strcmp(argv[i], "--table") == 0) {
             table = argv[i + 1];
-        else if (strcmp(argv[i], "--track") == 0)
+        } else if (strcmp(argv[i], "--track") == 0) {
             track = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--count") == 0)
+        } else if (strcmp(argv[i], "--count") == 0) {
             need = atoi(argv[i + 1]);
-        else if (strcmp(argv[i], "--timeout-ms") == 0)
+        } else if (strcmp(argv[i], "--timeout-ms") == 0) {
             timeout_ms = atol(argv[i + 1]);
-        else {
+        } else {
             int k = i, r = gf_book_option(&book, argc, argv, &k);
-            if (r < 0)
+            if (r < 0) {
                 return 2;
-            if (r == 0)
+            }
+            if (r == 0) {
                 break;
+            }
         }
     }
     if (i != argc || (table == NULL) == (need <= 0)) {
@@ -354,19 +367,20 @@ int main(int argc, char **argv)
         return 2;
     }
     if (table != NULL) {
-        if (strcmp(table, "1.1") == 0)
+        if (strcmp(table, "1.1") == 0) {
             need = 11;
-        else if (strcmp(table, "2.1") == 0)
+        } else if (strcmp(table, "2.1") == 0) {
             need = book.ex2_steps + 2;
-        else if (strcmp(table, "4.2") == 0)
+        } else if (strcmp(table, "4.2") == 0) {
             need = 3;
-        else {
+        } else {
             fprintf(stderr, "gf_check: no table %s\n", table);
             return 2;
         }
     }
-    if (need > MAX_BELIEFS)
+    if (need > MAX_BELIEFS) {
         need = MAX_BELIEFS;
+    }
 
     lcm = lcm_create(url);
     if (lcm == NULL) {
@@ -381,8 +395,9 @@ int main(int argc, char **argv)
     fflush(stdout);
 
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    while (c.count < need && elapsed_ms(&t0) < timeout_ms)
+    while (c.count < need && elapsed_ms(&t0) < timeout_ms) {
         lcm_handle_timeout(lcm, 50);
+    }
     lcm_destroy(lcm);
 
     if (c.count < need) {
@@ -392,8 +407,9 @@ int main(int argc, char **argv)
     }
     if (table == NULL) {
         for (i = 0; i < MAX_BELIEFS; i++) {
-            if (!c.have[i])
+            if (!c.have[i]) {
                 continue;
+            }
             printf("  seq %d stage %d status %d: ", i, c.b[i].stage,
                    c.b[i].status);
             print_belief(&c.b[i]);
@@ -403,16 +419,18 @@ int main(int argc, char **argv)
         return 0;
     }
     gf_book_differs(&book, table, g_differs, sizeof g_differs);
-    if (g_differs[0] != '\0')
+    if (g_differs[0] != '\0') {
         printf("Table %s differs from the book because of %s: checked "
                "against what these numbers give\n",
                table, g_differs);
-    if (strcmp(table, "1.1") == 0)
+    }
+    if (strcmp(table, "1.1") == 0) {
         fails = table_1_1(&c);
-    else if (strcmp(table, "2.1") == 0)
+    } else if (strcmp(table, "2.1") == 0) {
         fails = table_2_1(&c, &book);
-    else
+    } else {
         fails = table_4_2(&c, &book);
+    }
     printf("gf_check: Table %s %s (%d mismatches)%s%s\n", table,
            fails ? "FAILED" : "reproduced from the wire", fails,
            g_differs[0] ? "; differs from the book because of " : "",

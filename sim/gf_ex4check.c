@@ -153,22 +153,24 @@ int main(int argc, char **argv)
     double timeout = 10000, t0;
     int i, f, fails;
     lcm_t *lcm;
-    for (f = 0; f < NFILTERS; f++)
+    for (f = 0; f < NFILTERS; f++) {
         s.track[f] = -1;
+    }
     gf_help(argc, argv, help_text);
     for (i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--ekf") == 0)
+        if (strcmp(argv[i], "--ekf") == 0) {
             s.track[EKF] = (int32_t)atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--ukf") == 0)
+        } else if (strcmp(argv[i], "--ukf") == 0) {
             s.track[UKF] = (int32_t)atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--pf") == 0)
+        } else if (strcmp(argv[i], "--pf") == 0) {
             s.track[PF] = (int32_t)atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--url") == 0)
+        } else if (strcmp(argv[i], "--url") == 0) {
             url = argv[i + 1];
-        else if (strcmp(argv[i], "--timeout-ms") == 0)
+        } else if (strcmp(argv[i], "--timeout-ms") == 0) {
             timeout = atof(argv[i + 1]);
-        else
+        } else {
             break;
+        }
     }
     if (i != argc || s.track[EKF] < 0 || s.track[UKF] < 0 || s.track[PF] < 0) {
         fprintf(stderr, "usage: gf_ex4check --ekf N --ukf N --pf N [--url "
@@ -190,8 +192,9 @@ int main(int argc, char **argv)
     fflush(stdout);
     t0 = now_ms();
     while (!complete(&s) && now_ms() - t0 < timeout) {
-        if (lcm_handle_timeout(lcm, 100) < 0)
+        if (lcm_handle_timeout(lcm, 100) < 0) {
             break;
+        }
     }
     lcm_destroy(lcm);
     if (!complete(&s)) {

@@ -14,11 +14,12 @@
 static inline void gf_help(int argc, char **argv, const char *text)
 {
     int i;
-    for (i = 1; i < argc; i++)
+    for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(text, stdout);
             exit(0);
         }
+    }
 }
 
 #endif

@@ -56,11 +56,13 @@ static inline int gf_inq_init(gf_inq *q, unsigned max_count, int block)
 {
     memset(q, 0, sizeof(*q));
     q->cap = (size_t)max_count * GF_INQ_BYTES_PER_MSG;
-    if (q->cap < 2 * (sizeof(gf_inq_entry) + 256 + GF_INQ_MAX_DATA))
+    if (q->cap < 2 * (sizeof(gf_inq_entry) + 256 + GF_INQ_MAX_DATA)) {
         q->cap = 2 * (sizeof(gf_inq_entry) + 256 + GF_INQ_MAX_DATA);
+    }
     q->buf = (uint8_t *)malloc(q->cap);
-    if (q->buf == NULL)
+    if (q->buf == NULL) {
         return -1;
+    }
     memset(q->buf, 0, q->cap); // resident from the start
     q->max_count = max_count;
     q->block = block;
@@ -85,22 +87,25 @@ static inline void gf_inq_free(gf_inq *q)
 static inline uint8_t *gf_inq_room(gf_inq *q, size_t s)
 {
     uint8_t *p;
-    if (q->count >= q->max_count)
+    if (q->count >= q->max_count) {
         return NULL;
+    }
     if (q->wrap == GF_INQ_NO_WRAP) {
         if (q->cap - q->tail >= s) {
             p = q->buf + q->tail;
             q->tail += s;
             return p;
         }
-        if (s > q->head)
+        if (s > q->head) {
             return NULL;
+        }
         q->wrap = q->tail;
         q->tail = s;
         return q->buf;
     }
-    if (q->head - q->tail < s)
+    if (q->head - q->tail < s) {
         return NULL;
+    }
     p = q->buf + q->tail;
     q->tail += s;
     return p;
@@ -114,8 +119,9 @@ static inline int gf_inq_push(gf_inq *q, const char *channel, const void *data,
     int keep = len <= GF_INQ_MAX_DATA;
     uint8_t *p;
     gf_inq_entry e;
-    if (chlen > 255)
+    if (chlen > 255) {
         chlen = 255;
+    }
     s = sizeof(gf_inq_entry) + chlen + 1 + (keep ? len : 0);
     s = (s + 7u) & ~(size_t)7u;
     pthread_mutex_lock(&q->mu);
@@ -136,11 +142,13 @@ static inline int gf_inq_push(gf_inq *q, const char *channel, const void *data,
     memcpy(p, &e, sizeof e);
     memcpy(p + sizeof e, channel, chlen);
     p[sizeof e + chlen] = '\0';
-    if (keep && len > 0)
+    if (keep && len > 0) {
         memcpy(p + sizeof e + chlen + 1, data, len);
+    }
     q->count++;
-    if (q->count > q->peak)
+    if (q->count > q->peak) {
         q->peak = q->count;
+    }
     pthread_cond_signal(&q->nonempty);
     pthread_mutex_unlock(&q->mu);
     return 0;
@@ -152,8 +160,9 @@ static inline const gf_inq_entry *gf_inq_peek(gf_inq *q)
 {
     const gf_inq_entry *e;
     pthread_mutex_lock(&q->mu);
-    while (q->count == 0 && !q->closed)
+    while (q->count == 0 && !q->closed) {
         pthread_cond_wait(&q->nonempty, &q->mu);
+    }
     if (q->count == 0) {
         pthread_mutex_unlock(&q->mu);
         return NULL;
@@ -176,8 +185,9 @@ static inline void gf_inq_release(gf_inq *q, const gf_inq_entry *e)
         q->head = 0;
         q->wrap = GF_INQ_NO_WRAP;
     }
-    if (q->count == 0 && q->wrap == GF_INQ_NO_WRAP)
+    if (q->count == 0 && q->wrap == GF_INQ_NO_WRAP) {
         q->head = q->tail = 0;
+    }
     pthread_cond_signal(&q->nonfull);
     pthread_mutex_unlock(&q->mu);
 }

@@ -20,8 +20,9 @@ static lcm_eventlog_event_t *next(lcm_eventlog_t *log, const char *prefix)
 {
     lcm_eventlog_event_t *e;
     while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
-        if (strncmp(e->channel, prefix, strlen(prefix)) == 0)
+        if (strncmp(e->channel, prefix, strlen(prefix)) == 0) {
             return e;
+        }
         lcm_eventlog_free_event(e);
     }
     return NULL;
@@ -47,14 +48,15 @@ int main(int argc, char **argv)
 
     gf_help(argc, argv, help_text);
     for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--prefix") == 0 && i + 1 < argc)
+        if (strcmp(argv[i], "--prefix") == 0 && i + 1 < argc) {
             prefix = argv[++i];
-        else if (strcmp(argv[i], "--expect") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--expect") == 0 && i + 1 < argc) {
             expect = atol(argv[++i]);
-        else if (npath < 2)
+        } else if (npath < 2) {
             path[npath++] = argv[i];
-        else
+        } else {
             npath = 3;
+        }
     }
     if (npath < 1 || npath > 2) {
         fprintf(stderr, "usage: gf_logcmp [--prefix P] [--expect N] LOG "
@@ -71,26 +73,31 @@ int main(int argc, char **argv)
     for (;;) {
         lcm_eventlog_event_t *a = next(log[0], prefix);
         lcm_eventlog_event_t *b = npath == 2 ? next(log[1], prefix) : NULL;
-        if (a == NULL && b == NULL)
+        if (a == NULL && b == NULL) {
             break;
+        }
         if (npath == 2 &&
             (a == NULL || b == NULL || strcmp(a->channel, b->channel) != 0 ||
              a->datalen != b->datalen ||
              memcmp(a->data, b->data, (size_t)a->datalen) != 0)) {
-            if (!diff)
+            if (!diff) {
                 fprintf(stderr, "gf_logcmp: event %ld differs (%s vs %s)\n",
                         count, a ? a->channel : "end of log",
                         b ? b->channel : "end of log");
+            }
             diff = 1;
         }
-        if (a != NULL)
+        if (a != NULL) {
             lcm_eventlog_free_event(a);
-        if (b != NULL)
+        }
+        if (b != NULL) {
             lcm_eventlog_free_event(b);
+        }
         count++;
     }
-    for (i = 0; i < npath; i++)
+    for (i = 0; i < npath; i++) {
         lcm_eventlog_destroy(log[i]);
+    }
     printf("gf_logcmp: %ld events on '%s*'%s%s\n", count, prefix,
            npath == 2 ? (diff ? ", logs DIFFER" : ", identical in both logs")
                       : "",

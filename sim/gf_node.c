@@ -144,8 +144,9 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
     (void)channel;
     if (gf_node_belief_origin(rbuf->data, rbuf->data_size, &track, id,
                               sizeof id) != 0 ||
-        strcmp(id, c->node->id) == 0)
+        strcmp(id, c->node->id) == 0) {
         return;
+    }
     pthread_mutex_lock(&c->node_mu);
     (void)gf_node_peer_belief(c->node, rbuf->data, rbuf->data_size);
     pthread_mutex_unlock(&c->node_mu);
@@ -172,11 +173,13 @@ static void *handling(void *arg)
             clock_gettime(CLOCK_REALTIME, &ts);
             int64_t us = (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000 -
                          e->recv_utime;
-            if (us < 0)
+            if (us < 0) {
                 us = 0;
+            }
             c->hist[us < TIMING_BUCKETS ? us : TIMING_BUCKETS]++;
-            if (us > c->max_us)
+            if (us > c->max_us) {
                 c->max_us = us;
+            }
             c->count++;
         }
         gf_inq_release(&c->q, e);
@@ -191,8 +194,9 @@ static long timing_quantile(const node_ctx *c, double q)
     long b;
     for (b = 0; b < TIMING_BUCKETS; b++) {
         seen += c->hist[b];
-        if (seen > want)
+        if (seen > want) {
             return b;
+        }
     }
     return TIMING_BUCKETS;
 }
@@ -287,35 +291,35 @@ int main(int argc, char **argv)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
             return 0;
-        } else if (strcmp(argv[i], "--config") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
             config_path = argv[++i];
-        else if (strcmp(argv[i], "--strict") == 0)
+        } else if (strcmp(argv[i], "--strict") == 0) {
             strict = 1;
-        else if (strcmp(argv[i], "--name") == 0 && i + 1 < argc &&
-                 argv[i + 1][0] != '\0')
+        } else if (strcmp(argv[i], "--name") == 0 && i + 1 < argc &&
+                   argv[i + 1][0] != '\0') {
             name = argv[++i];
-        else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc) {
             url = argv[++i];
-        else if (strcmp(argv[i], "--out-url") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--out-url") == 0 && i + 1 < argc) {
             out_url = argv[++i];
-        else if (strcmp(argv[i], "--channels") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--channels") == 0 && i + 1 < argc) {
             channels = argv[++i];
-        else if (strcmp(argv[i], "--queue") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--queue") == 0 && i + 1 < argc) {
             queue = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--filter") == 0 && i + 1 < argc &&
-                 gf_node_filter_parse(argv[i + 1], &filter) == 0)
+        } else if (strcmp(argv[i], "--filter") == 0 && i + 1 < argc &&
+                   gf_node_filter_parse(argv[i + 1], &filter) == 0) {
             filter_name = argv[++i];
-        else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc) {
             seed = strtoul(argv[++i], NULL, 0);
-        else if (strcmp(argv[i], "--cpu") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--cpu") == 0 && i + 1 < argc) {
             rt.cpu = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--rx-cpu") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--rx-cpu") == 0 && i + 1 < argc) {
             rt.rx_cpu = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--rt") == 0 && i + 1 < argc)
+        } else if (strcmp(argv[i], "--rt") == 0 && i + 1 < argc) {
             rt.prio = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--timing") == 0)
+        } else if (strcmp(argv[i], "--timing") == 0) {
             ctx.timing = 1;
-        else {
+        } else {
             usage();
             return 2;
         }
@@ -403,8 +407,9 @@ int main(int argc, char **argv)
     } else {
         have_handler = 1;
         pthread_mutex_lock(&ctx.mu);
-        while (!ctx.started)
+        while (!ctx.started) {
             pthread_cond_wait(&ctx.cv, &ctx.mu);
+        }
         pthread_mutex_unlock(&ctx.mu);
         gf_rt_describe(&rt, placement, sizeof placement);
         printf("gf_node: ready channels=%s queue=%d queue_bytes=%zu "
@@ -415,33 +420,38 @@ int main(int argc, char **argv)
                config.count, config_path ? " config=" : "",
                config_path ? config_path : "", strict ? " strict" : "", id,
                placement);
-        if (filter == GF_NODE_FILTER_PF)
+        if (filter == GF_NODE_FILTER_PF) {
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
+        }
         printf("\n");
         fflush(stdout);
     }
 
     while (!g_stop) {
         // < 0: the end of a file:// log, a dead socket, or a signal.
-        if (lcm_handle_timeout(in, 100) < 0)
+        if (lcm_handle_timeout(in, 100) < 0) {
             break;
+        }
     }
 
     gf_inq_close(&ctx.q);
-    if (have_handler)
+    if (have_handler) {
         pthread_join(handler, NULL);
+    }
     gf_node_add_dropped(&node, ctx.q.dropped);
     gf_node_summary(&node, summary, sizeof(summary));
     printf("gf_node: summary %s queue_peak=%u\n", summary, ctx.q.peak);
-    if (ctx.timing && ctx.count > 0)
+    if (ctx.timing && ctx.count > 0) {
         printf("gf_node: timing messages=%lu in_node_p50_us=%ld "
                "in_node_p99_us=%ld in_node_max_us=%lld\n",
                ctx.count, timing_quantile(&ctx, 0.5),
                timing_quantile(&ctx, 0.99), (long long)ctx.max_us);
+    }
     fflush(stdout);
-    if (out != in)
+    if (out != in) {
         lcm_destroy(out);
+    }
     lcm_destroy(in);
     gf_node_config_free(&config);
     gf_inq_free(&ctx.q);

@@ -45,8 +45,9 @@ static inline int gf_rt_pin(const char *who, const char *what, int cpu)
     cpu_set_t set;
     CPU_ZERO(&set);
     CPU_SET((size_t)cpu, &set);
-    if (sched_setaffinity(0, sizeof set, &set) == 0)
+    if (sched_setaffinity(0, sizeof set, &set) == 0) {
         return 0;
+    }
     fprintf(stderr, "%s: cannot pin the %s to CPU %d (%s): left unpinned\n",
             who, what, cpu, strerror(errno));
     return -1;
@@ -58,8 +59,9 @@ static inline int gf_rt_setup(gf_rt *rt, const char *who)
 {
     int missed = 0;
     rt->cpu_ok = rt->rx_ok = rt->fifo_ok = rt->mlock_ok = 0;
-    if (rt->cpu < 0)
+    if (rt->cpu < 0) {
         rt->cpu = rt->rx_cpu; // --rx-cpu alone: every thread there
+    }
 #ifdef __linux__
     (void)prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
     if (rt->rx_cpu >= 0) {
@@ -131,12 +133,15 @@ static inline int gf_rt_pin_main(gf_rt *rt, const char *who)
 static inline void gf_rt_describe(const gf_rt *rt, char *buf, size_t len)
 {
     char cpu[16] = "any", rx[16] = "any", sched[24] = "other";
-    if (rt->cpu_ok)
+    if (rt->cpu_ok) {
         snprintf(cpu, sizeof cpu, "%d", rt->cpu);
-    if (rt->rx_ok)
+    }
+    if (rt->rx_ok) {
         snprintf(rx, sizeof rx, "%d", rt->rx_cpu >= 0 ? rt->rx_cpu : rt->cpu);
-    if (rt->fifo_ok)
+    }
+    if (rt->fifo_ok) {
         snprintf(sched, sizeof sched, "fifo:%d", rt->prio);
+    }
     snprintf(buf, len, "cpu=%s rx_cpu=%s sched=%s mlock=%s", cpu, rx, sched,
              rt->mlock_ok ? "yes" : "no");
 }

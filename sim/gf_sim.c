@@ -91,8 +91,9 @@ static uint64_t splitmix64(uint64_t *x)
 static void rng_seed(rng *r, uint64_t seed)
 {
     unsigned i;
-    for (i = 0; i < 4; i++)
+    for (i = 0; i < 4; i++) {
         r->s[i] = splitmix64(&seed);
+    }
 }
 
 static uint64_t rotl(uint64_t x, int k)
@@ -144,8 +145,9 @@ typedef struct sim {
 
 static void send(sim *s, const char *channel, int len)
 {
-    if (len < 0 || lcm_publish(s->lcm, channel, s->buf, (unsigned)len) != 0)
+    if (len < 0 || lcm_publish(s->lcm, channel, s->buf, (unsigned)len) != 0) {
         s->failed = 1;
+    }
 }
 
 static void send_ctrl_v(sim *s, long t, int n, const double *u)
@@ -154,8 +156,9 @@ static void send_ctrl_v(sim *s, long t, int n, const double *u)
     double uu[NMAX];
     int i;
     memset(&c, 0, sizeof(c));
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         uu[i] = u[i];
+    }
     c.utime = t * s->step_us;
     c.seq = ++s->seq;
     c.session = s->session;
@@ -211,8 +214,9 @@ static void send_truth(sim *s, long t, int n, const double *x)
     double state[NMAX];
     int i;
     memset(&g, 0, sizeof(g));
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         state[i] = x[i];
+    }
     g.utime = t * s->step_us;
     g.seq = s->seq; // the seq of the step's control
     g.track = s->track;
@@ -229,8 +233,9 @@ static void send_truth(sim *s, long t, int n, const double *x)
 // period_ns. Does nothing with period_ns == 0 (as fast as possible).
 static void pace(struct timespec *next, long period_ns)
 {
-    if (period_ns <= 0)
+    if (period_ns <= 0) {
         return;
+    }
     next->tv_nsec += period_ns;
     while (next->tv_nsec >= 1000000000L) {
         next->tv_nsec -= 1000000000L;
@@ -250,22 +255,26 @@ static void draw_n(rng *r, unsigned n, const double *mean, const double *cov,
     memset(l, 0, sizeof l);
     for (j = 0; j < n; j++) {
         double d = cov[j * n + j];
-        for (k = 0; k < j; k++)
+        for (k = 0; k < j; k++) {
             d -= l[j][k] * l[j][k];
+        }
         l[j][j] = d > 0.0 ? sqrt(d) : 0.0;
         for (i = j + 1; i < n; i++) {
             double v = cov[i * n + j];
-            for (k = 0; k < j; k++)
+            for (k = 0; k < j; k++) {
                 v -= l[i][k] * l[j][k];
+            }
             l[i][j] = l[j][j] > 0.0 ? v / l[j][j] : 0.0;
         }
     }
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         w[i] = rng_normal(r);
+    }
     for (i = 0; i < n; i++) {
         x[i] = mean != NULL ? mean[i] : 0.0;
-        for (k = 0; k <= i; k++)
+        for (k = 0; k <= i; k++) {
             x[i] += l[i][k] * w[k];
+        }
     }
 }
 
@@ -275,9 +284,11 @@ static void draw(rng *r, unsigned n, const double *mean, const double cov[3][3],
 {
     double c[9];
     unsigned i, j;
-    for (i = 0; i < n; i++)
-        for (j = 0; j < n; j++)
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < n; j++) {
             c[i * n + j] = cov[i][j];
+        }
+    }
     draw_n(r, n, mean, c, x);
 }
 
@@ -291,11 +302,12 @@ static int wait_ready(const char *path, double seconds)
     for (k = 0; k < tries; k++) {
         FILE *f = fopen(path, "r");
         if (f != NULL) {
-            while (fgets(line, sizeof line, f) != NULL)
+            while (fgets(line, sizeof line, f) != NULL) {
                 if (strstr(line, ": ready") != NULL) {
                     fclose(f);
                     return 0;
                 }
+            }
             fclose(f);
         }
         nanosleep(&nap, NULL);
@@ -317,27 +329,33 @@ static void linear_step(run *q, const gf_node_linear *l, long t, int measure)
 {
     double x[NMAX], u[NMAX], w[NMAX], z[NMAX];
     unsigned i, j;
-    for (j = 0; j < l->nu; j++)
+    for (j = 0; j < l->nu; j++) {
         u[j] = sin(0.1 * (double)t + (double)j);
+    }
     draw_n(&q->r, l->n, NULL, l->R, w);
     // x_t = A x_{t-1} + B u_t + eps
     for (i = 0; i < l->n; i++) {
         x[i] = w[i];
-        for (j = 0; j < l->n; j++)
+        for (j = 0; j < l->n; j++) {
             x[i] += l->A[i * l->n + j] * q->x[j];
-        for (j = 0; j < l->nu; j++)
+        }
+        for (j = 0; j < l->nu; j++) {
             x[i] += l->B[i * l->nu + j] * u[j];
+        }
     }
     memcpy(q->x, x, sizeof(double) * l->n);
     send_ctrl_v(&q->s, t, (int)l->nu, u);
     send_truth(&q->s, t, (int)l->n, q->x);
-    if (!measure)
+    if (!measure) {
         return;
+    }
     // z = C x + delta
     draw_n(&q->r, l->m, NULL, l->Q, z);
-    for (i = 0; i < l->m; i++)
-        for (j = 0; j < l->n; j++)
+    for (i = 0; i < l->m; i++) {
+        for (j = 0; j < l->n; j++) {
             z[i] += l->C[i * l->n + j] * q->x[j];
+        }
+    }
     send_meas_m(&q->s, t, (int)l->m, z, l->Q);
 }
 
@@ -348,8 +366,9 @@ static int measure(const gf_node_model *mdl, rng *r, const double *x, double *z)
     double noise[3] = {0, 0, 0};
     int measure = mdl->measure;
     unsigned m;
-    if (measure == GF_NODE_MEASURE_AUTO)
+    if (measure == GF_NODE_MEASURE_AUTO) {
         measure = GF_NODE_MEASURE_X;
+    }
     m = gf_node_measure_m(mdl->kind, (int8_t)measure);
     draw(r, m, zero, mdl->meas_cov, noise);
     z[1] = 0.0;
@@ -372,10 +391,12 @@ static int measure(const gf_node_model *mdl, rng *r, const double *x, double *z)
     }
     }
     z[0] += noise[0];
-    if (m == 2)
+    if (m == 2) {
         z[1] += noise[1];
-    if (measure == GF_NODE_MEASURE_RANGE_BEARING)
+    }
+    if (measure == GF_NODE_MEASURE_RANGE_BEARING) {
         z[1] = remainder(z[1], 2.0 * 3.14159265358979323846);
+    }
     return (int)m;
 }
 
@@ -471,45 +492,46 @@ int main(int argc, char **argv)
             return 2;
         }
         i++;
-        if (strcmp(a, "--url") == 0)
+        if (strcmp(a, "--url") == 0) {
             url = v;
-        else if (strcmp(a, "--z") == 0 || strcmp(a, "--heading-var") == 0) {
+        } else if (strcmp(a, "--z") == 0 || strcmp(a, "--heading-var") == 0) {
             // exercise 2's z; exercise 4's heading variance is the node's
             // prior, not the stream's: taken so one command line fits all
             int k = i - 1;
-            if (gf_book_option(&book, argc, argv, &k) != 1)
+            if (gf_book_option(&book, argc, argv, &k) != 1) {
                 return 2;
-        } else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0)
+            }
+        } else if (strcmp(a, "--model") == 0 && strcmp(v, "car") == 0) {
             s.model = MODEL_CAR;
-        else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0)
+        } else if (strcmp(a, "--model") == 0 && strcmp(v, "robot") == 0) {
             s.model = MODEL_ROBOT;
-        else if (strcmp(a, "--model") == 0)
+        } else if (strcmp(a, "--model") == 0) {
             model_name = v;
-        else if (strcmp(a, "--config") == 0)
+        } else if (strcmp(a, "--config") == 0) {
             config_path = v;
-        else if (strcmp(a, "--runs") == 0)
+        } else if (strcmp(a, "--runs") == 0) {
             nruns = atol(v);
-        else if (strcmp(a, "--exercise") == 0)
+        } else if (strcmp(a, "--exercise") == 0) {
             exercise = atoi(v);
-        else if (strcmp(a, "--track") == 0)
+        } else if (strcmp(a, "--track") == 0) {
             s.track = (int32_t)atol(v);
-        else if (strcmp(a, "--steps") == 0)
+        } else if (strcmp(a, "--steps") == 0) {
             steps = atol(v);
-        else if (strcmp(a, "--seed") == 0)
+        } else if (strcmp(a, "--seed") == 0) {
             seed = strtoull(v, NULL, 0);
-        else if (strcmp(a, "--rate") == 0)
+        } else if (strcmp(a, "--rate") == 0) {
             rate = atof(v);
-        else if (strcmp(a, "--meas-every") == 0)
+        } else if (strcmp(a, "--meas-every") == 0) {
             meas_every = atol(v);
-        else if (strcmp(a, "--meas-var") == 0)
+        } else if (strcmp(a, "--meas-var") == 0) {
             meas_var = atof(v);
-        else if (strcmp(a, "--turn") == 0)
+        } else if (strcmp(a, "--turn") == 0) {
             turn = atof(v);
-        else if (strcmp(a, "--wait") == 0 && nwait < 16)
+        } else if (strcmp(a, "--wait") == 0 && nwait < 16) {
             wait_for[nwait++] = v;
-        else if (strcmp(a, "--wait-s") == 0)
+        } else if (strcmp(a, "--wait-s") == 0) {
             wait_s = atof(v);
-        else if (strcmp(a, "--session") == 0) {
+        } else if (strcmp(a, "--session") == 0) {
             s.session = strtoll(v, NULL, 0);
             have_session = 1;
         } else {
@@ -535,32 +557,36 @@ int main(int argc, char **argv)
         }
         s.model = mdl->kind;
     }
-    if (exercise == 1 || exercise == 2)
+    if (exercise == 1 || exercise == 2) {
         s.model = MODEL_CAR;
-    else if (exercise == 4)
+    } else if (exercise == 4) {
         s.model = MODEL_ROBOT;
-    else if (exercise != 0 || s.model == 0 || meas_every < 1 || rate < 0.0) {
+    } else if (exercise != 0 || s.model == 0 || meas_every < 1 || rate < 0.0) {
         usage();
         return 2;
     }
-    if (steps < 0)
+    if (steps < 0) {
         steps = exercise == 1   ? GF_BOOK_EX1_STEPS
                 : exercise == 2 ? book.ex2_steps
                 : exercise == 4 ? 1
                                 : 100;
+    }
     if (exercise == 2) { // --steps and --meas-var are exercise 2's
         book.ex2_steps = (int)steps;
-        if (meas_var > 0.0)
+        if (meas_var > 0.0) {
             book.ex2_q = meas_var;
+        }
     }
-    if (meas_var < 0.0)
+    if (meas_var < 0.0) {
         meas_var = s.model == MODEL_CAR ? 10.0 : 0.01;
+    }
     s.step_us = 1000000;
-    if (mdl != NULL && mdl->kind != MODEL_ROBOT)
+    if (mdl != NULL && mdl->kind != MODEL_ROBOT) {
         s.step_us = (int64_t)(mdl->dt * 1e6 + 0.5);
-    if (rate > 0.0 && mdl != NULL)
+    }
+    if (rate > 0.0 && mdl != NULL) {
         period_ns = (long)(1e9 / rate);
-    else if (rate > 0.0) {
+    } else if (rate > 0.0) {
         period_ns = (long)(1e9 / rate);
         s.step_us = (int64_t)(1e6 / rate);
     }
@@ -582,7 +608,7 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
 
-    for (i = 0; i < nwait; i++)
+    for (i = 0; i < nwait; i++) {
         if (wait_ready(wait_for[i], wait_s) != 0) {
             fprintf(stderr,
                     "gf_sim: %s has no ready line after %g s: is the program "
@@ -590,6 +616,7 @@ int main(int argc, char **argv)
                     wait_for[i], wait_s);
             return 1;
         }
+    }
     s.lcm = lcm_create(url);
     if (s.lcm == NULL) {
         fprintf(stderr, "gf_sim: cannot open LCM at %s\n",
@@ -615,11 +642,12 @@ int main(int argc, char **argv)
             snprintf(q->s.ch_truth, sizeof(q->s.ch_truth), "%s%ld",
                      GF_CHANNEL_TRUTH, (long)q->s.track);
             rng_seed(&q->r, seed + (uint64_t)k);
-            if (mdl->kind == MODEL_LINEAR)
+            if (mdl->kind == MODEL_LINEAR) {
                 draw_n(&q->r, n, mdl->lin->prior_mean, mdl->lin->prior_cov,
                        q->x);
-            else
+            } else {
                 draw(&q->r, n, mdl->prior_mean, mdl->prior_cov, q->x);
+            }
         }
         for (t = 1; t <= steps && !g_stop; t++) {
             for (k = 0; k < nruns; k++) {
@@ -653,9 +681,11 @@ int main(int argc, char **argv)
                 if (t % meas_every == 0) {
                     m = measure(mdl, &q->r, q->x, z);
                     double qm[9];
-                    for (int a = 0; a < m; a++)
-                        for (int b = 0; b < m; b++)
+                    for (int a = 0; a < m; a++) {
+                        for (int b = 0; b < m; b++) {
                             qm[a * m + b] = mdl->meas_cov[a][b];
+                        }
+                    }
                     send_meas_m(&q->s, t, m, z, qm);
                 }
             }
@@ -671,8 +701,9 @@ int main(int argc, char **argv)
     } else if (exercise == 1 || exercise == 2) {
         for (t = 1; t <= steps && !g_stop; t++) {
             send_ctrl(&s, t, 0, 0.0, 0.0);
-            if (exercise == 2 && t == book.ex2_steps)
+            if (exercise == 2 && t == book.ex2_steps) {
                 send_meas(&s, t, book.ex2_z, book.ex2_q);
+            }
             pace(&next, period_ns);
         }
     } else if (exercise == 4) {
@@ -686,9 +717,10 @@ int main(int argc, char **argv)
             x[1] += a;
             send_ctrl(&s, t, 0, 0.0, 0.0);
             send_truth(&s, t, 2, x);
-            if (t % meas_every == 0)
+            if (t % meas_every == 0) {
                 send_meas(&s, t, x[0] + sqrt(meas_var) * rng_normal(&r),
                           meas_var);
+            }
             pace(&next, period_ns);
         }
     } else {
@@ -702,9 +734,10 @@ int main(int argc, char **argv)
             x[2] = remainder(x[2] + turn, 2.0 * 3.14159265358979323846);
             send_ctrl(&s, t, 2, 1.0, turn);
             send_truth(&s, t, 3, x);
-            if (t % meas_every == 0)
+            if (t % meas_every == 0) {
                 send_meas(&s, t, x[0] + sqrt(meas_var) * rng_normal(&r),
                           meas_var);
+            }
             pace(&next, period_ns);
         }
     }

@@ -71,8 +71,9 @@ static inline int gf_wire_belief_decode(const void *data, size_t len,
     int i, j, ok;
     memset(out, 0, sizeof(*out));
     memset(&b, 0, sizeof(b));
-    if (gaussfilt_lcm_belief_t_decode(data, 0, (int)len, &b) != (int)len)
+    if (gaussfilt_lcm_belief_t_decode(data, 0, (int)len, &b) != (int)len) {
         return -1; // what it allocated before failing is lost (LCM's C)
+    }
     ok = b.n >= 0 && b.n <= GF_WIRE_NMAX && b.m >= 0 && b.m <= GF_WIRE_NMAX;
     if (ok) {
         out->utime = b.utime;
@@ -90,12 +91,14 @@ static inline int gf_wire_belief_decode(const void *data, size_t len,
         out->n = b.n;
         for (i = 0; i < b.n; i++) {
             out->mean[i] = b.mean[i];
-            for (j = 0; j < b.n; j++)
+            for (j = 0; j < b.n; j++) {
                 out->cov[i][j] = b.cov[i][j];
+            }
         }
         out->m = b.m;
-        for (i = 0; i < b.m; i++)
+        for (i = 0; i < b.m; i++) {
             out->innovation[i] = b.innovation[i];
+        }
         out->nis = b.nis;
     }
     gaussfilt_lcm_belief_t_decode_cleanup(&b);
@@ -109,8 +112,9 @@ static inline int gf_wire_truth_decode(const void *data, size_t len,
     int i, ok;
     memset(out, 0, sizeof(*out));
     memset(&g, 0, sizeof(g));
-    if (gaussfilt_lcm_groundtruth_t_decode(data, 0, (int)len, &g) != (int)len)
+    if (gaussfilt_lcm_groundtruth_t_decode(data, 0, (int)len, &g) != (int)len) {
         return -1;
+    }
     ok = g.n >= 0 && g.n <= GF_WIRE_NMAX;
     if (ok) {
         out->utime = g.utime;
@@ -118,8 +122,9 @@ static inline int gf_wire_truth_decode(const void *data, size_t len,
         out->track = g.track;
         out->model = g.model;
         out->n = g.n;
-        for (i = 0; i < g.n; i++)
+        for (i = 0; i < g.n; i++) {
             out->state[i] = g.state[i];
+        }
     }
     gaussfilt_lcm_groundtruth_t_decode_cleanup(&g);
     return ok ? 0 : -1;
@@ -131,11 +136,13 @@ static inline int gf_wire_ctrl_encode(void *buf, int size,
     gaussfilt_lcm_control_t x;
     double u[GF_WIRE_NMAX];
     int i;
-    if (c->n < 0 || c->n > GF_WIRE_NMAX)
+    if (c->n < 0 || c->n > GF_WIRE_NMAX) {
         return -1;
+    }
     memset(&x, 0, sizeof(x));
-    for (i = 0; i < c->n; i++)
+    for (i = 0; i < c->n; i++) {
         u[i] = c->u[i];
+    }
     x.utime = c->utime;
     x.seq = c->seq;
     x.session = c->session;
@@ -152,8 +159,9 @@ static inline int gf_wire_meas_encode(void *buf, int size,
     gaussfilt_lcm_measurement_t x;
     double zz[GF_WIRE_NMAX], q[GF_WIRE_NMAX][GF_WIRE_NMAX], *rows[GF_WIRE_NMAX];
     int i;
-    if (z->m < 0 || z->m > GF_WIRE_NMAX)
+    if (z->m < 0 || z->m > GF_WIRE_NMAX) {
         return -1;
+    }
     memset(&x, 0, sizeof(x));
     for (i = 0; i < z->m; i++) {
         zz[i] = z->z[i];

@@ -68,8 +68,9 @@ const char *gf_node_result_str(gf_node_result r)
 
 int gf_node_init(gf_node *node, gf_node_publish_fn publish, void *ctx)
 {
-    if (node == NULL)
+    if (node == NULL) {
         return -1;
+    }
     memset(node, 0, sizeof(*node));
     node->publish = publish;
     node->ctx = ctx;
@@ -81,22 +82,26 @@ int gf_node_set_filter(gf_node *node, gf_node_filter filter,
 {
     if (node == NULL ||
         (filter != GF_NODE_FILTER_EKF && filter != GF_NODE_FILTER_UKF &&
-         filter != GF_NODE_FILTER_PF))
+         filter != GF_NODE_FILTER_PF)) {
         return -1;
-    if (filter == GF_NODE_FILTER_PF && pool == NULL)
+    }
+    if (filter == GF_NODE_FILTER_PF && pool == NULL) {
         return -1;
+    }
     node->robot_filter = filter;
     node->pf_pool = pool;
     node->pf_seed = seed;
-    if (pool != NULL)
+    if (pool != NULL) {
         pool->used = 0;
+    }
     return 0;
 }
 
 int gf_node_set_models(gf_node *node, gf_node_model_fn fn, const void *ctx)
 {
-    if (node == NULL)
+    if (node == NULL) {
         return -1;
+    }
     node->models = fn;
     node->models_ctx = ctx;
     return 0;
@@ -104,30 +109,34 @@ int gf_node_set_models(gf_node *node, gf_node_model_fn fn, const void *ctx)
 
 void gf_node_add_dropped(gf_node *node, uint64_t n)
 {
-    if (node != NULL)
+    if (node != NULL) {
         node->counts.dropped += n;
+    }
 }
 
 int gf_node_set_id(gf_node *node, const char *id)
 {
-    if (node == NULL || id == NULL)
+    if (node == NULL || id == NULL) {
         return -1;
+    }
     snprintf(node->id, sizeof node->id, "%s", id);
     return 0;
 }
 
 int gf_node_set_strict(gf_node *node, int strict)
 {
-    if (node == NULL)
+    if (node == NULL) {
         return -1;
+    }
     node->strict = strict != 0;
     return 0;
 }
 
 int gf_node_set_log(gf_node *node, gf_node_log_fn fn, void *ctx)
 {
-    if (node == NULL)
+    if (node == NULL) {
         return -1;
+    }
     node->log = fn;
     node->log_ctx = ctx;
     return 0;
@@ -138,8 +147,9 @@ static void say(const gf_node *node, const char *fmt, ...)
 {
     char line[256];
     va_list ap;
-    if (node->log == NULL)
+    if (node->log == NULL) {
         return;
+    }
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
@@ -148,27 +158,32 @@ static void say(const gf_node *node, const char *fmt, ...)
 
 int gf_node_filter_parse(const char *name, gf_node_filter *out)
 {
-    if (name == NULL || out == NULL)
+    if (name == NULL || out == NULL) {
         return -1;
-    if (strcmp(name, "ekf") == 0)
+    }
+    if (strcmp(name, "ekf") == 0) {
         *out = GF_NODE_FILTER_EKF;
-    else if (strcmp(name, "ukf") == 0)
+    } else if (strcmp(name, "ukf") == 0) {
         *out = GF_NODE_FILTER_UKF;
-    else if (strcmp(name, "pf") == 0)
+    } else if (strcmp(name, "pf") == 0) {
         *out = GF_NODE_FILTER_PF;
-    else
+    } else {
         return -1;
+    }
     return 0;
 }
 
 const gf_node_track *gf_node_find(const gf_node *node, int32_t id)
 {
     unsigned i;
-    if (node == NULL)
+    if (node == NULL) {
         return NULL;
-    for (i = 0; i < node->ntracks; i++)
-        if (node->tracks[i].id == id)
+    }
+    for (i = 0; i < node->ntracks; i++) {
+        if (node->tracks[i].id == id) {
             return &node->tracks[i];
+        }
+    }
     return NULL;
 }
 
@@ -184,39 +199,48 @@ static int parse_track(const char *channel, const char *prefix, int32_t *id)
     const char *p;
     int neg = 0;
     int64_t v = 0;
-    if (strncmp(channel, prefix, n) != 0)
+    if (strncmp(channel, prefix, n) != 0) {
         return 0;
+    }
     p = channel + n;
     if (*p == '-') {
         neg = 1;
         p++;
     }
-    if (*p == '\0' || (p[0] == '0' && (p[1] != '\0' || neg)))
+    if (*p == '\0' || (p[0] == '0' && (p[1] != '\0' || neg))) {
         return 0;
+    }
     for (; *p != '\0'; p++) {
-        if (*p < '0' || *p > '9')
+        if (*p < '0' || *p > '9') {
             return 0;
+        }
         v = v * 10 + (*p - '0');
-        if (v > (int64_t)INT32_MAX + 1)
+        if (v > (int64_t)INT32_MAX + 1) {
             return 0;
+        }
     }
     v = neg ? -v : v;
-    if (v > INT32_MAX)
+    if (v > INT32_MAX) {
         return 0;
+    }
     *id = (int32_t)v;
     return 1;
 }
 
 static int channel_kind(const char *channel, int32_t *id)
 {
-    if (channel == NULL)
+    if (channel == NULL) {
         return KIND_NONE;
-    if (parse_track(channel, GF_CHANNEL_MEAS, id))
+    }
+    if (parse_track(channel, GF_CHANNEL_MEAS, id)) {
         return KIND_MEAS;
-    if (parse_track(channel, GF_CHANNEL_CTRL, id))
+    }
+    if (parse_track(channel, GF_CHANNEL_CTRL, id)) {
         return KIND_CTRL;
-    if (parse_track(channel, GF_CHANNEL_MODEL, id))
+    }
+    if (parse_track(channel, GF_CHANNEL_MODEL, id)) {
         return KIND_MODEL;
+    }
     return KIND_NONE;
 }
 
@@ -225,8 +249,9 @@ static int64_t fingerprint(const uint8_t *b)
 {
     uint64_t v = 0;
     unsigned i;
-    for (i = 0; i < 8; i++)
+    for (i = 0; i < 8; i++) {
         v = (v << 8) | b[i];
+    }
     return (int64_t)v;
 }
 
@@ -236,18 +261,21 @@ static gf_node_result check_fingerprint(const void *data, size_t len,
                                         int64_t want)
 {
     int64_t got;
-    if (data == NULL || len < 8 || len > GF_NODE_MAX_LEN)
+    if (data == NULL || len < 8 || len > GF_NODE_MAX_LEN) {
         return GF_NODE_MALFORMED;
+    }
     got = fingerprint((const uint8_t *)data);
-    if (got == want)
+    if (got == want) {
         return GF_NODE_APPLIED;
+    }
     if (got == __gaussfilt_lcm_measurement_t_get_hash() ||
         got == __gaussfilt_lcm_control_t_get_hash() ||
         got == __gaussfilt_lcm_belief_t_get_hash() ||
         got == __gaussfilt_lcm_groundtruth_t_get_hash() ||
         got == __gaussfilt_lcm_model_t_get_hash() ||
-        got == __gaussfilt_lcm_particles_t_get_hash())
+        got == __gaussfilt_lcm_particles_t_get_hash()) {
         return GF_NODE_TYPE_MISMATCH;
+    }
     return GF_NODE_MALFORMED;
 }
 
@@ -274,8 +302,9 @@ static uint64_t wire_bits(wire *w, unsigned bytes)
         w->short_read = 1;
         return 0;
     }
-    for (i = 0; i < bytes; i++)
+    for (i = 0; i < bytes; i++) {
         v = (v << 8) | w->p[w->pos + i];
+    }
     w->pos += bytes;
     return v;
 }
@@ -323,10 +352,12 @@ typedef struct node_meas {
 // MALFORMED otherwise.
 static gf_node_result wire_size(const wire *w, int8_t k, size_t doubles)
 {
-    if (w->short_read || k < 0)
+    if (w->short_read || k < 0) {
         return GF_NODE_MALFORMED;
-    if (w->pos + 8 * doubles != w->len)
+    }
+    if (w->pos + 8 * doubles != w->len) {
         return GF_NODE_MALFORMED;
+    }
     return k > GF_NODE_NMAX ? GF_NODE_BAD_FIELD : GF_NODE_APPLIED;
 }
 
@@ -342,10 +373,12 @@ static gf_node_result decode_ctrl(const void *data, size_t len, node_ctrl *c)
     c->model = wire_i8(&w);
     c->n = wire_i8(&w);
     r = wire_size(&w, c->n, c->n > 0 ? (size_t)c->n : 0u);
-    if (r != GF_NODE_APPLIED)
+    if (r != GF_NODE_APPLIED) {
         return r;
-    for (i = 0; i < c->n; i++)
+    }
+    for (i = 0; i < c->n; i++) {
         c->u[i] = wire_f64(&w);
+    }
     return GF_NODE_APPLIED;
 }
 
@@ -363,13 +396,17 @@ static gf_node_result decode_meas(const void *data, size_t len, node_meas *z)
     z->m = wire_i8(&w);
     m = z->m > 0 ? (size_t)z->m : 0u;
     r = wire_size(&w, z->m, m + m * m);
-    if (r != GF_NODE_APPLIED)
+    if (r != GF_NODE_APPLIED) {
         return r;
-    for (i = 0; i < z->m; i++)
+    }
+    for (i = 0; i < z->m; i++) {
         z->z[i] = wire_f64(&w);
-    for (i = 0; i < z->m; i++)
-        for (j = 0; j < z->m; j++)
+    }
+    for (i = 0; i < z->m; i++) {
+        for (j = 0; j < z->m; j++) {
             z->q[i][j] = wire_f64(&w);
+        }
+    }
     return GF_NODE_APPLIED;
 }
 
@@ -382,15 +419,17 @@ int gf_node_belief_origin(const void *data, size_t len, int32_t *track,
     int32_t n;
     size_t k;
     if (data == NULL || id == NULL || size == 0 ||
-        wire_i64(&w) != __gaussfilt_lcm_belief_t_get_hash())
+        wire_i64(&w) != __gaussfilt_lcm_belief_t_get_hash()) {
         return -1;
+    }
     w.pos = 32;
     *track = wire_i32(&w);
     w.pos += 4;
     n = wire_i32(&w);
     if (w.short_read || n < 1 || (size_t)n > w.len - w.pos ||
-        w.p[w.pos + (size_t)n - 1] != '\0')
+        w.p[w.pos + (size_t)n - 1] != '\0') {
         return -1;
+    }
     k = (size_t)n - 1 < size - 1 ? (size_t)n - 1 : size - 1;
     memcpy(id, w.p + w.pos, k);
     id[k] = '\0';
@@ -457,8 +496,9 @@ int gf_node_peer_belief(gf_node *node, const void *data, size_t len)
     gf_node_track *t;
     if (node == NULL ||
         gf_node_belief_origin(data, len, &track, id, sizeof id) != 0 ||
-        strcmp(id, node->id) == 0)
+        strcmp(id, node->id) == 0) {
         return 0;
+    }
     t = (gf_node_track *)(uintptr_t)gf_node_find(node, track);
     if (t == NULL) {
         peer_remember(node, track, id);
@@ -502,11 +542,14 @@ static int finite3(const gf_vec3 *mu, const gf_mat3 *sigma)
 {
     unsigned i, j;
     for (i = 0; i < 3; i++) {
-        if (!isfinite((double)mu->v[i]))
+        if (!isfinite((double)mu->v[i])) {
             return 0;
-        for (j = 0; j < 3; j++)
-            if (!isfinite((double)sigma->m[i][j]))
+        }
+        for (j = 0; j < 3; j++) {
+            if (!isfinite((double)sigma->m[i][j])) {
                 return 0;
+            }
+        }
     }
     return 1;
 }
@@ -534,8 +577,9 @@ static gf_node_result pf_summary(gf_node_track *t)
         gf_real nan = (gf_real)NAN;
         for (i = 0; i < 3; i++) {
             t->f.pf3.mu.v[i] = nan;
-            for (j = 0; j < 3; j++)
+            for (j = 0; j < 3; j++) {
                 t->f.pf3.sigma.m[i][j] = nan;
+            }
         }
     }
     t->f.pf3.neff = GF_R(0.0);
@@ -554,17 +598,20 @@ static void track_prior(gf_node *node, gf_node_track *t)
     gf_mat3 sigma0;
     unsigned i, j;
     int8_t filter = t->filter;
-    if (filter == 0)
+    if (filter == 0) {
         filter = node->robot_filter == GF_NODE_FILTER_UKF  ? FILTER_UKF3
                  : node->robot_filter == GF_NODE_FILTER_PF ? FILTER_PF3
                                                            : FILTER_EKF3;
+    }
     if (t->model == MODEL_LINEAR) {
         const gf_node_linear *l = t->mdl.lin;
         gf_real *mu = node->vec[2], *sigma = node->lin[0];
-        for (i = 0; i < l->n; i++)
+        for (i = 0; i < l->n; i++) {
             mu[i] = (gf_real)l->prior_mean[i];
-        for (i = 0; i < l->n * l->n; i++)
+        }
+        for (i = 0; i < l->n * l->n; i++) {
             sigma[i] = (gf_real)l->prior_cov[i];
+        }
         memset(&t->f.kf, 0, sizeof(t->f.kf));
         (void)gf_kf_init(&t->f.kf, l->n, mu, sigma, &node->work);
         t->filter = FILTER_KF;
@@ -586,15 +633,17 @@ static void track_prior(gf_node *node, gf_node_track *t)
     }
     for (i = 0; i < 3; i++) {
         mu0.v[i] = (gf_real)t->mdl.prior_mean[i];
-        for (j = 0; j < 3; j++)
+        for (j = 0; j < 3; j++) {
             sigma0.m[i][j] = (gf_real)t->mdl.prior_cov[i][j];
+        }
     }
     if (filter == FILTER_UKF3) {
         t->filter = FILTER_UKF3;
         (void)gf_ukf3_init(&t->f.ukf3, &mu0, &sigma0, &ukf_params);
     } else if (filter == FILTER_PF3) {
-        if (t->filter != FILTER_PF3)
+        if (t->filter != FILTER_PF3) {
             t->f.pf3.slot = node->pf_pool->used++;
+        }
         t->filter = FILTER_PF3;
         (void)gf_pf3_init(&t->f.pf3.pf, node->pf_pool->p[t->f.pf3.slot],
                           GF_NODE_PF_PARTICLES, node->pf_seed + (uint32_t)t->id,
@@ -622,28 +671,32 @@ static void belief_fill(gf_node *node, const gf_node_track *t,
         (void)gf_kf_cov(&t->f.kf, sl); // fails only on NULL
         for (i = 0; i < n; i++) {
             node->mean[i] = (double)t->f.kf.mu[i];
-            for (j = 0; j < n; j++)
+            for (j = 0; j < n; j++) {
                 node->cov[i * n + j] = (double)sl[i * n + j];
+            }
         }
     } else if (t->model == MODEL_ROBOT) {
         n = 3;
         robot_moments(t, &mu3, &s3);
         for (i = 0; i < n; i++) {
             node->mean[i] = (double)mu3.v[i];
-            for (j = 0; j < n; j++)
+            for (j = 0; j < n; j++) {
                 node->cov[i * n + j] = (double)s3.m[i][j];
+            }
         }
     } else {
         n = 2;
         (void)gf_kf2_cov(&t->f.kf2, &s2); // fails only on NULL
         for (i = 0; i < n; i++) {
             node->mean[i] = (double)t->f.kf2.mu.v[i];
-            for (j = 0; j < n; j++)
+            for (j = 0; j < n; j++) {
                 node->cov[i * n + j] = (double)s2.m[i][j];
+            }
         }
     }
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         node->cov_rows[i] = &node->cov[i * n];
+    }
     b->track = t->id;
     b->model = t->model;
     b->filter = t->filter;
@@ -653,8 +706,9 @@ static void belief_fill(gf_node *node, const gf_node_track *t,
     b->cov = node->cov_rows;
     b->m = 0;
     b->innovation = node->innovation;
-    if (t->filter == FILTER_PF3 && t->f.pf3.no_summary)
+    if (t->filter == FILTER_PF3 && t->f.pf3.no_summary) {
         b->status = GF_NODE_STATUS_NO_SUMMARY;
+    }
 }
 
 static void publish_belief(gf_node *node, gf_node_track *t,
@@ -672,18 +726,21 @@ static void publish_belief(gf_node *node, gf_node_track *t,
     snprintf(channel, sizeof(channel), "%s%ld", GF_CHANNEL_BELIEF, (long)t->id);
     node->counts.published++;
     if (node->publish != NULL &&
-        node->publish(node->ctx, channel, node->buf, (size_t)len) != 0)
+        node->publish(node->ctx, channel, node->buf, (size_t)len) != 0) {
         node->counts.publish_failed++;
+    }
 }
 
 // A particle's number as particles_t carries it: beyond float's range it
 // is +-FLT_MAX, never inf.
 static float to_float(gf_real v)
 {
-    if ((double)v > (double)FLT_MAX)
+    if ((double)v > (double)FLT_MAX) {
         return FLT_MAX;
-    if ((double)v < -(double)FLT_MAX)
+    }
+    if ((double)v < -(double)FLT_MAX) {
         return -FLT_MAX;
+    }
     return (float)v;
 }
 
@@ -729,8 +786,9 @@ static void publish_particles(gf_node *node, gf_node_track *t,
              (long)t->id);
     node->counts.published++;
     if (node->publish != NULL &&
-        node->publish(node->ctx, channel, pool->buf, (size_t)len) != 0)
+        node->publish(node->ctx, channel, pool->buf, (size_t)len) != 0) {
         node->counts.publish_failed++;
+    }
 }
 
 // Publishes a track's belief, and a PF track's cloud after it.
@@ -738,8 +796,9 @@ static void publish_step(gf_node *node, gf_node_track *t,
                          gaussfilt_lcm_belief_t *b)
 {
     publish_belief(node, t, b);
-    if (t->filter == FILTER_PF3)
+    if (t->filter == FILTER_PF3) {
         publish_particles(node, t, b);
+    }
 }
 
 static const char *kind_name(int8_t kind)
@@ -756,15 +815,19 @@ static const gf_node_model *model_for(const gf_node *node, int32_t id,
     const gf_node_model *m = NULL;
     const gf_node_model *car = gf_node_model_book_car(),
                         *robot = gf_node_model_book_robot();
-    if (node->models != NULL)
+    if (node->models != NULL) {
         m = node->models(node->models_ctx, id, kind);
-    if (m != NULL && (m->kind != kind || gf_node_model_check(m, NULL) != 0))
+    }
+    if (m != NULL && (m->kind != kind || gf_node_model_check(m, NULL) != 0)) {
         m = NULL;
+    }
     *named = m != NULL && m != car && m != robot;
-    if (!*named && (node->strict || kind == MODEL_LINEAR))
+    if (!*named && (node->strict || kind == MODEL_LINEAR)) {
         return NULL;
-    if (m == NULL)
+    }
+    if (m == NULL) {
         m = kind == MODEL_CAR ? car : robot;
+    }
     return m;
 }
 
@@ -773,22 +836,26 @@ static const gf_node_model *model_for(const gf_node *node, int32_t id,
 static gf_node_result refuse(gf_node *node, int32_t id, int8_t kind)
 {
     unsigned i;
-    for (i = 0; i < node->nrefused; i++)
-        if (node->refused[i] == id)
+    for (i = 0; i < node->nrefused; i++) {
+        if (node->refused[i] == id) {
             return GF_NODE_NO_MODEL;
-    if (node->nrefused < GF_NODE_MAX_TRACKS)
+        }
+    }
+    if (node->nrefused < GF_NODE_MAX_TRACKS) {
         node->refused[node->nrefused++] = id;
-    if (kind == MODEL_LINEAR && !node->strict)
+    }
+    if (kind == MODEL_LINEAR && !node->strict) {
         say(node,
             "track %ld (linear) refused: no configured linear model's "
             "channels name %s%ld or %s%ld (a linear track has no preset)",
             (long)id, GF_CHANNEL_MEAS, (long)id, GF_CHANNEL_CTRL, (long)id);
-    else
+    } else {
         say(node,
             "track %ld (%s) refused (strict): no configured model's channels "
             "name %s%ld or %s%ld",
             (long)id, kind_name(kind), GF_CHANNEL_MEAS, (long)id,
             GF_CHANNEL_CTRL, (long)id);
+    }
     return GF_NODE_NO_MODEL;
 }
 
@@ -799,8 +866,9 @@ static const gf_node_model *track_model(const gf_node *node, int32_t id,
 {
     const gf_node_track *t = gf_node_find(node, id);
     int named;
-    if (t != NULL)
+    if (t != NULL) {
         return t->model == kind ? &t->mdl : NULL;
+    }
     return model_for(node, id, kind, &named);
 }
 
@@ -846,22 +914,23 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
     t->counting_start = 1;
     track_prior(node, t);
     node->counts.tracks_created++;
-    if (mdl != NULL)
+    if (mdl != NULL) {
         say(node, "track %ld (%s): model %s from a model_t", (long)id,
             kind_name(model), use->name);
-    else if (named && use->channels != NULL)
+    } else if (named && use->channels != NULL) {
         say(node, "track %ld (%s%s): model %s, its channels %s name it",
             (long)id, kind_name(model), model == MODEL_LINEAR ? ", gf_kf" : "",
             use->name, use->channels);
-    else if (named)
+    } else if (named) {
         say(node, "track %ld (%s): model %s, named by the node's lookup",
             (long)id, kind_name(model), use->name);
-    else
+    } else {
         say(node,
             "track %ld (%s): the preset %s: no configured model's channels "
             "name %s%ld or %s%ld (strict refuses such a track)",
             (long)id, kind_name(model), use->name, GF_CHANNEL_MEAS, (long)id,
             GF_CHANNEL_CTRL, (long)id);
+    }
     peer_early_track(node, t);
     belief_fill(node, t, &b);
     b.utime = utime;
@@ -884,10 +953,12 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
 static gf_node_result check_order(gf_node *node, gf_node_track *t, int64_t seq,
                                   int64_t utime)
 {
-    if (!t->has_input)
+    if (!t->has_input) {
         return GF_NODE_APPLIED;
-    if (seq == t->last_seq)
+    }
+    if (seq == t->last_seq) {
         return GF_NODE_DUPLICATE;
+    }
     if (seq < t->last_seq || utime < t->last_utime) {
         if (t->rejected >= GF_NODE_RESYNC_AFTER) {
             node->counts.seq_resyncs++;
@@ -908,8 +979,9 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
 {
     gaussfilt_lcm_belief_t b;
     if (t->has_input && session != t->session) {
-        if (session < t->session)
+        if (session < t->session) {
             return GF_NODE_STALE_SESSION;
+        }
         t->has_input = 0;
         t->counting_start = 1;
         track_prior(node, t);
@@ -928,8 +1000,9 @@ static void consume(gf_node *node, gf_node_track *t, int64_t session,
                     int64_t seq, int64_t utime, int64_t now)
 {
     // seq > last_seq here; unsigned arithmetic cannot overflow.
-    if (t->has_input)
+    if (t->has_input) {
         node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
+    }
     if (t->counting_start && seq > 1) {
         // a session's seq starts at 1: the inputs before this one were
         // sent and never arrived (before the node was ready, typically)
@@ -951,12 +1024,15 @@ static void consume(gf_node *node, gf_node_track *t, int64_t session,
 
 static gf_node_result from_status(int s)
 {
-    if (s == GF_OK)
+    if (s == GF_OK) {
         return GF_NODE_APPLIED;
-    if (s == GF_NODE_STATUS_NO_SUMMARY)
+    }
+    if (s == GF_NODE_STATUS_NO_SUMMARY) {
         return GF_NODE_NO_SUMMARY;
-    if (s == GF_ERR_GATED)
+    }
+    if (s == GF_ERR_GATED) {
         return GF_NODE_GATED;
+    }
     return s == GF_ERR_NONFINITE ? GF_NODE_NONFINITE : GF_NODE_FILTER_ERROR;
 }
 
@@ -973,17 +1049,20 @@ static int pf_correct(gf_node *node, gf_node_track *t, const gf_ekf3_meas *mm,
     gf_real neff = GF_R(0.0);
     gf_status s = gf_pf3_update(pf, mm, z);
     t->f.pf3.resampled = 0;
-    if (s != GF_OK)
+    if (s != GF_OK) {
         return s;
+    }
     if (gf_pf3_neff(pf, &neff) == GF_OK &&
         neff < (gf_real)(GF_NODE_PF_RESAMPLE_FRACTION * pf->n)) {
         s = gf_pf3_resample(pf);
-        if (s != GF_OK)
+        if (s != GF_OK) {
             return s;
+        }
         t->f.pf3.resampled = 1;
     }
-    if (pf_summary(t) != GF_NODE_APPLIED)
+    if (pf_summary(t) != GF_NODE_APPLIED) {
         return GF_NODE_STATUS_NO_SUMMARY;
+    }
     t->f.pf3.neff = neff;
     return GF_OK;
 }
@@ -998,16 +1077,20 @@ static void linear_numbers(gf_node *node, const gf_node_linear *l,
         node->lin[0][i] = (gf_real)l->A[i];
         node->lin[2][i] = (gf_real)l->R[i];
     }
-    for (i = 0; i < n * l->nu; i++)
+    for (i = 0; i < n * l->nu; i++) {
         node->lin[1][i] = (gf_real)l->B[i];
-    if (z == NULL)
+    }
+    if (z == NULL) {
         return;
-    for (i = 0; i < l->m * n; i++)
+    }
+    for (i = 0; i < l->m * n; i++) {
         node->lin[3][i] = (gf_real)l->C[i];
+    }
     for (i = 0; i < l->m; i++) {
         node->vec[1][i] = (gf_real)z->z[i];
-        for (j = 0; j < l->m; j++)
+        for (j = 0; j < l->m; j++) {
             node->lin[4][i * l->m + j] = (gf_real)z->q[i][j];
+        }
     }
 }
 
@@ -1023,30 +1106,35 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
     int s;
-    if (c->track != id || !good_kind(c->model))
+    if (c->track != id || !good_kind(c->model)) {
         return GF_NODE_BAD_FIELD;
+    }
     if (c->model == MODEL_LINEAR) {
         // no control, or the model's nu
         const gf_node_model *mdl = track_model(node, id, c->model);
-        if (mdl != NULL && c->n != 0 && (unsigned)c->n != mdl->lin->nu)
+        if (mdl != NULL && c->n != 0 && (unsigned)c->n != mdl->lin->nu) {
             return GF_NODE_BAD_FIELD;
+        }
     } else if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2) {
         return GF_NODE_BAD_FIELD;
     }
     t = track_get(node, id, c->model, c->utime, &r);
-    if (t == NULL)
+    if (t == NULL) {
         return r;
+    }
     r = admit(node, t, c->session, c->seq, c->utime);
-    if (r != GF_NODE_APPLIED)
+    if (r != GF_NODE_APPLIED) {
         return r;
+    }
     consume(node, t, c->session, c->seq, c->utime, now);
     if (t->model == MODEL_LINEAR) {
         const gf_node_linear *l = t->mdl.lin;
         gf_kf_model km;
         unsigned i;
         linear_numbers(node, l, NULL);
-        for (i = 0; i < (unsigned)c->n; i++)
+        for (i = 0; i < (unsigned)c->n; i++) {
             node->vec[0][i] = (gf_real)c->u[i];
+        }
         km.nu = l->nu;
         km.A = node->lin[0];
         km.B = node->lin[1];
@@ -1078,8 +1166,9 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
         } else if (t->filter == FILTER_PF3) {
             s = gf_pf3_predict(track_pf(node, t), &mot, u);
             t->f.pf3.resampled = 0;
-            if (s == GF_OK && pf_summary(t) != GF_NODE_APPLIED)
+            if (s == GF_OK && pf_summary(t) != GF_NODE_APPLIED) {
                 s = GF_NODE_STATUS_NO_SUMMARY;
+            }
         } else {
             s = gf_ekf3_predict(&t->f.ekf3, &mot, u);
         }
@@ -1105,28 +1194,34 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     gf_kf_innovation kinfo;
     int s, measure = 0;
     unsigned i, m;
-    if (z->track != id || !good_kind(z->model))
+    if (z->track != id || !good_kind(z->model)) {
         return GF_NODE_BAD_FIELD;
-    if (z->m < 1 || (z->model != MODEL_LINEAR && z->m > 2)) // see
-        return GF_NODE_BAD_FIELD;                           // gf_node_measure_m
+    }
+    if (z->m < 1 || (z->model != MODEL_LINEAR && z->m > 2)) { // see
+        return GF_NODE_BAD_FIELD; // gf_node_measure_m
+    }
     m = (unsigned)z->m;
     // what the track's model expects (a track of another kind: bad_field
     // from track_get; a track that would be refused: no_model from it)
     mdl = track_model(node, id, z->model);
     if (mdl != NULL && z->model == MODEL_LINEAR) {
-        if (m != mdl->lin->m)
+        if (m != mdl->lin->m) {
             return GF_NODE_BAD_FIELD;
+        }
     } else if (mdl != NULL) {
         measure = gf_node_model_measure(mdl, m);
-        if (measure < 0)
+        if (measure < 0) {
             return GF_NODE_BAD_FIELD;
+        }
     }
     t = track_get(node, id, z->model, z->utime, &r);
-    if (t == NULL)
+    if (t == NULL) {
         return r;
+    }
     r = admit(node, t, z->session, z->seq, z->utime);
-    if (r != GF_NODE_APPLIED)
+    if (r != GF_NODE_APPLIED) {
         return r;
+    }
     consume(node, t, z->session, z->seq, z->utime, now);
     memset(&info, 0, sizeof(info));
     memset(&kinfo, 0, sizeof(kinfo));
@@ -1146,32 +1241,40 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
         gf_kf2_meas mm;
         gf_vec2 zz;
         double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-        for (i = 0; i < m; i++)
-            for (unsigned j = 0; j < m; j++)
+        for (i = 0; i < m; i++) {
+            for (unsigned j = 0; j < m; j++) {
                 q[i][j] = z->q[i][j];
+            }
+        }
         gf_node_model_car_meas(&t->mdl, measure, (const double(*)[3])q, &mm);
-        for (i = 0; i < m; i++)
+        for (i = 0; i < m; i++) {
             zz.v[i] = (gf_real)z->z[i];
-        if (m == 1)
+        }
+        if (m == 1) {
             zz.v[1] = GF_R(0.0);
+        }
         s = gf_kf2_update(&t->f.kf2, &mm, &zz, &info);
     } else {
         gf_ekf3_meas mm;
         gf_vec3 zz;
         double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-        for (i = 0; i < m; i++)
-            for (unsigned j = 0; j < m; j++)
+        for (i = 0; i < m; i++) {
+            for (unsigned j = 0; j < m; j++) {
                 q[i][j] = z->q[i][j];
+            }
+        }
         memset(&zz, 0, sizeof(zz));
         gf_node_model_robot_meas(&t->mdl, measure, (const double(*)[3])q, &mm);
-        for (i = 0; i < m; i++)
+        for (i = 0; i < m; i++) {
             zz.v[i] = (gf_real)z->z[i];
-        if (t->filter == FILTER_UKF3)
+        }
+        if (t->filter == FILTER_UKF3) {
             s = gf_ukf3_update(&t->f.ukf3, &mm, &zz, &info);
-        else if (t->filter == FILTER_PF3)
+        } else if (t->filter == FILTER_PF3) {
             s = pf_correct(node, t, &mm, &zz);
-        else
+        } else {
             s = gf_ekf3_update(&t->f.ekf3, &mm, &zz, &info);
+        }
     }
     t->belief_seq++;
     belief_fill(node, t, &b);
@@ -1181,13 +1284,15 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     b.status = (int8_t)s;
     if ((s == GF_OK || s == GF_ERR_GATED) && t->filter == FILTER_KF) {
         b.m = (int8_t)kinfo.m;
-        for (i = 0; i < kinfo.m; i++)
+        for (i = 0; i < kinfo.m; i++) {
             node->innovation[i] = (double)kinfo.y[i];
+        }
         b.nis = (double)kinfo.nis;
     } else if ((s == GF_OK || s == GF_ERR_GATED) && t->filter != FILTER_PF3) {
         b.m = (int8_t)info.m;
-        for (i = 0; i < info.m && i < 3; i++)
+        for (i = 0; i < info.m && i < 3; i++) {
             node->innovation[i] = (double)info.y[i];
+        }
         b.nis = (double)info.nis;
     }
     publish_step(node, t, &b);
@@ -1207,35 +1312,42 @@ static gf_node_result handle_model(gf_node *node, int32_t id,
     unsigned i, j;
     // a linear model comes from the configuration only (model_t carries a
     // car's or a robot's numbers)
-    if (mm->track != id || (mm->model != MODEL_CAR && mm->model != MODEL_ROBOT))
+    if (mm->track != id ||
+        (mm->model != MODEL_CAR && mm->model != MODEL_ROBOT)) {
         return GF_NODE_BAD_FIELD;
+    }
     old = gf_node_find(node, id);
-    if (old != NULL && old->model != mm->model)
+    if (old != NULL && old->model != mm->model) {
         return GF_NODE_BAD_FIELD;
+    }
     memset(&mdl, 0, sizeof(mdl));
     snprintf(mdl.name, sizeof mdl.name, "%s%ld", GF_CHANNEL_MODEL, (long)id);
     mdl.kind = mm->model;
     mdl.measure = mm->measure;
     mdl.dt = mm->dt;
     mdl.accel_var = mm->accel_var;
-    for (i = 0; i < 4; i++)
+    for (i = 0; i < 4; i++) {
         mdl.odometry[i] = mm->odometry[i];
+    }
     mdl.landmark[0] = mm->landmark[0];
     mdl.landmark[1] = mm->landmark[1];
     mdl.gate = mm->gate;
     for (i = 0; i < 3; i++) {
         mdl.prior_mean[i] = mm->prior_mean[i];
-        for (j = 0; j < 3; j++)
+        for (j = 0; j < 3; j++) {
             mdl.prior_cov[i][j] = mm->prior_cov[i][j];
+        }
     }
     if (mdl.kind == MODEL_CAR) { // only the leading 2 x 2 block counts
         mdl.prior_mean[2] = 0.0;
-        for (i = 0; i < 3; i++)
+        for (i = 0; i < 3; i++) {
             mdl.prior_cov[2][i] = mdl.prior_cov[i][2] = 0.0;
+        }
     }
     // the sensor's noise is the measurements' own: leave meas_cov zero
-    if (gf_node_model_check(&mdl, NULL) != 0)
+    if (gf_node_model_check(&mdl, NULL) != 0) {
         return GF_NODE_BAD_FIELD;
+    }
     node->counts.models++;
     if (old == NULL) {
         t = track_get_with(node, id, mm->model, mm->utime, &mdl, &r);
@@ -1264,10 +1376,12 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
     if (kind == KIND_CTRL) {
         node_ctrl c;
         r = check_fingerprint(data, len, __gaussfilt_lcm_control_t_get_hash());
-        if (r == GF_NODE_APPLIED)
+        if (r == GF_NODE_APPLIED) {
             r = decode_ctrl(data, len, &c);
-        if (r != GF_NODE_APPLIED)
+        }
+        if (r != GF_NODE_APPLIED) {
             return r;
+        }
         return handle_ctrl(node, id, &c, now);
     }
     if (kind == KIND_MEAS) {
@@ -1275,19 +1389,23 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
         node_meas z = zero;
         r = check_fingerprint(data, len,
                               __gaussfilt_lcm_measurement_t_get_hash());
-        if (r == GF_NODE_APPLIED)
+        if (r == GF_NODE_APPLIED) {
             r = decode_meas(data, len, &z);
-        if (r != GF_NODE_APPLIED)
+        }
+        if (r != GF_NODE_APPLIED) {
             return r;
+        }
         return handle_meas(node, id, &z, now);
     }
     if (kind == KIND_MODEL) {
         gaussfilt_lcm_model_t mm;
         r = check_fingerprint(data, len, __gaussfilt_lcm_model_t_get_hash());
-        if (r != GF_NODE_APPLIED)
+        if (r != GF_NODE_APPLIED) {
             return r;
-        if (gaussfilt_lcm_model_t_decode(data, 0, (int)len, &mm) != (int)len)
+        }
+        if (gaussfilt_lcm_model_t_decode(data, 0, (int)len, &mm) != (int)len) {
             return GF_NODE_MALFORMED;
+        }
         return handle_model(node, id, &mm);
     }
     return GF_NODE_UNKNOWN_CHANNEL;
@@ -1297,8 +1415,9 @@ gf_node_result gf_node_handle(gf_node *node, const char *channel,
                               const void *data, size_t len, int64_t now)
 {
     gf_node_result r;
-    if (node == NULL)
+    if (node == NULL) {
         return GF_NODE_MALFORMED;
+    }
     r = dispatch(node, channel, data, len, now);
     node->counts.received++;
     node->counts.by_result[r]++;
@@ -1310,8 +1429,9 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
     const gf_node_counts *c = &node->counts;
     int n, k;
     unsigned r;
-    if (out == NULL || size == 0)
+    if (out == NULL || size == 0) {
         return -1;
+    }
     n = snprintf(
         out, size,
         "received=%llu applied=%llu published=%llu "
@@ -1330,8 +1450,9 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),
                      (unsigned long long)c->by_result[r]);
-        if (k < 0)
+        if (k < 0) {
             return k;
+        }
         n += k;
     }
     return n;

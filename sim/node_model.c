@@ -64,16 +64,19 @@ const gf_node_model *gf_node_model_book_robot(void)
 unsigned gf_node_measure_m(int8_t kind, int8_t measure)
 {
     if (kind == GF_NODE_KIND_CAR) {
-        if (measure == GF_NODE_MEASURE_X || measure == GF_NODE_MEASURE_V)
+        if (measure == GF_NODE_MEASURE_X || measure == GF_NODE_MEASURE_V) {
             return 1;
+        }
         return measure == GF_NODE_MEASURE_XV ? 2u : 0u;
     }
     if (kind == GF_NODE_KIND_ROBOT) {
-        if (measure == GF_NODE_MEASURE_X)
+        if (measure == GF_NODE_MEASURE_X) {
             return 1;
+        }
         if (measure == GF_NODE_MEASURE_XY ||
-            measure == GF_NODE_MEASURE_RANGE_BEARING)
+            measure == GF_NODE_MEASURE_RANGE_BEARING) {
             return 2;
+        }
     }
     return 0;
 }
@@ -81,13 +84,15 @@ unsigned gf_node_measure_m(int8_t kind, int8_t measure)
 int gf_node_model_measure(const gf_node_model *mdl, unsigned m)
 {
     int measure = mdl->measure;
-    if (measure == GF_NODE_MEASURE_AUTO)
+    if (measure == GF_NODE_MEASURE_AUTO) {
         measure = m == 1                          ? GF_NODE_MEASURE_X
                   : m != 2                        ? -1
                   : mdl->kind == GF_NODE_KIND_CAR ? GF_NODE_MEASURE_XV
                                                   : GF_NODE_MEASURE_XY;
-    if (measure < 0 || gf_node_measure_m(mdl->kind, (int8_t)measure) != m)
+    }
+    if (measure < 0 || gf_node_measure_m(mdl->kind, (int8_t)measure) != m) {
         return -1;
+    }
     return measure;
 }
 
@@ -98,25 +103,32 @@ static int psd(const double a[3][3], unsigned n)
     double s = 0.0, tol;
     unsigned i, j;
     for (i = 0; i < n; i++) {
-        if (!(a[i][i] >= 0.0))
+        if (!(a[i][i] >= 0.0)) {
             return 0;
+        }
         s = a[i][i] > s ? a[i][i] : s;
-        for (j = 0; j < n; j++)
+        for (j = 0; j < n; j++) {
             if (!isfinite(a[i][j]) ||
-                fabs(a[i][j] - a[j][i]) > 1e-12 * (fabs(a[i][j]) + 1e-300))
+                fabs(a[i][j] - a[j][i]) > 1e-12 * (fabs(a[i][j]) + 1e-300)) {
                 return 0;
+            }
+        }
     }
     tol = 1e-12 * (s * s + 1e-300);
-    for (i = 0; i < n; i++)
-        for (j = i + 1; j < n; j++)
-            if (a[i][i] * a[j][j] - a[i][j] * a[j][i] < -tol)
+    for (i = 0; i < n; i++) {
+        for (j = i + 1; j < n; j++) {
+            if (a[i][i] * a[j][j] - a[i][j] * a[j][i] < -tol) {
                 return 0;
+            }
+        }
+    }
     if (n == 3) {
         double d = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
                    a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
                    a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-        if (d < -tol * s)
+        if (d < -tol * s) {
             return 0;
+        }
     }
     return 1;
 }
@@ -188,14 +200,18 @@ static int linear_check(const gf_node_model *mdl, const char **why)
         R[i] = (gf_real)l->R[i];
         P[i] = (gf_real)l->prior_cov[i];
     }
-    for (i = 0; i < n * l->nu; i++)
+    for (i = 0; i < n * l->nu; i++) {
         B[i] = (gf_real)l->B[i];
-    for (i = 0; i < m * n; i++)
+    }
+    for (i = 0; i < m * n; i++) {
         C[i] = (gf_real)l->C[i];
-    for (i = 0; i < m * m; i++)
+    }
+    for (i = 0; i < m * m; i++) {
         Q[i] = (gf_real)l->Q[i];
-    for (i = 0; i < n; i++)
+    }
+    for (i = 0; i < n; i++) {
         mu[i] = (gf_real)l->prior_mean[i];
+    }
     km.nu = l->nu;
     km.A = A;
     km.B = B;
@@ -205,12 +221,16 @@ static int linear_check(const gf_node_model *mdl, const char **why)
         // which of A, B, R: non-finite numbers first, then R's shape
         *why = "R must be symmetric positive semidefinite (and A, B, R "
                "finite)";
-        for (i = 0; i < n * n; i++)
-            if (!isfinite(l->A[i]))
+        for (i = 0; i < n * n; i++) {
+            if (!isfinite(l->A[i])) {
                 *why = "A must be finite";
-        for (i = 0; i < n * l->nu; i++)
-            if (!isfinite(l->B[i]))
+            }
+        }
+        for (i = 0; i < n * l->nu; i++) {
+            if (!isfinite(l->B[i])) {
                 *why = "B must be finite";
+            }
+        }
         return -1;
     }
     mm.m = m;
@@ -220,16 +240,19 @@ static int linear_check(const gf_node_model *mdl, const char **why)
     mm.gate = (gf_real)mdl->gate;
     if (gf_kf_prepare_meas(&pq, n, &mm, &work) != GF_OK) {
         *why = "Q must be symmetric positive semidefinite (and C finite)";
-        for (i = 0; i < m * n; i++)
-            if (!isfinite(l->C[i]))
+        for (i = 0; i < m * n; i++) {
+            if (!isfinite(l->C[i])) {
                 *why = "C must be finite";
+            }
+        }
         return -1;
     }
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         if (!isfinite(l->prior_mean[i])) {
             *why = "prior_mean must be finite";
             return -1;
         }
+    }
     if (gf_kf_init(&kf, n, mu, P, &work) != GF_OK) {
         *why = "prior_cov must be symmetric positive semidefinite (as "
                "gf_kf_init takes it)";
@@ -247,64 +270,77 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why)
         goto bad;
     }
     if (mdl->kind == GF_NODE_KIND_LINEAR) {
-        if (!(mdl->gate >= 0.0) || !isfinite(mdl->gate))
+        if (!(mdl->gate >= 0.0) || !isfinite(mdl->gate)) {
             w = "gate must be finite and >= 0";
-        else if (!(mdl->dt > 0.0) || !isfinite(mdl->dt))
+        } else if (!(mdl->dt > 0.0) || !isfinite(mdl->dt)) {
             w = "dt must be a finite number > 0";
-        else if (linear_check(mdl, &w) == 0)
+        } else if (linear_check(mdl, &w) == 0) {
             return 0;
+        }
         goto bad;
     }
     n = mdl->kind == GF_NODE_KIND_CAR ? 2u : 3u;
     m = gf_node_measure_m(mdl->kind, mdl->measure);
-    if (mdl->measure == GF_NODE_MEASURE_AUTO)
+    if (mdl->measure == GF_NODE_MEASURE_AUTO) {
         m = 1; // meas_cov: the first entry
-    if (mdl->kind != GF_NODE_KIND_CAR && mdl->kind != GF_NODE_KIND_ROBOT)
+    }
+    if (mdl->kind != GF_NODE_KIND_CAR && mdl->kind != GF_NODE_KIND_ROBOT) {
         w = "type must be car, robot or linear";
-    else if (m == 0)
+    } else if (m == 0) {
         w = mdl->kind == GF_NODE_KIND_CAR
                 ? "measure: a car measures position, velocity or position "
                   "velocity"
                 : "measure: a robot measures x, x y or range bearing";
-    else if (mdl->kind == GF_NODE_KIND_CAR &&
-             (!(mdl->dt > 0.0) || !isfinite(mdl->dt)))
+    } else if (mdl->kind == GF_NODE_KIND_CAR &&
+               (!(mdl->dt > 0.0) || !isfinite(mdl->dt))) {
         w = "dt must be a finite number > 0";
-    else if (mdl->kind == GF_NODE_KIND_CAR &&
-             (!(mdl->accel_var >= 0.0) || !isfinite(mdl->accel_var)))
+    } else if (mdl->kind == GF_NODE_KIND_CAR &&
+               (!(mdl->accel_var >= 0.0) || !isfinite(mdl->accel_var))) {
         w = "accel_var must be finite and >= 0";
-    else if (!(mdl->gate >= 0.0) || !isfinite(mdl->gate))
+    } else if (!(mdl->gate >= 0.0) || !isfinite(mdl->gate)) {
         w = "gate must be finite and >= 0";
-    else if (!isfinite(mdl->landmark[0]) || !isfinite(mdl->landmark[1]))
+    } else if (!isfinite(mdl->landmark[0]) || !isfinite(mdl->landmark[1])) {
         w = "landmark must be finite";
-    else if (!psd(mdl->prior_cov, n))
+    } else if (!psd(mdl->prior_cov, n)) {
         w = "prior_cov must be symmetric positive semidefinite";
-    else if (!psd(mdl->meas_cov, m))
+    } else if (!psd(mdl->meas_cov, m)) {
         w = "meas_cov must be symmetric positive semidefinite";
-    if (w == NULL && mdl->kind == GF_NODE_KIND_ROBOT)
-        for (i = 0; i < 4; i++)
-            if (!(mdl->odometry[i] >= 0.0) || !isfinite(mdl->odometry[i]))
+    }
+    if (w == NULL && mdl->kind == GF_NODE_KIND_ROBOT) {
+        for (i = 0; i < 4; i++) {
+            if (!(mdl->odometry[i] >= 0.0) || !isfinite(mdl->odometry[i])) {
                 w = "odometry: its four numbers must be finite and >= 0";
-    for (i = 0; w == NULL && i < n; i++)
-        if (!isfinite(mdl->prior_mean[i]))
+            }
+        }
+    }
+    for (i = 0; w == NULL && i < n; i++) {
+        if (!isfinite(mdl->prior_mean[i])) {
             w = "prior_mean must be finite";
-    if (w == NULL && !prior_starts(mdl))
+        }
+    }
+    if (w == NULL && !prior_starts(mdl)) {
         w = "prior_cov: the filter's init refuses prior_mean and prior_cov "
             "in its precision";
-    if (w == NULL)
+    }
+    if (w == NULL) {
         return 0;
+    }
 bad:
-    if (why != NULL)
+    if (why != NULL) {
         *why = w;
+    }
     return -1;
 }
 
 void gf_node_linear_build(gf_node_linear *lin, double dt)
 {
     unsigned a, k = 0, n = 0, i, j;
-    for (a = 0; a < lin->axes; a++)
+    for (a = 0; a < lin->axes; a++) {
         n += lin->axis[a];
-    if (lin->axes == 0 || n > GF_NODE_NMAX)
+    }
+    if (lin->axes == 0 || n > GF_NODE_NMAX) {
         return;
+    }
     lin->n = n;
     memset(lin->A, 0, sizeof lin->A);
     memset(lin->R, 0, sizeof lin->R);
@@ -316,13 +352,16 @@ void gf_node_linear_build(gf_node_linear *lin, double dt)
         for (i = 0; i < d; i++) {
             // A block: 1, dt, dt^2/2 above the diagonal
             lin->A[(k + i) * n + k + i] = 1.0;
-            if (i + 1 < d)
+            if (i + 1 < d) {
                 lin->A[(k + i) * n + k + i + 1] = dt;
-            if (i + 2 < d)
+            }
+            if (i + 2 < d) {
                 lin->A[(k + i) * n + k + i + 2] = 0.5 * dt * dt;
+            }
             // R block = q g g^T
-            for (j = 0; j < d; j++)
+            for (j = 0; j < d; j++) {
                 lin->R[(k + i) * n + k + j] = q * g[i] * g[j];
+            }
         }
         k += d;
     }
@@ -359,9 +398,11 @@ void gf_node_model_car_meas(const gf_node_model *mdl, int measure,
         out->C.m[0][0] = GF_R(1.0); // C = (1, 0) or I
         out->C.m[1][1] = m == 2 ? GF_R(1.0) : GF_R(0.0);
     }
-    for (i = 0; i < m; i++)
-        for (j = 0; j < m; j++)
+    for (i = 0; i < m; i++) {
+        for (j = 0; j < m; j++) {
             out->Q.m[i][j] = (gf_real)q[i][j];
+        }
+    }
     out->gate = (gf_real)mdl->gate;
 }
 
@@ -390,8 +431,9 @@ gf_status gf_node_meas_range_bearing(void *ctx, const gf_vec3 *mu_bar,
     gf_real dx = (gf_real)mdl->landmark[0] - mu_bar->v[0];
     gf_real dy = (gf_real)mdl->landmark[1] - mu_bar->v[1];
     gf_real q = dx * dx + dy * dy, r;
-    if (!(q > GF_R(0.0)))
+    if (!(q > GF_R(0.0))) {
         return GF_ERR_MODEL;
+    }
     r = GF_SQRT(q);
     // z_hat = (r, atan2(dy, dx) - theta)
     z_hat->v[0] = r;
@@ -420,9 +462,11 @@ void gf_node_model_robot_meas(const gf_node_model *mdl, int measure,
     } else {
         out->h = m == 1 ? gf_ekf3_meas_x : gf_ekf3_meas_xy;
     }
-    for (i = 0; i < m; i++)
-        for (j = 0; j < m; j++)
+    for (i = 0; i < m; i++) {
+        for (j = 0; j < m; j++) {
             out->Q.m[i][j] = (gf_real)q[i][j];
+        }
+    }
     out->gate = (gf_real)mdl->gate;
 }
 
@@ -438,11 +482,13 @@ void gf_node_model_robot_meas(const gf_node_model *mdl, int measure,
 static char *trim(char *s)
 {
     char *e;
-    while (*s == ' ' || *s == '\t')
+    while (*s == ' ' || *s == '\t') {
         s++;
+    }
     e = s + strlen(s);
-    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r')) {
         *--e = '\0';
+    }
     return s;
 }
 
@@ -452,16 +498,20 @@ static int numbers(const char *s, double *out, int max)
     int k = 0;
     char *end;
     for (;;) {
-        while (*s == ' ' || *s == '\t')
+        while (*s == ' ' || *s == '\t') {
             s++;
-        if (*s == '\0')
+        }
+        if (*s == '\0') {
             return k;
-        if (k == max)
+        }
+        if (k == max) {
             return -1;
+        }
         errno = 0;
         out[k] = strtod(s, &end);
-        if (end == s || errno == ERANGE)
+        if (end == s || errno == ERANGE) {
             return -1;
+        }
         k++;
         s = end;
     }
@@ -473,12 +523,15 @@ static int matrix(const char *s, double a[3][3], unsigned n)
     double v[9];
     unsigned i, j;
     int k = numbers(s, v, 9);
-    if (k != (int)n && k != (int)(n * n))
+    if (k != (int)n && k != (int)(n * n)) {
         return -1;
+    }
     memset(a, 0, sizeof(double[3][3]));
-    for (i = 0; i < n; i++)
-        for (j = 0; j < n; j++)
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < n; j++) {
             a[i][j] = (unsigned)k == n ? (i == j ? v[i] : 0.0) : v[i * n + j];
+        }
+    }
     return 0;
 }
 
@@ -486,19 +539,23 @@ static int words_are(const char *s, const char *want)
 {
     // compares word by word, any blanks between
     for (;;) {
-        while (*s == ' ' || *s == '\t')
+        while (*s == ' ' || *s == '\t') {
             s++;
-        while (*want == ' ')
+        }
+        while (*want == ' ') {
             want++;
-        if (*s == '\0' || *want == '\0')
+        }
+        if (*s == '\0' || *want == '\0') {
             return *s == '\0' && *want == '\0';
+        }
         while (*s != '\0' && *s != ' ' && *s != '\t' && *s == *want) {
             s++;
             want++;
         }
         if ((*s != '\0' && *s != ' ' && *s != '\t') ||
-            (*want != '\0' && *want != ' '))
+            (*want != '\0' && *want != ' ')) {
             return 0;
+        }
     }
 }
 
@@ -534,8 +591,9 @@ static int fail(char *err, size_t size, unsigned line, const char *fmt, ...)
     va_list ap;
     int n = snprintf(err, size, "line %u: ", line);
     va_start(ap, fmt);
-    if (n >= 0 && (size_t)n < size)
+    if (n >= 0 && (size_t)n < size) {
         vsnprintf(err + n, size - (size_t)n, fmt, ap);
+    }
     va_end(ap);
     return -1;
 }
@@ -544,13 +602,17 @@ const gf_node_model *gf_node_config_find(const gf_node_config *cfg,
                                          const char *name)
 {
     unsigned i;
-    if (strcmp(name, book_car.name) == 0)
+    if (strcmp(name, book_car.name) == 0) {
         return &book_car;
-    if (strcmp(name, book_robot.name) == 0)
+    }
+    if (strcmp(name, book_robot.name) == 0) {
         return &book_robot;
-    for (i = 0; cfg != NULL && i < cfg->count; i++)
-        if (strcmp(cfg->model[i].name, name) == 0)
+    }
+    for (i = 0; cfg != NULL && i < cfg->count; i++) {
+        if (strcmp(cfg->model[i].name, name) == 0) {
             return &cfg->model[i];
+        }
+    }
     return NULL;
 }
 
@@ -567,11 +629,14 @@ typedef struct section {
 static void key_seen(section *sec, const char *key, unsigned line)
 {
     unsigned i;
-    for (i = 0; i < sec->nkeys; i++)
-        if (strcmp(sec->key[i], key) == 0)
+    for (i = 0; i < sec->nkeys; i++) {
+        if (strcmp(sec->key[i], key) == 0) {
             break;
-    if (i == SECTION_KEYS)
+        }
+    }
+    if (i == SECTION_KEYS) {
         return;
+    }
     if (i == sec->nkeys) {
         snprintf(sec->key[i], sizeof sec->key[i], "%s", key);
         sec->nkeys++;
@@ -583,9 +648,11 @@ static void key_seen(section *sec, const char *key, unsigned line)
 static unsigned key_line(const section *sec, const char *key, size_t len)
 {
     unsigned i;
-    for (i = 0; i < sec->nkeys; i++)
-        if (strlen(sec->key[i]) == len && strncmp(sec->key[i], key, len) == 0)
+    for (i = 0; i < sec->nkeys; i++) {
+        if (strlen(sec->key[i]) == len && strncmp(sec->key[i], key, len) == 0) {
             return sec->line[i];
+        }
+    }
     return 0;
 }
 
@@ -596,16 +663,21 @@ static unsigned blame(const section *sec, const char *why)
 {
     size_t len = strcspn(why, " :");
     unsigned line = key_line(sec, why, len);
-    if (line == 0 && len == 8 && strncmp(why, "meas_cov", 8) == 0)
+    if (line == 0 && len == 8 && strncmp(why, "meas_cov", 8) == 0) {
         line = key_line(sec, "Q", 1);
-    if (line == 0 && len == 1 && why[0] == 'Q')
+    }
+    if (line == 0 && len == 1 && why[0] == 'Q') {
         line = key_line(sec, "meas_cov", 8);
-    if (line == 0 && len == 1 && (why[0] == 'A' || why[0] == 'R'))
+    }
+    if (line == 0 && len == 1 && (why[0] == 'A' || why[0] == 'R')) {
         line = key_line(sec, "motion", 6);
-    if (line == 0)
+    }
+    if (line == 0) {
         line = key_line(sec, "base", 4);
-    if (line == 0)
+    }
+    if (line == 0) {
         line = key_line(sec, "type", 4);
+    }
     return line != 0 ? line : sec->start;
 }
 
@@ -620,22 +692,26 @@ static int finish(gf_node_config *cfg, const section *sec, char *err,
     char re[160];
     if (mdl->kind == GF_NODE_KIND_LINEAR) {
         gf_node_linear *lin = &cfg->linear[i];
-        if (key_line(sec, "A", 1) && key_line(sec, "motion", 6))
+        if (key_line(sec, "A", 1) && key_line(sec, "motion", 6)) {
             return fail(err, size, key_line(sec, "A", 1),
                         "model %s: A or motion, not both", mdl->name);
-        if (key_line(sec, "R", 1) && key_line(sec, "accel_var", 9))
+        }
+        if (key_line(sec, "R", 1) && key_line(sec, "accel_var", 9)) {
             return fail(err, size, key_line(sec, "R", 1),
                         "model %s: R or accel_var, not both", mdl->name);
+        }
         gf_node_linear_build(lin, mdl->dt);
     }
-    if (gf_node_model_check(mdl, &why) != 0)
+    if (gf_node_model_check(mdl, &why) != 0) {
         return fail(err, size, blame(sec, why), "model %s: %s", mdl->name, why);
+    }
     if (cfg->channels[i][0] != '\0') {
         snprintf(re, sizeof re, "^(%s)$", cfg->channels[i]);
-        if (regcomp(&cfg->regex[i], re, REG_EXTENDED | REG_NOSUB) != 0)
+        if (regcomp(&cfg->regex[i], re, REG_EXTENDED | REG_NOSUB) != 0) {
             return fail(err, size, key_line(sec, "channels", 8),
                         "model %s: bad channels regex %s", mdl->name,
                         cfg->channels[i]);
+        }
         cfg->has_regex[i] = 1;
         mdl->channels = cfg->channels[i];
     } else {
@@ -649,9 +725,11 @@ static int finish(gf_node_config *cfg, const section *sec, char *err,
 static int numbers_rows(char *s, double *out, int max)
 {
     char *p;
-    for (p = s; *p != '\0'; p++)
-        if (*p == ';')
+    for (p = s; *p != '\0'; p++) {
+        if (*p == ';') {
             *p = ' ';
+        }
+    }
     return numbers(s, out, max);
 }
 
@@ -662,12 +740,15 @@ static int square(char *s, double *a, unsigned k)
     double v[GF_NODE_NMAX * GF_NODE_NMAX];
     unsigned i, j;
     int got = numbers_rows(s, v, GF_NODE_NMAX * GF_NODE_NMAX);
-    if (k == 0 || (got != (int)k && got != (int)(k * k)))
+    if (k == 0 || (got != (int)k && got != (int)(k * k))) {
         return -1;
-    for (i = 0; i < k; i++)
-        for (j = 0; j < k; j++)
+    }
+    for (i = 0; i < k; i++) {
+        for (j = 0; j < k; j++) {
             a[i * k + j] =
                 (unsigned)got == k ? (i == j ? v[i] : 0.0) : v[i * k + j];
+        }
+    }
     return 0;
 }
 
@@ -675,8 +756,10 @@ static int square(char *s, double *a, unsigned k)
 static int rows_of(char *s, double *a, unsigned n, unsigned max_rows)
 {
     int got = numbers_rows(s, a, GF_NODE_NMAX * GF_NODE_NMAX);
-    if (n == 0 || got <= 0 || got % (int)n != 0 || (unsigned)got / n > max_rows)
+    if (n == 0 || got <= 0 || got % (int)n != 0 ||
+        (unsigned)got / n > max_rows) {
         return -1;
+    }
     return got / (int)n;
 }
 
@@ -694,9 +777,10 @@ static int linear_key(gf_node_model *mdl, gf_node_linear *lin, const char *key,
             long v;
             errno = 0;
             v = strtol(val, &end, 10);
-            if (end == val || *trim(end) != '\0' || v < 1 || v > GF_NODE_NMAX)
+            if (end == val || *trim(end) != '\0' || v < 1 || v > GF_NODE_NMAX) {
                 return fail(err, size, line, "n takes a number 1..%d",
                             GF_NODE_NMAX);
+            }
             states = (unsigned)v;
         } else {
             char *w = strtok(val, " \t");
@@ -704,107 +788,131 @@ static int linear_key(gf_node_model *mdl, gf_node_linear *lin, const char *key,
                 unsigned d = strcmp(w, "cv") == 0   ? GF_NODE_AXIS_CV
                              : strcmp(w, "ca") == 0 ? GF_NODE_AXIS_CA
                                                     : 0;
-                if (d == 0)
+                if (d == 0) {
                     return fail(err, size, line,
                                 "motion takes axes: cv (position, velocity) "
                                 "or ca (position, velocity, acceleration)");
-                if (states + d > GF_NODE_NMAX)
+                }
+                if (states + d > GF_NODE_NMAX) {
                     return fail(err, size, line, "motion: more than %d states",
                                 GF_NODE_NMAX);
+                }
                 axis[axes++] = (unsigned char)d;
                 states += d;
             }
-            if (axes == 0)
+            if (axes == 0) {
                 return fail(err, size, line, "motion takes axes: cv or ca");
+            }
         }
         // a new size: everything sized by n starts again
         memset(lin, 0, sizeof(*lin));
         lin->n = states;
-        for (unsigned i = 0; i < states; i++)
+        for (unsigned i = 0; i < states; i++) {
             lin->A[i * states + i] = 1.0;
+        }
         lin->axes = axes;
         memcpy(lin->axis, axis, axes);
         return 0;
     }
     if (strcmp(key, "accel_var") == 0) {
         int got;
-        if (lin->axes == 0)
+        if (lin->axes == 0) {
             return fail(err, size, line, "accel_var needs motion first");
+        }
         got = numbers(val, lin->accel_var, GF_NODE_NMAX);
-        if (got == 1)
-            for (unsigned a = 1; a < lin->axes; a++)
+        if (got == 1) {
+            for (unsigned a = 1; a < lin->axes; a++) {
                 lin->accel_var[a] = lin->accel_var[0];
-        else if (got != (int)lin->axes)
+            }
+        } else if (got != (int)lin->axes) {
             return fail(err, size, line,
                         "accel_var takes 1 number or one per axis (%u)",
                         lin->axes);
-        for (unsigned a = 0; a < lin->axes; a++)
-            if (!(lin->accel_var[a] >= 0.0) || !isfinite(lin->accel_var[a]))
+        }
+        for (unsigned a = 0; a < lin->axes; a++) {
+            if (!(lin->accel_var[a] >= 0.0) || !isfinite(lin->accel_var[a])) {
                 return fail(err, size, line,
                             "accel_var must be finite and >= 0");
+            }
+        }
         return 0;
     }
     if (strcmp(key, "dt") == 0) {
-        if (numbers(val, &mdl->dt, 1) != 1)
+        if (numbers(val, &mdl->dt, 1) != 1) {
             return fail(err, size, line, "dt takes 1 number");
+        }
         return 0;
     }
     if (strcmp(key, "gate") == 0) {
-        if (numbers(val, &mdl->gate, 1) != 1)
+        if (numbers(val, &mdl->gate, 1) != 1) {
             return fail(err, size, line, "gate takes 1 number");
+        }
         return 0;
     }
     if (strcmp(key, "A") != 0 && strcmp(key, "B") != 0 &&
         strcmp(key, "R") != 0 && strcmp(key, "C") != 0 &&
         strcmp(key, "Q") != 0 && strcmp(key, "meas_cov") != 0 &&
-        strcmp(key, "prior_mean") != 0 && strcmp(key, "prior_cov") != 0)
+        strcmp(key, "prior_mean") != 0 && strcmp(key, "prior_cov") != 0) {
         return 1;
-    if (n == 0)
+    }
+    if (n == 0) {
         return fail(err, size, line, "n (or motion) first");
+    }
     if (strcmp(key, "A") == 0) {
         if (numbers_rows(val, lin->A, GF_NODE_NMAX * GF_NODE_NMAX) !=
-            (int)(n * n))
+            (int)(n * n)) {
             return fail(err, size, line, "A takes %u numbers (n = %u)", n * n,
                         n);
+        }
         lin->axes = 0; // as given, not built from dt
     } else if (strcmp(key, "B") == 0) {
         double b[GF_NODE_NMAX * GF_NODE_NMAX];
         int nu = rows_of(val, b, n, GF_NODE_NMAX);
         unsigned i, j;
-        if (nu < 0)
+        if (nu < 0) {
             return fail(err, size, line,
                         "B takes n*nu numbers (n = %u rows of nu controls)", n);
+        }
         // read as n rows of nu (the numbers were counted in rows of n)
         lin->nu = (unsigned)nu;
-        for (i = 0; i < n; i++)
-            for (j = 0; j < lin->nu; j++)
+        for (i = 0; i < n; i++) {
+            for (j = 0; j < lin->nu; j++) {
                 lin->B[i * lin->nu + j] = b[i * lin->nu + j];
+            }
+        }
     } else if (strcmp(key, "R") == 0) {
-        if (square(val, lin->R, n) != 0)
+        if (square(val, lin->R, n) != 0) {
             return fail(err, size, line, "R takes %u or %u numbers", n, n * n);
+        }
     } else if (strcmp(key, "C") == 0) {
         int m = rows_of(val, lin->C, n, n);
-        if (m < 0)
+        if (m < 0) {
             return fail(err, size, line,
                         "C takes m*n numbers, one row of n = %u per measured "
                         "quantity (m <= n)",
                         n);
-        if ((unsigned)m != lin->m)
+        }
+        if ((unsigned)m != lin->m) {
             memset(lin->Q, 0, sizeof lin->Q);
+        }
         lin->m = (unsigned)m;
     } else if (strcmp(key, "prior_mean") == 0) {
-        if (numbers(val, lin->prior_mean, GF_NODE_NMAX) != (int)n)
+        if (numbers(val, lin->prior_mean, GF_NODE_NMAX) != (int)n) {
             return fail(err, size, line, "prior_mean takes %u numbers", n);
+        }
     } else if (strcmp(key, "prior_cov") == 0) {
-        if (square(val, lin->prior_cov, n) != 0)
+        if (square(val, lin->prior_cov, n) != 0) {
             return fail(err, size, line, "prior_cov takes %u or %u numbers", n,
                         n * n);
+        }
     } else { // Q, meas_cov
-        if (lin->m == 0)
+        if (lin->m == 0) {
             return fail(err, size, line, "%s after C (its rows give m)", key);
-        if (square(val, lin->Q, lin->m) != 0)
+        }
+        if (square(val, lin->Q, lin->m) != 0) {
             return fail(err, size, line, "%s takes %u or %u numbers (m = %u)",
                         key, lin->m, lin->m * lin->m, lin->m);
+        }
     }
     return 0;
 }
@@ -819,44 +927,53 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
     gf_node_linear *lin = NULL;
     memset(cfg, 0, sizeof(*cfg));
     memset(&sec, 0, sizeof(sec));
-    if (err_size > 0)
+    if (err_size > 0) {
         err[0] = '\0';
+    }
     while (*text != '\0') {
         size_t len = strcspn(text, "\n");
         char *s, *eq, *key, *val;
         line++;
-        if (len >= sizeof buf)
+        if (len >= sizeof buf) {
             return fail(err, err_size, line, "longer than %u characters",
                         (unsigned)sizeof buf - 1);
+        }
         memcpy(buf, text, len);
         buf[len] = '\0';
         text += len + (text[len] == '\n');
         s = strchr(buf, '#');
-        if (s != NULL)
+        if (s != NULL) {
             *s = '\0';
+        }
         s = trim(buf);
-        if (*s == '\0')
+        if (*s == '\0') {
             continue;
+        }
         if (*s == '[') {
             char name[64];
             char *close = strchr(s, ']');
-            if (close == NULL || trim(close + 1)[0] != '\0')
+            if (close == NULL || trim(close + 1)[0] != '\0') {
                 return fail(err, err_size, line, "expected [model NAME]");
+            }
             *close = '\0';
             if (sscanf(s + 1, " model %63s", name) != 1 ||
-                strlen(name) >= GF_NODE_MODEL_NAME)
+                strlen(name) >= GF_NODE_MODEL_NAME) {
                 return fail(err, err_size, line,
                             "expected [model NAME] (a name of at most %d "
                             "characters)",
                             GF_NODE_MODEL_NAME - 1);
-            if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0)
+            }
+            if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0) {
                 return -1;
-            if (gf_node_config_find(cfg, name) != NULL)
+            }
+            if (gf_node_config_find(cfg, name) != NULL) {
                 return fail(err, err_size, line, "model %s defined twice",
                             name);
-            if (cfg->count == GF_NODE_CONFIG_MODELS)
+            }
+            if (cfg->count == GF_NODE_CONFIG_MODELS) {
                 return fail(err, err_size, line, "more than %d models",
                             GF_NODE_CONFIG_MODELS);
+            }
             lin = &cfg->linear[cfg->count];
             mdl = &cfg->model[cfg->count++];
             memset(mdl, 0, sizeof(*mdl));
@@ -867,11 +984,13 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             continue;
         }
         eq = strchr(s, '=');
-        if (eq == NULL)
+        if (eq == NULL) {
             return fail(err, err_size, line, "expected key = value");
-        if (mdl == NULL)
+        }
+        if (mdl == NULL) {
             return fail(err, err_size, line,
                         "a key before the first [model NAME]");
+        }
         *eq = '\0';
         key = trim(s);
         val = trim(eq + 1);
@@ -879,9 +998,10 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
         if (strcmp(key, "base") == 0) {
             const gf_node_model *b = gf_node_config_find(cfg, val);
             char name[GF_NODE_MODEL_NAME];
-            if (b == NULL || b == mdl)
+            if (b == NULL || b == mdl) {
                 return fail(err, err_size, line, "no model %s before this",
                             val);
+            }
             memcpy(name, mdl->name, sizeof name);
             *mdl = *b;
             memcpy(mdl->name, name, sizeof name);
@@ -894,9 +1014,10 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                           : strcmp(val, "robot") == 0  ? GF_NODE_KIND_ROBOT
                           : strcmp(val, "linear") == 0 ? GF_NODE_KIND_LINEAR
                                                        : 0;
-            if (kind == 0)
+            if (kind == 0) {
                 return fail(err, err_size, line,
                             "type is car, robot or linear");
+            }
             if (mdl->kind != kind) {
                 // a type of its own starts from that type's preset (a
                 // linear model from nothing: n or motion next)
@@ -917,23 +1038,27 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             return fail(err, err_size, line, "type or base first");
         } else if (strcmp(key, "channels") == 0) {
             size_t i = (size_t)(mdl - cfg->model);
-            if (strlen(val) >= sizeof cfg->channels[0])
+            if (strlen(val) >= sizeof cfg->channels[0]) {
                 return fail(err, err_size, line, "channels regex too long");
+            }
             strcpy(cfg->channels[i], val);
         } else if (mdl->kind == GF_NODE_KIND_LINEAR) {
             int r = linear_key(mdl, lin, key, val, line, err, err_size);
-            if (r < 0)
+            if (r < 0) {
                 return -1;
-            if (r > 0)
+            }
+            if (r > 0) {
                 return fail(err, err_size, line, "a linear model has no %s",
                             key);
+            }
         } else if (strcmp(key, "measure") == 0) {
-            if (measure_parse(val, mdl->kind, &mdl->measure) != 0)
+            if (measure_parse(val, mdl->kind, &mdl->measure) != 0) {
                 return fail(err, err_size, line,
                             mdl->kind == GF_NODE_KIND_CAR
                                 ? "a car measures position, velocity or "
                                   "position velocity"
                                 : "a robot measures x, x y or range bearing");
+            }
         } else {
             struct {
                 const char *key;
@@ -951,40 +1076,47 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             int done = 0;
             for (k = 0; k < sizeof one / sizeof one[0]; k++) {
                 int want;
-                if (strcmp(key, one[k].key) != 0)
+                if (strcmp(key, one[k].key) != 0) {
                     continue;
+                }
                 if (!(mdl->kind == GF_NODE_KIND_CAR ? one[k].car
-                                                    : one[k].robot))
+                                                    : one[k].robot)) {
                     return fail(err, err_size, line, "a %s has no %s",
                                 mdl->kind == GF_NODE_KIND_CAR ? "car" : "robot",
                                 key);
+                }
                 want = one[k].v == mdl->prior_mean ? (int)n : one[k].n;
-                if (numbers(val, one[k].v, want) != want)
+                if (numbers(val, one[k].v, want) != want) {
                     return fail(err, err_size, line, "%s takes %d number%s",
                                 key, want, want == 1 ? "" : "s");
+                }
                 done = 1;
             }
             if (!done && strcmp(key, "prior_cov") == 0) {
-                if (matrix(val, mdl->prior_cov, n) != 0)
+                if (matrix(val, mdl->prior_cov, n) != 0) {
                     return fail(err, err_size, line,
                                 "prior_cov takes %u or %u numbers", n, n * n);
+                }
                 done = 1;
             }
             if (!done && strcmp(key, "meas_cov") == 0) {
                 unsigned m = gf_node_measure_m(mdl->kind, mdl->measure);
-                if (m == 0 || matrix(val, mdl->meas_cov, m) != 0)
+                if (m == 0 || matrix(val, mdl->meas_cov, m) != 0) {
                     return fail(err, err_size, line,
                                 "meas_cov takes %u or %u numbers (after "
                                 "measure)",
                                 m, m * m);
+                }
                 done = 1;
             }
-            if (!done)
+            if (!done) {
                 return fail(err, err_size, line, "unknown key %s", key);
+            }
         }
     }
-    if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0)
+    if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0) {
         return -1;
+    }
     return 0;
 }
 
@@ -1020,9 +1152,11 @@ int gf_node_config_load(gf_node_config *cfg, const char *path, char *err,
 void gf_node_config_free(gf_node_config *cfg)
 {
     unsigned i;
-    for (i = 0; i < cfg->count; i++)
-        if (cfg->has_regex[i])
+    for (i = 0; i < cfg->count; i++) {
+        if (cfg->has_regex[i]) {
             regfree(&cfg->regex[i]);
+        }
+    }
     memset(cfg, 0, sizeof(*cfg));
 }
 
@@ -1033,11 +1167,13 @@ const gf_node_model *gf_node_config_named(const gf_node_config *cfg, int32_t id,
     unsigned i;
     snprintf(meas, sizeof meas, "%s%ld", GF_CHANNEL_MEAS, (long)id);
     snprintf(ctrl, sizeof ctrl, "%s%ld", GF_CHANNEL_CTRL, (long)id);
-    for (i = 0; cfg != NULL && i < cfg->count; i++)
+    for (i = 0; cfg != NULL && i < cfg->count; i++) {
         if (cfg->has_regex[i] && cfg->model[i].kind == kind &&
             (regexec(&cfg->regex[i], meas, 0, NULL, 0) == 0 ||
-             regexec(&cfg->regex[i], ctrl, 0, NULL, 0) == 0))
+             regexec(&cfg->regex[i], ctrl, 0, NULL, 0) == 0)) {
             return &cfg->model[i];
+        }
+    }
     return NULL;
 }
 
@@ -1045,9 +1181,11 @@ const gf_node_model *gf_node_config_lookup(const gf_node_config *cfg,
                                            int32_t id, int8_t kind)
 {
     const gf_node_model *m = gf_node_config_named(cfg, id, kind);
-    if (m != NULL)
+    if (m != NULL) {
         return m;
-    if (kind == GF_NODE_KIND_CAR)
+    }
+    if (kind == GF_NODE_KIND_CAR) {
         return &book_car;
+    }
     return kind == GF_NODE_KIND_ROBOT ? &book_robot : NULL;
 }

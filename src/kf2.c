@@ -118,12 +118,13 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
                                  gf_innovation *info)
 {
     gf_kf2_qfactors own;
-    if (!q) {
+    const gf_kf2_qfactors *qf = q;
+    if (!qf) {
         const gf_status cst = kf2_meas_check(meas, z, &own);
         if (cst != GF_OK) {
             return cst;
         }
-        q = &own;
+        qf = &own;
     }
     const unsigned m = meas->m;
     gf_innovation in = {m, {0, 0, 0}, 0};
@@ -134,11 +135,11 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
             (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
         yw[i] = in.y[i];
     }
-    gf_udu_whiten(q->Qf, q->Qorder, m, yw, 1);
+    gf_udu_whiten(qf->Qf, qf->Qorder, m, yw, 1);
     gf_kf2 nb = *kf;
     gf_real work[GF_UDU_CORRECT_WORK(2u)];
-    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, q->Cw.m[0], q->Qe, yw,
-                                  nb.mu.v, &in.nis, work);
+    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, qf->Cw.m[0], qf->Qe,
+                                  yw, nb.mu.v, &in.nis, work);
     if (st != GF_OK) {
         return st;
     }

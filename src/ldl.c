@@ -79,7 +79,8 @@ gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
         // so far, a_jj = s_jj; at t = 0, the first of positive variance)
         gf_real best = -1;
         unsigned at = t;
-        for (unsigned u = t; u < n && t + 1u < n && best < 1; u++) {
+        int whole = 0; // a ratio of 1 found
+        for (unsigned u = t; u < n && t + 1u < n && !whole; u++) {
             const unsigned k = p[u];
             const gf_real skk = s[k * stride + k];
             gf_real ratio = (skk > 0) ? GF_R(1.0) : GF_R(0.0);
@@ -89,6 +90,7 @@ gf_status gf_cov_factor(const gf_real *s, unsigned stride, unsigned n,
             if (ratio > best) {
                 best = ratio;
                 at = u;
+                whole = !(ratio < 1);
             }
         }
         const unsigned j = p[at];

@@ -45,16 +45,21 @@ typedef struct ref_belief {
 static void ref_sandwich(int n, double F[3][3], double S[3][3], double R[3][3])
 {
     double T[3][3] = {{0}}, O[3][3] = {{0}};
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++)
-            for (int k = 0; k < n; k++)
-                T[i][j] += F[i][k] * S[k][j];
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
         for (int j = 0; j < n; j++) {
-            for (int k = 0; k < n; k++)
+            for (int k = 0; k < n; k++) {
+                T[i][j] += F[i][k] * S[k][j];
+            }
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            for (int k = 0; k < n; k++) {
                 O[i][j] += T[i][k] * F[j][k];
+            }
             O[i][j] += R[i][j];
         }
+    }
     memcpy(S, O, sizeof O);
 }
 
@@ -63,30 +68,38 @@ static void ref_update1(int n, ref_belief *b, const double h[3], double q,
                         double y, double *nis)
 {
     double p[3] = {0}, s = q, K[3], L[3][3], Z[3][3] = {{0}};
-    for (int i = 0; i < n; i++)
-        for (int k = 0; k < n; k++)
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < n; k++) {
             p[i] += b->S[i][k] * h[k];
-    for (int i = 0; i < n; i++)
+        }
+    }
+    for (int i = 0; i < n; i++) {
         s += h[i] * p[i];
+    }
     for (int i = 0; i < n; i++) {
         K[i] = p[i] / s;
         b->mu[i] += K[i] * y;
-        for (int j = 0; j < n; j++)
+        for (int j = 0; j < n; j++) {
             L[i][j] = (i == j) - K[i] * h[j];
+        }
     }
     ref_sandwich(n, L, b->S, Z);
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
             b->S[i][j] += K[i] * q * K[j];
+        }
+    }
     *nis = y * y / s;
 }
 
 static double maxabs(int n, const double S[3][3])
 {
     double m = 0;
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
             m = fabs(S[i][j]) > m ? fabs(S[i][j]) : m;
+        }
+    }
     return m;
 }
 
@@ -116,9 +129,11 @@ static void kf2_random(void **state)
         memset(&model, 0, sizeof model);
         memset(&meas, 0, sizeof meas);
         double F[3][3] = {{0}}, R[3][3] = {{0}};
-        for (int i = 0; i < 2; i++)
-            for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) {
+            for (int j = 0; j < 2; j++) {
                 model.A.m[i][j] = (gf_real)urand(-1.5, 1.5);
+            }
+        }
         double g0 = urand(-1, 1), g1 = urand(-1, 1), rd = urand(0, 0.5);
         // R = g g^T + rd I: correlated, sometimes nearly singular
         model.R.m[0][0] = (gf_real)(g0 * g0 + rd);
@@ -130,11 +145,12 @@ static void kf2_random(void **state)
         meas.C.m[0][1] = (gf_real)urand(-2, 2);
         meas.Q.m[0][0] = (gf_real)urand(0.01, 5);
         meas.c.v[0] = (gf_real)urand(-1, 1);
-        for (int i = 0; i < 2; i++)
+        for (int i = 0; i < 2; i++) {
             for (int j = 0; j < 2; j++) {
                 F[i][j] = model.A.m[i][j];
                 R[i][j] = model.R.m[i][j];
             }
+        }
         gf_kf2 kf;
         gf_vec2 mu0 = {{(gf_real)urand(-5, 5), (gf_real)urand(-5, 5)}};
         gf_mat2 s0 = {{{2, (gf_real)0.3}, {(gf_real)0.3, 1}}};
@@ -290,10 +306,12 @@ static gf_status meas_row(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 static double wrapd(double a)
 {
     const double pi = 3.14159265358979323846;
-    while (a > pi)
+    while (a > pi) {
         a -= 2 * pi;
-    while (a <= -pi)
+    }
+    while (a <= -pi) {
         a += 2 * pi;
+    }
     return a;
 }
 
@@ -327,13 +345,14 @@ static void ekf3_random(void **state)
         // R: diagonal (its own factors), or correlated (factored by pivots).
         double R[3][3] = {{0}};
         double g[3] = {urand(-0.3, 0.3), urand(-0.3, 0.3), urand(-0.1, 0.1)};
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 3; i++) {
             for (int j = 0; j < 3; j++) {
                 R[i][j] = (trial % 4 < 2 ? 0 : g[i] * g[j]) +
                           (i == j ? urand(0, 0.01) : 0);
                 mo.R.m[i][j] = (gf_real)R[i][j];
                 R[i][j] = mo.R.m[i][j];
             }
+        }
         gf_real ab[2] = {(gf_real)urand(-1, 1), (gf_real)urand(-1, 1)};
         me.m = 1;
         me.h = trial % 5 == 0 ? gf_ekf3_meas_x : meas_row;
@@ -385,8 +404,9 @@ static void ekf3_random(void **state)
                 zh = h[0] * r.mu[0] + h[1] * r.mu[1] + r.mu[2];
             }
             double y = (double)z.v[0] - zh;
-            if (me.angle_mask)
+            if (me.angle_mask) {
                 y = wrapd(y);
+            }
             ref_update1(3, &r, h, me.Q.m[0][0], y, &nis);
             r.mu[2] = wrapd(r.mu[2]);
             ekf3_check(&e, &r);

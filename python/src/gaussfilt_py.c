@@ -262,8 +262,10 @@ static int get_args(const char *fname, PyObject *const *args, Py_ssize_t nargs,
         for (Py_ssize_t k = 0; k < PyTuple_GET_SIZE(kwnames); k++) {
             PyObject *key = PyTuple_GET_ITEM(kwnames, k);
             int j = 0;
-            while (j < nmax && PyUnicode_CompareWithASCIIString(key, names[j]))
+            while (j < nmax &&
+                   PyUnicode_CompareWithASCIIString(key, names[j])) {
                 j++;
+            }
             if (j == nmax) {
                 PyErr_Format(PyExc_TypeError,
                              "%s() got an unexpected keyword argument '%U'",

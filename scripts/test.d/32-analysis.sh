@@ -6,14 +6,15 @@
 #   and explained in docs/misra.md;
 #   clang-tidy with scripts/analysis/clang-tidy.yaml, warnings as errors;
 #   gcc -fanalyzer with the project's warnings, -Werror;
-#   clang-format --dry-run --Werror with .clang-format over every C and C++
+#   clang-format (15 or later) --dry-run --Werror with .clang-format, braces
+#   on every body (InsertBraces), over every C and C++
 #   file of src/, include/, sim/, tests/, bench/, fuzz/, examples/ and
 #   firmware/: one style, checked.
 # Each in the double and the float configuration.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
-gf_apt cppcheck clang-tidy clang-format gcc python3
+gf_apt cppcheck clang-tidy clang-format-16 gcc python3
 
 an="$GF_ROOT/scripts/analysis"
 fail=0
@@ -68,15 +69,26 @@ for def in -UGF_SINGLE_PRECISION -DGF_SINGLE_PRECISION; do
     fi
 done
 
-gf_log "analysis: $(clang-format --version | grep -o 'clang-format version [0-9.]*') over the tree"
+# clang-format 15 or later: InsertBraces (.clang-format) puts braces on
+# every body; Debian 12's default clang-format is 14, which has no such
+# option. The newest installed one is used.
+cf=
+for v in 19 18 17 16 15; do
+    if command -v clang-format-$v >/dev/null; then
+        cf=clang-format-$v
+        break
+    fi
+done
+[ -n "$cf" ] || gf_die "analysis: no clang-format 15 or later (apt-get install clang-format-16)"
+gf_log "analysis: $($cf --version | grep -o 'clang-format version [0-9.]*') over the tree"
 fmt=$(git ls-files -- src include sim tests bench fuzz examples firmware python |
     grep -E '\.(c|h|cpp|hpp)$' || true)
 # shellcheck disable=SC2086
-if clang-format --dry-run --Werror $fmt; then
+if $cf --dry-run --Werror $fmt; then
     echo "clang-format: $(echo "$fmt" | wc -l) files clean"
 else
-    echo "clang-format: the files above differ from .clang-format's style" \
-        "(clang-format -i FILE fixes them)"
+    echo "clang-format: the files above differ from .clang-format's style," \
+        "braces on every body included ($cf -i FILE fixes them)"
     fail=1
 fi
 

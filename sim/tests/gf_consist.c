@@ -47,23 +47,27 @@ static double quad_form(double s[NMAX][NMAX], const double *x, int n)
     int i, j, k;
     for (j = 0; j < n; j++) {
         double d = s[j][j];
-        for (k = 0; k < j; k++)
+        for (k = 0; k < j; k++) {
             d -= l[j][k] * l[j][k];
-        if (!(d > 0.0))
+        }
+        if (!(d > 0.0)) {
             return (double)NAN;
+        }
         l[j][j] = sqrt(d);
         for (i = j + 1; i < n; i++) {
             double v = s[i][j];
-            for (k = 0; k < j; k++)
+            for (k = 0; k < j; k++) {
                 v -= l[i][k] * l[j][k];
+            }
             l[i][j] = v / l[j][j];
         }
     }
     // L y = x, q = |y|^2
     for (i = 0; i < n; i++) {
         double v = x[i];
-        for (k = 0; k < i; k++)
+        for (k = 0; k < i; k++) {
             v -= l[i][k] * y[k];
+        }
         y[i] = v / l[i][i];
         q += y[i] * y[i];
     }
@@ -78,8 +82,9 @@ typedef struct data {
 static step *find(data *d, int32_t track, long t)
 {
     long r = (long)track - d->first;
-    if (r < 0 || r >= d->runs || t < 1 || t > d->steps)
+    if (r < 0 || r >= d->runs || t < 1 || t > d->steps) {
         return NULL;
+    }
     return &d->s[r][t];
 }
 
@@ -89,11 +94,13 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
     gf_wire_belief b;
     step *s;
     (void)channel;
-    if (gf_wire_belief_decode(rbuf->data, rbuf->data_size, &b) != 0)
+    if (gf_wire_belief_decode(rbuf->data, rbuf->data_size, &b) != 0) {
         return;
+    }
     // step t: control seq 2t - 1, measurement seq 2t
-    if (b.stage != GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE || b.input_seq % 2)
+    if (b.stage != GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE || b.input_seq % 2) {
         return;
+    }
     s = find(user, b.track, (long)(b.input_seq / 2));
     if (s != NULL) {
         s->b = b;
@@ -108,12 +115,14 @@ static void on_truth(const lcm_recv_buf_t *rbuf, const char *channel,
     step *s;
     int i;
     (void)channel;
-    if (gf_wire_truth_decode(rbuf->data, rbuf->data_size, &g) != 0)
+    if (gf_wire_truth_decode(rbuf->data, rbuf->data_size, &g) != 0) {
         return;
+    }
     s = find(user, g.track, (long)((g.seq + 1) / 2));
     if (s != NULL) {
-        for (i = 0; i < g.n; i++)
+        for (i = 0; i < g.n; i++) {
             s->truth[i] = g.state[i];
+        }
         s->have_truth = 1;
     }
 }
@@ -130,8 +139,9 @@ static int judge(const char *label, const char *what, const double *sum,
     for (t = first; t <= last; t++) {
         double avg = sum[t] / (double)runs;
         total += sum[t];
-        if (avg < lo || avg > hi)
+        if (avg < lo || avg > hi) {
             outside++;
+        }
     }
     mean = total / (double)(runs * steps);
     if (white) {
@@ -164,20 +174,21 @@ int main(int argc, char **argv)
     d.runs = d.steps = 0;
     d.first = 0;
     for (i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--url") == 0 && nurl < 2)
+        if (strcmp(argv[i], "--url") == 0 && nurl < 2) {
             url[nurl++] = argv[i + 1];
-        else if (strcmp(argv[i], "--first") == 0)
+        } else if (strcmp(argv[i], "--first") == 0) {
             d.first = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--runs") == 0)
+        } else if (strcmp(argv[i], "--runs") == 0) {
             d.runs = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--steps") == 0)
+        } else if (strcmp(argv[i], "--steps") == 0) {
             d.steps = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--skip") == 0)
+        } else if (strcmp(argv[i], "--skip") == 0) {
             skip = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--label") == 0)
+        } else if (strcmp(argv[i], "--label") == 0) {
             label = argv[i + 1];
-        else
+        } else {
             break;
+        }
     }
     if (i != argc || nurl == 0 || d.runs < 2 || d.runs > MAX_RUNS ||
         d.steps < 1 || d.steps > MAX_STEPS || skip < 0 || skip >= d.steps) {
@@ -198,7 +209,7 @@ int main(int argc, char **argv)
         lcm_destroy(lcm);
     }
 
-    for (r = 0; r < d.runs; r++)
+    for (r = 0; r < d.runs; r++) {
         for (t = skip + 1; t <= d.steps; t++) {
             step *s = &d.s[r][t];
             double e[NMAX];
@@ -213,13 +224,16 @@ int main(int argc, char **argv)
             }
             n = s->b.n;
             m = s->b.m;
-            for (k = 0; k < n; k++)
+            for (k = 0; k < n; k++) {
                 e[k] = s->truth[k] - s->b.mean[k];
-            if (s->b.model == 2) // the robot's heading
+            }
+            if (s->b.model == 2) { // the robot's heading
                 e[2] = trust_wrap(e[2]);
+            }
             nees[t] += quad_form(s->b.cov, e, n);
             nis[t] += s->b.nis;
         }
+    }
     ok = judge(label, "NEES", nees, skip + 1, d.steps, d.runs, n, 0);
     ok &= judge(label, "NIS", nis, skip + 1, d.steps, d.runs, m, 1);
     return ok ? 0 : 1;

@@ -27,16 +27,17 @@ int main(int argc, char **argv)
     lcm_t *lcm;
 
     for (i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--url") == 0)
+        if (strcmp(argv[i], "--url") == 0) {
             url = argv[i + 1];
-        else if (strcmp(argv[i], "--track") == 0)
+        } else if (strcmp(argv[i], "--track") == 0) {
             track = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--rounds") == 0)
+        } else if (strcmp(argv[i], "--rounds") == 0) {
             rounds = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--seed") == 0)
+        } else if (strcmp(argv[i], "--seed") == 0) {
             x = (uint32_t)strtoul(argv[i + 1], NULL, 0);
-        else
+        } else {
             break;
+        }
     }
     if (i != argc || rounds < 1) {
         fprintf(stderr, "usage: gf_inject --track N [--rounds K] [--seed S] "

@@ -97,8 +97,9 @@ typedef struct gf_sink {
 static inline void gf_sink_add(gf_sink *s, const char *channel,
                                const void *data, size_t len)
 {
-    if (s->n >= GF_SINK_MAX)
+    if (s->n >= GF_SINK_MAX) {
         return;
+    }
     if (gf_wire_belief_decode(data, len, &s->b[s->n]) != 0) {
         s->undecodable++;
         return;

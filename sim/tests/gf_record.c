@@ -77,8 +77,9 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
     e.channel = name;
     e.data = rbuf->data;
     if (lcm_eventlog_write_event(r->log, &e) != 0) {
-        if (r->write_errno == 0)
+        if (r->write_errno == 0) {
             r->write_errno = errno != 0 ? errno : EIO;
+        }
     } else {
         r->events++;
     }
@@ -101,8 +102,9 @@ static int find_udpm_socket(void)
     DIR *d = opendir("/proc/self/fd");
     struct dirent *ent;
     int found = -1;
-    if (d == NULL)
+    if (d == NULL) {
         return -1;
+    }
     while (found < 0 && (ent = readdir(d)) != NULL) {
         struct sockaddr_in a;
         socklen_t len = sizeof a;
@@ -110,17 +112,21 @@ static int find_udpm_socket(void)
         socklen_t tlen = sizeof type;
         char *end;
         long v = strtol(ent->d_name, &end, 10);
-        if (*end != '\0' || end == ent->d_name || v < 0)
+        if (*end != '\0' || end == ent->d_name || v < 0) {
             continue;
+        }
         fd = (int)v;
         if (getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &tlen) != 0 ||
-            type != SOCK_DGRAM)
+            type != SOCK_DGRAM) {
             continue;
+        }
         if (getsockname(fd, (struct sockaddr *)&a, &len) != 0 ||
-            a.sin_family != AF_INET)
+            a.sin_family != AF_INET) {
             continue;
-        if ((ntohl(a.sin_addr.s_addr) & 0xf0000000u) == 0xe0000000u)
+        }
+        if ((ntohl(a.sin_addr.s_addr) & 0xf0000000u) == 0xe0000000u) {
             found = fd;
+        }
     }
     closedir(d);
     return found;
@@ -133,8 +139,9 @@ static long kernel_drops(int fd)
     uint32_t mem[SK_MEMINFO_VARS];
     socklen_t len = sizeof mem;
     if (fd < 0 || getsockopt(fd, SOL_SOCKET, SO_MEMINFO, mem, &len) != 0 ||
-        len < (socklen_t)((SK_MEMINFO_DROPS + 1) * sizeof mem[0]))
+        len < (socklen_t)((SK_MEMINFO_DROPS + 1) * sizeof mem[0])) {
         return -1;
+    }
     return (long)mem[SK_MEMINFO_DROPS];
 }
 
@@ -174,22 +181,23 @@ int main(int argc, char **argv)
     gf_help(argc, argv, help_text);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (i + 1 < argc && strcmp(a, "--url") == 0)
+        if (i + 1 < argc && strcmp(a, "--url") == 0) {
             url = argv[++i];
-        else if (i + 1 < argc && strcmp(a, "--channels") == 0)
+        } else if (i + 1 < argc && strcmp(a, "--channels") == 0) {
             channels = argv[++i];
-        else if (i + 1 < argc && strcmp(a, "--count") == 0)
+        } else if (i + 1 < argc && strcmp(a, "--count") == 0) {
             count = atol(argv[++i]);
-        else if (i + 1 < argc && strcmp(a, "--timeout-ms") == 0)
+        } else if (i + 1 < argc && strcmp(a, "--timeout-ms") == 0) {
             timeout_ms = atol(argv[++i]);
-        else if (i + 1 < argc && strcmp(a, "--linger-ms") == 0)
+        } else if (i + 1 < argc && strcmp(a, "--linger-ms") == 0) {
             linger_ms = atol(argv[++i]);
-        else if (i + 1 < argc && strcmp(a, "--rcvbuf") == 0)
+        } else if (i + 1 < argc && strcmp(a, "--rcvbuf") == 0) {
             rcvbuf_want = atoi(argv[++i]);
-        else if (a[0] != '-' && path == NULL)
+        } else if (a[0] != '-' && path == NULL) {
             path = a;
-        else
+        } else {
             bad = 1;
+        }
     }
     if (bad || path == NULL || rcvbuf_want < 1 || timeout_ms < 1 ||
         linger_ms < 0) {
@@ -230,12 +238,14 @@ int main(int argc, char **argv)
     if (fd >= 0) {
         forced = setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf_want,
                             sizeof rcvbuf_want) == 0;
-        if (!forced)
+        if (!forced) {
             setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf_want,
                        sizeof rcvbuf_want);
+        }
         len = sizeof rcvbuf;
-        if (getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf, &len) != 0)
+        if (getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf, &len) != 0) {
             rcvbuf = -1;
+        }
     }
     printf("gf_record: ready channels=%s rcvbuf=%d (%s) file=%s\n", channels,
            rcvbuf,
@@ -247,12 +257,15 @@ int main(int argc, char **argv)
 
     clock_gettime(CLOCK_MONOTONIC, &t_ready);
     while (!g_stop && r.write_errno == 0) {
-        if (count >= 0 && r.events >= count && ms_since(&r.last) >= linger_ms)
+        if (count >= 0 && r.events >= count && ms_since(&r.last) >= linger_ms) {
             break;
-        if (count >= 0 && ms_since(&t_ready) >= timeout_ms)
+        }
+        if (count >= 0 && ms_since(&t_ready) >= timeout_ms) {
             break;
-        if (lcm_handle_timeout(lcm, 50) < 0)
+        }
+        if (lcm_handle_timeout(lcm, 50) < 0) {
             break;
+        }
     }
     drops = kernel_drops(fd);
     lcm_destroy(lcm);

@@ -44,8 +44,9 @@ static void on_belief(const lcm_recv_buf_t *rbuf, const char *channel,
 static void check_close(double got, double want)
 {
     double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
-    if (!(fabs(got - want) <= GF_SIM_TOL * scale))
+    if (!(fabs(got - want) <= GF_SIM_TOL * scale)) {
         fail_msg("got %.17g, want %.17g", got, want);
+    }
 }
 
 static void send(world *w, gf_msg m)
@@ -69,8 +70,9 @@ static int setup(void **state)
     static world w;
     memset(&w, 0, sizeof(w));
     w.lcm = lcm_create("memq://");
-    if (w.lcm == NULL)
+    if (w.lcm == NULL) {
         return -1;
+    }
     gf_node_init(&w.node, publish_lcm, w.lcm);
     lcm_subscribe(w.lcm, GF_CHANNEL_NODE_DEFAULT, on_input, &w.node);
     lcm_subscribe(w.lcm, GF_CHANNEL_BELIEF ".*", on_belief, &w.beliefs);
@@ -91,8 +93,9 @@ static void exercises_through_memq(void **state)
     const gf_wire_belief *b;
     int64_t t;
     int i, found2 = 0, found4 = 0;
-    for (t = 1; t <= 5; t++)
+    for (t = 1; t <= 5; t++) {
         send(w, gf_msg_ctrl(2, GF_CAR, t, t, 0, 0, 0));
+    }
     send(w, gf_msg_meas(2, GF_CAR, 6, 5, 5.0, 10.0));
     send(w, gf_msg_ctrl(4, GF_ROBOT, 1, 1, 2, 1.0, 0.0));
     send(w, gf_msg_meas(4, GF_ROBOT, 2, 1, -0.7, 0.01));
@@ -135,8 +138,9 @@ static void channel_regex_splits_tracks(void **state)
     gf_node_init(&high, publish_lcm, lcm);
     lcm_subscribe(lcm, "GF_(MEAS|CTRL)_1[0-4]", on_input, &low);
     lcm_subscribe(lcm, "GF_(MEAS|CTRL)_1[5-9]", on_input, &high);
-    for (i = 10; i < 20; i++)
+    for (i = 10; i < 20; i++) {
         send(w, gf_msg_ctrl(i, GF_CAR, 1, 1, 0, 0, 0));
+    }
     drain(w);
     assert_int_equal(low.ntracks, 5);
     assert_int_equal(high.ntracks, 5);

@@ -19,8 +19,9 @@
 static void fill(double *v, int n, double base)
 {
     int i;
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         v[i] = base * (i + 1) * (i % 2 ? -1.0 : 1.0) + 1e-300 * i;
+    }
 }
 
 typedef int (*enc_fn)(void *, int, int, const void *);
@@ -59,7 +60,7 @@ WRAP(groundtruth_t)
 
 #define CASE(T, wire)                                                          \
     {                                                                          \
-#T, sizeof(gaussfilt_lcm_##T), enc_##T, dec_##T, size_##T,             \
+        #T, sizeof(gaussfilt_lcm_##T), enc_##T, dec_##T, size_##T,             \
             __gaussfilt_lcm_##T##_get_hash, wire                               \
     }
 
@@ -92,8 +93,9 @@ static void make(unsigned k, void *p)
         m->m = 3;
         fill(a_z, 3, 1.5e7);
         fill(&a_q[0][0], 9, -2.25e-7);
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 3; i++) {
             a_qrows[i] = a_q[i];
+        }
         m->z = a_z;
         m->q = a_qrows;
     } else if (k == 1) {
@@ -118,8 +120,9 @@ static void make(unsigned k, void *p)
         b->n = 3;
         fill(a_mean, 3, 0.15);
         fill(&a_cov[0][0], 9, 10000.01);
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 3; i++) {
             a_covrows[i] = a_cov[i];
+        }
         b->mean = a_mean;
         b->cov = a_covrows;
         b->m = 2;
@@ -154,9 +157,10 @@ static void roundtrip_every_type(void **state)
         memset(out, 0, cases[k].size);
         assert_int_equal(cases[k].dec(buf, 0, len, out), len);
         // the fixed fields as given (the arrays: the second encode below)
-        if (memcmp(in, out, 2 * sizeof(int64_t)) != 0)
+        if (memcmp(in, out, 2 * sizeof(int64_t)) != 0) {
             fail_msg("%s: decoded fields differ from the encoded struct",
                      cases[k].name);
+        }
         // A second encode of the decoded struct gives the same bytes.
         {
             uint8_t buf2[512];
@@ -171,8 +175,9 @@ static void roundtrip_every_type(void **state)
             assert_string_equal(w.node, "gf");
             assert_true(w.n == 3 && w.m == 2);
             assert_memory_equal(w.mean, a_mean, sizeof a_mean);
-            for (int i = 0; i < 3; i++)
+            for (int i = 0; i < 3; i++) {
                 assert_memory_equal(w.cov[i], a_cov[i], sizeof a_cov[i]);
+            }
             assert_memory_equal(w.innovation, a_innov, sizeof a_innov);
         }
         if (k == 3) {
@@ -194,15 +199,17 @@ static void type_mismatch_is_detected(void **state)
         len = cases[a].enc(buf, 0, (int)sizeof(buf), in);
         assert_true(len > 8);
         for (b = 0; b < NCASES; b++) {
-            if (a == b)
+            if (a == b) {
                 continue;
+            }
             // Distinct fingerprints ...
             assert_true(cases[a].hash() != cases[b].hash());
             // ... so type b refuses the bytes of type a, whatever the length.
             memset(out, 0, sizeof(out));
-            if (cases[b].dec(buf, 0, len, out) >= 0)
+            if (cases[b].dec(buf, 0, len, out) >= 0) {
                 fail_msg("%s decoded the bytes of %s", cases[b].name,
                          cases[a].name);
+            }
         }
     }
 }
@@ -216,8 +223,9 @@ static void truncation_is_detected(void **state)
         int len, cut;
         make(k, in);
         len = cases[k].enc(buf, 0, (int)sizeof(buf), in);
-        for (cut = 0; cut < len; cut++)
+        for (cut = 0; cut < len; cut++) {
             assert_true(cases[k].dec(buf, 0, cut, out) < 0);
+        }
     }
 }
 
@@ -263,14 +271,16 @@ static void particles_roundtrip(void **state)
     assert_memory_equal(out.theta, th, sizeof(th));
     assert_memory_equal(out.w, w, sizeof(w));
     gaussfilt_lcm_particles_t_decode_cleanup(&out);
-    for (cut = 0; cut < len; cut++)
+    for (cut = 0; cut < len; cut++) {
         assert_true(gaussfilt_lcm_particles_t_decode(buf, 0, cut, &out) < 0);
+    }
     for (k = 0; k < NCASES; k++) {
         uint8_t ins[512], outs[512];
         int olen;
         assert_true(cases[k].hash() != __gaussfilt_lcm_particles_t_get_hash());
-        if (cases[k].dec(buf, 0, len, outs) >= 0)
+        if (cases[k].dec(buf, 0, len, outs) >= 0) {
             fail_msg("%s decoded the bytes of particles_t", cases[k].name);
+        }
         make(k, ins);
         olen = cases[k].enc(other, 0, (int)sizeof(other), ins);
         assert_true(gaussfilt_lcm_particles_t_decode(other, 0, olen, &out) < 0);

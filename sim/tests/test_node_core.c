@@ -47,25 +47,28 @@ static void check_counts(const gf_node *node)
 {
     uint64_t sum = 0;
     unsigned r;
-    for (r = 0; r < GF_NODE_RESULT_COUNT; r++)
+    for (r = 0; r < GF_NODE_RESULT_COUNT; r++) {
         sum += node->counts.by_result[r];
+    }
     assert_true(sum == node->counts.received);
 }
 
 static void check_close(double got, double want)
 {
     double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
-    if (!(fabs(got - want) <= TOL * scale))
+    if (!(fabs(got - want) <= TOL * scale)) {
         fail_msg("got %.17g, want %.17g", got, want);
+    }
 }
 
 static void exercise_2(fixture *f, int32_t track)
 {
     int64_t t;
-    for (t = 1; t <= 5; t++)
+    for (t = 1; t <= 5; t++) {
         assert_int_equal(
             feed(f, gf_msg_ctrl(track, GF_CAR, t, t * 1000000, 0, 0, 0)),
             GF_NODE_APPLIED);
+    }
     assert_int_equal(feed(f, gf_msg_meas(track, GF_CAR, 6, 5000000, 5, 10)),
                      GF_NODE_APPLIED);
 }
@@ -343,9 +346,10 @@ static void track_limit(void **state)
 {
     fixture *f = *state;
     int32_t id;
-    for (id = 100; id < 100 + GF_NODE_MAX_TRACKS; id++)
+    for (id = 100; id < 100 + GF_NODE_MAX_TRACKS; id++) {
         assert_int_equal(feed(f, gf_msg_ctrl(id, GF_CAR, 1, 0, 0, 0, 0)),
                          GF_NODE_APPLIED);
+    }
     assert_int_equal(feed(f, gf_msg_ctrl(id, GF_CAR, 1, 0, 0, 0, 0)),
                      GF_NODE_TRACK_LIMIT);
     assert_null(gf_node_find(&f->node, id));
@@ -441,8 +445,9 @@ static void summary_names_every_counter(void **state)
     exercise_2(f, 3);
     assert_true(gf_node_summary(&f->node, out, sizeof(out)) > 0);
     assert_non_null(strstr(out, "received=6 applied=6 published=7"));
-    for (r = 1; r < GF_NODE_RESULT_COUNT; r++)
+    for (r = 1; r < GF_NODE_RESULT_COUNT; r++) {
         assert_non_null(strstr(out, gf_node_result_str((gf_node_result)r)));
+    }
 }
 
 int main(void)

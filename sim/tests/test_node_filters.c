@@ -35,8 +35,9 @@ static int catch_publish(void *ctx, const char *channel, const void *data,
     catcher *c = (catcher *)ctx;
     const uint8_t *p = (const uint8_t *)data;
     size_t i;
-    for (i = 0; i < len; i++)
+    for (i = 0; i < len; i++) {
         c->hash = (c->hash ^ p[i]) * 1099511628211u;
+    }
     if (strncmp(channel, GF_CHANNEL_PARTICLES, strlen(GF_CHANNEL_PARTICLES)) ==
         0) {
         gaussfilt_lcm_particles_t m;
@@ -209,10 +210,11 @@ static void pf_track_limit(void **state)
     fixture *f = fresh(GF_NODE_FILTER_PF, 1);
     int32_t t;
     (void)state;
-    for (t = 0; t < GF_NODE_PF_TRACKS; t++)
+    for (t = 0; t < GF_NODE_PF_TRACKS; t++) {
         assert_int_equal(
             feed(f, gf_msg_ctrl(100 + t, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
             GF_NODE_APPLIED);
+    }
     assert_int_equal(feed(f, gf_msg_ctrl(200, GF_ROBOT, 1, 1, 2, 1.0, 0.0)),
                      GF_NODE_TRACK_LIMIT);
     assert_null(gf_node_find(&f->node, 200));

@@ -27,8 +27,9 @@
 static void check_close(double got, double want)
 {
     double scale = fabs(want) > 1.0 ? fabs(want) : 1.0;
-    if (!(fabs(got - want) <= TOL * scale))
+    if (!(fabs(got - want) <= TOL * scale)) {
         fail_msg("got %.17g, want %.17g", got, want);
+    }
 }
 
 // Beliefs and particle clouds as published.
@@ -48,10 +49,12 @@ static int on_publish(void *ctx, const char *channel, const void *data,
         if (gaussfilt_lcm_particles_t_decode(data, 0, (int)len, &p) ==
             (int)len) {
             c->clouds++;
-            for (i = 0; i < p.count; i++)
+            for (i = 0; i < p.count; i++) {
                 if (isinf(p.x[i]) || isinf(p.y[i]) || isinf(p.theta[i]) ||
-                    isinf(p.w[i]))
+                    isinf(p.w[i])) {
                     c->inf_in_cloud++;
+                }
+            }
             gaussfilt_lcm_particles_t_decode_cleanup(&p);
         }
         return 0;
@@ -202,11 +205,13 @@ static void config_errors(void **state)
     unsigned i;
     (void)state;
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        if (gf_node_config_parse(&cfg, bad[i].text, err, sizeof err) == 0)
+        if (gf_node_config_parse(&cfg, bad[i].text, err, sizeof err) == 0) {
             fail_msg("accepted: %s", bad[i].text);
-        if (strcmp(err, bad[i].err) != 0)
+        }
+        if (strcmp(err, bad[i].err) != 0) {
             fail_msg("for %s\n said: %s\n want: %s", bad[i].text, err,
                      bad[i].err);
+        }
         gf_node_config_free(&cfg);
     }
 }
@@ -386,8 +391,9 @@ static void range_bearing(void **state)
     assert_int_equal(gf_ekf3_cov(&ekf, &sigma), GF_OK);
     for (i = 0; i < 3; i++) {
         check_close(b->mean[i], (double)ekf.mu.v[i]);
-        for (j = 0; j < 3; j++)
+        for (j = 0; j < 3; j++) {
             check_close(b->cov[i][j], (double)sigma.m[i][j]);
+        }
     }
     // the wrap: a bearing one turn off gives the same innovation
     assert_int_equal(feed(gf_msg_ctrl(32, GF_ROBOT, 1, 1, 2, 1.0, 0.2)),
@@ -414,13 +420,15 @@ static void one_channel_spelling(void **state)
     gf_msg m = gf_msg_meas(7, GF_CAR, 1, 0, 1.0, 10.0);
     gf_msg z = gf_msg_meas(0, GF_CAR, 1, 0, 1.0, 10.0);
     (void)state;
-    for (i = 0; i < sizeof bad / sizeof bad[0]; i++)
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         if (feed_on(bad[i], strncmp(bad[i], "GF_MEAS_0", 9) == 0 ||
                                     strcmp(bad[i], "GF_MEAS_-0") == 0 ||
                                     strcmp(bad[i], "GF_CTRL_00") == 0
                                 ? z
-                                : m) != GF_NODE_UNKNOWN_CHANNEL)
+                                : m) != GF_NODE_UNKNOWN_CHANNEL) {
             fail_msg("%s was taken", bad[i]);
+        }
+    }
     assert_int_equal(fx.node.ntracks, 0);
     assert_int_equal(feed_on("GF_MEAS_7", m), GF_NODE_APPLIED);
     assert_int_equal(feed_on("GF_MEAS_0", z), GF_NODE_APPLIED);
@@ -440,9 +448,10 @@ static void sequence_resync(void **state)
                      GF_NODE_APPLIED);
     // the real stream goes on: rejected GF_NODE_RESYNC_AFTER times, then
     // taken as the new reference
-    for (i = 0, seq = 2; i < GF_NODE_RESYNC_AFTER; i++, seq++)
+    for (i = 0, seq = 2; i < GF_NODE_RESYNC_AFTER; i++, seq++) {
         assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 20 + seq, 0, 0, 0)),
                          GF_NODE_OUT_OF_ORDER);
+    }
     assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 20 + seq, 0, 0, 0)),
                      GF_NODE_APPLIED);
     assert_int_equal(fx.node.counts.seq_resyncs, 1);
@@ -455,16 +464,18 @@ static void sequence_resync(void **state)
     seq++;
     assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, INT64_MAX, 0, 0, 0)),
                      GF_NODE_APPLIED);
-    for (i = 0; i < GF_NODE_RESYNC_AFTER; i++)
+    for (i = 0; i < GF_NODE_RESYNC_AFTER; i++) {
         assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, ++seq, 100, 0, 0, 0)),
                          GF_NODE_OUT_OF_ORDER);
+    }
     assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, ++seq, 100, 0, 0, 0)),
                      GF_NODE_APPLIED);
     assert_int_equal(fx.node.counts.seq_resyncs, 2);
     // duplicates do not count towards a resync
-    for (i = 0; i < 3 * GF_NODE_RESYNC_AFTER; i++)
+    for (i = 0; i < 3 * GF_NODE_RESYNC_AFTER; i++) {
         assert_int_equal(feed(gf_msg_ctrl(9, GF_CAR, seq, 100, 0, 0, 0)),
                          GF_NODE_DUPLICATE);
+    }
     assert_int_equal(fx.node.counts.seq_resyncs, 2);
 }
 
@@ -532,8 +543,9 @@ typedef struct said_ {
 static void keep_line(void *ctx, const char *line)
 {
     said_ *s = ctx;
-    if (s->n < 8)
+    if (s->n < 8) {
         snprintf(s->line[s->n], sizeof s->line[0], "%s", line);
+    }
     s->n++;
 }
 
@@ -588,12 +600,13 @@ static void linear_config(void **state)
     assert_int_equal(l->n, 5);
     assert_int_equal(l->m, 2);
     assert_int_equal(l->nu, 0);
-    for (i = 0; i < 5; i++)
+    for (i = 0; i < 5; i++) {
         for (j = 0; j < 5; j++) {
             int same = (i < 2) == (j < 2);
             check_close(l->A[i * 5 + j], A[i * 5 + j]);
             check_close(l->R[i * 5 + j], same ? q[i] * g[i] * g[j] : 0.0);
         }
+    }
     check_close(l->C[0 * 5 + 0], 1.0);
     check_close(l->C[1 * 5 + 2], 1.0);
     check_close(l->Q[3], 0.04);
@@ -661,11 +674,13 @@ static void linear_errors(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        if (gf_node_config_parse(&cfg, bad[i].text, err, sizeof err) == 0)
+        if (gf_node_config_parse(&cfg, bad[i].text, err, sizeof err) == 0) {
             fail_msg("no error for %s", bad[i].text);
-        if (strcmp(err, bad[i].err) != 0)
+        }
+        if (strcmp(err, bad[i].err) != 0) {
             fail_msg("for %s\n said: %s\n want: %s", bad[i].text, err,
                      bad[i].err);
+        }
         gf_node_config_free(&cfg);
     }
 }
@@ -732,10 +747,11 @@ static void linear_track(void **state)
             GF_NODE_BAD_FIELD);
         // a linear track nothing names: refused, said once
         m = gf_msg_ctrl(7, 3, 1, 0, 0, 0, 0);
-        for (i = 0; i < 2; i++)
+        for (i = 0; i < 2; i++) {
             assert_int_equal(
                 gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
                 GF_NODE_NO_MODEL);
+        }
     }
     assert_int_equal(gf_kf_init(&kf, 2, mu0, P0, &work), GF_OK);
     assert_int_equal(gf_kf_predict(&kf, &km, u, &work), GF_OK);
@@ -750,8 +766,9 @@ static void linear_track(void **state)
     assert_int_equal(b->m, 1);
     for (i = 0; i < 2; i++) {
         check_close(b->mean[i], (double)kf.mu[i]);
-        for (j = 0; j < 2; j++)
+        for (j = 0; j < 2; j++) {
             check_close(b->cov[i][j], (double)sigma[i * 2 + j]);
+        }
     }
     check_close(b->innovation[0], (double)info.y[0]);
     check_close(b->nis, (double)info.nis);

@@ -58,20 +58,21 @@ int main(int argc, char **argv)
     int i;
 
     for (i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--url") == 0)
+        if (strcmp(argv[i], "--url") == 0) {
             url = argv[i + 1];
-        else if (strcmp(argv[i], "--tracks") == 0)
+        } else if (strcmp(argv[i], "--tracks") == 0) {
             tracks = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--first") == 0)
+        } else if (strcmp(argv[i], "--first") == 0) {
             first = atol(argv[i + 1]);
-        else if (strcmp(argv[i], "--rate") == 0)
+        } else if (strcmp(argv[i], "--rate") == 0) {
             rate = atof(argv[i + 1]);
-        else if (strcmp(argv[i], "--seconds") == 0)
+        } else if (strcmp(argv[i], "--seconds") == 0) {
             seconds = atof(argv[i + 1]);
-        else if (strcmp(argv[i], "--seed") == 0)
+        } else if (strcmp(argv[i], "--seed") == 0) {
             g_rng ^= strtoull(argv[i + 1], NULL, 0) * 0x9e3779b97f4a7c15u;
-        else
+        } else {
             break;
+        }
     }
     if (i < argc || tracks < 1 || tracks > MAX_TRACKS || rate <= 0.0) {
         fprintf(stderr,
@@ -91,8 +92,9 @@ int main(int argc, char **argv)
         // Steps due by now (1 ms ticks), every track each step.
         double el = now_s() - t0;
         int64_t due = (int64_t)(el * rate);
-        if (el >= seconds)
+        if (el >= seconds) {
             break;
+        }
         for (; step < due; step++) {
             for (k = 0; k < tracks; k++) {
                 gaussfilt_lcm_control_t c;
