@@ -8,7 +8,6 @@
 #include "gaussfilt/kf2.h"
 
 #include "gf_internal.h"
-#include "ldl.h"
 
 // The checks every init makes of the prior it is given, in the order of
 // the status rules: GF_ERR_NONFINITE (mu, then sigma), then sigma's

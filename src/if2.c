@@ -2,6 +2,7 @@
 #include "gaussfilt/if2.h"
 
 #include "gf_filter.h"
+#include "gf_internal.h"
 
 gf_status gf_if2_init(gf_if2 *inf, const gf_mat2 *omega, const gf_vec2 *xi)
 {

@@ -3,6 +3,8 @@
 
 #include "ldl.h"
 
+#include "gf_internal.h"
+
 // 1 if the state k, one of the zero ones left, is coupled to each zero one
 // before it (p[t..] up to k) within the 2x2 bound a_ik^2 <= a_ii a_kk, both
 // sides widened by GF_PD_RTOL times their variance: (a_ik / a_ii) a_ik <=

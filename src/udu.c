@@ -4,6 +4,8 @@
 
 #include "udu.h"
 
+#include "gf_internal.h"
+
 // ---- init: the factors of a covariance ----------------------------------
 
 // Veltkamp's splitting constant for gf_real's p-bit significand,

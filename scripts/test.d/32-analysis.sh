@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Static analysis of the core (src/, include/), all clean or the stage fails:
+#   scripts/check-includes: docs/design.md's include rules;
 #   cppcheck (warning, style, performance, portability) with its MISRA C:2012
 #   addon: the deviations kept are in scripts/analysis/misra-suppressions.txt
 #   and explained in docs/misra.md;
@@ -18,6 +19,11 @@ gf_apt cppcheck clang-tidy clang-format-16 gcc python3
 
 an="$GF_ROOT/scripts/analysis"
 fail=0
+
+gf_log "analysis: the include rules of docs/design.md (scripts/check-includes)"
+if ! python3 "$GF_ROOT/scripts/check-includes"; then
+    fail=1
+fi
 
 gf_log "analysis: cppcheck $(cppcheck --version | awk '{print $2}') + MISRA C:2012 addon"
 out="$GF_BUILD/analysis-cppcheck.txt"
