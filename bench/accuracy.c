@@ -36,54 +36,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#ifdef GF_ACCURACY_FLOOR
-// gf_accuracy_floor: the hand-written checked sound floor of bench/ref.c
-// (uduc, and uducp for the prepared calls) in gaussfilt's place, through
-// the same calls, to show what accuracy the floor's arithmetic reaches.
-#include "gaussfilt/gaussfilt.h"
-#include "ref.h"
-#define gf_kf2 ref_udu2
-#define gf_ekf3 ref_udu3
-#define gf_kf2_pmodel ref_kf2_pmodel
-#define gf_kf2_pmeas ref_kf2_pmeas
-#define gf_ekf3_pmotion ref_ekf3_pmotion
-#define gf_ekf3_pmeas ref_ekf3_pmeas
-#undef gf_kf2_init
-#define gf_kf2_init ref_uduc2_init
-#undef gf_kf2_predict
-#define gf_kf2_predict ref_uduc2_predict
-#undef gf_kf2_update
-#define gf_kf2_update ref_uduc2_update
-#undef gf_kf2_cov
-#define gf_kf2_cov ref_udu2_cov
-#undef gf_kf2_prepare_model
-#define gf_kf2_prepare_model ref_uducp2_prepare_model
-#undef gf_kf2_prepare_meas
-#define gf_kf2_prepare_meas ref_uducp2_prepare_meas
-#undef gf_kf2_predict_prepared
-#define gf_kf2_predict_prepared ref_uducp2_predict
-#undef gf_kf2_update_prepared
-#define gf_kf2_update_prepared ref_uducp2_update
-#undef gf_ekf3_init
-#define gf_ekf3_init ref_uduc3_init
-#undef gf_ekf3_predict
-#define gf_ekf3_predict ref_uduc3_predict
-#undef gf_ekf3_update
-#define gf_ekf3_update ref_uduc3_update
-#undef gf_ekf3_cov
-#define gf_ekf3_cov ref_udu3_cov
-#undef gf_ekf3_prepare_motion
-#define gf_ekf3_prepare_motion ref_uducp3_prepare_motion
-#undef gf_ekf3_prepare_meas
-#define gf_ekf3_prepare_meas ref_uducp3_prepare_meas
-#undef gf_ekf3_predict_prepared
-#define gf_ekf3_predict_prepared ref_uducp3_predict
-#undef gf_ekf3_update_prepared
-#define gf_ekf3_update_prepared ref_uducp3_update
-#define GF_ACCURACY_NAME "floor"
-#else
 #define GF_ACCURACY_NAME "gaussfilt"
-#endif
 #include "gf_ref_lib.h"
 
 #define SEED 0x9a55f117u

@@ -11,9 +11,6 @@
 //   gf_bench time WL PART N R  R timed runs of N iterations; prints the
 //                              median, min and max ns per iteration
 //   gf_bench floor WL PART     prints the hand-counted flop floor
-//   gf_bench agree WL PART     (PART udu, uduc or uducp) the sound floor
-//                              held against the library after each of
-//                              the TAB steps: the largest differences
 // WL is w1, w1p (W1 through the prepared models: gf_kf2_prepare_model and
 // _meas once, then gf_kf2_predict_prepared and _update_prepared), w2, w2c
 // (W2 with the caller's own copies of the two models, which take the
@@ -22,12 +19,8 @@
 // states (workloads_n.h): cv2, cv3, cv4, cv6, cv8, cv12 (gf_kf) or gps
 // (gf_ekf), with PART step or ref only (the floor of bench/ref_n.c) and no
 // flop floor (floor prints "-");
-// PART is step, predict, update or ref (the step done by the no-checks
-// reference of bench/ref.c), or the step done by the sound floor of
-// bench/ref.c on U D U^T: udu (no checks), uduc (the plain API's checks)
-// or uducp (the prepared path's), for w1, w2, w2m2 and w2m3. The inputs
-// (measurements,
-// turns, and for the part loops the beliefs they start from) come from a
+// PART is step, predict, update or ref (the step done by the textbook
+// reference of bench/ref.c, no checks). The inputs (measurements, turns, and for the part loops the beliefs they start from) come from a
 // simulated truth of TAB steps computed before the loop; the step loop
 // replays those TAB steps from the same initial belief again and again.
 #define _POSIX_C_SOURCE 199309L
@@ -272,176 +265,6 @@ NOINLINE static double bench_loop_ekf3_ref(unsigned long n)
     return (double)ekf.mu.v[0] + (double)ekf.sigma.m[0][0];
 }
 
-// The same step on the sound floor of bench/ref.c (U D U^T by hand):
-// unchecked (udu: R's factors made once), with the plain API's checks
-// (uduc) and with the prepared path's (uducp: the models prepared once).
-static ref_noise2 udu_rn2;
-static ref_noise3 udu_rn3;
-static ref_kf2_pmodel udu_pm2;
-static ref_kf2_pmeas udu_pq2;
-static ref_ekf3_pmotion udu_pm3;
-static ref_ekf3_pmeas udu_pq3;
-
-// The floors' models made once (outside the measured loops); nonzero if a
-// model is refused.
-static int udu_setup(int ekf3)
-{
-    if (!ekf3) {
-        udu_rn2 = ref_noise2_from(&wl_w1_model.R);
-        return ref_uducp2_prepare_model(&udu_pm2, &wl_w1_model) != GF_OK ||
-               ref_uducp2_prepare_meas(&udu_pq2, &wl_w1_meas) != GF_OK;
-    }
-    udu_rn3 = ref_noise3_from(&wl_w2_motion.R);
-    return ref_uducp3_prepare_motion(&udu_pm3, &wl_w2_motion) != GF_OK ||
-           ref_uducp3_prepare_meas(&udu_pq3, &wl_w2_meas) != GF_OK;
-}
-
-// One step of W1 on floor v (0 udu, 1 uduc, 2 uducp) from step j's inputs.
-static inline gf_status kf2_udu_step(int v, ref_udu2 *kf, unsigned j)
-{
-    gf_status a = GF_OK, b = GF_OK;
-    if (v == 0) {
-        ref_udu2_predict(kf, &wl_w1_model, &udu_rn2);
-        ref_udu2_update(kf, &wl_w1_meas, &wl_w1_z[j]);
-    } else if (v == 1) {
-        a = ref_uduc2_predict(kf, &wl_w1_model, NULL);
-        b = ref_uduc2_update(kf, &wl_w1_meas, &wl_w1_z[j], &info_sink);
-    } else {
-        a = ref_uducp2_predict(kf, &udu_pm2, NULL);
-        b = ref_uducp2_update(kf, &udu_pq2, &wl_w1_z[j], &info_sink);
-    }
-    return a != GF_OK ? a : b;
-}
-
-static inline gf_status ekf3_udu_step(int v, ref_udu3 *ekf, unsigned j)
-{
-    gf_status a = GF_OK, b = GF_OK;
-    if (v == 0) {
-        ref_udu3_predict(ekf, &wl_w2_motion, &udu_rn3, wl_w2_u[j]);
-        if (wl_w2_meas.m == 1) {
-            ref_udu3_update(ekf, &wl_w2_meas, &wl_w2_z[j]);
-        } else if (wl_w2_meas.m == 2) {
-            ref_udu3_update_xy(ekf, &wl_w2_meas, &wl_w2_z[j]);
-        } else {
-            ref_udu3_update_xyt(ekf, &wl_w2_meas, &wl_w2_z[j]);
-        }
-    } else if (v == 1) {
-        a = ref_uduc3_predict(ekf, &wl_w2_motion, wl_w2_u[j]);
-        b = ref_uduc3_update(ekf, &wl_w2_meas, &wl_w2_z[j], &info_sink);
-    } else {
-        a = ref_uducp3_predict(ekf, &udu_pm3, wl_w2_u[j]);
-        b = ref_uducp3_update(ekf, &udu_pq3, &wl_w2_z[j], &info_sink);
-    }
-    return a != GF_OK ? a : b;
-}
-
-static inline double kf2_udu_loop(int v, unsigned long n)
-{
-    const ref_udu2 init =
-        v == 0 ? ref_udu2_inorder(&wl_w1_init) : ref_udu2_from(&wl_w1_init);
-    ref_udu2 kf = init;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        if (j == 0) {
-            kf = init;
-        }
-        if (kf2_udu_step(v, &kf, j) != GF_OK) {
-            fail_sink = (double)i;
-            return -1;
-        }
-    }
-    return (double)kf.mu.v[0] + (double)kf.ud[1];
-}
-
-static inline double ekf3_udu_loop(int v, unsigned long n)
-{
-    const ref_udu3 init =
-        v == 0 ? ref_udu3_inorder(&wl_w2_init) : ref_udu3_from(&wl_w2_init);
-    ref_udu3 ekf = init;
-    for (unsigned long i = 0; i < n; i++) {
-        unsigned j = (unsigned)(i & (TAB - 1));
-        if (j == 0) {
-            ekf = init;
-        }
-        if (ekf3_udu_step(v, &ekf, j) != GF_OK) {
-            fail_sink = (double)i;
-            return -1;
-        }
-    }
-    return (double)ekf.mu.v[0] + (double)ekf.ud[1];
-}
-
-NOINLINE static double bench_loop_kf2_udu(unsigned long n)
-{
-    return kf2_udu_loop(0, n);
-}
-
-NOINLINE static double bench_loop_kf2_uduc(unsigned long n)
-{
-    return kf2_udu_loop(1, n);
-}
-
-NOINLINE static double bench_loop_kf2_uducp(unsigned long n)
-{
-    return kf2_udu_loop(2, n);
-}
-
-NOINLINE static double bench_loop_ekf3_udu(unsigned long n)
-{
-    return ekf3_udu_loop(0, n);
-}
-
-NOINLINE static double bench_loop_ekf3_uduc(unsigned long n)
-{
-    return ekf3_udu_loop(1, n);
-}
-
-NOINLINE static double bench_loop_ekf3_uducp(unsigned long n)
-{
-    return ekf3_udu_loop(2, n);
-}
-
-// gf_bench agree WL PART: the floor's belief held against the library's
-// after each of the TAB steps (wl_*_post, the last one the step loop's
-// own); prints the largest differences as ref_udu2_dev / ref_udu3_dev
-// give them.
-static int udu_agree(int ekf3, int v, const char *wl, const char *part)
-{
-    gf_real worst = 0, worst_mu = 0, mu;
-    if (!ekf3) {
-        ref_udu2 kf =
-            v == 0 ? ref_udu2_inorder(&wl_w1_init) : ref_udu2_from(&wl_w1_init);
-        gf_kf2 lib = wl_w1_init;
-        for (unsigned j = 0; j < TAB; j++) {
-            if (kf2_udu_step(v, &kf, j) != GF_OK ||
-                gf_kf2_predict(&lib, &wl_w1_model, NULL) != GF_OK ||
-                gf_kf2_update(&lib, &wl_w1_meas, &wl_w1_z[j], NULL) != GF_OK) {
-                return 1;
-            }
-            const gf_real c = ref_udu2_dev(&kf, &lib, &mu);
-            worst = c > worst ? c : worst;
-            worst_mu = mu > worst_mu ? mu : worst_mu;
-        }
-    } else {
-        ref_udu3 ekf =
-            v == 0 ? ref_udu3_inorder(&wl_w2_init) : ref_udu3_from(&wl_w2_init);
-        gf_ekf3 lib = wl_w2_init;
-        for (unsigned j = 0; j < TAB; j++) {
-            if (ekf3_udu_step(v, &ekf, j) != GF_OK ||
-                gf_ekf3_predict(&lib, &wl_w2_motion, wl_w2_u[j]) != GF_OK ||
-                gf_ekf3_update(&lib, &wl_w2_meas, &wl_w2_z[j], NULL) != GF_OK) {
-                return 1;
-            }
-            const gf_real c = ref_udu3_dev(&ekf, &lib, &mu);
-            worst = c > worst ? c : worst;
-            worst_mu = mu > worst_mu ? mu : worst_mu;
-        }
-    }
-    printf("agree %s %s cov %.2e mu %.2e\n", wl, part, (double)worst,
-           (double)worst_mu);
-    return 0;
-}
-
 // The filters of n states (workloads_n.h): the step loop and the floor's
 // (bench/ref_n.c), for the workload wl_setup_n set up.
 NOINLINE static double bench_loop_n_step(unsigned long n)
@@ -509,9 +332,9 @@ static int usage(void)
     fprintf(
         stderr,
         "usage: gf_bench count WL PART N | time WL PART N R | "
-        "floor WL PART | agree WL PART\n"
+        "floor WL PART\n"
         "       WL = w1 | w1p | w2 | w2p | w2c | w2m2 | w2m3, PART = step | "
-        "predict | update | ref | udu | uduc | uducp\n"
+        "predict | update | ref\n"
         "       WL = cv2 | cv3 | cv4 | cv6 | cv8 | cv12 | gps, PART = step | "
         "ref\n");
     return 2;
@@ -552,47 +375,33 @@ int main(int argc, char **argv)
             w = &WORKLOADS[k];
         }
     }
-    static const char *const parts[7] = {"step", "predict", "update", "ref",
-                                         "udu",  "uduc",    "uducp"};
+    static const char *const parts[4] = {"step", "predict", "update", "ref"};
     int p = -1; // an index of parts
-    for (int k = 0; k < 7; k++) {
+    for (int k = 0; k < 4; k++) {
         if (strcmp(part, parts[k]) == 0) {
             p = k;
         }
     }
-    // The sound floors run the workload's own models (not w1p, w2p, w2c).
-    if (!w || p < 0 || (p >= 4 && (w->prepared || w->user))) {
+    if (!w || p < 0) {
         return usage();
     }
     if (strcmp(mode, "floor") == 0) {
         const int f[4] = {w->floor_predict + w->floor_update, w->floor_predict,
                           w->floor_update, w->floor_predict + w->floor_update};
-        printf("%d\n", f[p < 4 ? p : 3]);
+        printf("%d\n", f[p]);
         return 0;
     }
 
-    static const loop_fn loops[2][7] = {
+    static const loop_fn loops[2][4] = {
         {bench_loop_kf2_step, bench_loop_kf2_predict, bench_loop_kf2_update,
-         bench_loop_kf2_ref, bench_loop_kf2_udu, bench_loop_kf2_uduc,
-         bench_loop_kf2_uducp},
+         bench_loop_kf2_ref},
         {bench_loop_ekf3_step, bench_loop_ekf3_predict, bench_loop_ekf3_update,
-         bench_loop_ekf3_ref, bench_loop_ekf3_udu, bench_loop_ekf3_uduc,
-         bench_loop_ekf3_uducp}};
+         bench_loop_ekf3_ref}};
     bench_prepared = w->prepared;
     if (w->ekf3) {
         wl_setup_w2(w->m, w->user);
     } else {
         wl_setup_w1();
-    }
-    if (p >= 4 && udu_setup(w->ekf3) != 0) {
-        fprintf(stderr, "gf_bench: the floor's models were refused\n");
-        return 1;
-    }
-    if (strcmp(mode, "agree") == 0) {
-        if (p < 4 || udu_agree(w->ekf3, p - 4, wl, part) != 0) {
-            return p < 4 ? usage() : 1;
-        }
-        return 0;
     }
     return run_loop(loops[w->ekf3][p], argc, argv);
 }

@@ -44,9 +44,7 @@ gf_m4f_image() {
 # corrected (the markers have none). The last line is "total T": every
 # instruction the run executed, set-up included. With PROFILE, a file name,
 # the run is profiled (profile=on) and bench/qemu/profile.py's breakdown by
-# function of every report is written there. With GF_M4F_AGREE set to a file
-# name, the image's "agree WL PART cov C mu M" lines (how far each sound
-# floor's belief came from the library's, bench/m4f.c) are written there.
+# function of every report is written there.
 gf_m4f_count() {
     local elf=$1 plugin=$2 prof=${3:-} nm=arm-none-eabi-nm addr args log out
     addr() {
@@ -76,7 +74,6 @@ gf_m4f_count() {
                printf "%s %s %d %.1f %.4g %.4g %d %d\n", wl, part, n, ins / r - e, dv / r, sq / r, ca, ins }' ||
         gf_die "the plugin's reports do not match the image's"
     awk '/^insncount: total/ {print "total " $3}' "$log"
-    [ -z "${GF_M4F_AGREE:-}" ] || grep '^agree ' "$out" >"$GF_M4F_AGREE" || true
     if [ -n "$prof" ]; then
         python3 "$GF_ROOT/bench/qemu/profile.py" "$elf" "$out" "$log" >"$prof" ||
             gf_die "bench/qemu/profile.py failed"
