@@ -108,8 +108,8 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
     return GF_OK;
 }
 
-// The correction with Q factored and C whitened (q: a prepared model's;
-// NULL: meas and z are checked and q made here, as EKF3's update does):
+// The correction once meas and z are checked, Q factored and C whitened
+// (q):
 //   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
 // NIS, and the belief written only if every quantity passed.
@@ -117,15 +117,6 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
                                  const gf_kf2_qfactors *q, const gf_vec2 *z,
                                  gf_innovation *info)
 {
-    gf_kf2_qfactors own;
-    const gf_kf2_qfactors *qf = q;
-    if (!qf) {
-        const gf_status cst = kf2_meas_check(meas, z, &own);
-        if (cst != GF_OK) {
-            return cst;
-        }
-        qf = &own;
-    }
     const unsigned m = meas->m;
     gf_innovation in = {m, {0, 0, 0}, 0};
     gf_real yw[2];
@@ -135,11 +126,11 @@ static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
             (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
         yw[i] = in.y[i];
     }
-    gf_udu_whiten(qf->Qf, qf->Qorder, m, yw, 1);
+    gf_udu_whiten(q->Qf, q->Qorder, m, yw, 1);
     gf_kf2 nb = *kf;
     gf_real work[GF_UDU_CORRECT_WORK(2u)];
-    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, qf->Cw.m[0], qf->Qe,
-                                  yw, nb.mu.v, &in.nis, work);
+    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, q->Cw.m[0], q->Qe, yw,
+                                  nb.mu.v, &in.nis, work);
     if (st != GF_OK) {
         return st;
     }
@@ -168,7 +159,9 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    return kf2_update_step(kf, meas, NULL, z, info);
+    gf_kf2_qfactors q;
+    const gf_status st = kf2_meas_check(meas, z, &q);
+    return st != GF_OK ? st : kf2_update_step(kf, meas, &q, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
