@@ -180,11 +180,6 @@ def count_regs(lst, width):
     return n * width
 
 
-# picolibc's -Os code saves registers through libgcc's millicode: on rv32,
-# __riscv_save_N moves sp by 16 bytes per group of four registers.
-RISCV_SAVE = re.compile(r"^__riscv_(save|restore)_(\d+)$")
-
-
 def prologue_frame(insns, arm):
     """Deepest sp decrement reached along the function's code, in order
     (push/vpush/sub sp on Arm, addi sp on RISC-V; pops and adds give it
