@@ -22,7 +22,7 @@ gf_fw_packages() {
 }
 
 # gf_fw_build TARGET PREC [cmake -D args...]: configures and builds the
-# firmware project (the library, its .su/.ci stack files and the footprint
+# firmware project (the library, its .ci call graph files and the footprint
 # images) for TARGET in PREC (float or double), warnings as errors, at -Os
 # (GF_FW_OPT=O2: at -O2 instead). Prints the build directory's path on the
 # last line. GF_FW_VARIANT=NAME builds in a directory of its own.

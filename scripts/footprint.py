@@ -11,19 +11,18 @@ KF2-alone and EKF3-alone images consist of, function by function
 between its firmware:footprint markers and the per-function tables between
 its firmware:flash markers.
 
-Stack depth: a function's own frame is gcc's -fstack-usage figure (.su)
-for the core and, for what the core calls in libm, libc and libgcc (which
-Debian builds without -fstack-usage), the frame read from the prologue of
-its disassembly (push/vpush/sub sp on Arm, addi sp on RISC-V). The depth is
-a walk over the call graph: depth(f) = frame(f) + the deepest depth of
-what f calls or jumps to. Every jump to another function counts as a call,
-its frame on top of the caller's, whether or not the caller has released
-its frame by then. The edges are gcc's -fcallgraph-info (.ci) plus the call
-and jump relocations of the disassembly: .ci is written before gcc expands
-library calls of its own (libgcc's soft-float helpers, memcpy and memset
-for block copies), and libm, libc and libgcc have no .ci at all. The only
-indirect calls are EKF3's model callbacks; they are counted as the deepest
-built-in model (see CALLBACKS).
+Stack depth, counted with every jump as a call: depth(f) = frame(f) + the
+deepest depth of what f calls or jumps to, whether or not f has released
+its frame before a jump (a tail call). The core's frames and edges are
+gcc's -fcallgraph-info=su (.ci): it is written from the final code, so it
+names tail calls and the library calls gcc emits itself (soft float,
+memcpy and memset for block copies) as well as the calls in the source.
+libm, libc and libgcc come without .ci (Debian builds them without it),
+so their frames are read from the prologues of their disassembly
+(push/vpush/sub sp on Arm, addi sp on RISC-V) and their edges from its call
+and jump relocations. The only indirect calls are the filters' model
+callbacks: counted as EKF3's built-in models of the kind the public step
+calls (measurement models in updates, motion models in predictions).
 """
 import argparse
 import datetime
@@ -64,21 +63,9 @@ STRUCTS = ["gf_kf2", "gf_ekf3", "gf_kf2_model", "gf_kf2_meas",
            "gf_vec2", "gf_vec3", "gf_mat2", "gf_mat3",
            "gf_if2", "gf_ukf3", "gf_ukf3_params", "gf_pf3", "gf_pf3_particle",
            "gf_rng"]
-# Indirect calls: which functions a callback slot runs when the built-in
-# models are used (static functions named with their object, qualify).
-CALLBACKS = {
-    "ekf3.c:ekf3_predict_step": ["gf_ekf3_motion_forward_turn"],
-    "ekf3.c:ekf3_update_step": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "ukf3.c:ukf3_predict_point": ["gf_ekf3_motion_forward_turn"],
-    "ukf3.c:ukf3_point_image": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-    "pf3.c:pf3_propagate": ["gf_ekf3_motion_forward_turn"],
-    "pf3.c:pf3_mahalanobis": ["gf_ekf3_meas_x", "gf_ekf3_meas_xy"],
-}
-# Any other function with an indirect call (gf_ekf's steps: it has no
-# built-in models): counted as the deepest of EKF3's built-in models, and
-# named in the report's notes.
-ALL_MODELS = ["gf_ekf3_motion_forward_turn", "gf_ekf3_meas_x",
-              "gf_ekf3_meas_xy"]
+# What a model callback runs, by the kind of step (model_kind).
+MODELS = {"meas": {"gf_ekf3_meas_x", "gf_ekf3_meas_xy"},
+          "motion": {"gf_ekf3_motion_forward_turn"}}
 # A double-precision libm function or soft-double helper in a float image
 # means a float was promoted somewhere.
 DOUBLE_SYMS = re.compile(
@@ -106,47 +93,35 @@ def core_archive(build):
     return os.path.join(build, "gaussfilt/libgaussfilt.a")
 
 
-def archive_members(prefix, build):
-    """{"kf2.c": the local function symbols of kf2.c.obj, ...} for the
-    objects of the core's archive (objects a build tree still holds from
-    sources since removed are not in it, and are ignored)."""
-    lib = core_archive(build)
-    members = {m[:-len(".obj")]: set() for m in
-               run([prefix + "ar", "t", lib]).split() if m.endswith(".c.obj")}
-    for line in run([prefix + "nm", "-A", lib]).splitlines():
-        m = re.match(r"^.*:([\w.+-]+\.c)\.obj:\s*[0-9a-f]*\s+t\s+(\S+)$", line)
-        if m and m.group(1) in members:
-            members[m.group(1)].add(m.group(2))
-    return members
 
 
-def qualify(members, stem, name):
-    """A static function's name, made unique by its object ("kf2.c:update"):
-    two translation units may each have their own (static inline helpers of
-    a shared header, compiled into both)."""
-    return f"{stem}:{name}" if name in members.get(stem, ()) else name
+def core_objects(prefix, build):
+    """The core's objects ("kf2.c", ...): those of its archive (a build tree
+    may still hold the files of sources since removed)."""
+    return [m[:-len(".obj")] for m in
+            run([prefix + "ar", "t", core_archive(build)]).split()
+            if m.endswith(".c.obj")]
 
 
-def modules(prefix, build):
-    names = [m[:-len(".c")] for m in archive_members(prefix, build)]
-    return sorted(names, key=lambda n: (MODULE_ORDER.index(n)
-                                        if n in MODULE_ORDER else 99, n))
+def object_path(build, obj):
+    return os.path.join(build, "gaussfilt/CMakeFiles/gaussfilt.dir/src", obj)
 
 
 def module_sizes(prefix, build):
     """{module: {text, rodata, data, bss}} from the objects' sections."""
     sizes = {}
-    for mod in modules(prefix, build):
-        obj = os.path.join(build, "gaussfilt/CMakeFiles/gaussfilt.dir/src",
-                           mod + ".c.obj")
+    objs = sorted(core_objects(prefix, build), key=lambda o: (
+        MODULE_ORDER.index(o[:-2]) if o[:-2] in MODULE_ORDER else 99, o))
+    for obj in objs:
         acc = {"text": 0, "rodata": 0, "data": 0, "bss": 0}
-        for line in run([prefix + "size", "-A", obj]).splitlines():
+        out = run([prefix + "size", "-A", object_path(build, obj + ".obj")])
+        for line in out.splitlines():
             parts = line.split()
             if len(parts) >= 2 and parts[1].isdigit():
                 kind = section_kind(parts[0])
                 if kind:
                     acc[kind] += int(parts[1])
-        sizes[mod] = acc
+        sizes[obj[:-2]] = acc
     return sizes
 
 
@@ -160,43 +135,34 @@ def struct_sizes(prefix, build):
     return out
 
 
+
 # ---- stack ------------------------------------------------------------------
 
-def read_su(build, members):
-    frames = {}
-    for su in glob.glob(os.path.join(
-            build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.su")):
-        stem = os.path.basename(su)[:-len(".su")]
-        if stem not in members:
-            continue
-        for line in open(su):
-            loc, size, kind = line.rstrip("\n").split("\t")
-            name = loc.rsplit(":", 1)[-1]
-            # gcc's .su says "f.constprop.isra" where the symbol is
-            # "f.constprop.0.isra.0".
-            name = re.sub(r"\.(isra|part|constprop|cold)(?=\.|$)", r".\1.0",
-                          name)
+CI_NODE = re.compile(r'node: \{ title: "([^"]+)" label: "[^"]*\\n(\d+) '
+                     r'bytes \(([^)]+)\)"')
+CI_EDGE = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
+
+
+def ci_name(title):
+    """A static function's title is its source's path and its name: kept
+    as "kf2.c:kf2_update_step", unique and short."""
+    return os.path.basename(title).replace("__builtin_", "")
+
+
+def read_ci(build, objects):
+    """({function: frame}, {function: callees}) of the core's .ci files."""
+    frames, edges = {}, {}
+    for obj in objects:
+        text = open(object_path(build, obj + ".ci")).read()
+        for title, size, kind in CI_NODE.findall(text):
             if kind != "static":
-                sys.exit(f"{su}: {name} has a {kind} frame")
-            frames[qualify(members, stem, name)] = int(size)
-    return frames
+                sys.exit(f"{obj}: {ci_name(title)} has a {kind} frame")
+            frames[ci_name(title)] = int(size)
+        for src, dst in CI_EDGE.findall(text):
+            edges.setdefault(ci_name(src), set()).add(ci_name(dst))
+    return frames, edges
 
 
-def read_ci(build, members):
-    """Edges of gcc's call graph; a static function's file prefix becomes
-    its object's (qualify)."""
-    edges = {}
-    for ci in glob.glob(os.path.join(
-            build, "gaussfilt/CMakeFiles/gaussfilt.dir/src/*.ci")):
-        stem = os.path.basename(ci)[:-len(".ci")]
-        if stem not in members:
-            continue
-        for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" '
-                             r'targetname: "([^"]+)"', open(ci).read()):
-            src = qualify(members, stem, m.group(1).rsplit(":", 1)[-1])
-            dst = qualify(members, stem, m.group(2).rsplit(":", 1)[-1])
-            edges.setdefault(src, set()).add(dst)
-    return edges
 
 
 ARM_REG_LIST = re.compile(r"\{([^}]*)\}")
@@ -212,11 +178,6 @@ def count_regs(lst, width):
         elif item:
             n += 1
     return n * width
-
-
-# picolibc's -Os code saves registers through libgcc's millicode: on rv32,
-# __riscv_save_N moves sp by 16 bytes per group of four registers.
-RISCV_SAVE = re.compile(r"^__riscv_(save|restore)_(\d+)$")
 
 
 def prologue_frame(insns, arm):
@@ -264,34 +225,38 @@ CALL_RELOCS = re.compile(r"R_(ARM_THM_CALL|ARM_CALL|ARM_THM_JUMP24|"
                          r"([\w.$]+)")
 
 
-def disassemble(prefix, archive, arm, members=None):
-    """{function: (frame, callees, has_indirect)} for an archive: frame
-    from the prologue, callees every function it calls or jumps to
-    (relocations, and the direct bl/jal the assembler resolved itself).
-    members: the core's (archive_members), whose static functions are
-    qualified."""
+
+# Calls and jumps to other functions, by their relocations.
+CALL_RELOCS = re.compile(r"R_(ARM_THM_CALL|ARM_CALL|ARM_THM_JUMP24|"
+                         r"ARM_JUMP24|RISCV_CALL|RISCV_CALL_PLT|RISCV_JAL)\s+"
+                         r"([\w.$]+)")
+# picolibc's -Os code saves registers through libgcc's millicode: on rv32,
+# `jal t0, __riscv_save_N` moves sp by 16 bytes per group of four registers
+# before the prologue's own adjustment, for as long as the function runs.
+RISCV_MILLICODE = re.compile(r"^__riscv_(save|restore)_(\d+)$")
+
+
+def disassemble(prefix, archive):
+    """{function: (frame, callees)} of a library archive: the frame from
+    the prologue, the callees every function it calls or jumps to (by
+    relocation, or the direct bl/b/jal/j the assembler resolved itself)."""
+    arm = prefix.startswith("arm")
     out = run([prefix + "objdump", "-dr", "--no-show-raw-insn", archive])
-    members = members or {}
-    stem = None
-    q = lambda n: qualify(members, stem, n)  # noqa: E731
     funcs, aliases = {}, {}
-    name, insns, callees, indirect = None, [], set(), False
+    name, section_fn, insns, callees = None, None, [], set()
 
     def flush():
-        if name:
-            old = funcs.get(name)
-            new = (prologue_frame(insns, arm), callees - {name}, indirect)
-            if old is None or new[0] > old[0]:
-                funcs[name] = new
+        if not name:
+            return
+        save = max([16 * (int(m.group(2)) // 4 + 1) for m in
+                    map(RISCV_MILLICODE.match, callees)
+                    if m and m.group(1) == "save"] or [0])
+        new = (prologue_frame(insns, arm) + save,
+               {c for c in callees - {name} if not RISCV_MILLICODE.match(c)})
+        if name not in funcs or new[0] > funcs[name][0]:
+            funcs[name] = new
 
-    section_fn = None
     for line in out.splitlines():
-        m = re.match(r"^([\w.+-]+\.c)\.obj:\s+file format", line)
-        if m:
-            flush()
-            name = None
-            stem = m.group(1)
-            continue
         m = re.match(r"^Disassembly of section \.text\.([\w$]+):$", line)
         if m:
             section_fn = m.group(1)
@@ -299,9 +264,9 @@ def disassemble(prefix, archive, arm, members=None):
         m = re.match(r"^[0-9a-f]+ <([\w.$]+)>:$", line)
         if m and not m.group(1).startswith(".L"):
             flush()
-            name, insns, callees, indirect = q(m.group(1)), [], set(), False
+            name, insns, callees = m.group(1), [], set()
             # picolibc labels cosf's code _cosf; its section says cosf.
-            if section_fn and q(section_fn) != name:
+            if section_fn and section_fn != name:
                 aliases[name] = section_fn
             section_fn = None
             continue
@@ -310,31 +275,18 @@ def disassemble(prefix, archive, arm, members=None):
         m = CALL_RELOCS.search(line)
         if m:
             if not m.group(2).startswith(".L"):
-                callees.add(q(m.group(2)))
+                callees.add(m.group(2))
             continue
-        m = re.match(r"^\s+([0-9a-f]+):\s+(.*)$", line)
-        if not m or m.group(2).startswith("R_"):
+        m = re.match(r"^\s+[0-9a-f]+:\s+(.*)$", line)
+        if not m or m.group(1).startswith("R_"):
             continue  # not an instruction (other relocations: RELAX, ...)
-        text = m.group(2).split(";")[0].split("#")[0].strip() \
-            if not arm else m.group(2).split("@")[0].split(";")[0].strip()
+        text = re.split(r"[@;]" if arm else r"[#;]", m.group(1))[0].strip()
         insns.append(text)
-        parts = text.split(None, 1)
-        op = parts[0] if parts else ""
-        args = parts[1] if len(parts) > 1 else ""
-        if arm:
-            if op == "blx" and re.match(r"^(r\d+|ip|lr|sl|fp)$", args):
-                indirect = True
-            bm = re.match(r"^[0-9a-f]+ <([\w.$]+)>$", args)
-            if op in ("bl", "blx", "b", "b.w", "b.n") and bm and \
-                    not bm.group(1).startswith(".L"):
-                callees.add(q(bm.group(1)))
-        else:
-            if op in ("jalr", "c.jalr") and not args.startswith("ra"):
-                indirect = True
-            bm = re.match(r"^(ra,)?[0-9a-f]+ <([\w.$]+)>$", args)
-            if op in ("jal", "j") and bm and \
-                    not bm.group(2).startswith(".L"):
-                callees.add(q(bm.group(2)))
+        op, args = (text.split(None, 1) + [""])[:2]
+        bm = re.match(r"^(ra,)?[0-9a-f]+ <([\w.$]+)>$", args)
+        if bm and not bm.group(2).startswith(".L") and op in (
+                "bl", "blx", "b", "b.w", "b.n", "jal", "j"):
+            callees.add(bm.group(2))
     flush()
     for a, n in aliases.items():
         funcs.setdefault(n, funcs[a])
@@ -351,106 +303,85 @@ def libraries(build):
     return libs
 
 
-# sinf/cosf reach __kernel_rem_pio2f (a 0x100+ byte frame) only for
-# |x| >= 2^7 pi/2; the core calls them on a heading wrapped to (-pi, pi].
-UNREACHABLE = {"__kernel_rem_pio2f"}
 
 
-def stack_report(prefix, build, exclude=frozenset()):
-    """({public function: (frame, depth, chain)}, notes): depth through the
-    deepest chain of calls and jumps, each on top of its caller's frame."""
-    arm = prefix.startswith("arm")
-    members = archive_members(prefix, build)
-    su = read_su(build, members)
-    ci = read_ci(build, members)
-    core = disassemble(prefix, core_archive(build), arm, members)
-    ext = {}
-    for lib in libraries(build):
-        for k, v in disassemble(prefix, lib, arm).items():
-            ext.setdefault(k, v)
-    mismatches = [f"{n}: .su {su[n]}, prologue {core[n][0]}"
-                  for n in su if n in core and core[n][0] != su[n]]
+def plain(name):
+    """A public function's name without its link suffix (names.h)."""
+    return re.sub(r"^(gf_\w+)_f(32|64)$", r"\1", name)
 
-    unknown, guessed = set(), set()
-    # Link names carry the precision (include/gaussfilt/names.h):
-    # gf_ekf3_update_f32. CALLBACKS and ALL_MODELS use the plain names.
-    sfx = next((m.group(0) for n in su
-                for m in [re.search(r"_f(32|64)$", n)] if m and
-                n.startswith("gf_")), "")
 
-    def plain(n):
-        return n[:-len(sfx)] if sfx and n.startswith("gf_") and \
-            n.endswith(sfx) else n
+def api_functions(root):
+    """The functions the public headers declare."""
+    names = set()
+    for h in glob.glob(os.path.join(root, "include/gaussfilt/*.h")):
+        names |= set(re.findall(r"\b(gf_\w+)\s*\(", open(h).read()))
+    return names
 
-    def linked(names):
-        return {x + sfx if x.startswith("gf_") else x for x in names}
 
-    def save_area(n):
-        """Bytes a library function's registers take through libgcc's
-        millicode (rv32 -msave-restore: `jal t0, __riscv_save_N` before the
-        prologue's own sp adjustment): they stay on the stack during every
-        call the function makes, so they belong to its frame."""
-        total = 0
-        for c in (ext[n][1] if n in ext and n not in su else ()):
-            m = RISCV_SAVE.match(c)
-            if m and m.group(1) == "save":
-                total = max(total, 16 * (int(m.group(2)) // 4 + 1))
-        return total
+def model_kind(name):
+    """The models a public function's callbacks run: motion models in
+    predictions, measurement models in updates, either elsewhere."""
+    if re.search(r"predict|motion", name):
+        return "motion"
+    if re.search(r"update|meas", name):
+        return "meas"
+    return None
+
+
+def stack_report(prefix, build, api):
+    """({public function: (frame, depth, chain)}, functions without a
+    known frame): depth through the deepest chain of calls and jumps."""
+    frames, edges = read_ci(build, core_objects(prefix, build))
+    lib = {}
+    for archive in libraries(build):
+        for k, v in disassemble(prefix, archive).items():
+            lib.setdefault(k, v)
+    models = {kind: {n for n in frames if plain(n) in names}
+              for kind, names in MODELS.items()}
+    models[None] = models["meas"] | models["motion"]
+    unknown = set()
 
     def frame(n):
-        if n in su:
-            return su[n]
-        if RISCV_SAVE.match(n):
-            return 0  # counted in its caller's frame (save_area)
-        if n in ext:
-            return ext[n][0] + save_area(n)
+        if n in frames:
+            return frames[n]
+        if n in lib:
+            return lib[n][0]
         unknown.add(n)
         return 0
 
-    none = (0, set(), False)
-
-    def callees(n):
-        c = set()
-        if n in su:
-            c |= ci.get(n, set())
-            c |= core.get(n, none)[1]
-        elif n in ext:
-            c |= ext[n][1]
-        if "__indirect_call" in c or core.get(n, none)[2]:
-            if plain(n) not in CALLBACKS:
-                guessed.add(plain(n))
-            c |= linked(CALLBACKS.get(plain(n), ALL_MODELS))
-        c.discard("__indirect_call")
-        c = {x for x in c if not RISCV_SAVE.match(x)}  # in frame(n)
-        c.discard(n)
-        return {x.replace("__builtin_", "") for x in c}
+    def callees(n, kind):
+        c = set(edges.get(n, ()) if n in frames else lib.get(n, (0, ()))[1])
+        if "__indirect_call" in c:
+            c = (c - {"__indirect_call"}) | models[kind]
+        return c - {n}
 
     memo = {}
 
-    def depth(n, path=()):
-        """(depth, deepest callee): frame(n) plus the deepest of what n
-        calls or jumps to."""
+    def depth(n, kind, path=()):
+        """(depth, deepest callee)"""
         if n in path:
             sys.exit("recursion: " + " -> ".join(path + (n,)))
-        if n not in memo:
+        if (n, kind) not in memo:
             best, via = frame(n), None
-            for c in sorted(callees(n) - exclude):
-                d = frame(n) + depth(c, path + (n,))[0]
+            for c in sorted(callees(n, kind)):
+                d = frame(n) + depth(c, kind, path + (n,))[0]
                 if d > best:
                     best, via = d, c
-            memo[n] = (best, via)
-        return memo[n]
+            memo[(n, kind)] = (best, via)
+        return memo[(n, kind)]
 
-    public = sorted(n for n in su if n.startswith("gf_"))
     rows = {}
-    for n in public:
-        d, via = depth(n)
+    for n in sorted(frames):
+        if ":" in n or plain(n) not in api:
+            continue
+        kind = model_kind(plain(n))
+        d, via = depth(n, kind)
         chain = plain(n)
         while via:
             chain += " → " + plain(via)
-            _, via = memo[via]
-        rows[plain(n)] = (su[n], d, chain)
-    return rows, mismatches, unknown, guessed
+            via = memo[(via, kind)][1]
+        rows[plain(n)] = (frames[n], d, chain)
+    return rows, unknown
 
 
 # ---- images -----------------------------------------------------------------
@@ -560,39 +491,36 @@ def fmt_b(b):
     return f"{b:,} B"
 
 
-def report(root, build_root):
-    lines = []
-    today = datetime.date.today().isoformat()
-    versions = []
-    for pfx in ("arm-none-eabi-", "riscv64-unknown-elf-"):
-        v = run([pfx + "gcc", "--version"]).splitlines()[0]
-        versions.append(f"`{v}`")
-    lines.append(f"Generated by `scripts/footprint --docs` on {today} with "
-                 + " and ".join(versions)
-                 + "; `-Os`, float build (`gf_real` = float), "
-                 "`-ffunction-sections -fdata-sections`, `--gc-sections`.")
-    lines.append("")
 
+def report(root, build_root):
+    today = datetime.date.today().isoformat()
+    versions = [f"`{run([p + 'gcc', '--version']).splitlines()[0]}`"
+                for p in ("arm-none-eabi-", "riscv64-unknown-elf-")]
+    lines = [f"Generated by `scripts/footprint --docs` on {today} with "
+             + " and ".join(versions)
+             + "; `-Os`, float build (`gf_real` = float), "
+             "`-ffunction-sections -fdata-sections`, `--gc-sections`.", ""]
+
+    api = api_functions(root)
     results = {}
     for key, label, pfx in TARGETS:
         build = os.path.join(build_root, f"fw-{key}-float")
+        imgs = ["base"] + [img for img, _ in IMAGES]
         results[key] = {
             "label": label,
             "mods": module_sizes(pfx, build),
             "structs": struct_sizes(pfx, build),
-            "stack": stack_report(pfx, build),
-            "stack_reach": stack_report(pfx, build, UNREACHABLE),
+            "stack": stack_report(pfx, build, api),
             "images": {img: image_sizes(pfx, os.path.join(
-                build, f"gf_fw_{img}.elf")) for img, _ in
-                [("base", "")] + IMAGES},
+                build, f"gf_fw_{img}.elf")) for img in imgs},
             "bd": {img: map_breakdown(os.path.join(
-                build, f"gf_fw_{img}.map")) for img, _ in
-                [("base", "")] + IMAGES},
+                build, f"gf_fw_{img}.map")) for img in imgs},
             "syms": run([pfx + "nm", os.path.join(build,
                                                   "gf_fw_kf2_ekf3.elf")]),
         }
     m4 = results["cortex-m4f"]
     met = lambda ok: "**met**" if ok else "**NOT met**"  # noqa: E731
+    labels = [results[k]["label"] for k, _, _ in TARGETS]
 
     def delta(key, img):
         ims = results[key]["images"]
@@ -604,8 +532,7 @@ def report(root, build_root):
               "accessor of its filters, inputs and outputs volatile; the base "
               "image has the same start-up and I/O and no filter), text + "
               "data, C library, libm and libgcc included:", "",
-              "| image | " + " | ".join(results[k]["label"]
-                                        for k, _, _ in TARGETS) + " |",
+              "| image | " + " | ".join(labels) + " |",
               "|---|" + "---|" * len(TARGETS)]
     for img, label in IMAGES:
         cells = []
@@ -617,13 +544,14 @@ def report(root, build_root):
                 cell += f"; target {kib(lim)}: {met(d <= lim)}"
             cells.append(cell)
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
-    lines.append(f"| base image (absolute) | " + " | ".join(
+    lines.append("| base image (absolute) | " + " | ".join(
         fmt_b(flash(results[k]["images"]["base"])) for k, _, _ in TARGETS)
         + " |")
     lines.append("")
 
     lines += ["What the delta is made of, Cortex-M4F (bytes, from the link "
-              "map; per function: [where the flash goes](#where-the-flash-goes)):", "",
+              "map; per function: [where the flash goes]"
+              "(#where-the-flash-goes)):", "",
               "| image | delta | core | libm | libc | libgcc | `main`'s calls "
               "and models |", "|---|---|---|---|---|---|---|"]
     for img, label in IMAGES:
@@ -641,11 +569,10 @@ def report(root, build_root):
                  "double libm function, no soft-double helper)") + ".", ""]
 
     # Stack.
-    lines += ["Stack: the deepest public function of every module (EKF3's "
-              "callbacks counted as the deepest built-in model), counted "
-              "with every jump as a call:", "",
-              "| target | limit | deepest public function | depth | | "
-              "functions over the limit |",
+    lines += ["Stack: the deepest public function per target, counted with "
+              "every jump as a call:", "",
+              "| target | target depth | deepest public function | depth | "
+              "| public functions over the target |",
               "|---|---|---|---|---|---|"]
     for key, label, _ in TARGETS:
         rows = results[key]["stack"][0]
@@ -653,36 +580,19 @@ def report(root, build_root):
         d, n = max((d, n) for n, (_, d, _) in rows.items())
         over = sorted(n for n, (_, dd, _) in rows.items() if dd > lim)
         lines.append(f"| {label} | {lim} B | `{n}` | {d} B | {met(d <= lim)}"
-                     f" | " + (", ".join(f"`{o}` ({rows[o][1]})" for o in over)
-                               if over else "none") + " |")
+                     " | " + (", ".join(f"`{o}` ({rows[o][1]})" for o in over)
+                              if over else "none") + " |")
     lines.append("")
-    reach = []
-    for key, label, _ in TARGETS:
-        full = results[key]["stack"][0]
-        part = results[key]["stack_reach"][0]
-        lim = STACK_TARGETS[key]
-        changed = sorted(n for n in full if part[n][1] != full[n][1])
-        if changed:
-            d, n = max((d, n) for n, (_, d, _) in part.items())
-            over = sorted(x for x, (_, dd, _) in part.items() if dd > lim)
-            reach.append(f"{label}: deepest `{n}` {d} B ({met(d <= lim)}), "
-                         f"over the limit: "
-                         + (", ".join(f"`{o}`" for o in over) if over
-                            else "none"))
-    if reach:
-        lines += ["The same without the large-argument path of the C "
-                  "library's sinf/cosf (`__kernel_rem_pio2f`, unreachable "
-                  "from the core: it wraps the heading to (-pi, pi] before "
-                  "it calls them): " + "; ".join(reach) + ".", ""]
 
     lines += ["Worst-case stack depth of every public function (bytes: own "
-              "frame from `-fstack-usage`; depth = frame + the deepest of "
+              "frame / depth, the depth being the frame plus the deepest of "
               "what the function calls or jumps to, libm, libc and libgcc "
-              "included, a jump counted like a call, its frame on top of the "
-              "caller's; **!**: over the target's limit). A user model adds "
-              "max(0, its own depth - the built-in's) to EKF3's steps.", "",
-              "| function | " + " | ".join(
-                  f"{results[k]['label']} frame / depth" for k, _, _ in TARGETS)
+              "included, a jump counted like a call; **!**: over the "
+              "target). Model callbacks are counted as EKF3's built-in "
+              "models: a measurement model in updates, a motion model in "
+              "predictions; a model of your own adds max(0, its depth - the "
+              "built-in's).", "",
+              "| function | " + " | ".join(labels)
               + " | deepest chain (Cortex-M4F) |",
               "|---|" + "---|" * len(TARGETS) + "---|"]
     for n in sorted(m4["stack"][0]):
@@ -691,47 +601,29 @@ def report(root, build_root):
             f, d, _ = results[key]["stack"][0][n]
             flag = " **!**" if d > STACK_TARGETS[key] else ""
             cells.append(f"{f} / {d}{flag}")
-        chain = m4["stack"][0][n][2]
-        lines.append(f"| `{n}` | " + " | ".join(cells) + f" | {chain} |")
+        lines.append(f"| `{n}` | " + " | ".join(cells)
+                     + f" | {m4['stack'][0][n][2]} |")
     lines.append("")
-    notes = []
-    for key, label, _ in TARGETS:
-        _, mism, unknown, guessed = results[key]["stack"]
-        if mism:
-            notes.append(f"{label}: prologue and .su disagree: "
-                         + "; ".join(mism) + ".")
-        if unknown:
-            notes.append(f"{label}: no frame found for "
-                         + ", ".join(sorted(unknown)) + " (counted as 0).")
-        if guessed:
-            notes.append(f"{label}: the indirect calls of "
-                         + ", ".join(f"`{g}`" for g in sorted(guessed))
-                         + " counted as the deepest built-in model.")
-    if not any(results[k]["stack"][1] or results[k]["stack"][2]
-               for k, _, _ in TARGETS):
-        notes.insert(0, "Cross-check: for every core function the frame read "
-                     "from the disassembly's prologue equals gcc's `.su` "
-                     "figure, on all three targets; every callee has a known "
-                     "frame.")
-    lines += ["Stack analysis notes: " + " ".join(notes), ""]
+    unknown = [f"{results[k]['label']}: "
+               + ", ".join(f"`{u}`" for u in sorted(results[k]["stack"][1]))
+               for k, _, _ in TARGETS if results[k]["stack"][1]]
+    if unknown:
+        lines += ["No frame found (counted as 0): " + "; ".join(unknown)
+                  + ".", ""]
 
     # Modules.
     lines += ["Library objects, per module (bytes; `.data` and `.bss` must "
               "stay 0: the core has no globals):", "",
               "| module | " + " | ".join(
-                  f"{results[k]['label']} .text / .rodata / .data / .bss"
-                  for k, _, _ in TARGETS) + " |",
-              "|---|" + "---|" * len(TARGETS)]
+                  f"{lb} .text / .rodata / .data / .bss" for lb in labels)
+              + " |", "|---|" + "---|" * len(TARGETS)]
+    zero = {"text": 0, "rodata": 0, "data": 0, "bss": 0}
     for mod in list(m4["mods"]) + ["total"]:
         cells = []
         for key, _, _ in TARGETS:
             mods = results[key]["mods"]
-            if mod == "total":
-                s = {k: sum(m[k] for m in mods.values())
-                     for k in ("text", "rodata", "data", "bss")}
-            else:
-                s = mods.get(mod, {"text": 0, "rodata": 0, "data": 0,
-                                   "bss": 0})
+            s = {k: sum(m[k] for m in mods.values()) for k in zero} \
+                if mod == "total" else mods.get(mod, zero)
             cells.append(f"{s['text']} / {s['rodata']} / {s['data']} / "
                          f"{s['bss']}")
         name = f"`{mod}.c`" if mod != "total" else "**total**"
@@ -741,8 +633,7 @@ def report(root, build_root):
     # Structs.
     lines += ["`sizeof` of the public structs (bytes, float build; the double "
               "build doubles every `gf_real`):", "",
-              "| struct | " + " | ".join(results[k]["label"]
-                                         for k, _, _ in TARGETS) + " |",
+              "| struct | " + " | ".join(labels) + " |",
               "|---|" + "---|" * len(TARGETS)]
     for st in STRUCTS:
         lines.append(f"| `{st}` | " + " | ".join(
