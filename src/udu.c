@@ -392,14 +392,87 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
     return GF_OK;
 }
 
+// Below this share of s = h Sigma h^T, the first state an exact quantity
+// touches (in the factors' order) leaves Bierman's update too few digits
+// (udu_update_exact).
+#define UDU_EXACT_SHARE GF_R(0.1)
+
+// One exact quantity (r = 0), in place on ud. Bierman's update gives the
+// exact direction to the first state the quantity touches, j0, and then
+// loses about log10(s / alpha_j0) digits, alpha_j0 = f_j0^2 d_j0 that
+// state's share of s: all of them when the share is a rounding residue an
+// earlier exact quantity left. So where alpha_j0 < UDU_EXACT_SHARE s, the
+// Joseph form on the factors, triangularised again as a prediction is:
+// with f = U^T hp, b = U D f (Sigma h^T in the factors' order),
+//   Sigma+ = (I - K h) Sigma (I - K h)^T = W D W^T,  W = U - (b / s) f^T,
+// then the modified weighted Gram-Schmidt (each d_j a weighted sum of
+// squares; the exact direction's d a rounding residue, not zero), and
+//   dx += K y,  *nis += y^2 / s;
+// else Bierman's update (udu_update). Statuses as udu_update's (nothing
+// written on failure). b: scratch of n; x: scratch of n^2 + 2n.
+static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
+                                  gf_real y, gf_real *dx, gf_real *nis,
+                                  gf_real *b, gf_real *x)
+{
+    gf_real *w = x, *wd = &x[(size_t)n * n], *f = &x[(size_t)n * n + n];
+    // f = U^T hp, D, s in Bierman's order, alpha_j0 = the first alpha_j of
+    // at least GF_REAL_MIN (Bierman's test), and the singular verdict's
+    // scale (udu_update's)
+    gf_real s = 0, first = 0, scale = 0;
+    for (unsigned j = 0; j < n; j++) {
+        const gf_real *uj = &ud[GF_UD(0u, j)];
+        gf_real fj = hp[j], t = GF_FABS(hp[j]);
+        for (unsigned i = 0; i < j; i++) {
+            fj += uj[i] * hp[i];
+            t += GF_FABS(uj[i] * hp[i]);
+        }
+        wd[j] = uj[j];
+        f[j] = fj;
+        s += fj * (wd[j] * fj);
+        if (!(first > 0) && s >= GF_REAL_MIN) {
+            first = s;
+        }
+        scale += wd[j] * t * t;
+    }
+    if (!(first < UDU_EXACT_SHARE * s)) {
+        return udu_update(n, ud, hp, GF_R(0.0), y, dx, nis, b);
+    }
+    if (!GF_ISFINITE(s)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (!(s > GF_PD_RTOL * (gf_real)n * scale)) {
+        return GF_ERR_SINGULAR;
+    }
+    // b = U D f, W = U - (b / s) f^T
+    const gf_real inv = GF_R(1.0) / s, k = y * inv; // y / s
+    *nis += y * k;
+    for (unsigned i = 0; i < n; i++) {
+        gf_real acc = wd[i] * f[i];
+        for (unsigned j = i + 1u; j < n; j++) {
+            acc += ud[GF_UD(i, j)] * (wd[j] * f[j]);
+        }
+        dx[i] += acc * k;
+        const gf_real bi = acc * inv;
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real uij = (j > i)    ? ud[GF_UD(i, j)]
+                                : (j == i) ? GF_R(1.0)
+                                           : GF_R(0.0);
+            w[(size_t)i * n + j] = uij - bi * f[j];
+        }
+    }
+    udu_mwgs(n, n, w, wd, ud, b);
+    return GF_OK;
+}
+
 gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                          unsigned m, const gf_real *hw, const gf_real *e,
                          const gf_real *yw, gf_real *x, gf_real *nis,
                          gf_real *work)
 {
-    gf_real *dp = work;                 // P^T dx
-    gf_real *hp = &work[n];             // P^T h_i
-    gf_real *b = &work[(size_t)2u * n]; // Bierman's b
+    gf_real *dp = work;                  // P^T dx
+    gf_real *hp = &work[n];              // P^T h_i
+    gf_real *b = &work[(size_t)2u * n];  // Bierman's b
+    gf_real *wx = &work[(size_t)3u * n]; // the exact quantities' W
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
@@ -437,7 +510,9 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
             hp[j] = h[perm[j]];
             yi -= hp[j] * dp[j];
         }
-        const gf_status st = udu_update(n, ud, hp, e[i], yi, dp, nis, b);
+        const gf_status st =
+            (e[i] > 0) ? udu_update(n, ud, hp, e[i], yi, dp, nis, b)
+                       : udu_update_exact(n, ud, hp, yi, dp, nis, b, wx);
         if (st != GF_OK) {
             return st;
         }

@@ -31,7 +31,7 @@
 // gf_udu_correct for n states.
 #define GF_UDU_FACTOR_WORK(n) GF_UD_SIZE(n)
 #define GF_UDU_PREDICT_WORK(n) (2u * (n) * (n) + 4u * (n))
-#define GF_UDU_CORRECT_WORK(n) (3u * (n))
+#define GF_UDU_CORRECT_WORK(n) ((n) * (n) + 5u * (n))
 
 // The factors of a covariance s (rows of stride) that gf_cov_factor
 // accepted, for a new belief: perm is the states reversed (state 0, most
@@ -92,7 +92,9 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm);
 // e: their noises; yw: their whitened innovations at mu_bar), in place on
 // ud and perm, one quantity after another, each innovation taken at the
 // mean the earlier ones gave:
-//   y_i = yw_i - hw_i . dx,  then Bierman's scalar update.
+//   y_i = yw_i - hw_i . dx,  then Bierman's scalar update (an exact
+//   quantity, e_i = 0, whose first state's share of its innovation
+//   variance is a rounding residue: the Joseph form on the factors).
 // The step mu - mu_bar is added to x (n entries, by state), *nis receives
 // y^T S^-1 y. GF_ERR_NONFINITE if an innovation variance overflows;
 // GF_ERR_SINGULAR for a zero-noise quantity whose innovation variance is

@@ -797,6 +797,118 @@ static void ekf_predict_refuses_a_nonfinite_jacobian(void **state)
     }
 }
 
+// x = A^-1 b for a 3 x 3 A, in long double (Gaussian elimination with
+// partial pivoting).
+static void ld_solve3(ld A[3][3], ld b[3], ld x[3])
+{
+    ld a[3][4];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            a[i][j] = A[i][j];
+        }
+        a[i][3] = b[i];
+    }
+    for (int c = 0; c < 3; c++) {
+        int p = c;
+        for (int r = c + 1; r < 3; r++) {
+            if (fabsl(a[r][c]) > fabsl(a[p][c])) {
+                p = r;
+            }
+        }
+        for (int k = 0; k < 4; k++) {
+            const ld t = a[c][k];
+            a[c][k] = a[p][k];
+            a[p][k] = t;
+        }
+        for (int r = c + 1; r < 3; r++) {
+            const ld f = a[r][c] / a[c][c];
+            for (int k = c; k < 4; k++) {
+                a[r][k] -= f * a[c][k];
+            }
+        }
+    }
+    for (int i = 2; i >= 0; i--) {
+        ld t = a[i][3];
+        for (int k = i + 1; k < 3; k++) {
+            t -= a[i][k] * x[k];
+        }
+        x[i] = t / a[i][i];
+    }
+}
+
+// Three exact quantities (Q = 0) on states 1..3 of four fix those three
+// and leave state 0 its variance given them: Sigma_00 - s^T S^-1 s (s =
+// Sigma_(1..3)0, S = Sigma_(1..3)(1..3)), its mean moved by s^T S^-1 (x* -
+// mu) where C x* = z. The first quantity makes a state known exactly; the
+// next ones, taken by Bierman's update, gave the exact direction to a state
+// whose share of h Sigma h^T was a rounding residue of the first, and in
+// float returned Sigma = 0: state 0 taken for known exactly. (Found by
+// random 4- to 8-state scenarios against a 128-bit reference, the smallest
+// of them: a fresh prior and one update.)
+static void exact_quantities_keep_the_unmeasured_variance(void **state)
+{
+    (void)state;
+    const gf_real P[16] = {(gf_real)0x1.7693bcp-7,  (gf_real)0x1.4314ep-6,
+                           (gf_real)-0x1.63848p-13, (gf_real)-0x1.6d7132p-1,
+                           (gf_real)0x1.4314ep-6,   (gf_real)0x1.11a3c4p+0,
+                           (gf_real)-0x1.9da44cp-8, (gf_real)-0x1.d30f7ap+2,
+                           (gf_real)-0x1.63848p-13, (gf_real)-0x1.9da44cp-8,
+                           (gf_real)0x1.d22608p-15, (gf_real)0x1.591b5p-5,
+                           (gf_real)-0x1.6d7132p-1, (gf_real)-0x1.d30f7ap+2,
+                           (gf_real)0x1.591b5p-5,   (gf_real)0x1.513cb2p+6};
+    const gf_real mu[4] = {(gf_real)0x1.00ad12p-4, (gf_real)0x1.05ad6ep-3,
+                           (gf_real)0x1.116878p-12, (gf_real)0x1.db87b8p+0};
+    const gf_real C[12] = {0,
+                           (gf_real)0x1.b1ae98p-6,
+                           (gf_real)0x1.24d64ap+9,
+                           (gf_real)0x1.070daep-1,
+                           0,
+                           (gf_real)0x1.18802p+1,
+                           (gf_real)0x1.7dfbd2p+1,
+                           0,
+                           0,
+                           (gf_real)0x1.653cp+1,
+                           (gf_real)0x1.58476ep+8,
+                           0};
+    const gf_real Q[9] = {0};
+    const gf_real z[3] = {(gf_real)0x1.36f11ap-5, (gf_real)-0x1.7780fp-4,
+                          (gf_real)-0x1.bf049ap-8};
+    gf_kf_work work;
+    gf_kf kf;
+    assert_int_equal(gf_kf_init(&kf, 4, mu, P, &work), GF_OK);
+    const gf_kf_meas me = {3, C, Q, NULL, 0};
+    assert_int_equal(gf_kf_update(&kf, &me, z, NULL, &work), GF_OK);
+    gf_real sigma[16];
+    assert_int_equal(gf_kf_cov(&kf, sigma), GF_OK);
+
+    // The exact answer, in long double: S^-1 s, x* = C_(1..3)^-1 z
+    ld S[3][3], Cr[3][3], s[3], zl[3], a[3], xs[3];
+    for (int i = 0; i < 3; i++) {
+        s[i] = P[(i + 1) * 4];
+        zl[i] = z[i];
+        for (int j = 0; j < 3; j++) {
+            S[i][j] = P[(i + 1) * 4 + j + 1];
+            Cr[i][j] = C[i * 4 + j + 1];
+        }
+    }
+    ld_solve3(S, s, a);
+    ld_solve3(Cr, zl, xs);
+    ld var0 = P[0], mu0 = mu[0];
+    for (int i = 0; i < 3; i++) {
+        var0 -= a[i] * s[i];
+        mu0 += a[i] * (xs[i] - mu[i + 1]);
+    }
+    tol_now = REL_TOL;
+    CHECK_REL(sigma[0], var0); // (float: 0 before)
+    CHECK_REL(kf.mu[0], mu0);
+    for (int i = 1; i < 4; i++) {
+        CHECK_REL(kf.mu[i], xs[i - 1]);
+        // known exactly: what is left is rounding, far below the prior
+        assert_true(sigma[i * 4 + i] <=
+                    (gf_real)(REL_TOL * 1e-3) * P[i * 4 + i]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -811,6 +923,7 @@ int main(void)
         cmocka_unit_test(largest_covariance_stays_finite),
         cmocka_unit_test(prior_at_the_end_of_the_range),
         cmocka_unit_test(ekf_predict_refuses_a_nonfinite_jacobian),
+        cmocka_unit_test(exact_quantities_keep_the_unmeasured_variance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
