@@ -328,24 +328,12 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm)
 // it is while alpha stays zero; the first d_j to make it positive becomes
 // zero: that direction is now known exactly. A d_j below GF_REAL_MIN
 // becomes zero, with its column of U. GF_ERR_NONFINITE if s overflows;
-// GF_ERR_SINGULAR if r = 0 and s is zero relative to its terms before
-// cancellation, sum_j d_j (|h_j| + sum_(i<j) |U_ij h_i|)^2 (the same in
-// any units). b: scratch of n.
+// GF_ERR_SINGULAR if r = 0 and s <= GF_PD_RTOL scale (udu_exact_scale;
+// unread if r > 0). b: scratch of n.
 static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
-                            gf_real r, gf_real y, gf_real *dx, gf_real *nis,
-                            gf_real *b)
+                            gf_real r, gf_real scale, gf_real y, gf_real *dx,
+                            gf_real *nis, gf_real *b)
 {
-    // an exact quantity's scale: h Sigma h^T without its cancellations
-    gf_real scale = 0;
-    if (!(r > 0)) {
-        for (unsigned j = 0; j < n; j++) {
-            gf_real t = GF_FABS(hp[j]);
-            for (unsigned i = 0; i < j; i++) {
-                t += GF_FABS(ud[GF_UD(i, j)] * hp[i]);
-            }
-            scale += ud[GF_UD(j, j)] * t * t;
-        }
-    }
     gf_real alpha = r, inv_prev = 0;
     for (unsigned j = 0; j < n; j++) {
         gf_real *uj = &ud[GF_UD(0u, j)]; // uj[i] = U_ij, uj[j] = d_j
@@ -375,7 +363,7 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
     if (!GF_ISFINITE(alpha)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(r > 0) && !(alpha > GF_PD_RTOL * (gf_real)n * scale)) {
+    if (!(r > 0) && !(alpha > GF_PD_RTOL * scale)) {
         return GF_ERR_SINGULAR;
     }
     const gf_real k = y * inv_prev; // y / s
@@ -390,6 +378,26 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
         }
     }
     return GF_OK;
+}
+
+// The singular verdict's scale of an exact quantity (r = 0) hp, in the
+// factors' order: h Sigma h^T without its cancellations, times n,
+//   n sum_j d_j (|hp_j| + sum_(i<j) |U_ij hp_i|)^2
+// (the same in any units). A correction takes it on its prior, before its
+// first quantity: the rounding residue an earlier exact quantity of the
+// same direction leaves in the factors would otherwise be judged against
+// residues of its own size (and pass one time in a few hundred).
+static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp)
+{
+    gf_real scale = 0;
+    for (unsigned j = 0; j < n; j++) {
+        gf_real t = GF_FABS(hp[j]);
+        for (unsigned i = 0; i < j; i++) {
+            t += GF_FABS(ud[GF_UD(i, j)] * hp[i]);
+        }
+        scale += ud[GF_UD(j, j)] * t * t;
+    }
+    return (gf_real)n * scale;
 }
 
 // Below this share of s = h Sigma h^T, the first state an exact quantity
@@ -408,23 +416,21 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 // then the modified weighted Gram-Schmidt (each d_j a weighted sum of
 // squares; the exact direction's d a rounding residue, not zero), and
 //   dx += K y,  *nis += y^2 / s;
-// else Bierman's update (udu_update). Statuses as udu_update's (nothing
-// written on failure). b: scratch of n; x: scratch of n^2 + 2n.
+// else Bierman's update (udu_update). Statuses as udu_update's, on scale
+// (nothing written on failure). b: scratch of n; x: scratch of n^2 + 2n.
 static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
-                                  gf_real y, gf_real *dx, gf_real *nis,
-                                  gf_real *b, gf_real *x)
+                                  gf_real scale, gf_real y, gf_real *dx,
+                                  gf_real *nis, gf_real *b, gf_real *x)
 {
     gf_real *w = x, *wd = &x[(size_t)n * n], *f = &x[(size_t)n * n + n];
     // f = U^T hp, D, s in Bierman's order, alpha_j0 = the first alpha_j of
-    // at least GF_REAL_MIN (Bierman's test), and the singular verdict's
-    // scale (udu_update's)
-    gf_real s = 0, first = 0, scale = 0;
+    // at least GF_REAL_MIN (Bierman's test)
+    gf_real s = 0, first = 0;
     for (unsigned j = 0; j < n; j++) {
         const gf_real *uj = &ud[GF_UD(0u, j)];
-        gf_real fj = hp[j], t = GF_FABS(hp[j]);
+        gf_real fj = hp[j];
         for (unsigned i = 0; i < j; i++) {
             fj += uj[i] * hp[i];
-            t += GF_FABS(uj[i] * hp[i]);
         }
         wd[j] = uj[j];
         f[j] = fj;
@@ -432,15 +438,14 @@ static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
         if (!(first > 0) && s >= GF_REAL_MIN) {
             first = s;
         }
-        scale += wd[j] * t * t;
     }
     if (!(first < UDU_EXACT_SHARE * s)) {
-        return udu_update(n, ud, hp, GF_R(0.0), y, dx, nis, b);
+        return udu_update(n, ud, hp, GF_R(0.0), scale, y, dx, nis, b);
     }
     if (!GF_ISFINITE(s)) {
         return GF_ERR_NONFINITE;
     }
-    if (!(s > GF_PD_RTOL * (gf_real)n * scale)) {
+    if (!(s > GF_PD_RTOL * scale)) {
         return GF_ERR_SINGULAR;
     }
     // b = U D f, W = U - (b / s) f^T
@@ -469,13 +474,24 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                          const gf_real *yw, gf_real *x, gf_real *nis,
                          gf_real *work)
 {
-    gf_real *dp = work;                  // P^T dx
-    gf_real *hp = &work[n];              // P^T h_i
-    gf_real *b = &work[(size_t)2u * n];  // Bierman's b
-    gf_real *wx = &work[(size_t)3u * n]; // the exact quantities' W
+    gf_real *dp = work;                          // P^T dx
+    gf_real *hp = &work[n];                      // P^T h_i
+    gf_real *b = &work[(size_t)2u * n];          // Bierman's b
+    gf_real *wx = &work[(size_t)3u * n];         // the exact quantities' W
+    gf_real *es = &work[(size_t)n * n + 5u * n]; // their verdicts' scales
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
+    }
+    // each exact quantity's verdict scale, on the prior
+    for (unsigned i = 0; i < m; i++) {
+        es[i] = 0;
+        if (!(e[i] > 0)) {
+            for (unsigned j = 0; j < n; j++) {
+                hp[j] = hw[(size_t)i * n + perm[j]];
+            }
+            es[i] = udu_exact_scale(n, ud, hp);
+        }
     }
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[(size_t)i * n];
@@ -511,8 +527,8 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
             yi -= hp[j] * dp[j];
         }
         const gf_status st =
-            (e[i] > 0) ? udu_update(n, ud, hp, e[i], yi, dp, nis, b)
-                       : udu_update_exact(n, ud, hp, yi, dp, nis, b, wx);
+            (e[i] > 0) ? udu_update(n, ud, hp, e[i], GF_R(0.0), yi, dp, nis, b)
+                       : udu_update_exact(n, ud, hp, es[i], yi, dp, nis, b, wx);
         if (st != GF_OK) {
             return st;
         }

@@ -31,7 +31,7 @@
 // gf_udu_correct for n states.
 #define GF_UDU_FACTOR_WORK(n) GF_UD_SIZE(n)
 #define GF_UDU_PREDICT_WORK(n) (2u * (n) * (n) + 4u * (n))
-#define GF_UDU_CORRECT_WORK(n) ((n) * (n) + 5u * (n))
+#define GF_UDU_CORRECT_WORK(n) ((n) * (n) + 6u * (n))
 
 // The factors of a covariance s (rows of stride) that gf_cov_factor
 // accepted, for a new belief: perm is the states reversed (state 0, most
@@ -91,7 +91,8 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm);
 // The correction with m whitened quantities (hw: m rows of n, by state;
 // e: their noises; yw: their whitened innovations at mu_bar), in place on
 // ud and perm, one quantity after another, each innovation taken at the
-// mean the earlier ones gave:
+// mean the earlier ones gave (an exact quantity judged singular on the
+// update's prior, so that one along an earlier one's direction always is):
 //   y_i = yw_i - hw_i . dx,  then Bierman's scalar update (an exact
 //   quantity, e_i = 0, whose first state's share of its innovation
 //   variance is a rounding residue: the Joseph form on the factors).

@@ -69,7 +69,7 @@ typedef struct gf_kf_work {
     gf_kf belief; // the new belief, until it is whole
     // the factored steps' own: Thornton's rows and weights, Bierman's
     // vectors, the factorisation's low parts
-    gf_real steps[2 * GF_KF_NMAX * GF_KF_NMAX + 4 * GF_KF_NMAX];
+    gf_real steps[2 * GF_KF_NMAX * GF_KF_NMAX + 6 * GF_KF_NMAX];
     gf_real rows[GF_KF_NMAX * GF_KF_NMAX]; // G, or the whitened C or H
     gf_real mean[GF_KF_NMAX];              // mu_bar, or z_hat
     gf_real yw[GF_KF_NMAX];                // the whitened innovation

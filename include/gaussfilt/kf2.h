@@ -88,7 +88,8 @@ gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
 // a time (Bierman's scalar update, src/udu.h, docs/numerics.md): the
 // posterior is positive semidefinite; NIS = the sum of the scalar NIS.
 // A quantity with zero noise is taken exactly; it is GF_ERR_SINGULAR only
-// if its predicted variance is zero too.
+// if its predicted variance is zero too (so is a second one along the
+// direction an earlier zero-noise quantity of the same update fixed).
 // z holds meas->m values. info (may be NULL) receives the innovation and
 // its NIS on GF_OK and on GF_ERR_GATED (NIS above meas->gate, belief
 // untouched). Other failures: GF_ERR_ARG (NULL, m not 1 or 2, gate < 0),
