@@ -383,10 +383,7 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 // The singular verdict's scale of an exact quantity (r = 0) hp, in the
 // factors' order: h Sigma h^T without its cancellations, times n,
 //   n sum_j d_j (|hp_j| + sum_(i<j) |U_ij hp_i|)^2
-// (the same in any units). A correction takes it on its prior, before its
-// first quantity: the rounding residue an earlier exact quantity of the
-// same direction leaves in the factors would otherwise be judged against
-// residues of its own size (and pass one time in a few hundred).
+// (the same in any units).
 static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp)
 {
     gf_real scale = 0;
@@ -478,20 +475,26 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
     gf_real *hp = &work[n];                      // P^T h_i
     gf_real *b = &work[(size_t)2u * n];          // Bierman's b
     gf_real *wx = &work[(size_t)3u * n];         // the exact quantities' W
-    gf_real *es = &work[(size_t)n * n + 5u * n]; // their verdicts' scales
+    gf_real *es = &work[(size_t)n * n + 5u * n]; // their S_ii on the prior
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
     }
-    // each exact quantity's verdict scale, on the prior
+    // Of m > 1 quantities, each exact one's h Sigma h^T on the update's
+    // prior, sum_j d_j f_j^2 (f = U^T hp): S's diagonal entry, for the
+    // verdict in S's correlation form. (One judged only on the factors an
+    // earlier exact quantity had left would be judged on residues of its
+    // own size when it measures a direction already known exactly.)
     for (unsigned i = 0; i < m; i++) {
-        es[i] = 0;
-        if (!(e[i] > 0)) {
-            for (unsigned j = 0; j < n; j++) {
-                hp[j] = hw[(size_t)i * n + perm[j]];
+        gf_real acc = 0;
+        for (unsigned j = 0; m > 1u && !(e[i] > 0) && j < n; j++) {
+            gf_real fj = hw[(size_t)i * n + perm[j]];
+            for (unsigned l = 0; l < j; l++) {
+                fj += ud[GF_UD(l, j)] * hw[(size_t)i * n + perm[l]];
             }
-            es[i] = udu_exact_scale(n, ud, hp);
+            acc += ud[GF_UD(j, j)] * fj * fj;
         }
+        es[i] = acc;
     }
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[(size_t)i * n];
@@ -526,9 +529,16 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
             hp[j] = h[perm[j]];
             yi -= hp[j] * dp[j];
         }
+        // an exact quantity is singular when its s is zero relative to its
+        // own terms, or, after others, relative to S_ii (es_i)
+        gf_real sc = 0;
+        if (!(e[i] > 0)) {
+            sc = udu_exact_scale(n, ud, hp);
+            sc = (es[i] > sc) ? es[i] : sc;
+        }
         const gf_status st =
-            (e[i] > 0) ? udu_update(n, ud, hp, e[i], GF_R(0.0), yi, dp, nis, b)
-                       : udu_update_exact(n, ud, hp, es[i], yi, dp, nis, b, wx);
+            (e[i] > 0) ? udu_update(n, ud, hp, e[i], sc, yi, dp, nis, b)
+                       : udu_update_exact(n, ud, hp, sc, yi, dp, nis, b, wx);
         if (st != GF_OK) {
             return st;
         }

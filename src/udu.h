@@ -91,8 +91,10 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm);
 // The correction with m whitened quantities (hw: m rows of n, by state;
 // e: their noises; yw: their whitened innovations at mu_bar), in place on
 // ud and perm, one quantity after another, each innovation taken at the
-// mean the earlier ones gave (an exact quantity judged singular on the
-// update's prior, so that one along an earlier one's direction always is):
+// mean the earlier ones gave (an exact quantity is singular when its
+// innovation variance is zero relative to its terms or, after others of
+// the update, to its h Sigma h^T on the update's prior, S's correlation
+// form: one along an earlier one's direction always is):
 //   y_i = yw_i - hw_i . dx,  then Bierman's scalar update (an exact
 //   quantity, e_i = 0, whose first state's share of its innovation
 //   variance is a rounding residue: the Joseph form on the factors).
