@@ -274,7 +274,7 @@ gf_status gf_if2_update(gf_if2 *inf, const gf_kf2_meas *meas, const gf_vec2 *z,
         // row and column of Omega and its entry of xi: nothing is known
         // of that state, and Omega stays positive semidefinite.
         for (unsigned i = 0; i < 2u; i++) {
-            if (!(r.omega.m[i][i] >= GF_REAL_MIN)) {
+            if (r.omega.m[i][i] < GF_REAL_MIN) {
                 r.omega.m[i][0] = r.omega.m[0][i] = 0;
                 r.omega.m[i][1] = r.omega.m[1][i] = 0;
                 r.xi.v[i] = 0;
