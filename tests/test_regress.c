@@ -884,19 +884,19 @@ static void exact_quantities_keep_the_unmeasured_variance(void **state)
     // The exact answer, in long double: S^-1 s, x* = C_(1..3)^-1 z
     ld S[3][3], Cr[3][3], s[3], zl[3], a[3], xs[3];
     for (int i = 0; i < 3; i++) {
-        s[i] = P[(i + 1) * 4];
-        zl[i] = z[i];
+        s[i] = (ld)P[(i + 1) * 4];
+        zl[i] = (ld)z[i];
         for (int j = 0; j < 3; j++) {
-            S[i][j] = P[(i + 1) * 4 + j + 1];
-            Cr[i][j] = C[i * 4 + j + 1];
+            S[i][j] = (ld)P[(i + 1) * 4 + j + 1];
+            Cr[i][j] = (ld)C[i * 4 + j + 1];
         }
     }
     ld_solve3(S, s, a);
     ld_solve3(Cr, zl, xs);
-    ld var0 = P[0], mu0 = mu[0];
+    ld var0 = (ld)P[0], mu0 = (ld)mu[0];
     for (int i = 0; i < 3; i++) {
         var0 -= a[i] * s[i];
-        mu0 += a[i] * (xs[i] - mu[i + 1]);
+        mu0 += a[i] * (xs[i] - (ld)mu[i + 1]);
     }
     tol_now = REL_TOL;
     CHECK_REL(sigma[0], var0); // (float: 0 before)
