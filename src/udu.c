@@ -471,11 +471,11 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                          const gf_real *yw, gf_real *x, gf_real *nis,
                          gf_real *work)
 {
-    gf_real *dp = work;                          // P^T dx
-    gf_real *hp = &work[n];                      // P^T h_i
-    gf_real *b = &work[(size_t)2u * n];          // Bierman's b
-    gf_real *wx = &work[(size_t)3u * n];         // the exact quantities' W
-    gf_real *es = &work[(size_t)n * n + 5u * n]; // their S_ii on the prior
+    gf_real *dp = work;                        // P^T dx
+    gf_real *hp = &work[n];                    // P^T h_i
+    gf_real *b = &work[(size_t)2u * n];        // Bierman's b
+    gf_real *wx = &work[(size_t)3u * n];       // the exact quantities' W
+    gf_real *es = &work[((size_t)n + 5u) * n]; // their S_ii on the prior
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
