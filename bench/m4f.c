@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "floor.h"
 #include "gaussfilt/gaussfilt.h"
 #include "ref.h"
 #include "ref_n.h"
@@ -113,6 +114,28 @@ static void w1(void)
         bench_mark_stop(&rk);
     }
     report("w1", "ref");
+    // The loop floor (floor.h), checked against the library's belief at
+    // the end of the replay: the same filter, so within float's rounding.
+    floor_kf2 fk;
+    gf_mat2 s0, s1, s2;
+    (void)gf_kf2_cov(&wl_w1_init, &s0);
+    check(floor_kf2_init(&fk, &wl_w1_init.mu, &s0), "w1 floor init", 0);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        gf_real nis;
+        bench_mark_start(&fk);
+        gf_status a = floor_kf2_predict(&fk, &wl_w1_model);
+        gf_status b = floor_kf2_update(&fk, &wl_w1_meas, &wl_w1_z[i], &nis);
+        bench_mark_stop(&fk);
+        check(a != GF_OK ? a : b, "w1 floor", i);
+    }
+    floor_kf2_cov(&fk, &s1);
+    (void)gf_kf2_cov(&kf, &s2);
+    for (unsigned i = 0; i < 4u; i++) {
+        const gf_real e = s1.m[i / 2u][i % 2u] - s2.m[i / 2u][i % 2u];
+        const gf_real t = GF_R(1e-3) * (s2.m[0][0] + s2.m[1][1]);
+        check((e > t || -e > t) ? GF_ERR_ARG : GF_OK, "w1 floor's Sigma", i);
+    }
+    report("w1", "floor");
 }
 
 static void w2(const char *name, unsigned m)
@@ -160,6 +183,35 @@ static void w2(const char *name, unsigned m)
         bench_mark_stop(&re);
     }
     report(name, "ref");
+    if (m != 1u) {
+        return;
+    }
+    // The loop floor, checked as W1's.
+    floor_ekf3 fe;
+    gf_mat3 s0, s1, s2;
+    (void)gf_ekf3_cov(&wl_w2_init, &s0);
+    check(floor_ekf3_init(&fe, &wl_w2_init.mu, &s0), "w2 floor init", 0);
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        gf_real nis;
+        bench_mark_start(&fe);
+        gf_status a = floor_ekf3_predict(&fe, &wl_w2_motion, wl_w2_u[i]);
+        gf_status b = floor_ekf3_update(&fe, &wl_w2_meas, &wl_w2_z[i], &nis);
+        bench_mark_stop(&fe);
+        check(a != GF_OK ? a : b, "w2 floor", i);
+    }
+    floor_ekf3_cov(&fe, &s1);
+    ekf = wl_w2_init;
+    for (unsigned i = 0; i < WL_TAB; i++) {
+        check(gf_ekf3_predict(&ekf, &wl_w2_motion, wl_w2_u[i]), "w2", i);
+        check(gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[i], &info), "w2", i);
+    }
+    (void)gf_ekf3_cov(&ekf, &s2);
+    for (unsigned i = 0; i < 9u; i++) {
+        const gf_real e = s1.m[i / 3u][i % 3u] - s2.m[i / 3u][i % 3u];
+        const gf_real t = GF_R(1e-3) * (s2.m[0][0] + s2.m[1][1] + s2.m[2][2]);
+        check((e > t || -e > t) ? GF_ERR_ARG : GF_OK, "w2 floor's Sigma", i);
+    }
+    report(name, "floor");
 }
 
 static ref_n ref_belief;
