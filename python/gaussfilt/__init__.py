@@ -13,13 +13,16 @@ ellipse, correlation and marginal. The book's names: R is the process
 noise, Q the measurement noise (FilterPy's Q and R). Every status other
 than GF_OK raises a GaussfiltError subclass (BadArgument, NonFinite,
 NotPSD, Singular, Gated, Undefined, ModelError); the belief is unchanged
-then. docs/python.md has the whole API.
+then. Recorder and export_c write a run recorded in Python as a C program
+that checks itself against the library, bit for bit. docs/python.md has
+the whole API.
 """
 from ._errors import (BadArgument, GaussfiltError, Gated, ModelError,
                       NonFinite, NotPSD, Singular, Undefined)
 from . import float32, float64
+from .export import Recorder, export_c
 
 __all__ = ["float32", "float64", "GaussfiltError", "BadArgument",
            "NonFinite", "NotPSD", "Singular", "Gated", "Undefined",
-           "ModelError"]
+           "ModelError", "Recorder", "export_c"]
 __version__ = "0.1.0"
