@@ -187,5 +187,30 @@ gf_check_venv() {
     fi
 }
 
+# gf_usage [FILE]: the usage of FILE (default: the running script), its
+# header comment without the "#": the comment lines after the shebang and
+# the licence line, up to the first line of code.
+gf_usage() {
+    awk 'NR == 1 && /^#!/ { next }
+         /SPDX-License-Identifier/ { next }
+         /^#/ { sub(/^# ?/, ""); print; next }
+         { exit }' "${1:-$0}"
+}
+
+# -h or --help anywhere on the command line of a script that sources this
+# file: its usage on stdout, exit 0, and nothing else (before any check,
+# build or install).
+if [ "${BASH_SOURCE[1]:-}" = "$0" ]; then
+    for gf_arg in "$@"; do
+        case $gf_arg in
+        -h | --help)
+            gf_usage
+            exit 0
+            ;;
+        esac
+    done
+    unset gf_arg
+fi
+
 # Every script that sources this file checks build/ first.
 gf_check_build "$@"

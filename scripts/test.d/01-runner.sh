@@ -5,7 +5,8 @@
 # closing counts agree with ctest's: scripts/test runs stages made here
 # (GF_TEST_D) in a scratch build directory, one with a ctest of 3 tests of
 # which 1 fails, one with no ctest that passes, one that fails, one that
-# skips, and one whose 2 ctest tests pass before it fails.
+# skips, and one whose 2 ctest tests pass before it fails. Then every
+# program in scripts/: --help and -h print its usage and do nothing else.
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 cd "$GF_ROOT"
@@ -94,4 +95,39 @@ grep -q '^failed stages: ctfail plainfail ctpassfail$' <<<"$out" ||
     gf_die "the failed stages are not named: $(grep '^failed' <<<"$out")"
 grep -q '^skipped (see their skip: lines above): skip$' <<<"$out" ||
     gf_die "the skipped stage is not named"
+
+# Every program in scripts/ (its executables; lib.sh, lcm.sh and
+# firmware.sh are sourced, not run): --help and -h print its usage on
+# stdout, exit 0 within 3 s, write nothing on stderr, and change nothing:
+# no file of the checkout created or modified, no build or venv made
+# (GF_BUILD and GF_VENV point at paths that must stay absent).
+gf_log "runner: --help and -h of every script in scripts/"
+touch "$tmp/before"
+sleep 1 # file times: anything written from here on is newer
+n=0
+for script in scripts/*; do
+    [ -f "$script" ] && [ -x "$script" ] || continue
+    name=$(basename "$script")
+    for h in --help -h; do
+        start=$(date +%s%N)
+        rc=0
+        GF_BUILD="$tmp/no-build" GF_VENV="$tmp/no-venv" timeout 20 \
+            "$script" "$h" >"$tmp/help.out" 2>"$tmp/help.err" </dev/null || rc=$?
+        ms=$((($(date +%s%N) - start) / 1000000))
+        [ "$rc" -eq 0 ] || gf_die "$script $h: exit status $rc: $(head -5 "$tmp/help.err" "$tmp/help.out")"
+        [ ! -s "$tmp/help.err" ] || gf_die "$script $h writes on stderr: $(head -5 "$tmp/help.err")"
+        [ "$ms" -lt 3000 ] || gf_die "$script $h took $ms ms: does it do more than print its usage?"
+        [ "$(wc -l <"$tmp/help.out")" -ge 3 ] || gf_die "$script $h: no usage: $(cat "$tmp/help.out")"
+        grep -q "$name" "$tmp/help.out" || gf_die "$script $h: the usage does not name $name"
+        ! grep -q '^#\|SPDX-License-Identifier' "$tmp/help.out" ||
+            gf_die "$script $h prints the comment signs or the licence line"
+        [ ! -e "$tmp/no-build" ] && [ ! -e "$tmp/no-venv" ] ||
+            gf_die "$script $h made a build directory or a venv"
+        changed=$(find . -path ./.git -prune -o -newer "$tmp/before" -print | head -5)
+        [ -z "$changed" ] || gf_die "$script $h changed files of the checkout: $changed"
+        n=$((n + 1))
+    done
+    echo "$script --help, -h: exit 0, $(wc -l <"$tmp/help.out") lines of usage, ${ms} ms"
+done
+[ "$n" -ge 30 ] || gf_die "only $((n / 2)) scripts in scripts/ checked"
 echo "runner: passed"
