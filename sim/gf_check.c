@@ -24,11 +24,12 @@
 
 #include <lcm/lcm.h>
 
-#include "gaussfilt/gaussfilt.h"
-#include "gf_wire.h"
 #include "book.h"
+#include "gaussfilt/gaussfilt.h"
 #include "gf_channels.h"
 #include "gf_help.h"
+#include "gf_route.h"
+#include "gf_wire.h"
 
 #define MAX_BELIEFS 64
 // The node's filter runs in gf_real: exact to 1e-12 in double, a few float
@@ -382,7 +383,7 @@ int main(int argc, char **argv)
         need = MAX_BELIEFS;
     }
 
-    lcm = lcm_create(url);
+    lcm = gf_lcm_open("gf_check", url);
     if (lcm == NULL) {
         fprintf(stderr, "gf_check: cannot open LCM at %s\n",
                 url ? url : "(default URL)");

@@ -18,10 +18,11 @@
 #include <lcm/lcm.h>
 
 #include "ex4_modes.h"
-#include "gf_wire.h"
 #include "gaussfilt_lcm_particles_t.h"
 #include "gf_channels.h"
 #include "gf_help.h"
+#include "gf_route.h"
+#include "gf_wire.h"
 
 #define CLOUD_MAX 4096
 #ifdef GF_SINGLE_PRECISION
@@ -177,7 +178,7 @@ int main(int argc, char **argv)
                         "URL] [--timeout-ms MS]\n");
         return 2;
     }
-    lcm = lcm_create(url);
+    lcm = gf_lcm_open("gf_ex4check", url);
     if (lcm == NULL) {
         fprintf(stderr, "gf_ex4check: cannot open LCM\n");
         return 1;

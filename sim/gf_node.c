@@ -72,6 +72,7 @@
 #include <lcm/lcm.h>
 
 #include "gf_inq.h"
+#include "gf_route.h"
 #include "gf_rt.h"
 #include "node_core.h"
 
@@ -224,7 +225,7 @@ static void help(void)
           "listens, a line for each new track (its model and why), and at\n"
           "exit (SIGINT, SIGTERM, end of a log) one summary line of counters.\n"
           "udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo (or\n"
-          "your interface), else LCM says \"No route\" and it cannot open.\n\n",
+          "your interface), else it says \"no route\" and stops.\n\n",
           stdout);
     fputs(usage_text, stdout);
     fputs(
@@ -340,7 +341,7 @@ int main(int argc, char **argv)
 
     // LCM's receive thread, started by lcm_subscribe, inherits CPU and policy.
     gf_rt_setup(&rt, "gf_node");
-    in = lcm_create(url);
+    in = gf_lcm_open("gf_node", url);
     if (in == NULL) {
         fprintf(stderr, "gf_node: cannot open LCM at %s\n",
                 url ? url : "(default URL)");
@@ -348,7 +349,7 @@ int main(int argc, char **argv)
     }
     out = in;
     if (out_url != NULL) {
-        out = lcm_create(out_url);
+        out = gf_lcm_open("gf_node", out_url);
         if (out == NULL) {
             fprintf(stderr, "gf_node: cannot open LCM at %s\n", out_url);
             lcm_destroy(in);

@@ -18,6 +18,7 @@
 
 #include "gaussfilt_lcm_model_t.h"
 #include "gf_channels.h"
+#include "gf_route.h"
 #include "node_model.h"
 
 static const char usage_text[] =
@@ -101,7 +102,7 @@ int main(int argc, char **argv)
     memcpy(m.prior_cov, mdl->prior_cov, sizeof m.prior_cov);
     len = gaussfilt_lcm_model_t_encode(buf, 0, (int)sizeof buf, &m);
     snprintf(channel, sizeof channel, "%s%ld", GF_CHANNEL_MODEL, track);
-    lcm = lcm_create(url);
+    lcm = gf_lcm_open("gf_setmodel", url);
     if (lcm == NULL || len < 0) {
         fprintf(stderr, "gf_setmodel: cannot open LCM at %s\n",
                 url ? url : "(default URL)");

@@ -36,13 +36,16 @@
 #              a --strict node refuses exercise 1's unnamed track 1
 #              (no_model, said once) and runs the configured car on 100; a
 #              node without --strict runs exercise 2 on the preset book-car
-#              and says so (gf_check: Table 2.1)
+#              and says so (gf_check: Table 2.1); without a multicast route
+#              (as root: a namespace of its own) the node names the group
+#              and the fix, and LCM's garbled "No route to" never comes
 #   peers      two nodes (--name a, --name b) on the same tracks: each
 #              warns once that the other publishes beliefs of track 1,
 #              and counts them (peer_beliefs)
 #   quickstart docs/node.md's quick start, its commands as written (the
 #              block between <!-- quickstart --> and <!-- /quickstart -->;
-#              README.md's copy of its commands checked line by line),
+#              README.md's copy of its commands checked line by line, and
+#              that it stops the node),
 #              run by bash in a folder that holds build/sim/sim/bin, .venv
 #              and examples/: every input applied, none lost before the
 #              node was ready, beliefs.py's 201 beliefs and its plot
@@ -348,6 +351,22 @@ strict)
     cat "$work/bad.err"
     grep -qxF "gf_node: $work/bad.conf: line 6: model a: Q must be symmetric positive semidefinite (and C finite)" \
         "$work/bad.err" || { echo "lcm_udpm: the error does not name Q's line" >&2; exit 1; }
+    # Without a multicast route (a namespace of its own, lo up, no route):
+    # the node names the group and the fix, and LCM's own route message,
+    # which prints an address from freed memory, never comes.
+    if [ -n "${GF_IN_NETNS:-}" ]; then
+        if unshare -n sh -c 'ip link set lo up && exec "$0" --url "$1"' \
+            "$bin/gf_node" "$URL" >"$work/noroute.out" 2>"$work/noroute.err"; then
+            echo "lcm_udpm: the node started without a multicast route" >&2
+            exit 1
+        fi
+        cat "$work/noroute.err"
+        group=$(sed -E 's|^udpm://([0-9.]+).*|\1|' <<<"$URL")
+        grep -qF "gf_node: no route to the multicast group $group of $URL (Network is unreachable): udpm needs one; on one machine, as root: ip route add 224.0.0.0/4 dev lo" \
+            "$work/noroute.err" || { echo "lcm_udpm: no clear word without a route" >&2; exit 1; }
+        ! grep -q '^No route to\|^connect:' "$work/noroute.err" ||
+            { echo "lcm_udpm: LCM's own route message came" >&2; exit 1; }
+    fi
     # 1 initial belief + 10 of the car100 track; Table 2.1 of the preset
     start check100 "$bin/gf_check" --url "$URL" --count 11 --track 100
     start check2 "$bin/gf_check" --url "$URL" --table 2.1 --track 2
@@ -433,6 +452,8 @@ quickstart)
         grep -qxF -- "$line" "$work/quickstart.sh" ||
             { echo "lcm_udpm: README.md's '$line' is not docs/node.md's quick start" >&2; exit 1; }
     done <"$work/readme.sh"
+    grep -q '^kill %1 ' "$work/readme.sh" ||
+        { echo "lcm_udpm: README.md's quick start leaves the node running (no kill %1)" >&2; exit 1; }
     # outside a namespace, the test's own port instead of LCM's default
     [ -n "${GF_IN_NETNS:-}" ] || export LCM_DEFAULT_URL=$URL
     (cd "$here" && MPLCONFIGDIR=$work/mpl timeout 120 bash -e "$work/quickstart.sh") \
