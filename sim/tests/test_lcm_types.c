@@ -13,6 +13,7 @@
 
 #include <cmocka.h>
 
+#include "gaussfilt_lcm_model_t.h"
 #include "gf_msgs.h"
 
 // Values that exercise every byte: negative, huge, tiny, signed zero.
@@ -57,6 +58,7 @@ WRAP(measurement_t)
 WRAP(control_t)
 WRAP(belief_t)
 WRAP(groundtruth_t)
+WRAP(model_t)
 
 #define CASE(T, wire)                                                          \
     {                                                                          \
@@ -67,12 +69,15 @@ WRAP(groundtruth_t)
 // wire = 8 (fingerprint) + the fields (measurement and control: utime,
 // seq, session, track, model, size, values; belief: utime, seq,
 // input_seq, track, model/stage/status/filter, the node string "gf" with
-// its length and NUL, n, mean and cov of 3, m, innovation of 2, nis).
+// its length and NUL, n, mean and cov of 3, m, innovation of 2, nis;
+// model: utime, track, model, measure, dt, accel_var, odometry[4],
+// landmark[2], gate, reset, prior_mean[3], prior_cov[3][3]).
 static const type_case cases[] = {
     CASE(measurement_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 24 + 72),
     CASE(control_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 16),
     CASE(belief_t, 8 + 8 + 8 + 8 + 4 + 4 + 4 + 3 + 1 + 24 + 72 + 1 + 16 + 8),
     CASE(groundtruth_t, 8 + 8 + 8 + 4 + 1 + 1 + 24),
+    CASE(model_t, 8 + 8 + 4 + 1 + 1 + 8 + 8 + 32 + 16 + 8 + 1 + 24 + 72),
 };
 
 // The arrays the made messages point at.
@@ -130,6 +135,20 @@ static void make(unsigned k, void *p)
         b->innovation = a_innov;
         b->nis = 144.5;
         b->filter = GAUSSFILT_LCM_BELIEF_T_FILTER_PF3;
+    } else if (k == 4) {
+        gaussfilt_lcm_model_t *md = p;
+        md->utime = -9;
+        md->track = 100;
+        md->model = GF_CAR;
+        md->measure = GAUSSFILT_LCM_MODEL_T_MEASURE_XV;
+        md->dt = 0.01;
+        md->accel_var = 4;
+        fill(md->odometry, 4, 0.0025);
+        fill(md->landmark, 2, -5.5);
+        md->gate = 13.8;
+        md->reset = 1;
+        fill(md->prior_mean, 3, 1e-3);
+        fill(&md->prior_cov[0][0], 9, 0.01);
     } else {
         gaussfilt_lcm_groundtruth_t *g = p;
         g->utime = 7;
@@ -179,6 +198,14 @@ static void roundtrip_every_type(void **state)
                 assert_memory_equal(w.cov[i], a_cov[i], sizeof a_cov[i]);
             }
             assert_memory_equal(w.innovation, a_innov, sizeof a_innov);
+        }
+        if (k == 4) {
+            const gaussfilt_lcm_model_t *a = (const void *)in;
+            const gaussfilt_lcm_model_t *b = (const void *)out;
+            assert_memory_equal(b->odometry, a->odometry, sizeof a->odometry);
+            assert_memory_equal(b->prior_cov, a->prior_cov,
+                                sizeof a->prior_cov);
+            assert_true(b->measure == a->measure && b->reset == 1);
         }
         if (k == 3) {
             gf_wire_truth g;
