@@ -175,3 +175,117 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info,
                            work);
 }
+
+// ---- checking a model's Jacobians ---------------------------------------
+
+// The central differences' step at |x| <= 1: about eps^(1/3), a power of
+// two so that x +- h_j is exact there.
+#ifdef GF_SINGLE_PRECISION
+#define EKF_CHECK_STEP GF_R(0.00390625) // 2^-8
+#else
+#define EKF_CHECK_STEP GF_R(7.62939453125e-06) // 2^-17
+#endif
+
+// f(x) (rows entries) and its Jacobian J (rows x n) from the motion, or
+// from the measurement if motion is NULL; the callback's presets as the
+// steps give them.
+static gf_status ekf_check_eval(const gf_ekf_motion *motion,
+                                const gf_ekf_meas *meas, unsigned n,
+                                const gf_real *x, const gf_real *u, gf_real *f,
+                                gf_real *J)
+{
+    const unsigned rows = motion ? n : meas->m;
+    for (unsigned i = 0; i < rows; i++) {
+        f[i] = motion ? x[i] : GF_R(0.0);
+        for (unsigned j = 0; j < n; j++) {
+            J[i * n + j] = (motion && i == j) ? GF_R(1.0) : GF_R(0.0);
+        }
+    }
+    const gf_status st = motion ? motion->g(motion->ctx, n, x, u, f, J)
+                                : meas->h(meas->ctx, n, meas->m, x, f, J);
+    if (st != GF_OK) {
+        return gf_callback_status(st);
+    }
+    return gf_sum_finite(
+               gf_nan_sum(gf_nan_sum(GF_R(0.0), f, rows), J, rows * n))
+               ? GF_OK
+               : GF_ERR_NONFINITE;
+}
+
+// One model's Jacobian against its central differences (wrap: the outputs
+// that are angles), the worst entry kept in *best.
+static gf_status ekf_check_jacobian(const gf_ekf_motion *motion,
+                                    const gf_ekf_meas *meas, unsigned n,
+                                    const gf_real *mu, const gf_real *u,
+                                    unsigned wrap, gf_ekf_check *best,
+                                    gf_kf_work *work)
+{
+    const unsigned rows = motion ? n : meas->m;
+    gf_real *J0 = work->rows;
+    gf_real *fp = work->steps, *fm = &fp[n], *x = &fm[n], *Jt = &x[n];
+    gf_status st = ekf_check_eval(motion, meas, n, mu, u, fp, J0);
+    for (unsigned j = 0; j < n && st == GF_OK; j++) {
+        for (unsigned k = 0; k < n; k++) {
+            x[k] = mu[k];
+        }
+        const gf_real a = GF_FABS(mu[j]) > 1 ? GF_FABS(mu[j]) : GF_R(1.0);
+        const gf_real hi = mu[j] + EKF_CHECK_STEP * a;
+        const gf_real lo = mu[j] - EKF_CHECK_STEP * a;
+        x[j] = hi;
+        st = ekf_check_eval(motion, meas, n, x, u, fp, Jt);
+        x[j] = lo;
+        if (st == GF_OK) {
+            st = ekf_check_eval(motion, meas, n, x, u, fm, Jt);
+        }
+        for (unsigned i = 0; i < rows && st == GF_OK; i++) {
+            gf_real d = fp[i] - fm[i];
+            if (i < 32u && ((wrap >> i) & 1u)) {
+                d = gf_angle_wrap(d);
+            }
+            const gf_real D = d / (hi - lo), J = J0[i * n + j];
+            gf_real den = GF_R(1000.0) * GF_REAL_EPSILON *
+                          (GF_FABS(fp[i]) + GF_FABS(fm[i])) / (hi - lo);
+            den = GF_FABS(J) > den ? GF_FABS(J) : den;
+            den = GF_FABS(D) > den ? GF_FABS(D) : den;
+            const gf_real e = den > 0 ? GF_FABS(J - D) / den : GF_R(0.0);
+            if (e > best->worst) {
+                best->worst = e;
+                best->jacobian = motion ? 0u : 1u;
+                best->row = i;
+                best->col = j;
+                best->given = J;
+                best->numeric = D;
+            }
+        }
+    }
+    return st;
+}
+
+gf_status gf_ekf_check_model(const gf_ekf_motion *motion,
+                             const gf_ekf_meas *meas, unsigned n,
+                             const gf_real *mu, const gf_real *u,
+                             unsigned angles, gf_ekf_check *out,
+                             gf_kf_work *work)
+{
+    if (!out || !mu || !work || (!motion && !meas) || n < 1u ||
+        n > GF_KF_NMAX || (motion && !motion->g) ||
+        (meas && (!meas->h || meas->m < 1u || meas->m > n))) {
+        return GF_ERR_ARG;
+    }
+    if (!gf_all_finite(mu, n)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_ekf_check best = {0, 0, 0, 0, 0, 0};
+    gf_status st = GF_OK;
+    if (motion) {
+        st = ekf_check_jacobian(motion, NULL, n, mu, u, angles, &best, work);
+    }
+    if (st == GF_OK && meas) {
+        st = ekf_check_jacobian(NULL, meas, n, mu, NULL, meas->angle_mask,
+                                &best, work);
+    }
+    if (st == GF_OK) {
+        *out = best;
+    }
+    return st;
+}

@@ -50,6 +50,7 @@ typedef struct fixture {
     gf_ekf_pmotion epmn;
     gf_ekf_pmeas epqn;
     gf_kf_innovation kinfo;
+    gf_ekf_check check;
     gf_real kz[2];
 } fixture;
 
@@ -425,6 +426,12 @@ static void test_kfn(void **state)
     VALID(gf_ekf_update(&fx.kfn, &fx.emeas, fx.kz, &fx.kinfo, &fx.work));
     VALID(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, &fx.work));
     VALID(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL, &fx.work));
+    VALID(gf_ekf_check_model(&fx.emotion, &fx.emeas, 2, fx.v2.v, NULL, 0u,
+                             &fx.check, &fx.work));
+    VALID(gf_ekf_check_model(NULL, &fx.emeas, 2, fx.v2.v, NULL, 0u, &fx.check,
+                             &fx.work));
+    VALID(gf_ekf_check_model(&fx.emotion, NULL, 2, fx.v2.v, NULL, 0u, &fx.check,
+                             &fx.work));
     setup_fixture();
     setup_kfn();
 
@@ -508,6 +515,22 @@ static void test_kfn(void **state)
     NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, NULL, fx.kz, NULL, &fx.work));
     NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, NULL, NULL, &fx.work));
     NULL_FAILS(gf_ekf_update_prepared(&fx.kfn, &fx.epqn, fx.kz, NULL, NULL));
+    NULL_FAILS(gf_ekf_check_model(NULL, NULL, 2, fx.v2.v, NULL, 0u, &fx.check,
+                                  &fx.work));
+    NULL_FAILS(gf_ekf_check_model(&fx.emotion, &fx.emeas, 2, NULL, NULL, 0u,
+                                  &fx.check, &fx.work));
+    NULL_FAILS(gf_ekf_check_model(&fx.emotion, &fx.emeas, 2, fx.v2.v, NULL, 0u,
+                                  NULL, &fx.work));
+    NULL_FAILS(gf_ekf_check_model(&fx.emotion, &fx.emeas, 2, fx.v2.v, NULL, 0u,
+                                  &fx.check, NULL));
+    fx.emotion.g = NULL;
+    NULL_FAILS(gf_ekf_check_model(&fx.emotion, NULL, 2, fx.v2.v, NULL, 0u,
+                                  &fx.check, &fx.work));
+    fx.emotion.g = ekf_still;
+    fx.emeas.h = NULL;
+    NULL_FAILS(gf_ekf_check_model(NULL, &fx.emeas, 2, fx.v2.v, NULL, 0u,
+                                  &fx.check, &fx.work));
+    fx.emeas.h = ekf_first;
     fx.epmn.motion.g = NULL;
     NULL_FAILS(gf_ekf_predict_prepared(&fx.kfn, &fx.epmn, NULL, &fx.work));
     fx.epqn.meas.h = NULL;

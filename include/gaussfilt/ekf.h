@@ -87,6 +87,41 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
                                  const gf_real *z, gf_kf_innovation *info,
                                  gf_kf_work *work);
 
+// ---- Checking a model's Jacobians -------------------------------------
+
+// Where a model's Jacobian (G of g, H of h) and the central differences of
+// its function disagree most (gf_ekf_check_model).
+typedef struct gf_ekf_check {
+    gf_real worst;     // the largest relative difference, 0 if none
+    unsigned jacobian; // 0: the motion's G, 1: the measurement's H
+    unsigned row, col; // its entry
+    gf_real given;     // J_ij, as the callback gave it at mu
+    gf_real numeric;   // D_ij, the central difference there
+} gf_ekf_check;
+
+// Compares the Jacobians the callbacks give at mu with central differences
+// of their functions there: G of motion->g (with u; skipped if motion is
+// NULL) and H of meas->h (skipped if meas is NULL). For each state j,
+//   D_ij = (f_i(mu + h_j e_j) - f_i(mu - h_j e_j)) / (2 h_j),
+//   h_j = 2^-17 max(|mu_j|, 1) in double, 2^-8 max(|mu_j|, 1) in float
+// (about eps^(1/3)), the difference wrapped to (-pi, pi] for the outputs
+// that are angles (g's states in `angles`, h's residuals in
+// meas->angle_mask). The difference of entry ij is
+//   |J_ij - D_ij| / max(|J_ij|, |D_ij|, 1000 eps (|f_i(mu + h_j e_j)| +
+//                                                |f_i(mu - h_j e_j)|) / 2h_j)
+// (the last term: a thousand times what rounding alone can put in D_ij,
+// so that a true zero reads as one). *out gets the largest. A correct,
+// smooth model reads below about 1e-8 in double and 1e-2 in float; a
+// wrong entry about 1 (a sign: 2). GF_ERR_ARG (out or mu NULL, both
+// models NULL, a callback NULL, n out of 1..GF_KF_NMAX, meas->m out of
+// 1..n), GF_ERR_NONFINITE (mu, or a callback's answer), or a callback's
+// error. Calls g and h 2n + 1 times each; work is scratch.
+gf_status gf_ekf_check_model(const gf_ekf_motion *motion,
+                             const gf_ekf_meas *meas, unsigned n,
+                             const gf_real *mu, const gf_real *u,
+                             unsigned angles, gf_ekf_check *out,
+                             gf_kf_work *work);
+
 #ifdef __cplusplus
 }
 #endif

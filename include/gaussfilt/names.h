@@ -80,6 +80,7 @@
 #define gf_kf_update_prepared GF_NAME(gf_kf_update_prepared)
 
 // ekf.h
+#define gf_ekf_check_model GF_NAME(gf_ekf_check_model)
 #define gf_ekf_init GF_NAME(gf_ekf_init)
 #define gf_ekf_predict GF_NAME(gf_ekf_predict)
 #define gf_ekf_predict_prepared GF_NAME(gf_ekf_predict_prepared)

@@ -14,15 +14,18 @@ noise, Q the measurement noise (FilterPy's Q and R). Every status other
 than GF_OK raises a GaussfiltError subclass (BadArgument, NonFinite,
 NotPSD, Singular, Gated, Undefined, ModelError); the belief is unchanged
 then. Recorder and export_c write a run recorded in Python as a C program
-that checks itself against the library, bit for bit. docs/python.md has
+that checks itself against the library, bit for bit; check_jacobians
+compares a model's Jacobians with central differences. docs/python.md has
 the whole API.
 """
 from ._errors import (BadArgument, GaussfiltError, Gated, ModelError,
                       NonFinite, NotPSD, Singular, Undefined)
 from . import float32, float64
+from .check import JacobianCheck, check_jacobians
 from .export import Recorder, export_c
 
 __all__ = ["float32", "float64", "GaussfiltError", "BadArgument",
            "NonFinite", "NotPSD", "Singular", "Gated", "Undefined",
-           "ModelError", "Recorder", "export_c"]
+           "ModelError", "Recorder", "export_c", "check_jacobians",
+           "JacobianCheck"]
 __version__ = "0.1.0"
