@@ -187,22 +187,27 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
 #endif
 
 // f(x) (rows entries) and its Jacobian J (rows x n) from the motion, or
-// from the measurement if motion is NULL; the callback's presets as the
-// steps give them.
+// from the measurement if motion is NULL (rows: n, or meas->m); the
+// callback's presets as the steps give them.
 static gf_status ekf_check_eval(const gf_ekf_motion *motion,
                                 const gf_ekf_meas *meas, unsigned n,
-                                const gf_real *x, const gf_real *u, gf_real *f,
-                                gf_real *J)
+                                unsigned rows, const gf_real *x,
+                                const gf_real *u, gf_real *f, gf_real *J)
 {
-    const unsigned rows = motion ? n : meas->m;
     for (unsigned i = 0; i < rows; i++) {
         f[i] = motion ? x[i] : GF_R(0.0);
         for (unsigned j = 0; j < n; j++) {
             J[i * n + j] = (motion && i == j) ? GF_R(1.0) : GF_R(0.0);
         }
     }
-    const gf_status st = motion ? motion->g(motion->ctx, n, x, u, f, J)
-                                : meas->h(meas->ctx, n, meas->m, x, f, J);
+    gf_status st;
+    if (motion) {
+        st = motion->g(motion->ctx, n, x, u, f, J);
+    } else if (meas) {
+        st = meas->h(meas->ctx, n, rows, x, f, J);
+    } else {
+        st = GF_ERR_ARG;
+    }
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
@@ -216,14 +221,13 @@ static gf_status ekf_check_eval(const gf_ekf_motion *motion,
 // that are angles), the worst entry kept in *best.
 static gf_status ekf_check_jacobian(const gf_ekf_motion *motion,
                                     const gf_ekf_meas *meas, unsigned n,
-                                    const gf_real *mu, const gf_real *u,
-                                    unsigned wrap, gf_ekf_check *best,
-                                    gf_kf_work *work)
+                                    unsigned rows, const gf_real *mu,
+                                    const gf_real *u, unsigned wrap,
+                                    gf_ekf_check *best, gf_kf_work *work)
 {
-    const unsigned rows = motion ? n : meas->m;
     gf_real *J0 = work->rows;
     gf_real *fp = work->steps, *fm = &fp[n], *x = &fm[n], *Jt = &x[n];
-    gf_status st = ekf_check_eval(motion, meas, n, mu, u, fp, J0);
+    gf_status st = ekf_check_eval(motion, meas, n, rows, mu, u, fp, J0);
     for (unsigned j = 0; j < n && st == GF_OK; j++) {
         for (unsigned k = 0; k < n; k++) {
             x[k] = mu[k];
@@ -232,10 +236,10 @@ static gf_status ekf_check_jacobian(const gf_ekf_motion *motion,
         const gf_real hi = mu[j] + EKF_CHECK_STEP * a;
         const gf_real lo = mu[j] - EKF_CHECK_STEP * a;
         x[j] = hi;
-        st = ekf_check_eval(motion, meas, n, x, u, fp, Jt);
+        st = ekf_check_eval(motion, meas, n, rows, x, u, fp, Jt);
         x[j] = lo;
         if (st == GF_OK) {
-            st = ekf_check_eval(motion, meas, n, x, u, fm, Jt);
+            st = ekf_check_eval(motion, meas, n, rows, x, u, fm, Jt);
         }
         for (unsigned i = 0; i < rows && st == GF_OK; i++) {
             gf_real d = fp[i] - fm[i];
@@ -278,11 +282,11 @@ gf_status gf_ekf_check_model(const gf_ekf_motion *motion,
     gf_ekf_check best = {0, 0, 0, 0, 0, 0};
     gf_status st = GF_OK;
     if (motion) {
-        st = ekf_check_jacobian(motion, NULL, n, mu, u, angles, &best, work);
+        st = ekf_check_jacobian(motion, NULL, n, n, mu, u, angles, &best, work);
     }
     if (st == GF_OK && meas) {
-        st = ekf_check_jacobian(NULL, meas, n, mu, NULL, meas->angle_mask,
-                                &best, work);
+        st = ekf_check_jacobian(NULL, meas, n, meas->m, mu, NULL,
+                                meas->angle_mask, &best, work);
     }
     if (st == GF_OK) {
         *out = best;
