@@ -765,6 +765,40 @@ static int rows_of(char *s, double *a, unsigned n, unsigned max_rows)
 
 // The linear model's keys (see node_model.h). Returns 0, 1 if key is not
 // one of them, or -1 with the error.
+// states = NAME ... and units = UNIT ...: one word per state, read by the
+// tools that draw a track (scripts/plot, examples/beliefs.py); the node
+// only checks that there are n of them.
+static int state_words(const gf_node_model *mdl, const gf_node_linear *lin,
+                       const char *key, const char *val, unsigned line,
+                       char *err, size_t size)
+{
+    unsigned n = mdl->kind == GF_NODE_KIND_CAR     ? 2u
+                 : mdl->kind == GF_NODE_KIND_ROBOT ? 3u
+                                                   : lin->n;
+    unsigned words = 0;
+    const char *p = val;
+    if (n == 0) {
+        return fail(err, size, line, "model %s: n or motion before %s",
+                    mdl->name, key);
+    }
+    while (*p != '\0') {
+        if (*p == ' ' || *p == '\t') {
+            p++;
+            continue;
+        }
+        words++;
+        while (*p != '\0' && *p != ' ' && *p != '\t') {
+            p++;
+        }
+    }
+    if (words != n) {
+        return fail(err, size, line,
+                    "model %s: %s takes %u words, one per state", mdl->name,
+                    key, n);
+    }
+    return 0;
+}
+
 static int linear_key(gf_node_model *mdl, gf_node_linear *lin, const char *key,
                       char *val, unsigned line, char *err, size_t size)
 {
@@ -1042,6 +1076,10 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 return fail(err, err_size, line, "channels regex too long");
             }
             strcpy(cfg->channels[i], val);
+        } else if (strcmp(key, "states") == 0 || strcmp(key, "units") == 0) {
+            if (state_words(mdl, lin, key, val, line, err, err_size) != 0) {
+                return -1;
+            }
         } else if (mdl->kind == GF_NODE_KIND_LINEAR) {
             int r = linear_key(mdl, lin, key, val, line, err, err_size);
             if (r < 0) {
