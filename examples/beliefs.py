@@ -3,7 +3,7 @@
 """Prints gf_node's beliefs as they arrive, and plots one track.
 
     python examples/beliefs.py [--url URL] [--track N] [--plot FILE.png]
-                               [--count N] [--seconds S]
+                               [--config FILE] [--count N] [--seconds S]
 
 Subscribes to GF_BELIEF_<track> (every track by default) and prints a
 ready line once it listens ("beliefs.py: ready ..."; `gf_sim --wait FILE`
@@ -14,7 +14,11 @@ it got, and how many of each track it missed (belief seqs never seen:
 those published before it listened, or lost). With --plot, every state of
 --track is drawn to FILE.png (matplotlib) over time (the beliefs' utime, in
 seconds): the mean, its 2-sigma band, and the true state when the
-simulator's groundtruth_t (GF_TRUTH_<track>) is on the wire too.
+simulator's groundtruth_t (GF_TRUTH_<track>) is on the wire too. Each
+state is labelled with its name and unit: from --config, the gf_node
+configuration whose model the track runs (its states = and units = lines,
+or the axes of its motion = line: x vx y vy for cv cv); else the car's
+(position, velocity) and the robot's (x, y, theta in rad); else x0, x1, ...
 
 Needs the lcm package and the types (the package gaussfilt_lcm, which
 scripts/lcm.sh installs into the project's .venv). URL: LCM's, e.g.
@@ -24,6 +28,7 @@ Ctrl-C.
 """
 import argparse
 import math
+import re
 import select
 import sys
 
@@ -31,8 +36,68 @@ import lcm
 from gaussfilt_lcm import belief_t
 
 STAGES = {0: "init", 1: "predict", 2: "update"}
-NAMES = {1: ["position", "velocity"], 2: ["x", "y", "theta"]}  # car, robot
 TRUTH = "GF_TRUTH_"
+# measurement_t.MODEL_*: a configuration's type, and the presets' states
+KINDS = {"car": 1, "robot": 2, "linear": 3}
+PRESET = {1: (["position", "velocity"], ["", ""]),
+          2: (["x", "y", "theta"], ["", "", "rad"])}
+
+
+def read_config(path):
+    """The models of a gf_node configuration (docs/node.md), in file order:
+    [(name, {key: value})], each with what its base gives it (all but
+    channels, as the node does)."""
+    models, cur = [], None
+    with open(path) as f:
+        for line in f:
+            line = line.split("#", 1)[0].strip()
+            head = re.fullmatch(r"\[model\s+(\S+)\]", line)
+            if head:
+                cur = {}
+                models.append((head.group(1), cur))
+            elif "=" in line and cur is not None:
+                key, val = (x.strip() for x in line.split("=", 1))
+                if key == "base":
+                    base = dict(next((m for n, m in models
+                                      if n == val), {}))
+                    base.pop("channels", None)
+                    cur.update(base)
+                cur[key] = val
+    return models
+
+
+def axis_states(motion):
+    """The states of a dt-built linear model, axis by axis: cv cv is
+    x vx y vy, ca is x vx ax."""
+    names = []
+    for i, kind in enumerate(motion.split()):
+        a = "xyz"[i] if i < 3 else "q%d" % (i + 1)
+        names += [a, "v" + a] + (["a" + a] if kind == "ca" else [])
+    return names
+
+
+def state_labels(config, track, model, n):
+    """'name (unit)' of each of the n states of a track of this model
+    (measurement_t.MODEL_*): the configured model whose channels name the
+    track, as the node picks it; else the presets' names, else x0.."""
+    names, units = PRESET.get(model, ([], []))
+    for _, keys in read_config(config) if config else []:
+        ch = keys.get("channels")
+        if KINDS.get(keys.get("type")) != model or not ch or not any(
+                re.fullmatch(ch, "GF_%s_%d" % (k, track))
+                for k in ("MEAS", "CTRL")):
+            continue
+        if "states" in keys or "motion" in keys:
+            names = keys["states"].split() if "states" in keys else \
+                axis_states(keys["motion"])
+            units = []
+        units = keys["units"].split() if "units" in keys else units
+        break
+    if len(names) != n:
+        names = ["x%d" % i for i in range(n)]
+    if len(units) != n:
+        units = [""] * n
+    return ["%s (%s)" % (a, u) if u else a for a, u in zip(names, units)]
 
 
 def main():
@@ -41,6 +106,8 @@ def main():
     ap.add_argument("--track", type=int, default=None,
                     help="only this track (and the one --plot draws)")
     ap.add_argument("--plot", default=None, help="draw --track to this PNG")
+    ap.add_argument("--config", default=None,
+                    help="the node's configuration: the states' names")
     ap.add_argument("--count", type=int, default=0, help="stop after N beliefs")
     ap.add_argument("--seconds", type=float, default=0.0,
                     help="stop after S seconds without a belief")
@@ -111,8 +178,7 @@ def main():
         if not bs:
             sys.exit("no beliefs of track %d to plot" % a.track)
         n = bs[0].n
-        names = NAMES.get(bs[0].model, [])
-        names = names if len(names) == n else ["x%d" % i for i in range(n)]
+        names = state_labels(a.config, a.track, bs[0].model, n)
         fig, axes = plt.subplots(n, 1, sharex=True, figsize=(7, 2.0 * n),
                                  squeeze=False)
         t = [b.utime * 1e-6 for b in bs]
@@ -134,8 +200,9 @@ def main():
         axes[-1, 0].set_xlabel("time (s, the inputs' utime)")
         fig.tight_layout()
         fig.savefig(a.plot, dpi=100)
-        print("drew %s (%d beliefs%s)" % (
-            a.plot, len(bs), ", %d truths" % len(gt) if gt else ""))
+        print("drew %s (%d beliefs%s): %s" % (
+            a.plot, len(bs), ", %d truths" % len(gt) if gt else "",
+            ", ".join(names)))
 
 
 if __name__ == "__main__":

@@ -466,7 +466,7 @@ quickstart)
     expect lost_before_first 0
     grep -q '^201 beliefs$' "$here/beliefs.out" ||
         { echo "lcm_udpm: beliefs.py did not get 201 beliefs" >&2; exit 1; }
-    grep -q '^drew target.png (201 beliefs, 100 truths)' "$here/beliefs.out" &&
+    grep -qx 'drew target.png (201 beliefs, 100 truths): x (m), vx (m/s), y (m), vy (m/s)' "$here/beliefs.out" &&
         [ -s "$here/target.png" ] || { echo "lcm_udpm: no plot with the truth" >&2; exit 1; }
     ;;
 model)

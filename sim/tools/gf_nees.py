@@ -1,24 +1,43 @@
 # SPDX-License-Identifier: MIT
 """NEES and NIS of a node's beliefs against the simulator's truth, from LCM
-logs, with their 95% bounds; and a figure of them over time.
+logs, with their 95% bounds; the updates that are missing or were gated;
+and a figure of them over time.
 
-    python gf_nees.py LOG [LOG...] [--track N | --tracks A-B] [--plot PNG]
+    python gf_nees.py LOG [LOG...] [--track N | --tracks A-B]
+                      [--max-missing PERCENT] [--plot PNG] [--csv FILE]
                                           (scripts/nees LOG... [options])
 
-Reads every belief (GF_BELIEF_<track>) and truth (GF_TRUTH_<track>) of the
-logs (one log, or the simulator's and the node's apart), any model: car,
-robot, a linear model of any n, the book's presets as well as configured
-ones. Each corrected belief (STAGE_UPDATE, status 0) is paired with the
-truth of its step (the last truth before its input: gf_sim sends a step's
-control, its truth, then its measurement) and gives
+Reads every belief (GF_BELIEF_<track>), truth (GF_TRUTH_<track>) and
+measurement (GF_MEAS_<track>) of the logs (one log, or the simulator's and
+the node's apart), any model: car, robot, a linear model of any n, the
+book's presets as well as configured ones. Each update (a belief of
+STAGE_UPDATE) that ran (status 0) or that the model's gate refused (status
+-5, GF_ERR_GATED: its belief is the prediction, its NIS the one the gate
+judged) is paired with the truth of its step (the last truth before its
+input: gf_sim sends a step's control, its truth, then its measurement) and
+gives
 
     NEES = (x - mu)^T Sigma^-1 (x - mu)   (the robot's heading error wrapped)
     NIS  = y^T S^-1 y                     (belief_t.nis)
 
-A belief whose covariance is not positive definite (e.g. the book-car
-preset's first beliefs, from a prior known exactly) has no NEES: it is left
-out of the NEES and counted ("k without NEES"). For a consistent filter
-the means are n and m (chi-square). Printed per
+Gated updates count in both means, and are said apart ("g gated"): left
+out, a filter whose noise is too small would have its largest NIS dropped
+and its NIS mean pulled down. An update the core refused for another
+reason (a non-finite or singular input) has no NIS and is counted as
+refused. A belief whose covariance is not positive definite (e.g. the
+book-car preset's first beliefs, from a prior known exactly) has no NEES:
+it is left out of the NEES and counted ("k without NEES").
+
+Missing updates: every measurement of a track in the logs (GF_MEAS_<track>,
+e.g. gf_sim's own log of what it sent) should have an update belief (its
+input_seq). Those with none are missing: lost on the way, or never
+handled. A model's group, or all the logs together, with more than
+--max-missing percent (default 1) of its measurements missing is NOT
+JUDGED: its means are printed, but the tool says it cannot call it
+consistent and exits 1. Without measurements in the logs the missing
+updates cannot be counted: the lines say so.
+
+For a consistent filter the means are n and m (chi-square). Printed per
 track, then per model (tracks of one (model, n, m): the Monte-Carlo runs of
 `gf_sim --runs`), each mean with the two-sided 95% interval of a mean of N
 chi-square samples, chi2inv(0.025 / 0.975, N k) / N (Wilson-Hilferty's
@@ -26,9 +45,19 @@ approximation of the quantile). For the NIS, N is the number of updates:
 innovations are white. For the NEES, N is the number of tracks: one
 track's errors persist from step to step, so its samples are not
 independent, and only runs are (as gf_consist's overall NEES bound; its
-per-step test is sim/tests/gf_consist.c). --plot draws, per model, the
-NEES and NIS of each step averaged over its tracks against time, with the
-per-step 95% interval of that average.
+per-step test is sim/tests/gf_consist.c).
+
+--plot draws, per model, the NEES and NIS averaged over the tracks that
+have an update at each time (the beliefs' utime, aligned across runs by
+time, not by update count: a run with a lost or gated update still lines
+up with the others), with the 95% interval of that average for the number
+of tracks averaged there; gated updates are marked. --csv writes those
+averages, a row per model and time: time_s, tracks (averaged there), nees,
+nees_lo, nees_hi, nis, nis_lo, nis_hi, gated (among them), model, n, m.
+
+Exit status: 0 when every model's means lie inside their bounds and no
+updates are missing beyond --max-missing; 1 when a mean lies OUTSIDE or a
+group is NOT JUDGED; 2 for bad arguments or logs with nothing to judge.
 """
 import argparse
 import math
@@ -36,10 +65,11 @@ import sys
 from collections import defaultdict
 
 import lcm
-from gaussfilt_lcm import belief_t, groundtruth_t
+from gaussfilt_lcm import belief_t, groundtruth_t, measurement_t
 
-BELIEF, TRUTH = "GF_BELIEF_", "GF_TRUTH_"  # sim/gf_channels.h
+BELIEF, TRUTH, MEAS = "GF_BELIEF_", "GF_TRUTH_", "GF_MEAS_"  # gf_channels.h
 STAGE_UPDATE = 2  # belief_t.STAGE_UPDATE
+GATED = -5  # GF_ERR_GATED
 KINDS = {1: "car", 2: "robot", 3: "linear"}  # measurement_t.MODEL_*
 Z975 = 1.959963984540054
 
@@ -79,119 +109,281 @@ def wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
 
 
+class Track:
+    def __init__(self):
+        self.updates = {}   # input_seq -> belief_t of STAGE_UPDATE
+        self.truths = []    # groundtruth_t
+        self.meas = set()   # seqs of the measurements in the logs
+        self.meas_model = None
+
+
 def read(paths, keep):
-    beliefs, truths = defaultdict(list), defaultdict(list)
+    tracks = defaultdict(Track)
     for path in paths:
         for ev in lcm.EventLog(path, "r"):
             ch = ev.channel
             try:
                 if ch.startswith(BELIEF) and keep(int(ch[len(BELIEF):])):
                     b = belief_t.decode(ev.data)
-                    if b.stage == STAGE_UPDATE and b.status == 0 and b.m:
-                        beliefs[b.track].append(b)
+                    if b.stage == STAGE_UPDATE:
+                        tracks[b.track].updates[b.input_seq] = b
                 elif ch.startswith(TRUTH) and keep(int(ch[len(TRUTH):])):
-                    g = groundtruth_t.decode(ev.data)
-                    truths[g.track].append(g)
+                    tracks[int(ch[len(TRUTH):])].truths.append(
+                        groundtruth_t.decode(ev.data))
+                elif ch.startswith(MEAS) and keep(int(ch[len(MEAS):])):
+                    z = measurement_t.decode(ev.data)
+                    t = tracks[z.track]
+                    t.meas.add(z.seq)
+                    t.meas_model = z.model
             except ValueError:
                 pass  # another type or another layout: not ours to judge
-    return beliefs, truths
+    return tracks
 
 
-def samples(bs, gs):
-    """[(utime, NEES, NIS, n, m)] of one track, by input seq."""
-    gs = sorted(gs, key=lambda g: g.seq)
+class Result:
+    """One track's samples and counts."""
+
+    def __init__(self, track):
+        self.track = track
+        self.samples = []  # (utime, NEES, NIS, gated)
+        self.gated = self.refused = 0
+        self.expected = None  # measurements in the logs, None: unknown
+        self.missing = 0
+        self.key = None  # (model, n, m)
+
+
+def judge_track(t, tr):
+    r = Result(t)
+    gs = sorted(tr.truths, key=lambda g: g.seq)
     seqs = [g.seq for g in gs]
-    out, k = [], 0
-    for b in sorted(bs, key=lambda b: b.input_seq):
-        while k < len(seqs) and seqs[k] < b.input_seq:
-            k += 1
-        if k == 0:
-            continue  # no truth before it
-        g = gs[k - 1]
-        if g.n != b.n:
+    if tr.meas:
+        r.expected = len(tr.meas)
+        r.missing = len(tr.meas - set(tr.updates))
+    for s in sorted(tr.updates):
+        b = tr.updates[s]
+        if b.status not in (0, GATED) or not b.m:
+            r.refused += 1
             continue
-        e = [g.state[i] - b.mean[i] for i in range(b.n)]
-        if b.model == 2:
-            e[2] = wrap(e[2])
-        out.append((b.utime, quad_form(b.cov, e), b.nis, b.n, b.m, b.model))
-    return out
+        r.key = (b.model, b.n, b.m)
+        lo, hi = 0, len(seqs)
+        while lo < hi:  # the last truth before the input
+            mid = (lo + hi) // 2
+            if seqs[mid] < s:
+                lo = mid + 1
+            else:
+                hi = mid
+        k = lo
+        if k == 0:
+            continue  # no truth before it: not a sample
+        nees = float("nan")
+        if gs[k - 1].n == b.n:
+            g = gs[k - 1]
+            e = [g.state[i] - b.mean[i] for i in range(b.n)]
+            if b.model == 2:
+                e[2] = wrap(e[2])
+            nees = quad_form(b.cov, e)
+        gated = b.status == GATED
+        r.gated += gated
+        r.samples.append((b.utime, nees, b.nis, gated))
+    if r.key is None and tr.meas:
+        r.key = (tr.meas_model, 0, 0)  # no update at all: all missing
+    return r
 
 
 def line(label, xs, k, n):
     """The mean of xs (NaN left out, and counted), judged as a mean of n
-    independent chi-square(k)."""
+    independent chi-square(k). Returns (text, inside or None)."""
     good = [x for x in xs if x == x]
-    if not good:
-        return "%s: none (%d without)" % (label, len(xs))
+    if not good or k == 0:
+        return "%s: none (%d without)" % (label, len(xs)), None
     mean = sum(good) / len(good)
     lo, hi = bounds(k, n)
-    inside = "inside" if lo <= mean <= hi else "OUTSIDE"
+    inside = lo <= mean <= hi
     without = ", %d without %s" % (len(xs) - len(good), label) \
         if len(good) < len(xs) else ""
-    return "%s %.3f (95%% bounds %.3f..%.3f, %s%s)" % (label, mean, lo, hi,
-                                                         inside, without)
+    return "%s %.3f (95%% bounds %.3f..%.3f, %s%s)" % (
+        label, mean, lo, hi, "inside" if inside else "OUTSIDE", without), \
+        inside
+
+
+def counts(n_updates, gated, refused, expected, missing):
+    s = "%d updates (%d gated" % (n_updates, gated)
+    if refused:
+        s += ", %d refused" % refused
+    if expected is None:
+        s += ", missing unknown: no measurements in the logs)"
+    else:
+        s += ", %d missing of %d measurements)" % (missing, expected)
+    return s
+
+
+def over(missing, expected, limit):
+    return expected and 100.0 * missing / expected > limit
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(
+        description=__doc__.splitlines()[0],
+        epilog="See the top of sim/tools/gf_nees.py for how each number "
+               "is judged.")
     ap.add_argument("logs", nargs="+", help="LCM logs (beliefs and truths)")
     ap.add_argument("--track", type=int, help="only this track")
     ap.add_argument("--tracks", help="only tracks A-B (inclusive)")
+    ap.add_argument("--max-missing", type=float, default=1.0,
+                    metavar="PERCENT",
+                    help="missing updates a group may have and still be "
+                         "judged (default 1)")
     ap.add_argument("--plot", help="draw NEES and NIS over time to this PNG")
+    ap.add_argument("--csv", help="write the per-time averages to this file")
     a = ap.parse_args()
     lo_t, hi_t = -2 ** 31, 2 ** 31
     if a.track is not None:
         lo_t = hi_t = a.track
     elif a.tracks:
-        lo_t, hi_t = (int(x) for x in a.tracks.split("-", 1))
-    beliefs, truths = read(a.logs, lambda t: lo_t <= t <= hi_t)
-    groups = defaultdict(list)  # (model, n, m) -> [samples of a track]
-    for t in sorted(beliefs):
-        s = samples(beliefs[t], truths.get(t, []))
-        if not s:
+        try:
+            lo_t, hi_t = (int(x) for x in a.tracks.split("-", 1))
+        except ValueError:
+            ap.error("--tracks A-B, e.g. 400-449")
+    tracks = read(a.logs, lambda t: lo_t <= t <= hi_t)
+    groups = defaultdict(list)  # (model, n, m) -> [Result]
+    no_truth = []
+    for t in sorted(tracks):
+        if not tracks[t].truths:
+            if tracks[t].updates:
+                no_truth.append(t)
             continue
-        n, m, model = s[0][3], s[0][4], s[0][5]
-        groups[(model, n, m)].append((t, s))
-        print("track %d (%s, n=%d, m=%d): %d updates: %s; %s" % (
-            t, KINDS.get(model, model), n, m, len(s),
-            line("NEES", [x[1] for x in s], n, 1),
-            line("NIS", [x[2] for x in s], m, len(s))))
+        r = judge_track(t, tracks[t])
+        if r.key is None:
+            continue  # truths only, or refused updates only
+        groups[r.key].append(r)
+        model, n, m = r.key
+        nees, _ = line("NEES", [x[1] for x in r.samples], n, 1)
+        nis, _ = line("NIS", [x[2] for x in r.samples], m, len(r.samples))
+        print("track %d (%s, n=%d, m=%d): %s: %s; %s" % (
+            t, KINDS.get(model, model), n, m,
+            counts(len(r.samples), r.gated, r.refused, r.expected,
+                   r.missing), nees, nis))
+    if no_truth:
+        print("left out, no truth in the logs: track%s %s" % (
+            "s" if len(no_truth) > 1 else "",
+            ", ".join(str(t) for t in no_truth)))
     if not groups:
-        sys.exit("gf_nees: no corrected belief with a truth before it in %s"
-                 % " ".join(a.logs))
-    for (model, n, m), runs in sorted(groups.items()):
-        nees = [x[1] for _, s in runs for x in s]
-        nis = [x[2] for _, s in runs for x in s]
-        print("all %d %s tracks (n=%d, m=%d): %d updates: %s; %s" % (
-            len(runs), KINDS.get(model, model), n, m, len(nees),
-            line("NEES", nees, n, len(runs)), line("NIS", nis, m, len(nis))))
+        print("gf_nees: no update belief with a truth before it in %s"
+              % " ".join(a.logs), file=sys.stderr)
+        sys.exit(2)
+    verdict = 0
+    all_expected = all_missing = 0
+    unknown = False
+    for (model, n, m), runs in sorted(groups.items(),
+                                      key=lambda kv: tuple(kv[0])):
+        samples = [x for r in runs for x in r.samples]
+        gated = sum(r.gated for r in runs)
+        refused = sum(r.refused for r in runs)
+        if any(r.expected is None for r in runs):
+            expected, unknown = None, True
+        else:
+            expected = sum(r.expected for r in runs)
+            all_expected += expected
+        missing = sum(r.missing for r in runs)
+        all_missing += missing
+        head = "all %d %s tracks (n=%d, m=%d): %s" % (
+            len(runs), KINDS.get(model, model), n, m,
+            counts(len(samples), gated, refused, expected, missing))
+        if n == 0:
+            print("%s: no update belief at all" % head)
+            verdict = 1
+            continue
+        nees, nees_in = line("NEES", [x[1] for x in samples], n, len(runs))
+        nis, nis_in = line("NIS", [x[2] for x in samples], m, len(samples))
+        print("%s: %s; %s" % (head, nees, nis))
+        if expected is not None and over(missing, expected, a.max_missing):
+            print("NOT JUDGED: %s tracks (n=%d, m=%d): %d of %d updates "
+                  "missing (%.1f%% > %g%%): their means cannot say the "
+                  "filter is consistent" % (
+                      KINDS.get(model, model), n, m, missing, expected,
+                      100.0 * missing / expected, a.max_missing))
+            verdict = 1
+        elif nees_in is False or nis_in is False:
+            verdict = 1
+    if all_expected and over(all_missing, all_expected, a.max_missing):
+        print("NOT JUDGED: %d of %d updates missing in all (%.1f%% > %g%%)"
+              % (all_missing, all_expected,
+                 100.0 * all_missing / all_expected, a.max_missing))
+        verdict = 1
+    elif unknown:
+        print("missing updates not counted: the logs hold no measurements "
+              "of some tracks (add gf_sim's own log)")
+    if a.csv:
+        write_csv(groups, a.csv)
     if a.plot:
         plot(groups, a.plot)
+    sys.exit(verdict)
+
+
+def series(runs, n, m):
+    """The per-time averages of one model's tracks, aligned by utime:
+    [(utime, tracks, (NEES mean, lo, hi), (NIS mean, lo, hi), gated)],
+    the bounds those of a mean over the tracks that have an update then."""
+    by_time = defaultdict(list)  # utime -> [(NEES, NIS, gated)]
+    for r in runs:
+        for ut, nees, nis, gated in r.samples:
+            by_time[ut].append((nees, nis, gated))
+    out = []
+    for ut in sorted(by_time):
+        row = [ut, len(by_time[ut])]
+        for idx, k in ((0, n), (1, m)):
+            xs = [x[idx] for x in by_time[ut] if x[idx] == x[idx]]
+            if xs:
+                row.append((sum(xs) / len(xs),) + bounds(k, len(xs)))
+            else:
+                row.append((float("nan"),) * 3)
+        row.append(sum(x[2] for x in by_time[ut]))
+        out.append(tuple(row))
+    return out
+
+
+def write_csv(groups, path):
+    with open(path, "w") as f:
+        f.write("time_s,tracks,nees,nees_lo,nees_hi,nis,nis_lo,nis_hi,"
+                "gated,model,n,m\n")
+        for (model, n, m), runs in sorted(groups.items()):
+            if n == 0:
+                continue
+            for ut, k, nees, nis, gated in series(runs, n, m):
+                f.write("%.6f,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%s,%d,%d\n"
+                        % ((ut * 1e-6, k) + nees + nis +
+                           (gated, KINDS.get(model, model), n, m)))
+    print("wrote %s" % path)
 
 
 def plot(groups, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    groups = {k: v for k, v in groups.items() if k[1] > 0}
     fig, axes = plt.subplots(len(groups), 2, figsize=(10, 3 * len(groups)),
                              squeeze=False)
     for row, ((model, n, m), runs) in enumerate(sorted(groups.items())):
-        steps = min(len(s) for _, s in runs)
-        t = [runs[0][1][i][0] * 1e-6 for i in range(steps)]
-        for col, (what, k, idx) in enumerate((("NEES", n, 1), ("NIS", m, 2))):
-            avg = []
-            for i in range(steps):
-                xs = [s[i][idx] for _, s in runs if s[i][idx] == s[i][idx]]
-                avg.append(sum(xs) / len(xs) if xs else float("nan"))
-            lo, hi = bounds(k, len(runs))
+        rows = series(runs, n, m)
+        t = [x[0] * 1e-6 for x in rows]
+        for col, (what, k, idx) in enumerate((("NEES", n, 2), ("NIS", m, 3))):
+            avg = [x[idx][0] for x in rows]
             ax = axes[row][col]
-            ax.plot(t, avg, lw=1, label="%s, mean of %d track%s" % (
-                what, len(runs), "s" if len(runs) > 1 else ""))
+            ax.fill_between(t, [x[idx][1] for x in rows],
+                            [x[idx][2] for x in rows], step="mid", alpha=0.2,
+                            color="g",
+                            label="95% bounds (of the tracks averaged)")
+            ax.plot(t, avg, lw=1, label="%s, mean over the %d track%s at "
+                    "each time" % (what, len(runs),
+                                   "s" if len(runs) > 1 else ""))
+            gated = [(ti, v) for ti, v, x in zip(t, avg, rows) if x[4]]
+            if gated:
+                ax.plot([g[0] for g in gated], [g[1] for g in gated], "rx",
+                        ms=4, label="a gated update among them")
             ax.axhline(k, color="k", lw=0.8, label="expected: %d" % k)
-            ax.axhspan(lo, hi, alpha=0.2, color="g", label="95% bounds")
             ax.set_title("%s n=%d m=%d: %s" % (KINDS.get(model, model), n, m,
                                                what))
-            ax.set_xlabel("time (s)")
+            ax.set_xlabel("time (s, the beliefs' utime)")
             ax.legend(loc="upper right", fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
