@@ -11,9 +11,12 @@
 // the same bits on every target need the same roundings. Every source of
 // the core includes this header directly (scripts/check-includes). (gcc ignores the standard pragma and
 // takes its own; clang takes the standard one, except under
-// -ffp-contract=fast, which overrides every pragma: docs/firmware.md.)
+// -ffp-contract=fast, which overrides every pragma: docs/firmware.md. MSVC
+// takes its own too, which it obeys under any /fp: option.)
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("fp-contract=off")
+#elif defined(_MSC_VER) && !defined(__clang__)
+#pragma fp_contract(off)
 #else
 #pragma STDC FP_CONTRACT OFF
 #endif

@@ -4,9 +4,9 @@
 Each carries the status code (``status``) and its C name (``status_name``);
 Gated also the rejected update's innovation and NIS.
 """
-from typing import Optional
+from typing import Any, Optional
 
-import numpy as np
+from numpy.typing import NDArray
 
 
 class GaussfiltError(Exception):
@@ -18,6 +18,8 @@ class GaussfiltError(Exception):
 
     status: int = 0
     status_name: str = "GF_OK"
+    #: the step of a run() that failed (None when raised by anything else)
+    step: Optional[int] = None
 
 
 class BadArgument(GaussfiltError, ValueError):
@@ -57,7 +59,7 @@ class Gated(GaussfiltError):
 
     status = -5
     status_name = "GF_ERR_GATED"
-    innovation: Optional[np.ndarray] = None
+    innovation: Optional[NDArray[Any]] = None
     nis: float = float("nan")
 
 

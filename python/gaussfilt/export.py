@@ -23,10 +23,13 @@ the library leaves it), except BadArgument, which the package raises for
 the arguments' shapes and types before the library is called.
 """
 import datetime
+import os
 import pathlib
 import re
+from typing import Any, Callable, Dict, List, Optional, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._errors import BadArgument, GaussfiltError
 
@@ -46,7 +49,8 @@ class Recorder:
     calls are recorded for export_c. The filter is `rec.filter`; mu, sigma,
     nis and innovation read through to it."""
 
-    def __init__(self, cls, mu, sigma):
+    def __init__(self, cls: Callable[..., Any], mu: ArrayLike,
+                 sigma: ArrayLike) -> None:
         if getattr(cls, "__name__", None) not in _KINDS:
             raise BadArgument("Recorder: cls must be KF2, KF or EKF3 of "
                               "gaussfilt.float32 or gaussfilt.float64, not %r"
@@ -58,24 +62,26 @@ class Recorder:
         self.mu0 = np.array(mu, dtype=self.dtype).reshape(-1)
         self.sigma0 = np.array(sigma, dtype=self.dtype)
         self.n = self.mu0.size
-        self.steps = []
+        self.steps: List[Dict[str, Any]] = []
 
     @property
-    def mu(self):
-        return self.filter.mu
+    def mu(self) -> NDArray[Any]:
+        mu: NDArray[Any] = self.filter.mu
+        return mu
 
     @property
-    def nis(self):
-        return self.filter.nis
+    def nis(self) -> float:
+        return float(self.filter.nis)
 
     @property
-    def innovation(self):
-        return self.filter.innovation
+    def innovation(self) -> Optional[NDArray[Any]]:
+        y: Optional[NDArray[Any]] = self.filter.innovation
+        return y
 
-    def sigma(self):
+    def sigma(self) -> NDArray[Any]:
         return _sigma_of(self.filter)
 
-    def predict(self, model, u=None):
+    def predict(self, model: Any, u: Optional[ArrayLike] = None) -> None:
         """The filter's predict(model, u), recorded."""
         if self.kind == "EKF3" and model.g is not self.module.forward_turn:
             raise BadArgument("Recorder.predict: an EKF3 motion is recorded "
@@ -85,7 +91,7 @@ class Recorder:
         self._step("predict", model, uu,
                    lambda: self.filter.predict(model, u))
 
-    def update(self, meas, z):
+    def update(self, meas: Any, z: ArrayLike) -> None:
         """The filter's update(meas, z), recorded."""
         if self.kind == "EKF3" and not (meas.h is self.module.meas_x or
                                         meas.h is self.module.meas_xy):
@@ -123,9 +129,10 @@ class Recorder:
         })
 
 
-def _sigma_of(f):
+def _sigma_of(f: Any) -> NDArray[Any]:
     s = f.sigma
-    return s() if callable(s) else s
+    sigma: NDArray[Any] = s() if callable(s) else s
+    return sigma
 
 
 # ---- the C text ---------------------------------------------------------
@@ -164,7 +171,8 @@ def _vec(v, size, single):
     return "{" + _padded(np.zeros(0) if v is None else v, size, single) + "}"
 
 
-def export_c(recorder, path, name=None):
+def export_c(recorder: Recorder, path: Union[str, "os.PathLike[str]"],
+             name: Optional[str] = None) -> pathlib.Path:
     """Writes the run recorded by `recorder` (a Recorder) to `path` as a C
     program that checks itself against the library, bit for bit; `name`
     (a C identifier, default from the file name) prefixes its check

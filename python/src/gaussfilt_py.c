@@ -368,6 +368,46 @@ static PyObject *Builtin_repr(PyObject *self)
                                 ((BuiltinObj *)self)->name);
 }
 
+// inspect.signature() of a built-in model: (mu, u, /) for a motion,
+// (mu_bar, /) for a measurement, as Builtin_call takes them.
+static PyObject *Builtin_signature(PyObject *self, void *unused)
+{
+    static const char *const motion[] = {"mu", "u"};
+    static const char *const meas[] = {"mu_bar"};
+    const int is_motion = ((BuiltinObj *)self)->g != NULL;
+    const char *const *names = is_motion ? motion : meas;
+    PyObject *inspect, *param = NULL, *kind = NULL, *params = NULL;
+    PyObject *sig = NULL;
+    (void)unused;
+    inspect = PyImport_ImportModule("inspect");
+    if (!inspect) {
+        return NULL;
+    }
+    param = PyObject_GetAttrString(inspect, "Parameter");
+    kind = param ? PyObject_GetAttrString(param, "POSITIONAL_ONLY") : NULL;
+    params = kind ? PyList_New(0) : NULL;
+    for (int i = 0; params && i < (is_motion ? 2 : 1); i++) {
+        PyObject *p = PyObject_CallFunction(param, "sO", names[i], kind);
+        if (!p || PyList_Append(params, p) < 0) {
+            Py_CLEAR(params);
+        }
+        Py_XDECREF(p);
+    }
+    if (params) {
+        sig = PyObject_CallMethod(inspect, "Signature", "O", params);
+    }
+    Py_XDECREF(params);
+    Py_XDECREF(kind);
+    Py_XDECREF(param);
+    Py_DECREF(inspect);
+    return sig;
+}
+
+static PyGetSetDef Builtin_getset[] = {
+    {"__signature__", Builtin_signature, NULL, NULL, NULL},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
 static PyTypeObject Builtin_Type = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name =
         "gaussfilt." GF_PREC_NAME ".Builtin",
@@ -380,6 +420,7 @@ static PyTypeObject Builtin_Type = {
               "h(mu_bar) -> (z_hat, H).",
     .tp_call = Builtin_call,
     .tp_repr = Builtin_repr,
+    .tp_getset = Builtin_getset,
 };
 
 static PyObject *new_builtin(gf_ekf3_motion_fn g, gf_ekf3_meas_fn h, unsigned m,
@@ -1261,7 +1302,7 @@ static PyObject *KF2_mu(PyObject *self, void *unused)
 static PyMethodDef KF2_methods[] = {
     {"predict", (PyCFunction)(void (*)(void))KF2_predict,
      METH_FASTCALL | METH_KEYWORDS,
-     "predict(model, u=None)\n\n"
+     "predict($self, /, model, u=None)\n--\n\n"
      "Prediction (Table 3.1, lines 2-3):\n"
      "    mu_bar = A mu + B u + c,   Sigma_bar = A Sigma A^T + R\n"
      "on the factors U D U^T of Sigma. u None: no control. Raises the\n"
@@ -1269,7 +1310,7 @@ static PyMethodDef KF2_methods[] = {
      "unchanged then."},
     {"update", (PyCFunction)(void (*)(void))KF2_update,
      METH_FASTCALL | METH_KEYWORDS,
-     "update(meas, z)\n\n"
+     "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.1, lines 4-6) with m = meas.m values z:\n"
      "    y = z - c - C mu_bar,   S = C Sigma_bar C^T + Q,\n"
      "    K = Sigma_bar C^T S^-1,  mu = mu_bar + K y,  Sigma = (I - K C) "
@@ -1278,10 +1319,11 @@ static PyMethodDef KF2_methods[] = {
      "Gated (NIS > meas.gate) carries the innovation and NIS; every error\n"
      "leaves the belief unchanged."},
     {"sigma", KF2_sigma, METH_NOARGS,
-     "sigma() -> (2, 2) array: Sigma = U D U^T, exactly symmetric."},
+     "sigma($self, /)\n--\n\n(2, 2) array: Sigma = U D U^T, exactly "
+     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))KF2_run, METH_FASTCALL | METH_KEYWORDS,
-     "run(model=None, meas=None, u=None, z=None, steps=None)\n"
-     "    -> (mu (N, 2), sigma (N, 2, 2), nis (N,), status (N,))\n\n"
+     "run($self, /, model=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
+     "-> (mu (N, 2), sigma (N, 2, 2), nis (N,), status (N,))\n\n"
      "N steps in one call, each predict(model, u[k]) (when model is given)\n"
      "then update(meas, z[k]) (when z is given and z[k] has no NaN: a NaN\n"
      "row is a step without a measurement). A gated update is recorded\n"
@@ -1617,7 +1659,7 @@ static PyObject *EKF3_mu(PyObject *self, void *unused)
 static PyMethodDef EKF3_methods[] = {
     {"predict", (PyCFunction)(void (*)(void))EKF3_predict,
      METH_FASTCALL | METH_KEYWORDS,
-     "predict(motion, u=None)\n\n"
+     "predict($self, /, motion, u=None)\n--\n\n"
      "Prediction (Table 3.3, lines 2-3), G = dg/dx at mu:\n"
      "    mu_bar = g(u, mu),   Sigma_bar = G Sigma G^T + R\n"
      "on the factors; the heading mu[2] is kept in (-pi, pi]. u is handed\n"
@@ -1625,7 +1667,7 @@ static PyMethodDef EKF3_methods[] = {
      "propagates; every failure leaves the belief unchanged."},
     {"update", (PyCFunction)(void (*)(void))EKF3_update,
      METH_FASTCALL | METH_KEYWORDS,
-     "update(meas, z)\n\n"
+     "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.3, lines 4-6), H = dh/dx at mu_bar:\n"
      "    y = z - h(mu_bar) (angles in meas.angle_mask wrapped),\n"
      "    S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T S^-1,\n"
@@ -1633,11 +1675,12 @@ static PyMethodDef EKF3_methods[] = {
      "Gated carries the innovation and NIS; every failure leaves the\n"
      "belief unchanged."},
     {"sigma", EKF3_sigma, METH_NOARGS,
-     "sigma() -> (3, 3) array: Sigma = U D U^T, exactly symmetric."},
+     "sigma($self, /)\n--\n\n(3, 3) array: Sigma = U D U^T, exactly "
+     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))EKF3_run,
      METH_FASTCALL | METH_KEYWORDS,
-     "run(motion=None, meas=None, u=None, z=None, steps=None)\n"
-     "    -> (mu (N, 3), sigma (N, 3, 3), nis (N,), status (N,))\n\n"
+     "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
+     "-> (mu (N, 3), sigma (N, 3, 3), nis (N,), status (N,))\n\n"
      "N steps in one call, as KF2.run: predict(motion, u[k]) (when motion\n"
      "is given; u (N, k), a row a step: a built-in motion takes k = 2, a\n"
      "Python g gets u[k] as a fresh (k,) array, or None without u) then\n"
@@ -2227,13 +2270,13 @@ static PyObject *KF_get(PyObject *self_, void *which)
 static PyMethodDef KF_methods[] = {
     {"predict", (PyCFunction)(void (*)(void))KF_predict,
      METH_FASTCALL | METH_KEYWORDS,
-     "predict(model, u=None)\n\n"
+     "predict($self, /, model, u=None)\n--\n\n"
      "Prediction: mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R,\n"
      "on the factors (Thornton's time update). u: model.nu entries, or\n"
      "None for no control. Every failure leaves the belief unchanged."},
     {"update", (PyCFunction)(void (*)(void))KF_update,
      METH_FASTCALL | METH_KEYWORDS,
-     "update(meas, z)\n\n"
+     "update($self, /, meas, z)\n--\n\n"
      "Correction with m = meas.m values z:\n"
      "    y = z - c - C mu_bar,  S = C Sigma_bar C^T + Q,  K = Sigma_bar C^T "
      "S^-1,\n"
@@ -2242,10 +2285,11 @@ static PyMethodDef KF_methods[] = {
      "(Q whitened, Bierman's scalar updates). Gated carries the\n"
      "innovation and NIS; every failure leaves the belief unchanged."},
     {"sigma", KF_sigma, METH_NOARGS,
-     "sigma() -> (n, n) array: Sigma = P U D U^T P^T, exactly symmetric."},
+     "sigma($self, /)\n--\n\n(n, n) array: Sigma = P U D U^T P^T, exactly "
+     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))KF_run, METH_FASTCALL | METH_KEYWORDS,
-     "run(model=None, meas=None, u=None, z=None, steps=None)\n"
-     "    -> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
+     "run($self, /, model=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
+     "-> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
      "N steps in one call, as KF2.run: predict(model, u[k]) then\n"
      "update(meas, z[k]) unless z[k] has a NaN; a gated update is recorded\n"
      "and skipped; any other failure raises with exc.step and puts the\n"
@@ -2256,7 +2300,7 @@ static PyMethodDef KF_methods[] = {
 static PyMethodDef EKF_methods[] = {
     {"predict", (PyCFunction)(void (*)(void))EKF_predict,
      METH_FASTCALL | METH_KEYWORDS,
-     "predict(motion, u=None)\n\n"
+     "predict($self, /, motion, u=None)\n--\n\n"
      "Prediction (Table 3.3, lines 2-3), G = dg/dx at mu:\n"
      "    mu_bar = g(u, mu),  Sigma_bar = G Sigma G^T + R,\n"
      "on the factors; the states in `angles` kept in (-pi, pi]. g gets\n"
@@ -2264,7 +2308,7 @@ static PyMethodDef EKF_methods[] = {
      "every failure leaves the belief unchanged."},
     {"update", (PyCFunction)(void (*)(void))EKF_update,
      METH_FASTCALL | METH_KEYWORDS,
-     "update(meas, z)\n\n"
+     "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.3, lines 4-6), H = dh/dx at mu_bar:\n"
      "    y = z - h(mu_bar),  S = H Sigma_bar H^T + Q,  K = Sigma_bar H^T "
      "S^-1,\n"
@@ -2273,10 +2317,11 @@ static PyMethodDef EKF_methods[] = {
      "h gets mu_bar and returns (z_hat, H). Gated carries the innovation\n"
      "and NIS; every failure leaves the belief unchanged."},
     {"sigma", KF_sigma, METH_NOARGS,
-     "sigma() -> (n, n) array: Sigma = P U D U^T P^T, exactly symmetric."},
+     "sigma($self, /)\n--\n\n(n, n) array: Sigma = P U D U^T P^T, exactly "
+     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))EKF_run, METH_FASTCALL | METH_KEYWORDS,
-     "run(motion=None, meas=None, u=None, z=None, steps=None)\n"
-     "    -> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
+     "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
+     "-> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
      "N steps in one call, as EKF3.run: g gets u[k] as a fresh (k,)\n"
      "array (None without u); update unless z[k] has a NaN; a gated\n"
      "update is recorded; any other failure raises with exc.step and puts\n"
@@ -2353,15 +2398,15 @@ static PyObject *py_marginal(PyObject *mod, PyObject *args)
 static PyMethodDef module_methods[] = {
     {"ellipse", (PyCFunction)(void (*)(void))py_ellipse,
      METH_VARARGS | METH_KEYWORDS,
-     "ellipse(sigma, p=0.68) -> (a, b, angle)\n\n"
+     "ellipse(sigma, p=0.68)\n--\n\n-> (a, b, angle): "
      "The p-probability ellipse of N(mu, sigma), sigma 2x2 PSD:\n"
      "semi-axes a >= b = sqrt(k2 lambda_i), k2 = -2 ln(1 - p), lambda_i\n"
      "sigma's eigenvalues; angle of the a axis from x (gf_cov2_ellipse)."},
     {"correlation", py_correlation, METH_O,
-     "correlation(sigma) -> rho = sigma_xy / sqrt(sigma_xx sigma_yy)\n\n"
+     "correlation(sigma, /)\n--\n\nrho = sigma_xy / sqrt(sigma_xx sigma_yy)\n\n"
      "Undefined (a zero variance) raises Undefined (gf_cov2_correlation)."},
     {"marginal", py_marginal, METH_VARARGS,
-     "marginal(sigma, i, j) -> the 2x2 block of states i and j of a 3x3 "
+     "marginal(sigma, i, j, /)\n--\n\nThe 2x2 block of states i and j of a 3x3 "
      "sigma\n(gf_cov2_marginal)."},
     {NULL, NULL, 0, NULL},
 };
@@ -2398,14 +2443,14 @@ static PyMethodDef module_methods[] = {
     }
 
 GF_TYPE(KF2Model, "KF2Model",
-        "KF2Model(A, R, B=None, c=None)\n\n"
+        "KF2Model(A, R, B=None, c=None)\n--\n\n"
         "KF2's motion x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R)\n"
         "(book names: R is the process noise; FilterPy's F and Q). A, B, R\n"
         "2x2, c (2,); B and c default to zero. Checked and factored once\n"
         "(gf_kf2_prepare_model): NonFinite, NotPSD (R) raise here.",
         KF2Model_init, NULL, KF2Model_getset);
 GF_TYPE(KF2Meas, "KF2Meas",
-        "KF2Meas(C, Q, c=None, gate=0.0)\n\n"
+        "KF2Meas(C, Q, c=None, gate=0.0)\n--\n\n"
         "KF2's measurement z = C x + c + delta, delta ~ N(0, Q) of m = 1 or\n"
         "2 quantities (book names: Q is the measurement noise; FilterPy's H\n"
         "and R). C (m, 2), Q (m, m), c (m,). gate: reject an update whose\n"
@@ -2413,57 +2458,57 @@ GF_TYPE(KF2Meas, "KF2Meas",
         "once (gf_kf2_prepare_meas).",
         KF2Meas_init, NULL, KF2Meas_getset);
 GF_TYPE(KF2, "KF2",
-        "KF2(mu, sigma)\n\n"
+        "KF2(mu, sigma)\n--\n\n"
         "The 2-state Kalman filter's belief N(mu, Sigma) (gf_kf2), Sigma\n"
         "kept as its factors U D U^T. sigma 2x2 symmetric PSD (zero is\n"
         "fine). Every step is the C library's; a failed one raises and\n"
         "changes nothing.",
         KF2_init, KF2_methods, KF2_getset);
 GF_GC_TYPE(EKF3Motion, "EKF3Motion",
-           "EKF3Motion(g, R)\n\n"
+           "EKF3Motion(g, R)\n--\n\n"
            "EKF3's motion x_t = g(u_t, x_{t-1}) + eps, eps ~ N(0, R), R 3x3\n"
            "(book names). g(mu, u) -> (mu_bar (3,), G (3, 3)), G = dg/dx at\n"
            "mu; or the built-in forward_turn (C, no Python in the step).",
            EKF3Motion_init, EKF3Motion_getset);
 GF_GC_TYPE(EKF3Meas, "EKF3Meas",
-           "EKF3Meas(h, Q, angle_mask=0, gate=0.0)\n\n"
+           "EKF3Meas(h, Q, angle_mask=0, gate=0.0)\n--\n\n"
            "EKF3's measurement z = h(x) + delta, delta ~ N(0, Q), Q m x m,\n"
            "m = 1..3. h(mu_bar) -> (z_hat (m,), H (m, 3)); or the built-in\n"
            "meas_x (m = 1) or meas_xy (m = 2). angle_mask bit i: residual i\n"
            "is an angle, wrapped into (-pi, pi].",
            EKF3Meas_init, EKF3Meas_getset);
 GF_TYPE(EKF3, "EKF3",
-        "EKF3(mu, sigma)\n\n"
+        "EKF3(mu, sigma)\n--\n\n"
         "The EKF's belief over (x, y, theta) (gf_ekf3), the heading kept in\n"
         "(-pi, pi]. sigma 3x3 symmetric PSD.",
         EKF3_init, EKF3_methods, EKF3_getset);
 GF_TYPE(KFModel, "KFModel",
-        "KFModel(A, R, B=None, c=None)\n\n"
+        "KFModel(A, R, B=None, c=None)\n--\n\n"
         "gf_kf's motion of n states: x_t = A x_{t-1} + B u_t + c + eps,\n"
         "eps ~ N(0, R). A, R (n, n); B (n, nu) or None; c (n,) or None.",
         KFModel_init, NULL, KFModel_getset);
 GF_TYPE(KFMeas, "KFMeas",
-        "KFMeas(C, Q, c=None, gate=0.0)\n\n"
+        "KFMeas(C, Q, c=None, gate=0.0)\n--\n\n"
         "gf_kf's measurement of m quantities: z = C x + c + delta,\n"
         "delta ~ N(0, Q). C (m, n), Q (m, m), c (m,) or None.",
         KFMeas_init, NULL, KFMeas_getset);
 GF_TYPE(KF, "KF",
-        "KF(mu, sigma)\n\n"
+        "KF(mu, sigma)\n--\n\n"
         "The linear Kalman filter of n = len(mu) states (gf_kf, n up to\n"
         "GF_KF_NMAX), Sigma kept as P U D U^T P^T.",
         KF_init, KF_methods, KF_getset);
 GF_GC_TYPE(EKFMotion, "EKFMotion",
-           "EKFMotion(g, R)\n\n"
+           "EKFMotion(g, R)\n--\n\n"
            "gf_ekf's motion of n states (n from R): g(mu, u) -> (mu_bar (n,),\n"
            "G (n, n)), G = dg/dx at mu; u is predict's u as given.",
            EKFMotion_init, EKFMotion_getset);
 GF_GC_TYPE(EKFMeas, "EKFMeas",
-           "EKFMeas(h, Q, n, angle_mask=0, gate=0.0)\n\n"
+           "EKFMeas(h, Q, n, angle_mask=0, gate=0.0)\n--\n\n"
            "gf_ekf's measurement of m quantities (m from Q) for n states:\n"
            "h(mu_bar) -> (z_hat (m,), H (m, n)).",
            EKFMeas_init, EKFMeas_getset);
 GF_TYPE(EKF, "EKF",
-        "EKF(mu, sigma, angles=0)\n\n"
+        "EKF(mu, sigma, angles=0)\n--\n\n"
         "The extended Kalman filter of n states (gf_ekf); bit i of angles\n"
         "keeps state i in (-pi, pi].",
         EKF_init, EKF_methods, KF_getset);

