@@ -16,8 +16,10 @@ entry about 1 (a sign: 2).
 """
 import math
 from dataclasses import dataclass
+from typing import Any, Callable, Optional
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike, NDArray
 
 from ._errors import BadArgument, NonFinite
 
@@ -33,20 +35,24 @@ class JacobianCheck:
     col: int
     given: float
     numeric: float
-    errors: np.ndarray
+    errors: NDArray[np.float64]
 
-    def __str__(self):
+    def __str__(self) -> str:
         return ("worst %.3g at %s[%d][%d]: given %.6g, numeric %.6g"
                 % (self.worst, self.jacobian, self.row, self.col, self.given,
                    self.numeric))
 
 
-def _wrap(a):
+def _wrap(a: Any) -> Any:
     return a - 2 * math.pi * np.floor((a + math.pi) / (2 * math.pi))
 
 
-def check_jacobians(model=None, mu=None, u=None, *, g=None, h=None,
-                    angles=0, angle_mask=None, dtype=None):
+def check_jacobians(model: Any = None, mu: Optional[ArrayLike] = None,
+                    u: Optional[ArrayLike] = None, *,
+                    g: Optional[Callable[..., Any]] = None,
+                    h: Optional[Callable[..., Any]] = None, angles: int = 0,
+                    angle_mask: Optional[int] = None,
+                    dtype: DTypeLike = None) -> JacobianCheck:
     """Compares a model's Jacobian with central differences at mu.
 
     model: an EKFMotion or EKF3Motion (its g is called as g(mu, u)), or an

@@ -43,3 +43,22 @@ def test_the_documented_example_runs(tmp_path):
                            text=True, timeout=60, cwd=tmp_path)
         assert r.returncode == 0, r.stderr
         assert "mu = [4.0244 1.2195]" in r.stdout, r.stdout
+
+
+def test_every_python_block_of_the_docs_runs(tmp_path):
+    """Each ```python block of README.md and docs/ runs as written; what a
+    print's comment says it prints (`print(x)  # text`), it prints."""
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    ran = 0
+    for page in pages:
+        for code in re.findall(r"^```python\n(.*?)^```$", page.read_text(),
+                               re.S | re.M):
+            r = subprocess.run([sys.executable, "-c", code],
+                               capture_output=True, text=True, timeout=120,
+                               cwd=tmp_path)
+            assert r.returncode == 0, "%s:\n%s%s" % (page.name, code,
+                                                     r.stderr)
+            for said in re.findall(r"^print\(.*\)\s+#\s*(.+)$", code, re.M):
+                assert said.strip() in r.stdout, (page.name, said, r.stdout)
+            ran += 1
+    assert ran >= 4
