@@ -56,7 +56,9 @@
 #   java       a demo-like log (exercises 1, 2, 4 and a random robot through
 #              an EKF and a PF node, a run-time model_t) by gf_record; the
 #              Java types jar decodes every GF_ event of it the way lcm-spy
-#              does, all six types (GfDecodeLog; GF_JAVA, GF_JAVA_CP)
+#              does, all six types (GfDecodeLog; GF_JAVA, GF_JAVA_CP); the
+#              lcm-spy plugin, found as lcm-spy finds it, names every code
+#              of that log and of messages made in the test (GfSpyCheck)
 #   python     examples/beliefs.py (the venv's Python, the installed
 #              gaussfilt_lcm types) listens while lcm-logplayer replays a
 #              node's beliefs of exercise 2 and of a car at 100 Hz: it
@@ -525,6 +527,9 @@ java)
     n=$(grep -c '^GfDecodeLog: gaussfilt_lcm\.' "$work/java.out")
     [ "$n" -eq 6 ] ||
         { echo "lcm_udpm: $n of the 6 types decoded" >&2; exit 1; }
+    # lcm-spy's plugin: found as lcm-spy finds plugins, codes named
+    "$GF_JAVA" -Djava.awt.headless=true -cp "$GF_JAVA_CP" GfSpyCheck "$work/demo.lcmlog" ||
+        { echo "lcm_udpm: the lcm-spy plugin failed" >&2; exit 1; }
     ;;
 python)
     py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
