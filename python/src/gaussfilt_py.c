@@ -599,8 +599,13 @@ static gf_status call_model(PyObject *fn, int motion, PyObject *u,
 }
 
 // The head of every belief object (KF2, EKF3, KF, EKF): the last accepted
-// update's innovation, and whether a step is running (its callback may not
-// step this filter).
+// update's innovation, and whether a step is running: BUSY_STEP, with the
+// GIL held (its callback may not step this filter), or BUSY_NOGIL, a run()
+// with no Python in it, the GIL released (no other thread may step or
+// re-initialise the filter meanwhile). An entry checks that the filter is
+// idle (check_idle) and marks it busy with nothing between that could run
+// Python or release the GIL: its arguments are converted before.
+enum { BUSY_STEP = 1, BUSY_NOGIL = 2 };
 typedef struct {
     PyObject_HEAD gf_kf_innovation last;
     int has_last;
@@ -612,13 +617,21 @@ typedef struct {
 static const char called_back[] = "%s called from this filter's own callback";
 static const char reinit_back[] = "%s: re-initialised from its own callback";
 
-// 0 when no step of f runs; else RuntimeError (fmt naming who) and -1.
+// 0 when no step of f runs; else RuntimeError (fmt naming who, or the run
+// in another thread) and -1.
 static int check_idle(const FilterObj *f, const char *fmt, const char *who)
 {
     if (!f->busy) {
         return 0;
     }
-    PyErr_Format(PyExc_RuntimeError, fmt, who);
+    if (f->busy == BUSY_NOGIL) {
+        PyErr_Format(PyExc_RuntimeError,
+                     "%s: a run() of this filter is in progress in another "
+                     "thread",
+                     who);
+    } else {
+        PyErr_Format(PyExc_RuntimeError, fmt, who);
+    }
     return -1;
 }
 
@@ -677,6 +690,8 @@ typedef struct {
                         gf_kf_innovation *info);
     // mu (n,) and Sigma (n, n) into mu and sigma
     void (*record)(PyObject *f, gf_real *mu, gf_real *sigma);
+    // whether meas's update calls Python (NULL: never)
+    int (*meas_python)(PyObject *meas);
 } Family;
 
 // predict(model, u=None) of any family, see the methods' docstrings. An
@@ -706,9 +721,6 @@ static PyObject *predict_entry(const Family *fam, PyObject *self_,
         return NULL;
     }
     if (fam->ekf) {
-        if (check_idle(self, called_back, fam->predict_name) < 0) {
-            return NULL;
-        }
         if (given(a[1])) {
             U = PyArray_FROMANY(a[1], NPY_GF, 0, 1,
                                 NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST |
@@ -736,7 +748,11 @@ static PyObject *predict_entry(const Family *fam, PyObject *self_,
         }
         up = u;
     }
-    self->busy = 1;
+    if (check_idle(self, called_back, fam->predict_name) < 0) {
+        Py_XDECREF(U);
+        return NULL;
+    }
+    self->busy = BUSY_STEP;
     gf_status st = fam->predict(self_, a[0], up, U);
     self->busy = 0;
     Py_XDECREF(U);
@@ -767,11 +783,11 @@ static PyObject *update_entry(const Family *fam, PyObject *self_,
     }
     fam->meas_size(a[0], &n, &m);
     if (check_n(fam->update_name, "measurement", n, fam->states(self_)) < 0 ||
-        check_idle(self, called_back, fam->update_name) < 0 ||
-        read_real(a[1], fam->z_name, 0, m, z) < 0) {
+        read_real(a[1], fam->z_name, 0, m, z) < 0 ||
+        check_idle(self, called_back, fam->update_name) < 0) {
         return NULL;
     }
-    self->busy = 1;
+    self->busy = BUSY_STEP;
     gf_status st = fam->update(self_, a[0], z, &info);
     self->busy = 0;
     if (st != GF_OK) {
@@ -912,7 +928,9 @@ static PyObject *u_row(PyObject *U, npy_intp k, npy_intp cols)
 // array) and meas's update with z's row (when z is given and the row has
 // no NaN). A gated update is recorded and the run goes on; any other
 // failure puts the belief back as it was, raises with exc.step and gives
-// NULL. U (k columns) and Z (m) are NULL or arrays of N rows.
+// NULL. U (k columns) and Z (m) are NULL or arrays of N rows. With no
+// Python model in the run the steps go without the GIL (BUSY_NOGIL keeps
+// every other entry off the filter meanwhile).
 static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
                            PyObject *meas, int python_g, PyObject *U,
                            PyObject *Z, npy_intp N, npy_intp k, npy_intp m)
@@ -921,6 +939,11 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
     const npy_intp n = fam->states(self_);
     PyObject *o[4] = {NULL, NULL, NULL, NULL}, *out = NULL;
     char *belief = (char *)self_ + fam->belief_offset;
+    const int nogil =
+        !python_g && !(meas && fam->meas_python && fam->meas_python(meas));
+    PyThreadState *ts = NULL;
+    gf_status st = GF_OK;
+    npy_intp t;
     void *saved = PyMem_Malloc(fam->belief_size);
     if (!saved) {
         PyErr_NoMemory();
@@ -938,13 +961,23 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
     gf_real *sg_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
     gf_real *nis_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
     signed char *st_o = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
+    if (check_idle(self, called_back, fam->run_name) < 0) {
+        PyMem_Free(saved);
+        for (int i = 0; i < 4; i++) {
+            Py_DECREF(o[i]);
+        }
+        return NULL;
+    }
     const gf_kf_innovation saved_last = self->last;
     const int saved_has = self->has_last;
     memcpy(saved, belief, fam->belief_size);
-    self->busy = 1;
-    for (npy_intp t = 0; t < N; t++) {
-        gf_status st = GF_OK;
+    self->busy = nogil ? BUSY_NOGIL : BUSY_STEP;
+    if (nogil) {
+        ts = PyEval_SaveThread();
+    }
+    for (t = 0; t < N; t++) {
         gf_kf_innovation info;
+        st = GF_OK;
         nis_o[t] = (gf_real)NAN;
         if (model) {
             PyObject *ut = NULL;
@@ -966,22 +999,26 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
             }
         }
         if (st != GF_OK && st != GF_ERR_GATED) {
-            self->busy = 0;
-            memcpy(belief, saved, fam->belief_size);
-            self->last = saved_last;
-            self->has_last = saved_has;
-            if (!PyErr_Occurred()) {
-                raise_status(st, fam->run_name, NULL, NULL, 0, 0);
-            }
-            set_step(t);
-            goto done;
+            break;
         }
         st_o[t] = (signed char)st;
         fam->record(self_, mu_o + n * t, sg_o + n * n * t);
     }
+    if (ts) {
+        PyEval_RestoreThread(ts);
+    }
     self->busy = 0;
-    out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
-done:
+    if (t < N) {
+        memcpy(belief, saved, fam->belief_size);
+        self->last = saved_last;
+        self->has_last = saved_has;
+        if (!PyErr_Occurred()) {
+            raise_status(st, fam->run_name, NULL, NULL, 0, 0);
+        }
+        set_step(t);
+    } else {
+        out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
+    }
     PyMem_Free(saved);
     for (int i = 0; i < 4; i++) {
         Py_XDECREF(o[i]);
@@ -1031,13 +1068,8 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
             return NULL;
         }
     }
-    if (fam->ekf) {
-        if (check_idle((FilterObj *)self_, called_back, fam->run_name) < 0) {
-            return NULL;
-        }
-        if (!model && given(a[2])) {
-            return bad_arg("%s: u without motion", fam->run_name);
-        }
+    if (fam->ekf && !model && given(a[2])) {
+        return bad_arg("%s: u without motion", fam->run_name);
     }
     if (run_arrays(fam, a[2], a[3], a[4], nu, fam->ekf && nu,
                    !fam->ekf && !nu ? "u given, the model has no B" : NULL, m,
@@ -1182,6 +1214,7 @@ static int KF2_init(PyObject *self_, PyObject *args, PyObject *kw)
     }
     if (read_real(mu, "KF2: mu", 0, 2, m.v) < 0 ||
         read_real(sigma, "KF2: sigma", 2, 2, &s.m[0][0]) < 0 ||
+        check_idle(&self->f, reinit_back, "KF2") < 0 ||
         check(gf_kf2_init(&self->kf, &m, &s), "KF2") < 0) {
         return -1;
     }
@@ -1259,6 +1292,7 @@ static const Family kf2_family = {
     kf2_predict,
     kf2_update,
     kf2_record,
+    NULL,
 };
 
 static PyObject *KF2_predict(PyObject *self, PyObject *const *args,
@@ -1532,9 +1566,9 @@ static int EKF3_init(PyObject *self_, PyObject *args, PyObject *kw)
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKF3", names, &mu, &sigma)) {
         return -1;
     }
-    if (check_idle(&self->f, reinit_back, "EKF3") < 0 ||
-        read_real(mu, "EKF3: mu", 0, 3, m.v) < 0 ||
+    if (read_real(mu, "EKF3: mu", 0, 3, m.v) < 0 ||
         read_real(sigma, "EKF3: sigma", 3, 3, &s.m[0][0]) < 0 ||
+        check_idle(&self->f, reinit_back, "EKF3") < 0 ||
         check(gf_ekf3_init(&self->ekf, &m, &s), "EKF3") < 0) {
         return -1;
     }
@@ -1569,6 +1603,11 @@ static gf_status ekf3_predict(PyObject *f, PyObject *model, const gf_real *u,
                               PyObject *u_obj)
 {
     EKF3MotionObj *mo = (EKF3MotionObj *)model;
+    if (mo->pm.motion.g != ekf3_g_py) {
+        // a built-in: no Python, and nothing of the model written (a run
+        // without the GIL may share it with another thread's)
+        return gf_ekf3_predict_prepared(&((EKF3Obj *)f)->ekf, &mo->pm, u);
+    }
     PyObject *prev_u = mo->cb.cur_u;
     mo->cb.cur_u = u_obj;
     gf_status st = gf_ekf3_predict_prepared(&((EKF3Obj *)f)->ekf, &mo->pm, u);
@@ -1597,6 +1636,11 @@ static void ekf3_record(PyObject *f, gf_real *mu, gf_real *sigma)
     gf_ekf3_cov(ekf, (gf_mat3 *)sigma);
 }
 
+static int ekf3_meas_python(PyObject *meas)
+{
+    return ((EKF3MeasObj *)meas)->pq.meas.h == ekf3_h_py;
+}
+
 static const Family ekf3_family = {
     "EKF3",
     "EKF3.predict",
@@ -1617,6 +1661,7 @@ static const Family ekf3_family = {
     ekf3_predict,
     ekf3_update,
     ekf3_record,
+    ekf3_meas_python,
 };
 
 static PyObject *EKF3_predict(PyObject *self, PyObject *const *args,
@@ -2032,8 +2077,7 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
 {
     gf_real m[NMAX], s[NMAX * NMAX];
     npy_intp n, r;
-    if (check_idle(&self->f, reinit_back, who) < 0 ||
-        shape_of(mu, who, 0, &n, &r) < 0) {
+    if (shape_of(mu, who, 0, &n, &r) < 0) {
         return -1;
     }
     if (r != 1 || n < 1 || n > NMAX) {
@@ -2046,7 +2090,8 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
         return -1;
     }
     PyOS_snprintf(name, sizeof name, "%s: sigma", who);
-    if (read_real(sigma, name, n, n, s) < 0) {
+    if (read_real(sigma, name, n, n, s) < 0 ||
+        check_idle(&self->f, reinit_back, who) < 0) {
         return -1;
     }
     gf_status st =
@@ -2182,7 +2227,15 @@ static const Family kf_family = {
     kf_predict,
     kf_update,
     kf_record,
+    NULL,
 };
+
+// An EKFMeas's h is Python's to call, a built-in's too.
+static int ekf_meas_python(PyObject *meas)
+{
+    (void)meas;
+    return 1;
+}
 
 static const Family ekf_family = {
     "EKF",
@@ -2204,6 +2257,7 @@ static const Family ekf_family = {
     ekf_predict,
     ekf_update,
     kf_record,
+    ekf_meas_python,
 };
 
 static PyObject *KF_predict(PyObject *self, PyObject *const *args,
