@@ -12,8 +12,9 @@
 # robot and linear (n = 4, 6) nodes' NEES/NIS consistency and scripts/nees
 # on their logs, a run-time model, --strict, two nodes on one track,
 # docs/node.md's quick start as written, the Python example on a replayed
-# log, the Java types decoding a demo-like log), in a private network
-# namespace when root.
+# log, the Java types decoding a demo-like log and lcm-spy's plugin naming
+# its codes), in a private network namespace when root; and scripts/nees,
+# scripts/plot and examples/beliefs.py on logs a node replayed (lcm_tools).
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$(dirname "$0")/../lcm.sh"

@@ -8,7 +8,9 @@
 #
 # nees   20 runs of examples/node.conf's target2d: every update there, 0
 #        missing, exit 0, the figure written where the caller is (a
-#        relative --plot path), not in the repository. The same stream
+#        relative --plot path), not in the repository; the simulator's
+#        log alone: every update missing, exit 1; the node's alone:
+#        nothing to judge, exit 2. The same stream
 #        with every 25th measurement taken out before the node: 80 of
 #        2000 missing, said exactly, "NOT JUDGED" and exit 1 (and judged
 #        with --max-missing 5); the per-time averages (--csv) aligned by
@@ -68,6 +70,15 @@ grep -Eq '^all 20 linear tracks \(n=4, m=2\): 2000 updates \([0-9]+ gated, 0 mis
     fail "the consistent run's line"
 [ -s "$work/caller/nees-rel.png" ] || fail "--plot nees-rel.png is not in the caller's folder"
 [ ! -e "$root/nees-rel.png" ] || fail "--plot nees-rel.png was written into the repository"
+
+# the simulator's log alone: every update missing, said; the node's alone:
+# nothing to judge against
+nees "$work/sim.lcmlog"
+[ "$rc" -eq 1 ] && grep -qx 'all 20 linear tracks without beliefs: 0 updates (0 gated, 2000 missing of 2000 measurements): no update belief in the logs (the node'"'"'s log too?)' <<<"$out" ||
+    fail "the simulator's log alone (exit $rc)"
+nees "$work/beliefs.lcmlog"
+[ "$rc" -eq 2 ] && grep -q "^gf_nees: no update belief with a truth before it in $work/beliefs.lcmlog (the truths are in gf_sim's log" <<<"$out" ||
+    fail "the node's log alone (exit $rc)"
 
 echo "== scripts/nees: every 25th measurement lost before the node"
 "$py" - "$work/sim.lcmlog" "$work/lossy.lcmlog" <<'PY' 2>/dev/null ||

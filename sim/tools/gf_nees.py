@@ -257,6 +257,11 @@ def main():
             continue  # truths only, or refused updates only
         groups[r.key].append(r)
         model, n, m = r.key
+        if n == 0:
+            print("track %d (%s): %s: no update belief of it in the logs" % (
+                t, KINDS.get(model, model),
+                counts(0, 0, r.refused, r.expected, r.missing)))
+            continue
         nees, _ = line("NEES", [x[1] for x in r.samples], n, 1)
         nis, _ = line("NIS", [x[2] for x in r.samples], m, len(r.samples))
         print("track %d (%s, n=%d, m=%d): %s: %s; %s" % (
@@ -268,8 +273,9 @@ def main():
             "s" if len(no_truth) > 1 else "",
             ", ".join(str(t) for t in no_truth)))
     if not groups:
-        print("gf_nees: no update belief with a truth before it in %s"
-              % " ".join(a.logs), file=sys.stderr)
+        print("gf_nees: no update belief with a truth before it in %s "
+              "(the truths are in gf_sim's log, the beliefs in the node's: "
+              "give both)" % " ".join(a.logs), file=sys.stderr)
         sys.exit(2)
     verdict = 0
     all_expected = all_missing = 0
@@ -290,7 +296,10 @@ def main():
             len(runs), KINDS.get(model, model), n, m,
             counts(len(samples), gated, refused, expected, missing))
         if n == 0:
-            print("%s: no update belief at all" % head)
+            print("all %d %s tracks without beliefs: %s: no update belief "
+                  "in the logs (the node's log too?)" % (
+                      len(runs), KINDS.get(model, model),
+                      counts(0, 0, refused, expected, missing)))
             verdict = 1
             continue
         nees, nees_in = line("NEES", [x[1] for x in samples], n, len(runs))
