@@ -28,6 +28,16 @@ print(os.path.normpath(os.path.join(os.path.dirname(lcm.__file__),
     [ -x "$GF_LCM_BIN/lcm-logger" ] || gf_die "no lcm-logger in $GF_LCM_BIN"
 }
 
+# gf_java_gui: the java on PATH can open windows, as lcm-spy needs: its
+# JRE has AWT's X11 library, libawt_xawt.so (a headless JRE has not).
+gf_java_gui() {
+    local java
+    java=$(command -v java) || return 1
+    java=$(readlink -f "$java")
+    [ -e "$(dirname "$java")/../lib/libawt_xawt.so" ] ||
+        [ -e "$(dirname "$java")/../jre/lib/amd64/libawt_xawt.so" ]
+}
+
 # gf_lcm_build DIR: configures and builds the core + sim/ (double) in DIR,
 # then installs the Python types into the venv (gf_lcm_py_install).
 gf_lcm_build() {

@@ -24,6 +24,8 @@
 #        states and units, the truth drawn, into a path relative to the
 #        caller; a track the log has no beliefs of, and a log with no
 #        beliefs: a clear error and exit 2, before any install.
+# spy    the JRE scripts/spy takes (gf_java_gui): the installed java when
+#        its JRE can open windows, never a headless copy of it.
 set -euo pipefail
 bin=$1 lcmbin=$2 work=$3
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -191,4 +193,19 @@ if "$bin/gf_node" --config "$work/short.conf" --url "file://$work/sim.lcmlog?spe
 fi
 grep -qx "gf_node: $work/short.conf: line $line: model target2d: states takes 4 words, one per state" "$work/short.err" ||
     { cat "$work/short.err"; fail "gf_node: no error at the states line"; }
+echo "== scripts/spy's JRE: the installed java when it can open windows"
+# (scripts/spy runs apt-get only when gf_java_gui says no)
+if command -v java >/dev/null; then
+    real=$(readlink -f "$(command -v java)")
+    gui=no
+    [ -e "$(dirname "$real")/../lib/libawt_xawt.so" ] && gui=yes
+    got=$(bash -c '. "$1/scripts/lib.sh" && . "$1/scripts/lcm.sh" && gf_java_gui && echo yes || echo no' _ "$root")
+    [ "$got" = "$gui" ] || fail "gf_java_gui says $got for $real (libawt_xawt.so: $gui)"
+    # a headless JRE: the same java without AWT's X11 library beside it
+    mkdir -p "$work/headless/bin" "$work/headless/lib"
+    cp "$real" "$work/headless/bin/java"
+    got=$(PATH=$work/headless/bin:$PATH bash -c '. "$1/scripts/lib.sh" && . "$1/scripts/lcm.sh" && gf_java_gui && echo yes || echo no' _ "$root")
+    [ "$got" = no ] || fail "gf_java_gui takes a headless JRE"
+    echo "gf_java_gui: $real: $gui; a headless copy: no"
+fi
 echo "lcm_tools: passed"
