@@ -121,3 +121,27 @@ def test_cibuildwheel_builds_what_pyproject_says():
                    "python"], cwd=ROOT, timeout=120).stdout.split()
         assert sorted(out) == sorted("cp3%d-%s" % (m, t) for m in minors
                                      for t in tags), (platform, out)
+
+
+def test_a_multi_config_generator_builds_with_the_settings_forwarded(
+        tmp_path):
+    """python/CMakeLists.txt with Ninja Multi-Config (the layout of Visual
+    Studio's and Xcode's builds: a folder per configuration): the library
+    is found where its install step put it, both modules link, and macOS's
+    settings (here ignored by the compiler) reach the library's configure
+    whole, the architecture list included."""
+    b = tmp_path / "b"
+    run(["cmake", "-G", "Ninja Multi-Config", "-S", ROOT / "python",
+         "-B", b, "-DPython_EXECUTABLE=" + sys.executable,
+         "-DCMAKE_OSX_ARCHITECTURES=x86_64;arm64",
+         "-DCMAKE_OSX_DEPLOYMENT_TARGET=11.0"], timeout=300)
+    run(["cmake", "--build", b, "--config", "Release", "--parallel", "2"],
+        timeout=900)
+    for prec in ("f32", "f64"):
+        assert list((b / "Release").glob("_%s.*" % prec)), prec
+        assert (b / ("prefix-%s/lib/libgaussfilt.a" % prec)).is_file()
+        cache = (b / ("lib-" + prec) / "CMakeCache.txt").read_text()
+        assert "CMAKE_OSX_ARCHITECTURES:STRING=x86_64;arm64\n" in cache
+        assert "CMAKE_OSX_DEPLOYMENT_TARGET:STRING=11.0\n" in cache
+        assert re.search(r"^GAUSSFILT_SINGLE_PRECISION:BOOL=%s$"
+                         % ("ON" if prec == "f32" else "OFF"), cache, re.M)
