@@ -40,6 +40,8 @@ typedef struct gf_wire_belief {
     int8_t m;
     double innovation[GF_WIRE_NMAX];
     double nis;
+    int8_t trigger;
+    char sensor[32];
 } gf_wire_belief;
 
 typedef struct gf_wire_truth {
@@ -100,6 +102,11 @@ static inline int gf_wire_belief_decode(const void *data, size_t len,
             out->innovation[i] = b.innovation[i];
         }
         out->nis = b.nis;
+        out->trigger = b.trigger;
+        if (b.sensor != NULL) {
+            strncpy(out->sensor, b.sensor, sizeof out->sensor - 1);
+            out->sensor[sizeof out->sensor - 1] = '\0';
+        }
     }
     gaussfilt_lcm_belief_t_decode_cleanup(&b);
     return ok ? 0 : -1;

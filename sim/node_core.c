@@ -60,6 +60,10 @@ const char *gf_node_result_str(gf_node_result r)
         return "gated";
     case GF_NODE_NO_MODEL:
         return "no_model";
+    case GF_NODE_LATE:
+        return "late";
+    case GF_NODE_TOO_OLD:
+        return "too_old";
     case GF_NODE_RESULT_COUNT:
         break;
     }
@@ -192,8 +196,10 @@ const gf_node_track *gf_node_find(const gf_node *node, int32_t id)
 enum { KIND_NONE, KIND_MEAS, KIND_CTRL, KIND_MODEL };
 
 // Parses "<prefix><decimal int32>" exactly, in the id's one spelling (no
-// leading zero, no "-0"); returns 1 and the track id.
-static int parse_track(const char *channel, const char *prefix, int32_t *id)
+// leading zero, no "-0"); returns 1 and the track id. With sensor != NULL
+// a "_<name>" may follow the id: *sensor points at the name (else NULL).
+static int parse_track_sensor(const char *channel, const char *prefix,
+                              int32_t *id, const char **sensor)
 {
     size_t n = strlen(prefix);
     const char *p;
@@ -207,10 +213,18 @@ static int parse_track(const char *channel, const char *prefix, int32_t *id)
         neg = 1;
         p++;
     }
-    if (*p == '\0' || (p[0] == '0' && (p[1] != '\0' || neg))) {
+    if (sensor != NULL) {
+        *sensor = NULL;
+    }
+    if (*p == '\0' || *p == '_' ||
+        (p[0] == '0' && ((p[1] != '\0' && p[1] != '_') || neg))) {
         return 0;
     }
     for (; *p != '\0'; p++) {
+        if (*p == '_' && sensor != NULL && p[1] != '\0') {
+            *sensor = p + 1; // the sensor's name, checked against its model
+            break;
+        }
         if (*p < '0' || *p > '9') {
             return 0;
         }
@@ -227,12 +241,17 @@ static int parse_track(const char *channel, const char *prefix, int32_t *id)
     return 1;
 }
 
-static int channel_kind(const char *channel, int32_t *id)
+static int parse_track(const char *channel, const char *prefix, int32_t *id)
+{
+    return parse_track_sensor(channel, prefix, id, NULL);
+}
+
+static int channel_kind(const char *channel, int32_t *id, const char **sensor)
 {
     if (channel == NULL) {
         return KIND_NONE;
     }
-    if (parse_track(channel, GF_CHANNEL_MEAS, id)) {
+    if (parse_track_sensor(channel, GF_CHANNEL_MEAS, id, sensor)) {
         return KIND_MEAS;
     }
     if (parse_track(channel, GF_CHANNEL_CTRL, id)) {
@@ -655,6 +674,9 @@ static void track_prior(gf_node *node, gf_node_track *t)
     }
 }
 
+// belief_t.sensor of a belief no named sensor made.
+static char no_sensor[1];
+
 // The belief as belief_t carries it; its numbers live in the node's
 // scratch until the next belief.
 static void belief_fill(gf_node *node, const gf_node_track *t,
@@ -706,6 +728,8 @@ static void belief_fill(gf_node *node, const gf_node_track *t,
     b->cov = node->cov_rows;
     b->m = 0;
     b->innovation = node->innovation;
+    b->trigger = GAUSSFILT_LCM_BELIEF_T_TRIGGER_INPUT;
+    b->sensor = no_sensor;
     if (t->filter == FILTER_PF3 && t->f.pf3.no_summary) {
         b->status = GF_NODE_STATUS_NO_SUMMARY;
     }
@@ -911,7 +935,7 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
     t->id = id;
     t->model = model;
     t->mdl = *use;
-    t->counting_start = 1;
+    t->counting = (1u << GF_NODE_STREAMS) - 1u;
     track_prior(node, t);
     node->counts.tracks_created++;
     if (mdl != NULL) {
@@ -946,36 +970,56 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
     return track_get_with(node, id, model, utime, NULL, why);
 }
 
-// Sequence rules: seq strictly increasing per track (equal = duplicate,
-// lower = out of order), utime never decreasing; after
-// GF_NODE_RESYNC_AFTER out_of_order in a row the next input is the new
-// reference (node_core.h).
-static gf_node_result check_order(gf_node *node, gf_node_track *t, int64_t seq,
-                                  int64_t utime)
+// A track in time: its motion built from dt (see node_core.h).
+static int timed(const gf_node_track *t)
 {
-    if (!t->has_input) {
-        return GF_NODE_APPLIED;
-    }
-    if (seq == t->last_seq) {
+    return t->model == MODEL_LINEAR && t->mdl.lin->axes > 0;
+}
+
+// Sequence rules, per stream: seq strictly increasing (equal = duplicate,
+// lower = out of order). Time: an input older than the track's time is
+// out of order (a track in time: late within its late_window, else
+// too_old). After GF_NODE_RESYNC_AFTER such rejections in a row the next
+// input is the new reference (node_core.h).
+static gf_node_result check_order(gf_node *node, gf_node_track *t,
+                                  unsigned stream, int64_t seq, int64_t utime)
+{
+    gf_node_result r = GF_NODE_APPLIED;
+    unsigned bit = 1u << stream;
+    if ((t->has_seq & bit) && seq == t->seq[stream]) {
         return GF_NODE_DUPLICATE;
     }
-    if (seq < t->last_seq || utime < t->last_utime) {
-        if (t->rejected >= GF_NODE_RESYNC_AFTER) {
-            node->counts.seq_resyncs++;
-            t->has_input = 0; // no gap counted for the jump
-            t->rejected = 0;
-            return GF_NODE_APPLIED;
+    if ((t->has_seq & bit) && seq < t->seq[stream]) {
+        r = GF_NODE_OUT_OF_ORDER;
+    } else if (t->has_input && utime < t->time) {
+        r = GF_NODE_OUT_OF_ORDER;
+        if (timed(t)) {
+            // (a difference beyond int64's range is too old)
+            r = (double)t->time - (double)utime <= t->mdl.late_window * 1e6
+                    ? GF_NODE_LATE
+                    : GF_NODE_TOO_OLD;
         }
-        t->rejected++;
-        return GF_NODE_OUT_OF_ORDER;
     }
-    return GF_NODE_APPLIED;
+    if (r == GF_NODE_APPLIED) {
+        return r;
+    }
+    if (t->rejected >= GF_NODE_RESYNC_AFTER) {
+        node->counts.seq_resyncs++;
+        t->has_seq &= ~bit; // no gap counted for the jump
+        if (utime < t->time) {
+            t->time = utime; // and no prediction over it
+        }
+        t->rejected = 0;
+        return GF_NODE_APPLIED;
+    }
+    t->rejected++;
+    return r;
 }
 
 // Session rule (see node_core.h): a larger session re-initialises the
 // track from the prior, a smaller one is stale; then the sequence rules.
-static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
-                            int64_t seq, int64_t utime)
+static gf_node_result admit(gf_node *node, gf_node_track *t, unsigned stream,
+                            int64_t session, int64_t seq, int64_t utime)
 {
     gaussfilt_lcm_belief_t b;
     if (t->has_input && session != t->session) {
@@ -983,7 +1027,8 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
             return GF_NODE_STALE_SESSION;
         }
         t->has_input = 0;
-        t->counting_start = 1;
+        t->has_seq = 0;
+        t->counting = (1u << GF_NODE_STREAMS) - 1u;
         track_prior(node, t);
         node->counts.resyncs++;
         t->belief_seq++;
@@ -993,17 +1038,23 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, int64_t session,
         b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
         publish_step(node, t, &b);
     }
-    return check_order(node, t, seq, utime);
+    return check_order(node, t, stream, seq, utime);
 }
 
-static void consume(gf_node *node, gf_node_track *t, int64_t session,
-                    int64_t seq, int64_t utime, int64_t now)
+// Takes an admitted input: gaps, the first input's losses, the track's
+// time. Returns the seconds a track in time predicts over before it: the
+// time since its last input, or, for its first, the model's dt (the
+// prior holds dt before the first input).
+static double consume(gf_node *node, gf_node_track *t, unsigned stream,
+                      int64_t session, int64_t seq, int64_t utime, int64_t now)
 {
-    // seq > last_seq here; unsigned arithmetic cannot overflow.
-    if (t->has_input) {
-        node->counts.gaps += (uint64_t)seq - (uint64_t)t->last_seq - 1u;
+    unsigned bit = 1u << stream;
+    double dt = t->mdl.dt;
+    // seq > the stream's last here; unsigned arithmetic cannot overflow.
+    if (t->has_seq & bit) {
+        node->counts.gaps += (uint64_t)seq - (uint64_t)t->seq[stream] - 1u;
     }
-    if (t->counting_start && seq > 1) {
+    if ((t->counting & bit) && seq > 1) {
         // a session's seq starts at 1: the inputs before this one were
         // sent and never arrived (before the node was ready, typically)
         node->counts.lost_before_first += (uint64_t)seq - 1u;
@@ -1013,13 +1064,20 @@ static void consume(gf_node *node, gf_node_track *t, int64_t session,
             (long)t->id, (long long)seq, (unsigned long long)(seq - 1),
             seq == 2 ? "" : "s");
     }
-    t->counting_start = 0;
+    if (t->has_input) {
+        // utime >= time here (check_order)
+        dt = (double)((uint64_t)utime - (uint64_t)t->time) / 1e6;
+    }
+    t->counting &= ~bit;
+    t->has_seq |= bit;
     t->has_input = 1;
     t->rejected = 0;
     t->session = session;
-    t->last_seq = seq;
-    t->last_utime = utime;
+    t->seq[stream] = seq;
+    t->input_seq = seq;
+    t->time = utime;
     t->last_rx = now;
+    return dt;
 }
 
 static gf_node_result from_status(int s)
@@ -1067,36 +1125,103 @@ static int pf_correct(gf_node *node, gf_node_track *t, const gf_ekf3_meas *mm,
     return GF_OK;
 }
 
-// A linear model's numbers in gf_real, into the node's scratch: A, B, R
-// (and C, Q from the measurement's q when q is given).
-static void linear_numbers(gf_node *node, const gf_node_linear *l,
-                           const node_meas *z)
+// A linear track's motion in gf_real, into the node's scratch: A, B, R,
+// built for a step of dt seconds when the track is in time, else as given.
+static void linear_motion(gf_node *node, const gf_node_track *t, double dt)
 {
-    unsigned i, j, n = l->n;
+    const gf_node_linear *l = t->mdl.lin;
+    const double *A = l->A, *R = l->R;
+    unsigned i, n = l->n;
+    if (timed(t)) {
+        gf_node_linear_motion(l, dt, node->dA, node->dR);
+        A = node->dA;
+        R = node->dR;
+    }
     for (i = 0; i < n * n; i++) {
-        node->lin[0][i] = (gf_real)l->A[i];
-        node->lin[2][i] = (gf_real)l->R[i];
+        node->lin[0][i] = (gf_real)A[i];
+        node->lin[2][i] = (gf_real)R[i];
     }
     for (i = 0; i < n * l->nu; i++) {
         node->lin[1][i] = (gf_real)l->B[i];
     }
-    if (z == NULL) {
-        return;
-    }
-    for (i = 0; i < l->m * n; i++) {
-        node->lin[3][i] = (gf_real)l->C[i];
-    }
-    for (i = 0; i < l->m; i++) {
-        node->vec[1][i] = (gf_real)z->z[i];
-        for (j = 0; j < l->m; j++) {
-            node->lin[4][i * l->m + j] = (gf_real)z->q[i][j];
+}
+
+// mu_bar = A mu + B u, Sigma_bar = A Sigma A^T + R, for dt seconds (u:
+// nu entries in node->vec[0], or none when nu = 0).
+static int linear_predict(gf_node *node, gf_node_track *t, gf_kf *kf, double dt,
+                          unsigned nu)
+{
+    gf_kf_model km;
+    linear_motion(node, t, dt);
+    km.nu = t->mdl.lin->nu;
+    km.A = node->lin[0];
+    km.B = node->lin[1];
+    km.R = node->lin[2];
+    km.c = NULL;
+    return gf_kf_predict(kf, &km, nu > 0 ? node->vec[0] : NULL, &node->work);
+}
+
+// A linear measurement with an angle mask (z_hat = C mu_bar, H = C): ctx
+// is C in gf_real, m rows of n.
+static gf_status linear_h(void *ctx, unsigned n, unsigned m,
+                          const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
+{
+    const gf_real *C = (const gf_real *)ctx;
+    unsigned i, j;
+    for (i = 0; i < m; i++) {
+        gf_real v = GF_R(0.0);
+        for (j = 0; j < n; j++) {
+            v += C[i * n + j] * mu_bar[j];
+            H[i * n + j] = C[i * n + j];
         }
+        z_hat[i] = v;
     }
+    return GF_OK;
 }
 
 static int good_kind(int8_t model)
 {
     return model == MODEL_CAR || model == MODEL_ROBOT || model == MODEL_LINEAR;
+}
+
+// The noise of a measurement: its q, or, for a named sensor's message
+// whose q is all zero, the sensor's Q (m x m, into q).
+static void meas_noise(const gf_node_sensor *sen, const node_meas *z,
+                       unsigned m, double q[GF_NODE_NMAX][GF_NODE_NMAX])
+{
+    unsigned i, j;
+    int zero = 1;
+    for (i = 0; i < m; i++) {
+        for (j = 0; j < m; j++) {
+            q[i][j] = z->q[i][j];
+            zero &=
+                !(z->q[i][j] < 0.0 || z->q[i][j] > 0.0) && !isnan(z->q[i][j]);
+        }
+    }
+    if (sen != NULL && zero) {
+        for (i = 0; i < m; i++) {
+            for (j = 0; j < m; j++) {
+                q[i][j] = sen->Q[i * m + j];
+            }
+        }
+    }
+}
+
+// The status belief of a late input: the track's belief as it is.
+static void publish_late(gf_node *node, gf_node_track *t, int64_t utime,
+                         int64_t seq, int8_t stage, const char *sensor)
+{
+    gaussfilt_lcm_belief_t b;
+    t->belief_seq++;
+    belief_fill(node, t, &b);
+    b.utime = utime;
+    b.input_seq = seq;
+    b.stage = stage;
+    b.status = GF_NODE_STATUS_LATE;
+    if (sensor != NULL) {
+        b.sensor = (char *)(uintptr_t)sensor;
+    }
+    publish_step(node, t, &b);
 }
 
 static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
@@ -1105,6 +1230,7 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
+    double dt;
     int s;
     if (c->track != id || !good_kind(c->model)) {
         return GF_NODE_BAD_FIELD;
@@ -1122,27 +1248,23 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     if (t == NULL) {
         return r;
     }
-    r = admit(node, t, c->session, c->seq, c->utime);
+    r = admit(node, t, 0, c->session, c->seq, c->utime);
+    if (r == GF_NODE_LATE) {
+        publish_late(node, t, c->utime, c->seq,
+                     GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT, NULL);
+    }
     if (r != GF_NODE_APPLIED) {
         return r;
     }
-    consume(node, t, c->session, c->seq, c->utime, now);
+    dt = consume(node, t, 0, c->session, c->seq, c->utime, now);
     if (t->model == MODEL_LINEAR) {
-        const gf_node_linear *l = t->mdl.lin;
-        gf_kf_model km;
         unsigned i;
-        linear_numbers(node, l, NULL);
         for (i = 0; i < (unsigned)c->n; i++) {
             node->vec[0][i] = (gf_real)c->u[i];
         }
-        km.nu = l->nu;
-        km.A = node->lin[0];
-        km.B = node->lin[1];
-        km.R = node->lin[2];
-        km.c = NULL;
-        // mu_bar = A mu + B u, Sigma_bar = A Sigma A^T + R
-        s = gf_kf_predict(&t->f.kf, &km, c->n > 0 ? node->vec[0] : NULL,
-                          &node->work);
+        // one step of the model's A, or, in time, over the dt since the
+        // last input
+        s = linear_predict(node, t, &t->f.kf, dt, (unsigned)c->n);
     } else if (t->model == MODEL_CAR) {
         gf_kf2_model mdl;
         gf_vec2 u;
@@ -1183,17 +1305,84 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     return from_status(s);
 }
 
+// A linear track's correction by C (its model's, or a sensor's) with the
+// noise q; a sensor with an angle mask wraps those residuals (gf_ekf on
+// the same belief, h = C x).
+static int linear_correct(gf_node *node, gf_node_track *t,
+                          const gf_node_sensor *sen, const node_meas *z,
+                          const double q[GF_NODE_NMAX][GF_NODE_NMAX],
+                          gf_kf_innovation *kinfo)
+{
+    const gf_node_linear *l = t->mdl.lin;
+    const double *C = sen != NULL ? sen->C : l->C;
+    unsigned i, j, n = l->n, m = sen != NULL ? sen->m : l->m;
+    gf_real gate = (gf_real)(sen != NULL ? sen->gate : t->mdl.gate);
+    for (i = 0; i < m * n; i++) {
+        node->lin[3][i] = (gf_real)C[i];
+    }
+    for (i = 0; i < m; i++) {
+        node->vec[1][i] = (gf_real)z->z[i];
+        for (j = 0; j < m; j++) {
+            node->lin[4][i * m + j] = (gf_real)q[i][j];
+        }
+    }
+    if (sen != NULL && sen->angle_mask != 0u) {
+        gf_ekf_meas em;
+        em.m = m;
+        em.h = linear_h;
+        em.ctx = node->lin[3];
+        em.Q = node->lin[4];
+        em.angle_mask = sen->angle_mask;
+        em.gate = gate;
+        return gf_ekf_update(&t->f.kf, &em, node->vec[1], kinfo, &node->work);
+    }
+    {
+        gf_kf_meas km;
+        km.m = m;
+        km.C = node->lin[3];
+        km.Q = node->lin[4];
+        km.c = NULL;
+        km.gate = gate;
+        // K = Sigma_bar C^T (C Sigma_bar C^T + Q)^-1, mu = mu_bar + K (z -
+        // C mu_bar), on the factors
+        return gf_kf_update(&t->f.kf, &km, node->vec[1], kinfo, &node->work);
+    }
+}
+
+// The sensor a message on GF_MEAS_<id>_<name> names in the track's model,
+// or NULL (said once per track).
+static const gf_node_sensor *track_sensor(gf_node *node, gf_node_track *t,
+                                          const char *name, unsigned *stream)
+{
+    const gf_node_sensor *sen = gf_node_model_sensor(&t->mdl, name);
+    if (sen == NULL) {
+        if (!t->sensor_warned) {
+            t->sensor_warned = 1;
+            say(node,
+                "track %ld: a measurement on %s%ld_%s: its model %s has no "
+                "sensor %s (bad_field)",
+                (long)t->id, GF_CHANNEL_MEAS, (long)t->id, name, t->mdl.name,
+                name);
+        }
+        return NULL;
+    }
+    *stream = 1u + (unsigned)(sen - t->mdl.sensors->s);
+    return sen;
+}
+
 static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
-                                  int64_t now)
+                                  const char *sensor, int64_t now)
 {
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
     const gf_node_model *mdl;
+    const gf_node_sensor *sen = NULL;
     gaussfilt_lcm_belief_t b;
     gf_innovation info;
     gf_kf_innovation kinfo;
-    int s, measure = 0;
-    unsigned i, m;
+    double q[GF_NODE_NMAX][GF_NODE_NMAX], dt;
+    int s = GF_OK, measure = 0;
+    unsigned i, m, stream = 0;
     if (z->track != id || !good_kind(z->model)) {
         return GF_NODE_BAD_FIELD;
     }
@@ -1201,52 +1390,72 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
         return GF_NODE_BAD_FIELD; // gf_node_measure_m
     }
     m = (unsigned)z->m;
-    // what the track's model expects (a track of another kind: bad_field
-    // from track_get; a track that would be refused: no_model from it)
-    mdl = track_model(node, id, z->model);
-    if (mdl != NULL && z->model == MODEL_LINEAR) {
-        if (m != mdl->lin->m) {
+    if (sensor != NULL) {
+        // a named sensor: the track's model says what it measures (a car
+        // has none)
+        if (z->model == MODEL_CAR) {
             return GF_NODE_BAD_FIELD;
         }
-    } else if (mdl != NULL) {
-        measure = gf_node_model_measure(mdl, m);
-        if (measure < 0) {
+        t = track_get(node, id, z->model, z->utime, &r);
+        if (t == NULL) {
+            return r;
+        }
+        sen = track_sensor(node, t, sensor, &stream);
+        if (sen == NULL || m != sen->m) {
             return GF_NODE_BAD_FIELD;
         }
+    } else {
+        // what the track's model expects (a track of another kind:
+        // bad_field from track_get; a track that would be refused:
+        // no_model from it)
+        mdl = track_model(node, id, z->model);
+        if (mdl != NULL && z->model == MODEL_LINEAR) {
+            if (m != mdl->lin->m) {
+                return GF_NODE_BAD_FIELD;
+            }
+        } else if (mdl != NULL) {
+            measure = gf_node_model_measure(mdl, m);
+            if (measure < 0) {
+                return GF_NODE_BAD_FIELD;
+            }
+        }
+        t = track_get(node, id, z->model, z->utime, &r);
+        if (t == NULL) {
+            return r;
+        }
     }
-    t = track_get(node, id, z->model, z->utime, &r);
-    if (t == NULL) {
-        return r;
+    r = admit(node, t, stream, z->session, z->seq, z->utime);
+    if (r == GF_NODE_LATE) {
+        publish_late(node, t, z->utime, z->seq,
+                     GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE,
+                     sen != NULL ? sen->name : NULL);
     }
-    r = admit(node, t, z->session, z->seq, z->utime);
     if (r != GF_NODE_APPLIED) {
         return r;
     }
-    consume(node, t, z->session, z->seq, z->utime, now);
+    dt = consume(node, t, stream, z->session, z->seq, z->utime, now);
     memset(&info, 0, sizeof(info));
     memset(&kinfo, 0, sizeof(kinfo));
+    meas_noise(sen, z, m, q);
     if (t->model == MODEL_LINEAR) {
-        const gf_node_linear *l = t->mdl.lin;
-        gf_kf_meas km;
-        linear_numbers(node, l, z);
-        km.m = l->m;
-        km.C = node->lin[3];
-        km.Q = node->lin[4];
-        km.c = NULL;
-        km.gate = (gf_real)t->mdl.gate;
-        // K = Sigma_bar C^T (C Sigma_bar C^T + Q)^-1, mu = mu_bar + K (z -
-        // C mu_bar), on the factors
-        s = gf_kf_update(&t->f.kf, &km, node->vec[1], &kinfo, &node->work);
+        // in time: predicted to the measurement's utime first
+        if (timed(t) && dt > 0.0) {
+            s = linear_predict(node, t, &t->f.kf, dt, 0);
+        }
+        if (s == GF_OK) {
+            s = linear_correct(node, t, sen, z,
+                               (const double(*)[GF_NODE_NMAX])q, &kinfo);
+        }
     } else if (t->model == MODEL_CAR) {
         gf_kf2_meas mm;
         gf_vec2 zz;
-        double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        double q3[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
         for (i = 0; i < m; i++) {
             for (unsigned j = 0; j < m; j++) {
-                q[i][j] = z->q[i][j];
+                q3[i][j] = q[i][j];
             }
         }
-        gf_node_model_car_meas(&t->mdl, measure, (const double(*)[3])q, &mm);
+        gf_node_model_car_meas(&t->mdl, measure, (const double(*)[3])q3, &mm);
         for (i = 0; i < m; i++) {
             zz.v[i] = (gf_real)z->z[i];
         }
@@ -1257,14 +1466,19 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     } else {
         gf_ekf3_meas mm;
         gf_vec3 zz;
-        double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        double q3[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
         for (i = 0; i < m; i++) {
             for (unsigned j = 0; j < m; j++) {
-                q[i][j] = z->q[i][j];
+                q3[i][j] = q[i][j];
             }
         }
         memset(&zz, 0, sizeof(zz));
-        gf_node_model_robot_meas(&t->mdl, measure, (const double(*)[3])q, &mm);
+        if (sen != NULL) {
+            gf_node_sensor_robot_meas(sen, (const double(*)[3])q3, &mm);
+        } else {
+            gf_node_model_robot_meas(&t->mdl, measure, (const double(*)[3])q3,
+                                     &mm);
+        }
         for (i = 0; i < m; i++) {
             zz.v[i] = (gf_real)z->z[i];
         }
@@ -1282,6 +1496,9 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     b.input_seq = z->seq;
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
     b.status = (int8_t)s;
+    if (sen != NULL) {
+        b.sensor = (char *)(uintptr_t)sen->name;
+    }
     if ((s == GF_OK || s == GF_ERR_GATED) && t->filter == FILTER_KF) {
         b.m = (int8_t)kinfo.m;
         for (i = 0; i < kinfo.m; i++) {
@@ -1332,6 +1549,7 @@ static gf_node_result handle_model(gf_node *node, int32_t id,
     mdl.landmark[0] = mm->landmark[0];
     mdl.landmark[1] = mm->landmark[1];
     mdl.gate = mm->gate;
+    mdl.late_window = GF_NODE_LATE_WINDOW;
     for (i = 0; i < 3; i++) {
         mdl.prior_mean[i] = mm->prior_mean[i];
         for (j = 0; j < 3; j++) {
@@ -1354,6 +1572,7 @@ static gf_node_result handle_model(gf_node *node, int32_t id,
         return t == NULL ? r : GF_NODE_APPLIED;
     }
     t = &node->tracks[old - node->tracks];
+    mdl.sensors = t->mdl.sensors; // a robot's configured sensors stay
     t->mdl = mdl;
     if (mm->reset) {
         track_prior(node, t);
@@ -1372,7 +1591,8 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
 {
     int32_t id = 0;
     gf_node_result r;
-    int kind = channel_kind(channel, &id);
+    const char *sensor = NULL;
+    int kind = channel_kind(channel, &id, &sensor);
     if (kind == KIND_CTRL) {
         node_ctrl c;
         r = check_fingerprint(data, len, __gaussfilt_lcm_control_t_get_hash());
@@ -1395,7 +1615,7 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
         if (r != GF_NODE_APPLIED) {
             return r;
         }
-        return handle_meas(node, id, &z, now);
+        return handle_meas(node, id, &z, sensor, now);
     }
     if (kind == KIND_MODEL) {
         gaussfilt_lcm_model_t mm;
@@ -1422,6 +1642,57 @@ gf_node_result gf_node_handle(gf_node *node, const char *channel,
     node->counts.received++;
     node->counts.by_result[r]++;
     return r;
+}
+
+unsigned gf_node_tick(gf_node *node, int64_t now)
+{
+    unsigned i, k = 0;
+    if (node == NULL) {
+        return 0;
+    }
+    for (i = 0; i < node->ntracks; i++) {
+        gf_node_track *t = &node->tracks[i];
+        gaussfilt_lcm_belief_t b;
+        int64_t ahead = now > t->last_rx ? now - t->last_rx : 0;
+        double dt = (double)ahead / 1e6;
+        int s = GF_OK;
+        if (!t->has_input) {
+            continue;
+        }
+        // the belief as it is, then (a track in time, a car) predicted
+        // over dt on a copy
+        belief_fill(node, t, &b);
+        if (timed(t) && dt > 0.0) {
+            node->ahead.kf = t->f.kf;
+            s = linear_predict(node, t, &node->ahead.kf, dt, 0);
+            if (s == GF_OK) {
+                gf_node_track copy_hdr = *t; // belief_fill reads f.kf
+                copy_hdr.f.kf = node->ahead.kf;
+                belief_fill(node, &copy_hdr, &b);
+            }
+        } else if (t->model == MODEL_CAR && dt > 0.0) {
+            gf_node_model car = t->mdl;
+            gf_kf2_model km;
+            car.dt = dt;
+            gf_node_model_car(&car, &km);
+            node->ahead.kf2 = t->f.kf2;
+            s = gf_kf2_predict(&node->ahead.kf2, &km, NULL);
+            if (s == GF_OK) {
+                gf_node_track copy_hdr = *t;
+                copy_hdr.f.kf2 = node->ahead.kf2;
+                belief_fill(node, &copy_hdr, &b);
+            }
+        }
+        t->belief_seq++;
+        b.utime = t->time + ahead;
+        b.input_seq = t->input_seq;
+        b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
+        b.status = (int8_t)s;
+        b.trigger = GAUSSFILT_LCM_BELIEF_T_TRIGGER_RATE;
+        publish_belief(node, t, &b);
+        k++;
+    }
+    return k;
 }
 
 int gf_node_summary(const gf_node *node, char *out, size_t size)

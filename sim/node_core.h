@@ -133,6 +133,12 @@ typedef enum gf_node_result {
     GF_NODE_NO_MODEL,        // a new track no configured model names, where
                              // no preset may stand in: a linear track, or
                              // any track under gf_node_set_strict
+    GF_NODE_LATE,            // a track in time (see the top): utime older
+                             // than the track's time by at most its model's
+                             // late_window: refused, published with status
+                             // GF_NODE_STATUS_LATE
+    GF_NODE_TOO_OLD,         // the same, older than late_window: refused,
+                             // no belief
     GF_NODE_RESULT_COUNT
 } gf_node_result;
 
@@ -175,6 +181,12 @@ typedef struct gf_node_counts {
 // The PF summary's status in belief_t.status (belief_t.STATUS_NO_SUMMARY,
 // not a gf_status).
 #define GF_NODE_STATUS_NO_SUMMARY (-64)
+// A late input's status belief (belief_t.STATUS_LATE).
+#define GF_NODE_STATUS_LATE (-65)
+
+// A track's input streams, each with its own seq: 0 its controls and
+// GF_MEAS_<id>, 1 + k its model's sensor k (GF_MEAS_<id>_<name>).
+#define GF_NODE_STREAMS (1 + GF_NODE_SENSORS)
 
 // A new track's model: the lookup's answer for its id and kind
 // (GF_NODE_KIND_*); NULL when nothing names the track (the node then takes
@@ -186,18 +198,22 @@ typedef const gf_node_model *(*gf_node_model_fn)(const void *ctx, int32_t id,
 // One track: its filter and where its input sequence stands.
 typedef struct gf_node_track {
     int32_t id;
-    int8_t model; // gaussfilt_lcm MODEL_CAR or MODEL_ROBOT
-    int has_input;
-    int64_t session;  // of the last input consumed
-    int64_t last_seq; // of the last input consumed (applied or failed)
-    int64_t last_utime;
+    int8_t model;    // gaussfilt_lcm MODEL_CAR or MODEL_ROBOT
+    int has_input;   // an input consumed since the track or session began
+    int64_t session; // of the last input consumed
+    int64_t seq[GF_NODE_STREAMS]; // per stream, of the last input consumed
+                                  // (applied or failed)
+    unsigned has_seq;             // bit k: stream k has one
+    unsigned counting;  // bit k: stream k's next input is a session's first
+    int64_t time;       // the track's time: the utime of its last input
+    int64_t input_seq;  // seq of the last input consumed
     int64_t belief_seq; // of the last belief published
     int64_t last_rx;    // `now` of the last input consumed
-    unsigned rejected;  // out_of_order inputs in a row
+    unsigned rejected;  // out_of_order, late, too_old inputs in a row
+    int sensor_warned;  // a message of a sensor its model lacks was said
     gf_node_model mdl;  // its model, a copy (a linear one's numbers stay
                         // in the configuration)
     int peer_warned;    // another node's beliefs of it were reported
-    int counting_start; // its next input is a session's first here
     union {
         gf_kf kf; // linear
         gf_kf2 kf2;
@@ -235,7 +251,7 @@ typedef struct gf_node {
     gf_node_track tracks[GF_NODE_MAX_TRACKS];
     gf_node_counts counts;
     // one encoded belief: its header, the id, n + n^2 + m numbers
-    uint8_t buf[64 + GF_NODE_ID_MAX +
+    uint8_t buf[64 + GF_NODE_ID_MAX + GF_NODE_SENSOR_NAME +
                 8 * (2 * GF_NODE_NMAX + GF_NODE_NMAX * GF_NODE_NMAX + 1)];
     gf_node_filter robot_filter; // for new robot tracks (default EKF)
     gf_node_pf_pool *pf_pool;    // the particles of PF tracks, or NULL
@@ -264,6 +280,11 @@ typedef struct gf_node {
     gf_kf_work work;
     gf_real lin[5][GF_NODE_NMAX * GF_NODE_NMAX]; // A, B, R, C, Q
     gf_real vec[3][GF_NODE_NMAX];                // u, z, mu
+    double dA[GF_NODE_NMAX * GF_NODE_NMAX], dR[GF_NODE_NMAX * GF_NODE_NMAX];
+    union { // a belief predicted to now (gf_node_tick)
+        gf_kf kf;
+        gf_kf2 kf2;
+    } ahead;
     double mean[GF_NODE_NMAX], cov[GF_NODE_NMAX * GF_NODE_NMAX],
         innovation[GF_NODE_NMAX];
     double *cov_rows[GF_NODE_NMAX];
@@ -329,6 +350,16 @@ int gf_node_filter_parse(const char *name, gf_node_filter *out);
 // loudly: every outcome is a gf_node_result and a counter.
 gf_node_result gf_node_handle(gf_node *node, const char *channel,
                               const void *data, size_t len, int64_t now);
+
+// Publishes, for every track that has taken an input, its belief
+// predicted to now (belief_t.trigger TRIGGER_RATE, stage STAGE_PREDICT):
+// now is in the clock of gf_node_handle's `now`, and the track's time
+// goes on from its last input's utime by the time passed since that input
+// was received. A track in time (see the top) and a car are predicted
+// with their motion over that time; a robot (its motion is its odometry)
+// and a linear model whose A is given are published as they are. The
+// tracks themselves do not change. Returns the beliefs published.
+unsigned gf_node_tick(gf_node *node, int64_t now);
 
 // The track with this id, or NULL.
 const gf_node_track *gf_node_find(const gf_node *node, int32_t id);

@@ -32,6 +32,8 @@ static const gf_node_model book_car = {
     {{GF_BOOK_EX2_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
     NULL,
     NULL,
+    NULL,
+    GF_NODE_LATE_WINDOW,
 };
 
 static const gf_node_model book_robot = {
@@ -50,6 +52,8 @@ static const gf_node_model book_robot = {
     {{GF_BOOK_EX4_Q, 0, 0}, {0, 0, 0}, {0, 0, 0}},
     NULL,
     NULL,
+    NULL,
+    GF_NODE_LATE_WINDOW,
 };
 
 const gf_node_model *gf_node_model_book_car(void)
@@ -70,7 +74,9 @@ unsigned gf_node_measure_m(int8_t kind, int8_t measure)
         return measure == GF_NODE_MEASURE_XV ? 2u : 0u;
     }
     if (kind == GF_NODE_KIND_ROBOT) {
-        if (measure == GF_NODE_MEASURE_X) {
+        if (measure == GF_NODE_MEASURE_X || measure == GF_NODE_MEASURE_RANGE ||
+            measure == GF_NODE_MEASURE_BEARING ||
+            measure == GF_NODE_MEASURE_HEADING) {
             return 1;
         }
         if (measure == GF_NODE_MEASURE_XY ||
@@ -186,7 +192,9 @@ static int linear_check(const gf_node_model *mdl, const char **why)
     }
     n = l->n;
     m = l->m;
-    if (m < 1 || m > n) {
+    if (m == 0 && mdl->sensors != NULL && mdl->sensors->count > 0) {
+        // measured by its named sensors only (checked by the configuration)
+    } else if (m < 1 || m > n) {
         *why = "C: a linear model measures 1 to n quantities (C = m*n "
                "numbers)";
         return -1;
@@ -238,7 +246,7 @@ static int linear_check(const gf_node_model *mdl, const char **why)
     mm.Q = Q;
     mm.c = NULL;
     mm.gate = (gf_real)mdl->gate;
-    if (gf_kf_prepare_meas(&pq, n, &mm, &work) != GF_OK) {
+    if (m > 0 && gf_kf_prepare_meas(&pq, n, &mm, &work) != GF_OK) {
         *why = "Q must be symmetric positive semidefinite (and C finite)";
         for (i = 0; i < m * n; i++) {
             if (!isfinite(l->C[i])) {
@@ -269,6 +277,10 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why)
         w = "no model";
         goto bad;
     }
+    if (!(mdl->late_window >= 0.0) || !isfinite(mdl->late_window)) {
+        w = "late_window must be finite and >= 0 (seconds)";
+        goto bad;
+    }
     if (mdl->kind == GF_NODE_KIND_LINEAR) {
         if (!(mdl->gate >= 0.0) || !isfinite(mdl->gate)) {
             w = "gate must be finite and >= 0";
@@ -290,7 +302,8 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why)
         w = mdl->kind == GF_NODE_KIND_CAR
                 ? "measure: a car measures position, velocity or position "
                   "velocity"
-                : "measure: a robot measures x, x y or range bearing";
+                : "measure: a robot measures x, x y, range bearing, range, "
+                  "bearing or heading";
     } else if (mdl->kind == GF_NODE_KIND_CAR &&
                (!(mdl->dt > 0.0) || !isfinite(mdl->dt))) {
         w = "dt must be a finite number > 0";
@@ -332,9 +345,45 @@ bad:
     return -1;
 }
 
+void gf_node_linear_motion(const gf_node_linear *lin, double dt, double *A,
+                           double *R)
+{
+    unsigned a, k = 0, n = lin->n, i, j;
+    memset(A, 0, sizeof(double) * n * n);
+    memset(R, 0, sizeof(double) * n * n);
+    for (a = 0; a < lin->axes && k < n; a++) {
+        unsigned d = lin->axis[a];
+        // g = (dt^2/2, dt[, 1]): how the axis's white acceleration (cv) or
+        // acceleration change (ca) enters over one step; a constant's
+        // random walk adds q dt
+        double g[3] = {0.5 * dt * dt, dt, 1.0}, q = lin->accel_var[a];
+        if (d == GF_NODE_AXIS_C) {
+            A[k * n + k] = 1.0;
+            R[k * n + k] = q * dt;
+            k++;
+            continue;
+        }
+        for (i = 0; i < d; i++) {
+            // A block: 1, dt, dt^2/2 above the diagonal
+            A[(k + i) * n + k + i] = 1.0;
+            if (i + 1 < d) {
+                A[(k + i) * n + k + i + 1] = dt;
+            }
+            if (i + 2 < d) {
+                A[(k + i) * n + k + i + 2] = 0.5 * dt * dt;
+            }
+            // R block = q g g^T
+            for (j = 0; j < d; j++) {
+                R[(k + i) * n + k + j] = q * g[i] * g[j];
+            }
+        }
+        k += d;
+    }
+}
+
 void gf_node_linear_build(gf_node_linear *lin, double dt)
 {
-    unsigned a, k = 0, n = 0, i, j;
+    unsigned a, n = 0;
     for (a = 0; a < lin->axes; a++) {
         n += lin->axis[a];
     }
@@ -344,27 +393,22 @@ void gf_node_linear_build(gf_node_linear *lin, double dt)
     lin->n = n;
     memset(lin->A, 0, sizeof lin->A);
     memset(lin->R, 0, sizeof lin->R);
-    for (a = 0; a < lin->axes; a++) {
-        unsigned d = lin->axis[a];
-        // g = (dt^2/2, dt[, 1]): how the axis's white acceleration (cv) or
-        // acceleration change (ca) enters over one step
-        double g[3] = {0.5 * dt * dt, dt, 1.0}, q = lin->accel_var[a];
-        for (i = 0; i < d; i++) {
-            // A block: 1, dt, dt^2/2 above the diagonal
-            lin->A[(k + i) * n + k + i] = 1.0;
-            if (i + 1 < d) {
-                lin->A[(k + i) * n + k + i + 1] = dt;
-            }
-            if (i + 2 < d) {
-                lin->A[(k + i) * n + k + i + 2] = 0.5 * dt * dt;
-            }
-            // R block = q g g^T
-            for (j = 0; j < d; j++) {
-                lin->R[(k + i) * n + k + j] = q * g[i] * g[j];
-            }
-        }
-        k += d;
+    gf_node_linear_motion(lin, dt, lin->A, lin->R);
+}
+
+const gf_node_sensor *gf_node_model_sensor(const gf_node_model *mdl,
+                                           const char *name)
+{
+    unsigned i;
+    if (mdl == NULL || mdl->sensors == NULL || name == NULL) {
+        return NULL;
     }
+    for (i = 0; i < mdl->sensors->count; i++) {
+        if (strcmp(mdl->sensors->s[i].name, name) == 0) {
+            return &mdl->sensors->s[i];
+        }
+    }
+    return NULL;
 }
 
 // ---- the core's structs -----------------------------------------------------
@@ -424,50 +468,135 @@ void gf_node_model_robot(const gf_node_model *mdl, gf_real theta,
     out->R.m[2][2] = (gf_real)vp;
 }
 
-gf_status gf_node_meas_range_bearing(void *ctx, const gf_vec3 *mu_bar,
-                                     gf_vec3 *z_hat, gf_mat3 *H)
+// z_hat = (r, b) of the landmark at ctx (double[2]) and H, rows first..
+// first + m - 1 of ((-dx/r, -dy/r, 0), (dy/q, -dx/q, -1)); GF_ERR_MODEL on
+// the landmark.
+static gf_status landmark_meas(const double *lm, const gf_vec3 *mu_bar,
+                               unsigned first, unsigned m, gf_vec3 *z_hat,
+                               gf_mat3 *H)
 {
-    const gf_node_model *mdl = (const gf_node_model *)ctx;
-    gf_real dx = (gf_real)mdl->landmark[0] - mu_bar->v[0];
-    gf_real dy = (gf_real)mdl->landmark[1] - mu_bar->v[1];
+    gf_real dx = (gf_real)lm[0] - mu_bar->v[0];
+    gf_real dy = (gf_real)lm[1] - mu_bar->v[1];
     gf_real q = dx * dx + dy * dy, r;
+    gf_real z[2], h[2][3];
+    unsigned i, j;
     if (!(q > GF_R(0.0))) {
         return GF_ERR_MODEL;
     }
     r = GF_SQRT(q);
     // z_hat = (r, atan2(dy, dx) - theta)
-    z_hat->v[0] = r;
-    z_hat->v[1] = gf_angle_wrap(GF_ATAN2(dy, dx) - mu_bar->v[2]);
-    z_hat->v[2] = GF_R(0.0);
-    // H = ((-dx/r, -dy/r, 0), (dy/q, -dx/q, -1))
-    H->m[0][0] = -dx / r;
-    H->m[0][1] = -dy / r;
-    H->m[0][2] = GF_R(0.0);
-    H->m[1][0] = dy / q;
-    H->m[1][1] = -dx / q;
-    H->m[1][2] = GF_R(-1.0);
+    z[0] = r;
+    z[1] = gf_angle_wrap(GF_ATAN2(dy, dx) - mu_bar->v[2]);
+    h[0][0] = -dx / r;
+    h[0][1] = -dy / r;
+    h[0][2] = GF_R(0.0);
+    h[1][0] = dy / q;
+    h[1][1] = -dx / q;
+    h[1][2] = GF_R(-1.0);
+    for (i = 0; i < m; i++) {
+        z_hat->v[i] = z[first + i];
+        for (j = 0; j < 3; j++) {
+            H->m[i][j] = h[first + i][j];
+        }
+    }
+    for (i = m; i < 3; i++) {
+        z_hat->v[i] = GF_R(0.0);
+    }
     return GF_OK;
 }
 
-void gf_node_model_robot_meas(const gf_node_model *mdl, int measure,
-                              const double q[3][3], gf_ekf3_meas *out)
+gf_status gf_node_meas_range_bearing(void *ctx, const gf_vec3 *mu_bar,
+                                     gf_vec3 *z_hat, gf_mat3 *H)
+{
+    const gf_node_model *mdl = (const gf_node_model *)ctx;
+    return landmark_meas(mdl->landmark, mu_bar, 0, 2, z_hat, H);
+}
+
+// The sensors' callbacks: ctx is the landmark (double[2]).
+static gf_status meas_rb(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                         gf_mat3 *H)
+{
+    return landmark_meas((const double *)ctx, mu_bar, 0, 2, z_hat, H);
+}
+
+static gf_status meas_range(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                            gf_mat3 *H)
+{
+    return landmark_meas((const double *)ctx, mu_bar, 0, 1, z_hat, H);
+}
+
+static gf_status meas_bearing(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                              gf_mat3 *H)
+{
+    return landmark_meas((const double *)ctx, mu_bar, 1, 1, z_hat, H);
+}
+
+// z_hat = theta, H = (0, 0, 1).
+static gf_status meas_heading(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                              gf_mat3 *H)
+{
+    (void)ctx;
+    z_hat->v[0] = mu_bar->v[2];
+    z_hat->v[1] = GF_R(0.0);
+    z_hat->v[2] = GF_R(0.0);
+    H->m[0][0] = GF_R(0.0);
+    H->m[0][1] = GF_R(0.0);
+    H->m[0][2] = GF_R(1.0);
+    return GF_OK;
+}
+
+// A robot's measurement of this measure: callback, angle mask, m; the
+// landmark's for the callbacks that need one.
+static void robot_meas(int measure, const double *landmark,
+                       const double q[3][3], double gate, gf_ekf3_meas *out)
 {
     unsigned i, j, m = gf_node_measure_m(GF_NODE_KIND_ROBOT, (int8_t)measure);
     memset(out, 0, sizeof(*out));
     out->m = m;
-    if (measure == GF_NODE_MEASURE_RANGE_BEARING) {
-        out->h = gf_node_meas_range_bearing;
-        out->ctx = (void *)(uintptr_t)mdl; // read only, see the callback
-        out->angle_mask = 2u;              // the bearing
-    } else {
+    out->ctx = (void *)(uintptr_t)landmark; // read only
+    switch (measure) {
+    case GF_NODE_MEASURE_RANGE_BEARING:
+        out->h = meas_rb;
+        out->angle_mask = 2u; // the bearing
+        break;
+    case GF_NODE_MEASURE_RANGE:
+        out->h = meas_range;
+        break;
+    case GF_NODE_MEASURE_BEARING:
+        out->h = meas_bearing;
+        out->angle_mask = 1u;
+        break;
+    case GF_NODE_MEASURE_HEADING:
+        out->h = meas_heading;
+        out->angle_mask = 1u;
+        break;
+    default:
         out->h = m == 1 ? gf_ekf3_meas_x : gf_ekf3_meas_xy;
+        out->ctx = NULL;
     }
     for (i = 0; i < m; i++) {
         for (j = 0; j < m; j++) {
             out->Q.m[i][j] = (gf_real)q[i][j];
         }
     }
-    out->gate = (gf_real)mdl->gate;
+    out->gate = (gf_real)gate;
+}
+
+void gf_node_model_robot_meas(const gf_node_model *mdl, int measure,
+                              const double q[3][3], gf_ekf3_meas *out)
+{
+    robot_meas(measure, mdl->landmark, q, mdl->gate, out);
+    if (measure == GF_NODE_MEASURE_RANGE_BEARING) {
+        // the public callback, on the model (see node_model.h)
+        out->h = gf_node_meas_range_bearing;
+        out->ctx = (void *)(uintptr_t)mdl;
+    }
+}
+
+void gf_node_sensor_robot_meas(const gf_node_sensor *sen, const double q[3][3],
+                               gf_ekf3_meas *out)
+{
+    robot_meas(sen->measure, sen->landmark, q, sen->gate, out);
 }
 
 // ---- the configuration file ---------------------------------------------
@@ -574,6 +703,9 @@ static int measure_parse(const char *v, int8_t kind, int8_t *out)
         {GF_NODE_KIND_ROBOT, "x", GF_NODE_MEASURE_X},
         {GF_NODE_KIND_ROBOT, "x y", GF_NODE_MEASURE_XY},
         {GF_NODE_KIND_ROBOT, "range bearing", GF_NODE_MEASURE_RANGE_BEARING},
+        {GF_NODE_KIND_ROBOT, "range", GF_NODE_MEASURE_RANGE},
+        {GF_NODE_KIND_ROBOT, "bearing", GF_NODE_MEASURE_BEARING},
+        {GF_NODE_KIND_ROBOT, "heading", GF_NODE_MEASURE_HEADING},
     };
     for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++) {
         const int car = kind == GF_NODE_KIND_CAR;
@@ -681,10 +813,76 @@ static unsigned blame(const section *sec, const char *why)
     return line != 0 ? line : sec->start;
 }
 
+// A sensor of a model that checked out: 0, or -1 with the key at fault in
+// why.
+static int sensor_check(const gf_node_model *mdl, const gf_node_sensor *sen,
+                        const char **why)
+{
+    unsigned i, j, m = sen->m;
+    if (!(sen->gate >= 0.0) || !isfinite(sen->gate)) {
+        *why = "gate must be finite and >= 0";
+        return -1;
+    }
+    if (!(sen->rate >= 0.0) || !isfinite(sen->rate)) {
+        *why = "rate must be finite and >= 0 (samples per second)";
+        return -1;
+    }
+    if (!isfinite(sen->landmark[0]) || !isfinite(sen->landmark[1])) {
+        *why = "landmark must be finite";
+        return -1;
+    }
+    if (m == 0) {
+        *why = mdl->kind == GF_NODE_KIND_LINEAR
+                   ? "C: a sensor of a linear model gives C (m rows of n)"
+                   : "measure: a robot's sensor gives its measure";
+        return -1;
+    }
+    if ((sen->angle_mask >> m) != 0u) {
+        *why = "angles: a row beyond the sensor's m";
+        return -1;
+    }
+    if (mdl->kind == GF_NODE_KIND_LINEAR) {
+        static gf_kf_work work;
+        gf_kf_pmeas pq;
+        gf_kf_meas mm;
+        gf_real C[GF_NODE_NMAX * GF_NODE_NMAX], Q[GF_NODE_NMAX * GF_NODE_NMAX];
+        for (i = 0; i < m * mdl->lin->n; i++) {
+            C[i] = (gf_real)sen->C[i];
+        }
+        for (i = 0; i < m * m; i++) {
+            Q[i] = (gf_real)sen->Q[i];
+        }
+        mm.m = m;
+        mm.C = C;
+        mm.Q = Q;
+        mm.c = NULL;
+        mm.gate = (gf_real)sen->gate;
+        if (gf_kf_prepare_meas(&pq, mdl->lin->n, &mm, &work) != GF_OK) {
+            *why = "Q must be symmetric positive semidefinite (and C finite)";
+            return -1;
+        }
+        return 0;
+    }
+    {
+        double q[3][3];
+        memset(q, 0, sizeof q);
+        for (i = 0; i < m; i++) {
+            for (j = 0; j < m; j++) {
+                q[i][j] = sen->Q[i * m + j];
+            }
+        }
+        if (!psd((const double(*)[3])q, m)) {
+            *why = "Q must be symmetric positive semidefinite";
+            return -1;
+        }
+    }
+    return 0;
+}
+
 // Ends the section being read: builds a linear model's dt-built A and R,
 // checks the model and compiles its pattern.
-static int finish(gf_node_config *cfg, const section *sec, char *err,
-                  size_t size)
+static int finish(gf_node_config *cfg, const section *sec, const section *ssec,
+                  char *err, size_t size)
 {
     unsigned i = cfg->count - 1;
     gf_node_model *mdl = &cfg->model[i];
@@ -704,6 +902,13 @@ static int finish(gf_node_config *cfg, const section *sec, char *err,
     }
     if (gf_node_model_check(mdl, &why) != 0) {
         return fail(err, size, blame(sec, why), "model %s: %s", mdl->name, why);
+    }
+    for (unsigned k = 0; mdl->sensors != NULL && k < mdl->sensors->count; k++) {
+        const gf_node_sensor *sen = &mdl->sensors->s[k];
+        if (sensor_check(mdl, sen, &why) != 0) {
+            return fail(err, size, blame(&ssec[k], why),
+                        "model %s: sensor %s: %s", mdl->name, sen->name, why);
+        }
     }
     if (cfg->channels[i][0] != '\0') {
         snprintf(re, sizeof re, "^(%s)$", cfg->channels[i]);
@@ -821,11 +1026,13 @@ static int linear_key(gf_node_model *mdl, gf_node_linear *lin, const char *key,
             for (; w != NULL; w = strtok(NULL, " \t")) {
                 unsigned d = strcmp(w, "cv") == 0   ? GF_NODE_AXIS_CV
                              : strcmp(w, "ca") == 0 ? GF_NODE_AXIS_CA
+                             : strcmp(w, "c") == 0  ? GF_NODE_AXIS_C
                                                     : 0;
                 if (d == 0) {
                     return fail(err, size, line,
-                                "motion takes axes: cv (position, velocity) "
-                                "or ca (position, velocity, acceleration)");
+                                "motion takes axes: cv (position, velocity), "
+                                "ca (position, velocity, acceleration) or c "
+                                "(a constant)");
                 }
                 if (states + d > GF_NODE_NMAX) {
                     return fail(err, size, line, "motion: more than %d states",
@@ -951,16 +1158,113 @@ static int linear_key(gf_node_model *mdl, gf_node_linear *lin, const char *key,
     return 0;
 }
 
+// A sensor section's keys (see node_model.h): 0, or -1 with the error.
+static int sensor_key(const gf_node_model *mdl, gf_node_sensor *sen,
+                      const char *key, char *val, unsigned line, char *err,
+                      size_t size)
+{
+    const int linear = mdl->kind == GF_NODE_KIND_LINEAR;
+    unsigned n = linear ? mdl->lin->n : 3u;
+    if (strcmp(key, "C") == 0 && linear) {
+        int m = rows_of(val, sen->C, n, n);
+        if (m < 0) {
+            return fail(err, size, line,
+                        "C takes m*n numbers, one row of n = %u per measured "
+                        "quantity (m <= n)",
+                        n);
+        }
+        if ((unsigned)m != sen->m) {
+            memset(sen->Q, 0, sizeof sen->Q);
+        }
+        sen->m = (unsigned)m;
+    } else if (strcmp(key, "measure") == 0 && !linear) {
+        int8_t measure = 0;
+        if (measure_parse(val, GF_NODE_KIND_ROBOT, &measure) != 0 ||
+            measure == GF_NODE_MEASURE_AUTO) {
+            return fail(err, size, line,
+                        "a robot's sensor measures x, x y, range bearing, "
+                        "range, bearing or heading");
+        }
+        sen->measure = measure;
+        sen->m = gf_node_measure_m(GF_NODE_KIND_ROBOT, measure);
+        memset(sen->Q, 0, sizeof sen->Q);
+        sen->angle_mask = measure == GF_NODE_MEASURE_RANGE_BEARING ? 2u
+                          : measure == GF_NODE_MEASURE_BEARING ||
+                                  measure == GF_NODE_MEASURE_HEADING
+                              ? 1u
+                              : 0u;
+    } else if (strcmp(key, "Q") == 0 || strcmp(key, "meas_cov") == 0) {
+        if (sen->m == 0) {
+            return fail(err, size, line, "%s after %s (it gives m)", key,
+                        linear ? "C" : "measure");
+        }
+        if (square(val, sen->Q, sen->m) != 0) {
+            return fail(err, size, line, "%s takes %u or %u numbers (m = %u)",
+                        key, sen->m, sen->m * sen->m, sen->m);
+        }
+    } else if (strcmp(key, "landmark") == 0 && !linear) {
+        if (numbers(val, sen->landmark, 2) != 2) {
+            return fail(err, size, line, "landmark takes 2 numbers");
+        }
+    } else if (strcmp(key, "gate") == 0 || strcmp(key, "rate") == 0) {
+        if (numbers(val, key[0] == 'g' ? &sen->gate : &sen->rate, 1) != 1) {
+            return fail(err, size, line, "%s takes 1 number", key);
+        }
+    } else if (strcmp(key, "angles") == 0) {
+        double v[GF_NODE_NMAX];
+        int k = numbers(val, v, GF_NODE_NMAX);
+        sen->angle_mask = 0;
+        for (int i = 0; i < k; i++) {
+            if (!(v[i] >= 0.0 && v[i] < (double)GF_NODE_NMAX) ||
+                v[i] - floor(v[i]) > 0.0) {
+                k = -1;
+                break;
+            }
+            sen->angle_mask |= 1u << (unsigned)v[i];
+        }
+        if (k < 0) {
+            return fail(err, size, line,
+                        "angles takes the rows (from 0) whose residual is an "
+                        "angle");
+        }
+    } else {
+        return fail(err, size, line, "a sensor of a %s model has no %s",
+                    linear ? "linear" : "robot", key);
+    }
+    return 0;
+}
+
+// A sensor's name: [A-Za-z][A-Za-z0-9]*, shorter than GF_NODE_SENSOR_NAME.
+static int sensor_name_ok(const char *name)
+{
+    size_t i, len = strlen(name);
+    if (len == 0 || len >= GF_NODE_SENSOR_NAME ||
+        !((name[0] >= 'a' && name[0] <= 'z') ||
+          (name[0] >= 'A' && name[0] <= 'Z'))) {
+        return 0;
+    }
+    for (i = 1; i < len; i++) {
+        char c = name[i];
+        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+              (c >= '0' && c <= '9'))) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                          size_t err_size)
 {
     char buf[4096];
     unsigned line = 0;
-    section sec;
+    section sec, ssec[GF_NODE_SENSORS];
     gf_node_model *mdl = NULL;
     gf_node_linear *lin = NULL;
+    gf_node_sensor *sen = NULL; // the sensor section being read, if any
     memset(cfg, 0, sizeof(*cfg));
     memset(&sec, 0, sizeof(sec));
+    memset(ssec, 0, sizeof(ssec));
     if (err_size > 0) {
         err[0] = '\0';
     }
@@ -990,16 +1294,51 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 return fail(err, err_size, line, "expected [model NAME]");
             }
             *close = '\0';
+            if (sscanf(s + 1, " sensor %63s", name) == 1) {
+                size_t i = mdl != NULL ? (size_t)(mdl - cfg->model) : 0u;
+                gf_node_sensors *set = &cfg->sensors[i];
+                if (mdl == NULL || (mdl->kind != GF_NODE_KIND_LINEAR &&
+                                    mdl->kind != GF_NODE_KIND_ROBOT)) {
+                    return fail(err, err_size, line,
+                                "[sensor %s] belongs to a linear or robot "
+                                "model: after its [model NAME] and keys",
+                                name);
+                }
+                if (!sensor_name_ok(name)) {
+                    return fail(err, err_size, line,
+                                "a sensor's name is a letter, then letters "
+                                "or digits, at most %d characters",
+                                GF_NODE_SENSOR_NAME - 1);
+                }
+                if (gf_node_model_sensor(mdl, name) != NULL) {
+                    return fail(err, err_size, line,
+                                "model %s: sensor %s defined twice", mdl->name,
+                                name);
+                }
+                if (set->count == GF_NODE_SENSORS) {
+                    return fail(err, err_size, line,
+                                "model %s: more than %d sensors", mdl->name,
+                                GF_NODE_SENSORS);
+                }
+                mdl->sensors = set;
+                memset(&ssec[set->count], 0, sizeof ssec[0]);
+                ssec[set->count].start = line;
+                sen = &set->s[set->count++];
+                memset(sen, 0, sizeof(*sen));
+                strcpy(sen->name, name);
+                continue;
+            }
             if (sscanf(s + 1, " model %63s", name) != 1 ||
                 strlen(name) >= GF_NODE_MODEL_NAME) {
                 return fail(err, err_size, line,
                             "expected [model NAME] (a name of at most %d "
-                            "characters)",
+                            "characters) or [sensor NAME]",
                             GF_NODE_MODEL_NAME - 1);
             }
-            if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0) {
+            if (mdl != NULL && finish(cfg, &sec, ssec, err, err_size) != 0) {
                 return -1;
             }
+            sen = NULL;
             if (gf_node_config_find(cfg, name) != NULL) {
                 return fail(err, err_size, line, "model %s defined twice",
                             name);
@@ -1013,6 +1352,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             memset(mdl, 0, sizeof(*mdl));
             memset(lin, 0, sizeof(*lin));
             strcpy(mdl->name, name);
+            mdl->late_window = GF_NODE_LATE_WINDOW;
             memset(&sec, 0, sizeof(sec));
             sec.start = line;
             continue;
@@ -1028,6 +1368,13 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
         *eq = '\0';
         key = trim(s);
         val = trim(eq + 1);
+        if (sen != NULL) {
+            key_seen(&ssec[mdl->sensors->count - 1], key, line);
+            if (sensor_key(mdl, sen, key, val, line, err, err_size) != 0) {
+                return -1;
+            }
+            continue;
+        }
         key_seen(&sec, key, line);
         if (strcmp(key, "base") == 0) {
             const gf_node_model *b = gf_node_config_find(cfg, val);
@@ -1042,6 +1389,11 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             if (b->lin != NULL) {
                 *lin = *b->lin;
                 mdl->lin = lin;
+            }
+            if (b->sensors != NULL) { // its sensors too, as its own
+                size_t i = (size_t)(mdl - cfg->model);
+                cfg->sensors[i] = *b->sensors;
+                mdl->sensors = &cfg->sensors[i];
             }
         } else if (strcmp(key, "type") == 0) {
             int8_t kind = strcmp(val, "car") == 0      ? GF_NODE_KIND_CAR
@@ -1063,6 +1415,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                     mdl->kind = kind;
                     mdl->dt = 1.0;
                     mdl->lin = lin;
+                    mdl->late_window = GF_NODE_LATE_WINDOW;
                 } else {
                     *mdl = kind == GF_NODE_KIND_CAR ? book_car : book_robot;
                 }
@@ -1080,6 +1433,10 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             if (state_words(mdl, lin, key, val, line, err, err_size) != 0) {
                 return -1;
             }
+        } else if (strcmp(key, "late_window") == 0) {
+            if (numbers(val, &mdl->late_window, 1) != 1) {
+                return fail(err, err_size, line, "late_window takes 1 number");
+            }
         } else if (mdl->kind == GF_NODE_KIND_LINEAR) {
             int r = linear_key(mdl, lin, key, val, line, err, err_size);
             if (r < 0) {
@@ -1095,7 +1452,8 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                             mdl->kind == GF_NODE_KIND_CAR
                                 ? "a car measures position, velocity or "
                                   "position velocity"
-                                : "a robot measures x, x y or range bearing");
+                                : "a robot measures x, x y, range bearing, "
+                                  "range, bearing or heading");
             }
         } else {
             struct {
@@ -1152,7 +1510,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             }
         }
     }
-    if (mdl != NULL && finish(cfg, &sec, err, err_size) != 0) {
+    if (mdl != NULL && finish(cfg, &sec, ssec, err, err_size) != 0) {
         return -1;
     }
     return 0;

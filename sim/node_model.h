@@ -70,7 +70,11 @@ typedef enum gf_node_measure {
     GF_NODE_MEASURE_V = 2,    // car: velocity
     GF_NODE_MEASURE_XV = 3,   // car: (position, velocity)
     GF_NODE_MEASURE_XY = 4,   // robot: (x, y)
-    GF_NODE_MEASURE_RANGE_BEARING = 5 // robot: landmark range and bearing
+    GF_NODE_MEASURE_RANGE_BEARING = 5, // robot: landmark range and bearing
+    // a robot's sensor only (not model_t's):
+    GF_NODE_MEASURE_RANGE = 6,   // the landmark's range
+    GF_NODE_MEASURE_BEARING = 7, // the landmark's bearing
+    GF_NODE_MEASURE_HEADING = 8  // theta
 } gf_node_measure;
 
 // Kinds, as measurement_t.MODEL_CAR / MODEL_ROBOT / MODEL_LINEAR.
@@ -87,9 +91,34 @@ typedef enum gf_node_measure {
 #define GF_NODE_STR(x) GF_NODE_STR_(x)
 #define GF_NODE_NMAX_STR GF_NODE_STR(GF_KF_NMAX)
 
-// Axis kinds of a linear model's dt-built motion.
+// Axis kinds of a linear model's dt-built motion (the kind's states).
+#define GF_NODE_AXIS_C 1  // a constant: a random walk of variance q per s
 #define GF_NODE_AXIS_CV 2 // (position, velocity)
 #define GF_NODE_AXIS_CA 3 // (position, velocity, acceleration)
+
+// A model's named sensors: at most GF_NODE_SENSORS, names of
+// [A-Za-z][A-Za-z0-9]* up to GF_NODE_SENSOR_NAME - 1 characters. A
+// sensor's measurements come on GF_MEAS_<id>_<name>.
+#define GF_NODE_SENSORS 8
+#define GF_NODE_SENSOR_NAME 16
+
+typedef struct gf_node_sensor {
+    char name[GF_NODE_SENSOR_NAME];
+    unsigned m;
+    int8_t measure;      // robot: gf_node_measure; linear: 0 (C)
+    unsigned angle_mask; // bit i: residual i is an angle, wrapped
+    double gate;         // chi-square gate on the NIS, 0 for none
+    double landmark[2];  // robot: range, bearing
+    double rate;         // gf_sim: samples per second (0: every step)
+    double C[GF_KF_NMAX * GF_KF_NMAX]; // linear: m rows of n
+    double Q[GF_KF_NMAX * GF_KF_NMAX]; // its default noise, m x m; a
+                                       // message's q overrides it
+} gf_node_sensor;
+
+typedef struct gf_node_sensors {
+    unsigned count;
+    gf_node_sensor s[GF_NODE_SENSORS];
+} gf_node_sensors;
 
 // A linear model's numbers, row-major (rows of n; B rows of nu, C and Q
 // rows of n and m). axes > 0: A and R are built from dt and accel_var per
@@ -125,7 +154,16 @@ typedef struct gf_node_model {
     const gf_node_linear *lin;
     // the configuration's channels pattern that names this model, or NULL
     const char *channels;
+    // its named sensors (in the configuration, as lin), or NULL for none
+    const gf_node_sensors *sensors;
+    // seconds an input may be older than the track's time and still be
+    // answered with a late status belief (a model whose motion is built
+    // from dt); older ones are too_old
+    double late_window;
 } gf_node_model;
+
+// The default late_window, seconds.
+#define GF_NODE_LATE_WINDOW 1.0
 
 // The presets (never NULL).
 const gf_node_model *gf_node_model_book_car(void);
@@ -151,6 +189,15 @@ int gf_node_model_check(const gf_node_model *mdl, const char **why);
 // Builds a linear model's A and R from dt and its axes (see the top).
 void gf_node_linear_build(gf_node_linear *lin, double dt);
 
+// A and R (n x n, rows of n) of a linear model's dt-built axes for a step
+// of dt seconds (dt >= 0; dt = 0: A = I, R = 0), as gf_node_linear_build.
+void gf_node_linear_motion(const gf_node_linear *lin, double dt, double *A,
+                           double *R);
+
+// The sensor of this name, or NULL.
+const gf_node_sensor *gf_node_model_sensor(const gf_node_model *mdl,
+                                           const char *name);
+
 // ---- the core's model structs, built from a model ------------------------
 
 // The car's motion model (A, B, R of the comment at the top).
@@ -170,6 +217,11 @@ void gf_node_model_robot(const gf_node_model *mdl, gf_real theta,
 // at mdl, which must outlive the update.
 void gf_node_model_robot_meas(const gf_node_model *mdl, int measure,
                               const double q[3][3], gf_ekf3_meas *out);
+
+// A robot sensor's measurement model with noise q (m x m, row stride 3);
+// its callback's ctx points into sen, which must outlive the update.
+void gf_node_sensor_robot_meas(const gf_node_sensor *sen, const double q[3][3],
+                               gf_ekf3_meas *out);
 
 // The range-bearing measurement callback (ctx: a gf_node_model): z_hat =
 // (r, b) and H. GF_ERR_MODEL when the robot stands on the landmark.
@@ -217,6 +269,7 @@ typedef struct gf_node_config {
     int has_regex[GF_NODE_CONFIG_MODELS];
     regex_t regex[GF_NODE_CONFIG_MODELS];
     char channels[GF_NODE_CONFIG_MODELS][128];
+    gf_node_sensors sensors[GF_NODE_CONFIG_MODELS]; // model[i].sensors
 } gf_node_config;
 
 // Reads a configuration from text (NUL-terminated). Returns 0, or -1 with

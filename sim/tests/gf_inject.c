@@ -73,6 +73,7 @@ int main(int argc, char **argv)
 
         memset(&b, 0, sizeof(b));
         b.node = (char *)"";
+        b.sensor = (char *)"";
         b.track = (int32_t)track;
         m.len =
             gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);

@@ -69,13 +69,15 @@ WRAP(model_t)
 // wire = 8 (fingerprint) + the fields (measurement and control: utime,
 // seq, session, track, model, size, values; belief: utime, seq,
 // input_seq, track, model/stage/status/filter, the node string "gf" with
-// its length and NUL, n, mean and cov of 3, m, innovation of 2, nis;
-// model: utime, track, model, measure, dt, accel_var, odometry[4],
-// landmark[2], gate, reset, prior_mean[3], prior_cov[3][3]).
+// its length and NUL, n, mean and cov of 3, m, innovation of 2, nis,
+// trigger, the sensor string "gps" with its length and NUL; model: utime,
+// track, model, measure, dt, accel_var, odometry[4], landmark[2], gate,
+// reset, prior_mean[3], prior_cov[3][3]).
 static const type_case cases[] = {
     CASE(measurement_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 24 + 72),
     CASE(control_t, 8 + 8 + 8 + 8 + 4 + 1 + 1 + 16),
-    CASE(belief_t, 8 + 8 + 8 + 8 + 4 + 4 + 4 + 3 + 1 + 24 + 72 + 1 + 16 + 8),
+    CASE(belief_t,
+         8 + 8 + 8 + 8 + 4 + 4 + 4 + 3 + 1 + 24 + 72 + 1 + 16 + 8 + 1 + 4 + 4),
     CASE(groundtruth_t, 8 + 8 + 8 + 4 + 1 + 1 + 24),
     CASE(model_t, 8 + 8 + 4 + 1 + 1 + 8 + 8 + 32 + 16 + 8 + 1 + 24 + 72),
 };
@@ -122,6 +124,8 @@ static void make(unsigned k, void *p)
         b->stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
         b->status = -5;
         b->node = (char *)"gf";
+        b->sensor = (char *)"gps";
+        b->trigger = GAUSSFILT_LCM_BELIEF_T_TRIGGER_RATE;
         b->n = 3;
         fill(a_mean, 3, 0.15);
         fill(&a_cov[0][0], 9, 10000.01);
@@ -198,6 +202,8 @@ static void roundtrip_every_type(void **state)
                 assert_memory_equal(w.cov[i], a_cov[i], sizeof a_cov[i]);
             }
             assert_memory_equal(w.innovation, a_innov, sizeof a_innov);
+            assert_int_equal(w.trigger, GAUSSFILT_LCM_BELIEF_T_TRIGGER_RATE);
+            assert_string_equal(w.sensor, "gps");
         }
         if (k == 4) {
             const gaussfilt_lcm_model_t *a = (const void *)in;

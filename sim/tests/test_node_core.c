@@ -212,6 +212,7 @@ static void malformed_and_type_mismatch(void **state)
         GF_NODE_TYPE_MISMATCH);
     memset(&b, 0, sizeof(b));
     b.node = (char *)"";
+    b.sensor = (char *)"";
     m.len = gaussfilt_lcm_belief_t_encode(m.data, 0, (int)sizeof(m.data), &b);
     assert_int_equal(
         gf_node_handle(&f->node, "GF_MEAS_1", m.data, (size_t)m.len, 0),

@@ -640,8 +640,8 @@ static void linear_errors(void **state)
         {"[model a]\ntype = linear\nn = 2\naccel_var = 1\n",
          "line 4: accel_var needs motion first"},
         {"[model a]\ntype = linear\nmotion = cv xx\n",
-         "line 3: motion takes axes: cv (position, velocity) or ca "
-         "(position, velocity, acceleration)"},
+         "line 3: motion takes axes: cv (position, velocity), ca "
+         "(position, velocity, acceleration) or c (a constant)"},
         {"[model a]\ntype = linear\nodometry = 1 2 3 4\n",
          "line 3: a linear model has no odometry"},
         {"[model a]\ntype = linear\nn = 2\nC = 1 0 0\n",
@@ -844,6 +844,7 @@ static void strict_and_peers(void **state)
     memset(&b, 0, sizeof b);
     b.track = 150;
     b.node = (char *)"other";
+    b.sensor = (char *)"";
     len = gaussfilt_lcm_belief_t_encode(buf, 0, (int)sizeof buf, &b);
     assert_true(len > 0);
     assert_int_equal(gf_node_peer_belief(&node, buf, (size_t)len), 1);
