@@ -10,7 +10,8 @@
 #ifndef GF_CHANNELS_H
 #define GF_CHANNELS_H
 
-// gaussfilt_lcm_measurement_t, simulator -> node
+// gaussfilt_lcm_measurement_t, simulator -> node; a configured sensor's
+// on GF_MEAS_<id>_<sensor name>
 #define GF_CHANNEL_MEAS "GF_MEAS_"
 // gaussfilt_lcm_control_t, simulator -> node: one prediction step each
 #define GF_CHANNEL_CTRL "GF_CTRL_"
@@ -28,10 +29,12 @@
 #define GF_CHANNEL_SELFTEST "GF_SELFTEST"
 
 // What a node subscribes to unless told otherwise (LCM anchors the regex at
-// both ends): the controls, measurements and models of every track.
-#define GF_CHANNEL_NODE_DEFAULT "GF_(MEAS|CTRL|MODEL)_-?[0-9]+"
+// both ends): the controls, measurements and models of every track, and
+// its sensors' measurements.
+#define GF_CHANNEL_NODE_DEFAULT "GF_(MEAS|CTRL|MODEL)_-?[0-9]+(_[A-Za-z0-9]+)?"
 
-// Longest channel name we build: prefix + "-2147483648" + NUL.
-#define GF_CHANNEL_MAX 32
+// Longest channel name we build: prefix + "-2147483648" + "_" + a sensor's
+// name (15) + NUL.
+#define GF_CHANNEL_MAX 48
 
 #endif

@@ -9,7 +9,7 @@
 //   gf_node [--config FILE] [--strict] [--name NAME] [--url URL]
 //           [--out-url URL] [--channels REGEX] [--queue N]
 //           [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]
-//           [--rt PRIO] [--timing] [--help]
+//           [--rt PRIO] [--rate HZ] [--timing] [--help]
 //
 //   --config    the tracks' models (sim/node_model.h, docs/node.md):
 //               channel patterns to car, robot and linear models; car and
@@ -55,6 +55,9 @@
 //               as a latency-critical node is deployed; needs root or
 //               CAP_SYS_NICE, else it says so and runs SCHED_OTHER (the
 //               ready line says what took effect)
+//   --rate HZ   also publish, HZ times a second, every track's belief
+//               predicted to now (belief_t.trigger TRIGGER_RATE; see
+//               gf_node_tick in node_core.h); live inputs only
 //   --timing    time each message in the node, from LCM's receive
 //               timestamp to the return of its belief's publish, and print
 //               p50/p99/max at exit (see scripts/bench-lcm)
@@ -188,6 +191,14 @@ static void *handling(void *arg)
     return NULL;
 }
 
+// CLOCK_REALTIME in microseconds: the clock of LCM's recv_utime.
+static int64_t wall_us(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
 // The microsecond below which a fraction q of the timed messages fall.
 static long timing_quantile(const node_ctx *c, double q)
 {
@@ -206,7 +217,7 @@ static const char usage_text[] =
     "usage: gf_node [--config FILE] [--strict] [--name NAME] [--url URL]\n"
     "               [--out-url URL] [--channels REGEX] [--queue N]\n"
     "               [--filter ekf|ukf|pf] [--seed S] [--cpu N] [--rx-cpu M]\n"
-    "               [--rt PRIO] [--timing]\n";
+    "               [--rt PRIO] [--rate HZ] [--timing]\n";
 
 static void usage(void)
 {
@@ -247,6 +258,8 @@ static void help(void)
         "  --filter F      robot filter: ekf (default), ukf or pf\n"
         "  --seed S        PF tracks' generator seed, plus the track id (1)\n"
         "  --cpu N, --rx-cpu M, --rt PRIO   thread placement, SCHED_FIFO\n"
+        "  --rate HZ       also publish each track's belief predicted to now,\n"
+        "                  HZ times a second (trigger TRIGGER_RATE)\n"
         "  --timing        per-message time in the node, p50/p99/max at exit\n"
         "  --help          this text\n\n"
         "example:\n"
@@ -284,6 +297,8 @@ int main(int argc, char **argv)
     lcm_t *in, *out;
     struct sigaction sa;
     int i, rc = 0, queue = 65536, have_handler = 0, replay;
+    double rate = 0.0;
+    int64_t period_us = 0, next_tick = 0;
     pthread_t handler;
     char rcvbuf[32];
     lcm_subscription_t *sub, *peers;
@@ -320,6 +335,13 @@ int main(int argc, char **argv)
             rt.prio = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--timing") == 0) {
             ctx.timing = 1;
+        } else if (strcmp(argv[i], "--rate") == 0 && i + 1 < argc) {
+            char *end;
+            rate = strtod(argv[++i], &end);
+            if (*end != '\0' || !(rate > 0.0 && rate <= 1000.0)) {
+                fprintf(stderr, "gf_node: --rate takes 0 < HZ <= 1000\n");
+                return 2;
+            }
         } else {
             usage();
             return 2;
@@ -387,6 +409,11 @@ int main(int argc, char **argv)
         const char *u = url != NULL ? url : getenv("LCM_DEFAULT_URL");
         replay = u != NULL && strncmp(u, "file://", 7) == 0;
     }
+    if (replay && rate > 0.0) {
+        fprintf(stderr, "gf_node: --rate needs a live input (a replay's "
+                        "beliefs must not depend on the wall clock)\n");
+        return 2;
+    }
     if (queue < 1 || gf_inq_init(&ctx.q, (unsigned)queue, replay) != 0) {
         fprintf(stderr, "gf_node: no input queue of %d messages\n", queue);
         return 1;
@@ -421,6 +448,9 @@ int main(int argc, char **argv)
                config.count, config_path ? " config=" : "",
                config_path ? config_path : "", strict ? " strict" : "", id,
                placement);
+        if (rate > 0.0) {
+            printf(" rate=%g", rate);
+        }
         if (filter == GF_NODE_FILTER_PF) {
             printf(" pf_tracks=%d pf_particles=%d pool_bytes=%zu",
                    GF_NODE_PF_TRACKS, GF_NODE_PF_PARTICLES, sizeof(pool));
@@ -429,10 +459,30 @@ int main(int argc, char **argv)
         fflush(stdout);
     }
 
+    if (rate > 0.0) {
+        period_us = (int64_t)(1e6 / rate + 0.5);
+        next_tick = wall_us() + period_us;
+    }
     while (!g_stop) {
+        int ms = 100;
+        if (period_us > 0) {
+            int64_t left = next_tick - wall_us();
+            ms = left <= 0 ? 0 : left >= 100000 ? 100 : (int)(left / 1000) + 1;
+        }
         // < 0: the end of a file:// log, a dead socket, or a signal.
-        if (lcm_handle_timeout(in, 100) < 0) {
+        if (lcm_handle_timeout(in, ms) < 0) {
             break;
+        }
+        if (period_us > 0 && wall_us() >= next_tick) {
+            int64_t now = wall_us();
+            // in the receive times' clock (LCM's recv_utime: the wall's)
+            pthread_mutex_lock(&ctx.node_mu);
+            (void)gf_node_tick(&node, now);
+            pthread_mutex_unlock(&ctx.node_mu);
+            next_tick += period_us;
+            if (next_tick <= now) { // fell behind: from now on
+                next_tick = now + period_us;
+            }
         }
     }
 

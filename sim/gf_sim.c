@@ -203,12 +203,47 @@ static void send_meas_m(sim *s, long t, int m, const double *z, const double *q)
     s->sent_meas++;
 }
 
+// A measurement on a sensor's channel with its own seq, at utime u.
+static void send_meas_on(sim *s, const char *channel, int64_t *seq, int64_t u,
+                         int m, const double *z, const double *q)
+{
+    gaussfilt_lcm_measurement_t msg;
+    double zz[NMAX], qq[NMAX * NMAX], *rows[NMAX];
+    int i;
+    memset(&msg, 0, sizeof(msg));
+    for (i = 0; i < m; i++) {
+        zz[i] = z[i];
+        memcpy(&qq[i * m], &q[i * m], sizeof(double) * (size_t)m);
+        rows[i] = &qq[i * m];
+    }
+    msg.utime = u;
+    msg.seq = ++*seq;
+    msg.session = s->session;
+    msg.track = s->track;
+    msg.model = s->model;
+    msg.m = (int8_t)m;
+    msg.z = zz;
+    msg.q = rows;
+    send(s, channel,
+         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
+                                            &msg));
+    s->sent_meas++;
+}
+
 static void send_meas(sim *s, long t, double z, double q)
 {
     send_meas_m(s, t, 1, &z, &q);
 }
 
+static void send_truth_at(sim *s, int64_t u, int n, const double *x);
+
 static void send_truth(sim *s, long t, int n, const double *x)
+{
+    send_truth_at(s, t * s->step_us, n, x);
+}
+
+// The true state at utime u, with the seq of the track's last input.
+static void send_truth_at(sim *s, int64_t u, int n, const double *x)
 {
     gaussfilt_lcm_groundtruth_t g;
     double state[NMAX];
@@ -217,7 +252,7 @@ static void send_truth(sim *s, long t, int n, const double *x)
     for (i = 0; i < n; i++) {
         state[i] = x[i];
     }
-    g.utime = t * s->step_us;
+    g.utime = u;
     g.seq = s->seq; // the seq of the step's control
     g.track = s->track;
     g.model = s->model;
@@ -359,6 +394,105 @@ static void linear_step(run *q, const gf_node_linear *l, long t, int measure)
     send_meas_m(&q->s, t, (int)l->m, z, l->Q);
 }
 
+// ---- a linear model's named sensors (see the top) ---------------------------
+
+// One run's sensors: each one's channel, seq and next sample.
+typedef struct sensor_run {
+    char ch[GF_NODE_SENSORS][GF_CHANNEL_MAX];
+    int64_t seq[GF_NODE_SENSORS];
+    long k[GF_NODE_SENSORS];       // samples drawn so far
+    int64_t next[GF_NODE_SENSORS]; // utime of the next sample
+    int64_t last;                  // utime of the last sample (truth's time)
+    int started;
+} sensor_run;
+
+// Sensors' samples: sample k of a sensor of rate r (every step of dt when
+// r = 0) at (k + jitter (u - 1/2)) / r seconds, u uniform in (0, 1); none
+// while the sensor is dropped.
+typedef struct sensor_opts {
+    double jitter;     // a fraction of the sensor's period, < 1
+    int drop;          // the sensor index dropped, -1 for none
+    int64_t drop_from; // utime
+    int64_t drop_to;   // utime
+} sensor_opts;
+
+static double sensor_period(const gf_node_sensor *sen, double dt)
+{
+    return sen->rate > 0.0 ? 1.0 / sen->rate : dt;
+}
+
+// The utime of sensor i's next sample after the k-th.
+static int64_t sensor_next(sensor_run *sr, rng *r, const gf_node_sensor *sen,
+                           unsigned i, double dt, const sensor_opts *o)
+{
+    double t = ((double)++sr->k[i] +
+                (o->jitter > 0.0 ? o->jitter * (rng_uniform(r) - 0.5) : 0.0)) *
+               sensor_period(sen, dt);
+    return (int64_t)llround(t * 1e6);
+}
+
+// Samples every sensor due at or before utime `until` in time order: the
+// truth moves to each sample's time (A(dt), R(dt) from the motion over the
+// dt since the last sample; the model's dt before the first, where the
+// prior holds), then is sent, then the measurement.
+static void sensors_until(run *q, sensor_run *sr, const gf_node_model *mdl,
+                          int64_t until, const sensor_opts *o)
+{
+    const gf_node_linear *l = mdl->lin;
+    const gf_node_sensors *set = mdl->sensors;
+    for (;;) {
+        static double A[NMAX * NMAX], R[NMAX * NMAX];
+        double x[NMAX], w[NMAX], z[NMAX];
+        unsigned i, j, k, best = 0;
+        int64_t u = INT64_MAX;
+        double dt;
+        for (k = 0; k < set->count; k++) {
+            if (sr->next[k] < u) {
+                u = sr->next[k];
+                best = k;
+            }
+        }
+        if (u > until) {
+            return;
+        }
+        k = best;
+        sr->next[k] = sensor_next(sr, &q->r, &set->s[k], k, mdl->dt, o);
+        if (k == (unsigned)o->drop && u >= o->drop_from && u < o->drop_to) {
+            continue;
+        }
+        dt = sr->started ? (double)(u - sr->last) / 1e6 : mdl->dt;
+        sr->started = 1;
+        sr->last = u;
+        // x = A(dt) x + eps, eps ~ N(0, R(dt))
+        gf_node_linear_motion(l, dt, A, R);
+        draw_n(&q->r, l->n, NULL, R, w);
+        for (i = 0; i < l->n; i++) {
+            x[i] = w[i];
+            for (j = 0; j < l->n; j++) {
+                x[i] += A[i * l->n + j] * q->x[j];
+            }
+        }
+        memcpy(q->x, x, sizeof(double) * l->n);
+        q->s.seq++; // the truths count the samples
+        send_truth_at(&q->s, u, (int)l->n, q->x);
+        // z = C x + delta, delta ~ N(0, Q); an angle's residual wrapped
+        {
+            const gf_node_sensor *sen = &set->s[k];
+            draw_n(&q->r, sen->m, NULL, sen->Q, z);
+            for (i = 0; i < sen->m; i++) {
+                for (j = 0; j < l->n; j++) {
+                    z[i] += sen->C[i * l->n + j] * q->x[j];
+                }
+                if (sen->angle_mask & (1u << i)) {
+                    z[i] = remainder(z[i], 2.0 * 3.14159265358979323846);
+                }
+            }
+            send_meas_on(&q->s, sr->ch[k], &sr->seq[k], u, (int)sen->m, z,
+                         sen->Q);
+        }
+    }
+}
+
 // The measurement of truth x under model mdl, noise included.
 static int measure(const gf_node_model *mdl, rng *r, const double *x, double *z)
 {
@@ -464,6 +598,10 @@ int main(int argc, char **argv)
     gf_book book = GF_BOOK_DEFAULTS;
     static gf_node_config config;
     static run runs[MAX_RUNS];
+    static sensor_run sruns[MAX_RUNS];
+    sensor_opts so = {0.0, -1, 0, 0};
+    const char *drop = NULL;
+    int sensors = 0;
     const gf_node_model *mdl = NULL;
     long nruns = 1;
     char err[256];
@@ -527,6 +665,10 @@ int main(int argc, char **argv)
             meas_var = atof(v);
         } else if (strcmp(a, "--turn") == 0) {
             turn = atof(v);
+        } else if (strcmp(a, "--jitter") == 0) {
+            so.jitter = atof(v);
+        } else if (strcmp(a, "--drop") == 0) {
+            drop = v;
         } else if (strcmp(a, "--wait") == 0 && nwait < 16) {
             wait_for[nwait++] = v;
         } else if (strcmp(a, "--wait-s") == 0) {
@@ -556,6 +698,38 @@ int main(int argc, char **argv)
             return 2;
         }
         s.model = mdl->kind;
+        sensors = mdl->kind == MODEL_LINEAR && mdl->sensors != NULL &&
+                  mdl->sensors->count > 0;
+        if (sensors && (mdl->lin->nu > 0 || mdl->lin->axes == 0)) {
+            fprintf(stderr,
+                    "gf_sim: model %s: only a model in time (motion "
+                    "= ...) without controls (B) is simulated with "
+                    "its sensors\n",
+                    model_name);
+            return 2;
+        }
+        if (!(so.jitter >= 0.0 && so.jitter < 1.0)) {
+            fprintf(stderr, "gf_sim: --jitter takes 0 <= J < 1\n");
+            return 2;
+        }
+        if (drop != NULL) {
+            char name[GF_NODE_SENSOR_NAME];
+            double from, to;
+            const gf_node_sensor *d = NULL;
+            if (sscanf(drop, "%15[A-Za-z0-9]:%lf:%lf", name, &from, &to) == 3) {
+                d = gf_node_model_sensor(mdl, name);
+            }
+            if (d == NULL || !(from < to)) {
+                fprintf(stderr,
+                        "gf_sim: --drop SENSOR:FROM:TO (seconds), "
+                        "SENSOR one of model %s's\n",
+                        model_name);
+                return 2;
+            }
+            so.drop = (int)(d - mdl->sensors->s);
+            so.drop_from = (int64_t)llround(from * 1e6);
+            so.drop_to = (int64_t)llround(to * 1e6);
+        }
     }
     if (exercise == 1 || exercise == 2) {
         s.model = MODEL_CAR;
@@ -648,12 +822,31 @@ int main(int argc, char **argv)
             } else {
                 draw(&q->r, n, mdl->prior_mean, mdl->prior_cov, q->x);
             }
+            if (sensors) {
+                sensor_run *sr = &sruns[k];
+                unsigned j;
+                memset(sr, 0, sizeof(*sr));
+                for (j = 0; j < mdl->sensors->count; j++) {
+                    snprintf(sr->ch[j], sizeof sr->ch[j], "%s%ld_%s",
+                             GF_CHANNEL_MEAS, (long)q->s.track,
+                             mdl->sensors->s[j].name);
+                    sr->next[j] = sensor_next(sr, &q->r, &mdl->sensors->s[j], j,
+                                              mdl->dt, &so);
+                }
+            }
         }
         for (t = 1; t <= steps && !g_stop; t++) {
             for (k = 0; k < nruns; k++) {
                 run *q = &runs[k];
                 double z[3];
                 int m;
+                if (sensors) {
+                    // every sample up to this step's end
+                    sensors_until(q, &sruns[k], mdl,
+                                  (int64_t)llround((double)t * mdl->dt * 1e6),
+                                  &so);
+                    continue;
+                }
                 if (mdl->kind == MODEL_LINEAR) {
                     linear_step(q, mdl->lin, t, t % meas_every == 0);
                     continue;
