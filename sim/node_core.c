@@ -1003,6 +1003,13 @@ static gf_node_result check_order(gf_node *node, gf_node_track *t,
     if (r == GF_NODE_APPLIED) {
         return r;
     }
+    if ((r == GF_NODE_LATE || r == GF_NODE_TOO_OLD) &&
+        (!(t->has_seq & bit) || seq > t->seq[stream])) {
+        // received, in its stream's order: no gap for it later
+        t->seq[stream] = seq;
+        t->has_seq |= bit;
+        t->counting &= ~bit;
+    }
     if (t->rejected >= GF_NODE_RESYNC_AFTER) {
         node->counts.seq_resyncs++;
         t->has_seq &= ~bit; // no gap counted for the jump
