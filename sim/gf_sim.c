@@ -6,7 +6,8 @@
 //          [--url URL]
 //   gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]
 //   gf_sim --config FILE --model NAME [--runs M] [--track N] [--steps N]
-//          [--seed S] [--rate HZ] [--turn PHI] [--session S] [--url URL]
+//          [--seed S] [--rate HZ] [--turn PHI] [--jitter J]
+//          [--drop SENSOR:FROM:TO] [--session S] [--url URL]
 //   any of them with --wait FILE (repeatable): first waits until each FILE
 //   has a ready line (": ready", as gf_node and examples/beliefs.py print
 //   one once they listen), up to --wait-s seconds (default 60)
@@ -30,6 +31,13 @@
 //   consistency test): every step goes out for each run in turn, so
 //   --rate HZ is HZ steps per second of each run, M * HZ in all. utime is
 //   t * dt for the car and a linear model, t seconds for the robot.
+// A linear model in time (motion = ...) with named sensors and no
+//   controls: each sensor sends at its rate (every dt for rate 0) on
+//   GF_MEAS_<track>_<name> with its own seq, the truth moved to each
+//   sample's utime with A(dt), R(dt) (the model's dt before the first
+//   sample) and sent before it; --jitter J moves sample k of a sensor of
+//   period T to (k + J (u - 1/2)) T, u uniform; --drop NAME:FROM:TO
+//   silences a sensor from FROM to TO seconds. --steps N: N steps of dt.
 // --exercise replays the book exactly:
 //   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
 //   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
@@ -566,7 +574,8 @@ static const char help_text[] =
     "       gf_sim --model car|robot [--track N] [--steps N] [--seed S]\n"
     "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
     "       gf_sim --config FILE --model NAME [--runs M] [--track N]\n"
-    "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n\n"
+    "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n"
+    "              [--jitter J] [--drop SENSOR:FROM:TO]\n\n"
     "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 "
     "exactly;\n"
     "                  exercise 2 with --steps N, --z Z, --meas-var V changed\n"
@@ -581,6 +590,9 @@ static const char help_text[] =
     "  --rate HZ       steps per second of wall-clock time (default: flat "
     "out)\n"
     "  --meas-every K, --meas-var V, --turn PHI  (car/robot without --config)\n"
+    "  --jitter J      a model's sensors: each sample moved by up to J/2 of\n"
+    "                  its sensor's period (0 <= J < 1)\n"
+    "  --drop S:A:B    a model's sensor S sends nothing from A to B seconds\n"
     "  --session S     the run's session (default: the start time in us)\n"
     "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w "
     "writes\n"

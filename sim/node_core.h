@@ -31,6 +31,21 @@
 // after others it never saw, and another node's beliefs of its own tracks,
 // through the log callback (gf_node_set_log).
 //
+// Sensors: a model's named sensors (node_model.h) take their
+// measurements on GF_MEAS_<id>_<name>, each channel its own seq (stream
+// 1 + k; the controls and GF_MEAS_<id> share stream 0), all updating the
+// one belief in arrival order; a message of a sensor its model lacks is
+// bad_field (said once per track). Every belief a sensor made names it
+// (belief_t.sensor).
+//
+// Time: a track whose linear model has dt-built axes (motion = cv|ca|c)
+// is in time: every input first predicts it to its utime, A and R built
+// for the dt since the track's last input (the model's dt before its
+// first), a control with its B u. An input older than the track's time is
+// late (within the model's late_window: refused, a STATUS_LATE belief) or
+// too_old (refused, no belief); both keep their stream's seq. Other tracks
+// step once per control, and an input whose utime falls is out_of_order.
+//
 // Edges, with their rules:
 // - Sequence resync: GF_NODE_RESYNC_AFTER inputs in a row rejected as
 //   out_of_order on a track (e.g. after one packet with seq or utime at

@@ -256,6 +256,19 @@ gf_status gf_node_meas_range_bearing(void *ctx, const gf_vec3 *mu_bar,
 //   C = m*n numbers       the measured quantities, one row each
 //   Q = m or m*m numbers  (the same as meas_cov)
 //   prior_mean, prior_cov, gate as above
+//   late_window = S       seconds an input may be older than its track's
+//                         time and still get a late status belief (1)
+//
+//   [sensor NAME]         a named sensor of the model above it (linear or
+//                         robot; at most GF_NODE_SENSORS), measured on
+//                         GF_MEAS_<id>_<NAME>:
+//   C = m*n numbers       linear: its measured quantities
+//   measure = x | x y | range bearing | range | bearing | heading (robot)
+//   landmark = LX LY      robot: range, bearing
+//   Q = m or m*m numbers  its default noise (a message's q overrides it;
+//                         a q of zeros takes it)
+//   gate = G              angles = ROW ...   (rows from 0, wrapped)
+//   rate = HZ             what gf_sim sends at (0: every dt)
 //
 // Every key is optional but type (or base); numbers are C's strtod. An
 // error names the line of the key at fault.
