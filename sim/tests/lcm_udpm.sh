@@ -59,7 +59,9 @@
 #              sensor and over all (gf_fusecheck); the same inputs replayed
 #              through a node give the live run's beliefs byte for byte;
 #              3 runs with jittered sample times and the gnss silent for
-#              2 s equal a filter written in the checker, dt by dt
+#              2 s equal a filter written in the checker, dt by dt; that
+#              node with --rate 20 also publishes beliefs predicted to
+#              now, and its inputs' beliefs are a replay's without --rate
 #   java       a demo-like log (exercises 1, 2, 4 and a random robot through
 #              an EKF and a PF node, a run-time model_t) by gf_record; the
 #              Java types jar decodes every GF_ event of it the way lcm-spy
@@ -481,8 +483,10 @@ sensors)
     # irregular timestamps: each sample jittered by up to +-25% of its
     # sensor's period, the gnss silent from 1 s to 3 s; every corrected
     # belief equals the checker's own filter stepped with the same dts
+    # (this node also publishes each track's belief predicted to now at
+    # 20 Hz: --rate)
     start node "$bin/gf_node" --config "$conf" --strict --name jitter \
-        --url "$URL&recv_buf_size=4194304" --channels "$chans" \
+        --url "$URL&recv_buf_size=4194304" --channels "$chans" --rate 20 \
         --out-url "file://$work/beliefs-jitter.lcmlog?mode=w"
     ready node
     for out in "$URL" "file://$work/jitter.lcmlog?mode=w"; do
@@ -498,6 +502,43 @@ sensors)
         --inputs "file://$work/jitter.lcmlog?speed=0" \
         --beliefs "file://$work/beliefs-jitter.lcmlog?speed=0" ||
         { echo "lcm_udpm: the jittered vehicle's beliefs are not the reference's" >&2; exit 1; }
+    # --rate: beliefs predicted to now beside the inputs' (trigger 1,
+    # STAGE_PREDICT, status 0, never before the track's last input), and
+    # the inputs' beliefs the numbers of a replay without --rate
+    "$bin/gf_node" --config "$conf" --strict --name jitter --channels "$chans" \
+        --url "file://$work/jitter.lcmlog?speed=0" \
+        --out-url "file://$work/beliefs-norate.lcmlog?mode=w" >/dev/null
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    "$py" - "$work/beliefs-jitter.lcmlog" "$work/beliefs-norate.lcmlog" <<'PY'
+import sys
+import lcm
+from gaussfilt_lcm import belief_t
+
+
+def beliefs(path):
+    return [belief_t.decode(e.data) for e in lcm.EventLog(path, "r")
+            if e.channel.startswith("GF_BELIEF_")]
+
+
+live, plain = beliefs(sys.argv[1]), beliefs(sys.argv[2])
+rate = [b for b in live if b.trigger == belief_t.TRIGGER_RATE]
+last = {}
+for b in live:
+    if b.trigger == belief_t.TRIGGER_RATE:
+        assert b.stage == belief_t.STAGE_PREDICT and b.status == 0, b.seq
+        assert b.utime >= last[b.track], (b.track, b.utime, last[b.track])
+    else:
+        last[b.track] = b.utime
+key = lambda b: (b.track, b.input_seq, b.sensor, b.stage, b.status,
+                 list(b.mean), [list(r) for r in b.cov], b.nis)
+inputs = [key(b) for b in live if b.trigger == belief_t.TRIGGER_INPUT]
+assert inputs == [key(b) for b in plain], "--rate changed the beliefs"
+assert all(b.trigger == belief_t.TRIGGER_INPUT for b in plain)
+assert len(rate) >= 60, len(rate)
+print("lcm_udpm: --rate 20: %d beliefs predicted to now beside %d for "
+      "inputs, those the same numbers as without --rate" % (len(rate),
+                                                          len(inputs)))
+PY
     ;;
 quickstart)
     root=$(cd "$(dirname "$0")/../.." && pwd)
