@@ -27,7 +27,8 @@
 //               file:// input, which cannot publish), e.g.
 //               file:///out.lcmlog?mode=w
 //   --channels  regex of the channels to take (default
-//               GF_(MEAS|CTRL|MODEL)_-?[0-9]+); e.g.
+//               GF_(MEAS|CTRL|MODEL)_-?[0-9]+(_[A-Za-z0-9]+)?: sensors
+//               too); e.g.
 //               'GF_(MEAS|CTRL|MODEL)_[0-4]' so that several nodes split
 //               the tracks
 //   --queue     messages the node's input queue holds (default 65536, in
