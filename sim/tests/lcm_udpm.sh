@@ -56,7 +56,9 @@
 #   sensors    examples/node.conf's vehicle, one track fused from three
 #              sensors at 100, 50 and 5 Hz: 50 runs of 5 s over udpm,
 #              every input applied, NEES and NIS in their 95% bounds per
-#              sensor and over all (gf_fusecheck); the same inputs replayed
+#              sensor and over all (gf_fusecheck), and sim/tools/gf_nees.py
+#              (scripts/nees) finds the same means per sensor, inside its
+#              bounds; the same inputs replayed
 #              through a node give the live run's beliefs byte for byte;
 #              3 runs with jittered sample times and the gnss silent for
 #              2 s equal a filter written in the checker, dt by dt; that
@@ -471,8 +473,22 @@ sensors)
     # NEES and NIS per sensor and over all updates, against the truths
     "$bin/gf_fusecheck" --truth "file://$work/inputs.lcmlog?speed=0" \
         --beliefs "file://$work/beliefs-live.lcmlog?speed=0" --first 700 \
-        --runs $runs --label vehicle ||
+        --runs $runs --label vehicle | tee "$work/fuse.out" ||
         { echo "lcm_udpm: the fused vehicle is not consistent" >&2; exit 1; }
+    # scripts/nees's tool judges each sensor apart, with the same means
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    tools=$(cd "$(dirname "$0")/../tools" && pwd)
+    "$py" "$tools/gf_nees.py" "$work/inputs.lcmlog" \
+        "$work/beliefs-live.lcmlog" >"$work/nees.out" ||
+        { tail -n 5 "$work/nees.out"; echo "lcm_udpm: gf_nees.py calls the vehicle inconsistent" >&2; exit 1; }
+    for spec in gyro:1:500 wheel:1:250 gnss:2:25; do
+        s=${spec%%:*} m=${spec#*:} k=${spec##*:} m=${m%:*}
+        nees=$(sed -n "s/.* vehicle $s NEES .* mean=\([0-9.]*\) .*/\1/p" "$work/fuse.out")
+        nis=$(sed -n "s/.* vehicle $s NIS .* mean=\([0-9.]*\) .*/\1/p" "$work/fuse.out")
+        grep -E "^all $runs linear tracks \(n=4, m=$m, sensor $s\): $((runs * k)) updates \(0 gated, 0 missing of $((runs * k)) measurements\): NEES $nees \(95% bounds [0-9.]+\.\.[0-9.]+, inside\); NIS $nis \(95% bounds [0-9.]+\.\.[0-9.]+, inside\)$" \
+            "$work/nees.out" ||
+            { echo "lcm_udpm: gf_nees.py does not agree with gf_fusecheck on $s" >&2; exit 1; }
+    done
     # the same by replay: the same beliefs, byte for byte
     "$bin/gf_node" --config "$conf" --strict --name fuse --channels "$chans" \
         --url "file://$work/inputs.lcmlog?speed=0" \
@@ -508,7 +524,6 @@ sensors)
     "$bin/gf_node" --config "$conf" --strict --name jitter --channels "$chans" \
         --url "file://$work/jitter.lcmlog?speed=0" \
         --out-url "file://$work/beliefs-norate.lcmlog?mode=w" >/dev/null
-    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
     "$py" - "$work/beliefs-jitter.lcmlog" "$work/beliefs-norate.lcmlog" <<'PY'
 import sys
 import lcm

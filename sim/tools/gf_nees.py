@@ -28,6 +28,12 @@ refused. A belief whose covariance is not positive definite (e.g. the
 book-car preset's first beliefs, from a prior known exactly) has no NEES:
 it is left out of the NEES and counted ("k without NEES").
 
+A model's named sensors (GF_MEAS_<track>_<sensor>, docs/node.md) are
+judged apart, a line per sensor: each sensor's update (belief_t.sensor,
+its own seq) is paired with the truth at its utime (gf_sim sends the truth
+at each sample's time) and its measurements counted on its channel.
+Beliefs of gf_node --rate (belief_t.trigger) are no updates.
+
 Missing updates: every measurement of a track in the logs (GF_MEAS_<track>,
 e.g. gf_sim's own log of what it sent) should have an update belief (its
 input_seq). Those with none are missing: lost on the way, or never
@@ -60,6 +66,7 @@ updates are missing beyond --max-missing; 1 when a mean lies OUTSIDE or a
 group is NOT JUDGED; 2 for bad arguments or logs with nothing to judge.
 """
 import argparse
+import bisect
 import math
 import sys
 from collections import defaultdict
@@ -111,10 +118,16 @@ def wrap(a):
 
 class Track:
     def __init__(self):
-        self.updates = {}   # input_seq -> belief_t of STAGE_UPDATE
+        self.updates = {}   # (sensor, input_seq) -> belief_t of STAGE_UPDATE
         self.truths = []    # groundtruth_t
-        self.meas = set()   # seqs of the measurements in the logs
+        self.meas = set()   # (sensor, seq) of the measurements in the logs
         self.meas_model = None
+
+
+def meas_channel(ch):
+    """GF_MEAS_<track> or GF_MEAS_<track>_<sensor>: (track, sensor)."""
+    track, _, sensor = ch[len(MEAS):].partition("_")
+    return int(track), sensor
 
 
 def read(paths, keep):
@@ -125,15 +138,15 @@ def read(paths, keep):
             try:
                 if ch.startswith(BELIEF) and keep(int(ch[len(BELIEF):])):
                     b = belief_t.decode(ev.data)
-                    if b.stage == STAGE_UPDATE:
-                        tracks[b.track].updates[b.input_seq] = b
+                    if b.stage == STAGE_UPDATE and not b.trigger:
+                        tracks[b.track].updates[(b.sensor, b.input_seq)] = b
                 elif ch.startswith(TRUTH) and keep(int(ch[len(TRUTH):])):
                     tracks[int(ch[len(TRUTH):])].truths.append(
                         groundtruth_t.decode(ev.data))
-                elif ch.startswith(MEAS) and keep(int(ch[len(MEAS):])):
+                elif ch.startswith(MEAS) and keep(meas_channel(ch)[0]):
                     z = measurement_t.decode(ev.data)
                     t = tracks[z.track]
-                    t.meas.add(z.seq)
+                    t.meas.add((meas_channel(ch)[1], z.seq))
                     t.meas_model = z.model
             except ValueError:
                 pass  # another type or another layout: not ours to judge
@@ -141,43 +154,55 @@ def read(paths, keep):
 
 
 class Result:
-    """One track's samples and counts."""
+    """One track's samples and counts (of one of its sensors)."""
 
-    def __init__(self, track):
+    def __init__(self, track, sensor=""):
         self.track = track
+        self.sensor = sensor
         self.samples = []  # (utime, NEES, NIS, gated)
         self.gated = self.refused = 0
         self.expected = None  # measurements in the logs, None: unknown
         self.missing = 0
-        self.key = None  # (model, n, m)
+        self.key = None  # (model, n, m, sensor)
 
 
 def judge_track(t, tr):
-    r = Result(t)
+    """A Result per sensor of the track ("": GF_MEAS_<track>)."""
+    sensors = sorted({k[0] for k in tr.updates} | {k[0] for k in tr.meas})
+    return [judge_sensor(t, tr, sensor) for sensor in sensors or [""]]
+
+
+def judge_sensor(t, tr, sensor):
+    r = Result(t, sensor)
     gs = sorted(tr.truths, key=lambda g: g.seq)
     seqs = [g.seq for g in gs]
+    by_time = sorted(tr.truths, key=lambda g: g.utime)
+    utimes = [g.utime for g in by_time]
+    updates = {k[1]: b for k, b in tr.updates.items() if k[0] == sensor}
     if tr.meas:
-        r.expected = len(tr.meas)
-        r.missing = len(tr.meas - set(tr.updates))
-    for s in sorted(tr.updates):
-        b = tr.updates[s]
+        meas = {k[1] for k in tr.meas if k[0] == sensor}
+        r.expected = len(meas)
+        r.missing = len(meas - set(updates))
+    for s in sorted(updates):
+        b = updates[s]
         if b.status not in (0, GATED) or not b.m:
             r.refused += 1
             continue
-        r.key = (b.model, b.n, b.m)
-        lo, hi = 0, len(seqs)
-        while lo < hi:  # the last truth before the input
-            mid = (lo + hi) // 2
-            if seqs[mid] < s:
-                lo = mid + 1
-            else:
-                hi = mid
-        k = lo
+        r.key = (b.model, b.n, b.m, sensor)
+        if sensor:
+            # a sensor's sample: the truth at its time (gf_sim sends the
+            # truth at each sample's utime, before the measurement)
+            k = bisect.bisect_right(utimes, b.utime)
+            gs_k = by_time
+        else:
+            # the last truth before the input (by seq)
+            k = bisect.bisect_left(seqs, s)
+            gs_k = gs
         if k == 0:
             continue  # no truth before it: not a sample
         nees = float("nan")
-        if gs[k - 1].n == b.n:
-            g = gs[k - 1]
+        if gs_k[k - 1].n == b.n:
+            g = gs_k[k - 1]
             e = [g.state[i] - b.mean[i] for i in range(b.n)]
             if b.model == 2:
                 e[2] = wrap(e[2])
@@ -186,8 +211,13 @@ def judge_track(t, tr):
         r.gated += gated
         r.samples.append((b.utime, nees, b.nis, gated))
     if r.key is None and tr.meas:
-        r.key = (tr.meas_model, 0, 0)  # no update at all: all missing
+        r.key = (tr.meas_model, 0, 0, sensor)  # no update: all missing
     return r
+
+
+def label(model, n, m, sensor):
+    return "%s, n=%d, m=%d%s" % (KINDS.get(model, model), n, m,
+                                 ", sensor " + sensor if sensor else "")
 
 
 def line(label, xs, k, n):
@@ -245,29 +275,32 @@ def main():
         except ValueError:
             ap.error("--tracks A-B, e.g. 400-449")
     tracks = read(a.logs, lambda t: lo_t <= t <= hi_t)
-    groups = defaultdict(list)  # (model, n, m) -> [Result]
+    groups = defaultdict(list)  # (model, n, m, sensor) -> [Result]
     no_truth = []
     for t in sorted(tracks):
         if not tracks[t].truths:
             if tracks[t].updates:
                 no_truth.append(t)
             continue
-        r = judge_track(t, tracks[t])
-        if r.key is None:
-            continue  # truths only, or refused updates only
-        groups[r.key].append(r)
-        model, n, m = r.key
-        if n == 0:
-            print("track %d (%s): %s: no update belief of it in the logs" % (
-                t, KINDS.get(model, model),
-                counts(0, 0, r.refused, r.expected, r.missing)))
-            continue
-        nees, _ = line("NEES", [x[1] for x in r.samples], n, 1)
-        nis, _ = line("NIS", [x[2] for x in r.samples], m, len(r.samples))
-        print("track %d (%s, n=%d, m=%d): %s: %s; %s" % (
-            t, KINDS.get(model, model), n, m,
-            counts(len(r.samples), r.gated, r.refused, r.expected,
-                   r.missing), nees, nis))
+        for r in judge_track(t, tracks[t]):
+            if r.key is None:
+                continue  # truths only, or refused updates only
+            groups[r.key].append(r)
+            model, n, m, sensor = r.key
+            if n == 0:
+                print("track %d (%s%s): %s: no update belief of it in the "
+                      "logs" % (t, KINDS.get(model, model),
+                                ", sensor " + sensor if sensor else "",
+                                counts(0, 0, r.refused, r.expected,
+                                       r.missing)))
+                continue
+            nees, _ = line("NEES", [x[1] for x in r.samples], n, 1)
+            nis, _ = line("NIS", [x[2] for x in r.samples], m,
+                          len(r.samples))
+            print("track %d (%s): %s: %s; %s" % (
+                t, label(model, n, m, sensor),
+                counts(len(r.samples), r.gated, r.refused, r.expected,
+                       r.missing), nees, nis))
     if no_truth:
         print("left out, no truth in the logs: track%s %s" % (
             "s" if len(no_truth) > 1 else "",
@@ -280,8 +313,8 @@ def main():
     verdict = 0
     all_expected = all_missing = 0
     unknown = False
-    for (model, n, m), runs in sorted(groups.items(),
-                                      key=lambda kv: tuple(kv[0])):
+    for (model, n, m, sensor), runs in sorted(groups.items(),
+                                              key=lambda kv: tuple(kv[0])):
         samples = [x for r in runs for x in r.samples]
         gated = sum(r.gated for r in runs)
         refused = sum(r.refused for r in runs)
@@ -292,8 +325,9 @@ def main():
             all_expected += expected
         missing = sum(r.missing for r in runs)
         all_missing += missing
-        head = "all %d %s tracks (n=%d, m=%d): %s" % (
+        head = "all %d %s tracks (n=%d, m=%d%s): %s" % (
             len(runs), KINDS.get(model, model), n, m,
+            ", sensor " + sensor if sensor else "",
             counts(len(samples), gated, refused, expected, missing))
         if n == 0:
             print("all %d %s tracks without beliefs: %s: no update belief "
@@ -306,10 +340,12 @@ def main():
         nis, nis_in = line("NIS", [x[2] for x in samples], m, len(samples))
         print("%s: %s; %s" % (head, nees, nis))
         if expected is not None and over(missing, expected, a.max_missing):
-            print("NOT JUDGED: %s tracks (n=%d, m=%d): %d of %d updates "
+            print("NOT JUDGED: %s tracks (%s): %d of %d updates "
                   "missing (%.1f%% > %g%%): their means cannot say the "
                   "filter is consistent" % (
-                      KINDS.get(model, model), n, m, missing, expected,
+                      KINDS.get(model, model),
+                      label(model, n, m, sensor).split(", ", 1)[1],
+                      missing, expected,
                       100.0 * missing / expected, a.max_missing))
             verdict = 1
         elif nees_in is False or nis_in is False:
@@ -355,13 +391,14 @@ def write_csv(groups, path):
     with open(path, "w") as f:
         f.write("time_s,tracks,nees,nees_lo,nees_hi,nis,nis_lo,nis_hi,"
                 "gated,model,n,m\n")
-        for (model, n, m), runs in sorted(groups.items()):
+        for (model, n, m, sensor), runs in sorted(groups.items()):
             if n == 0:
                 continue
             for ut, k, nees, nis, gated in series(runs, n, m):
                 f.write("%.6f,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%s,%d,%d\n"
                         % ((ut * 1e-6, k) + nees + nis +
-                           (gated, KINDS.get(model, model), n, m)))
+                           (gated, KINDS.get(model, model) +
+                            ("/" + sensor if sensor else ""), n, m)))
     print("wrote %s" % path)
 
 
@@ -372,7 +409,8 @@ def plot(groups, path):
     groups = {k: v for k, v in groups.items() if k[1] > 0}
     fig, axes = plt.subplots(len(groups), 2, figsize=(10, 3 * len(groups)),
                              squeeze=False)
-    for row, ((model, n, m), runs) in enumerate(sorted(groups.items())):
+    for row, ((model, n, m, sensor), runs) in enumerate(
+            sorted(groups.items())):
         rows = series(runs, n, m)
         t = [x[0] * 1e-6 for x in rows]
         for col, (what, k, idx) in enumerate((("NEES", n, 2), ("NIS", m, 3))):
@@ -390,8 +428,7 @@ def plot(groups, path):
                 ax.plot([g[0] for g in gated], [g[1] for g in gated], "rx",
                         ms=4, label="a gated update among them")
             ax.axhline(k, color="k", lw=0.8, label="expected: %d" % k)
-            ax.set_title("%s n=%d m=%d: %s" % (KINDS.get(model, model), n, m,
-                                               what))
+            ax.set_title("%s: %s" % (label(model, n, m, sensor), what))
             ax.set_xlabel("time (s, the beliefs' utime)")
             ax.legend(loc="upper right", fontsize=7)
     fig.tight_layout()
