@@ -31,12 +31,14 @@ dt; its ctx, the parameters (gf_real, in the order given). NAME_model()
 returns a descriptor: n, the inputs, the parameters, the states' names,
 units and angles, and each sensor's name, m, callback and noise.
 """
+import os
+import pathlib
 import re
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 try:
-    import sympy as sp
+    import sympy as sp  # type: ignore[import-untyped]
 except ImportError as e:  # pragma: no cover - the extra is not installed
     raise ImportError("gaussfilt.codegen needs SymPy: pip install "
                       "'gaussfilt[codegen]' (or sympy)") from e
@@ -45,7 +47,7 @@ __all__ = ["State", "Sensor", "Model", "dt", "write", "generate",
            "CodegenError"]
 
 #: The step's length: use it in the motion and in R.
-dt = sp.Symbol("dt", positive=True)
+dt: Any = sp.Symbol("dt", positive=True)
 
 _C_KEYWORDS = set("""auto break case char const continue default do double
 else enum extern float for goto if inline int long register restrict return
@@ -66,7 +68,7 @@ class State:
     unit: str = ""
     angle: bool = False
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if isinstance(self.symbol, str):
             self.symbol = sp.Symbol(self.symbol)
 
@@ -359,7 +361,7 @@ def _strip(s):
 
 # ---- the files ----------------------------------------------------------------
 
-def generate(model):
+def generate(model: Model) -> Tuple[str, str]:
     """The header and the source for `model`, as two strings."""
     _check(model)
     name = model.name
@@ -608,9 +610,9 @@ def _source(model, N, n, nu, npar, angles, sensors, g_lines, r_lines, origin):
     return "\n".join(L)
 
 
-def write(model, outdir):
+def write(model: Model, outdir: Union[str, "os.PathLike[str]"]
+          ) -> Tuple[pathlib.Path, pathlib.Path]:
     """Writes OUTDIR/NAME_model.h and NAME_model.c; returns their paths."""
-    import pathlib
     hdr, src = generate(model)
     out = pathlib.Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
@@ -627,14 +629,15 @@ class _CFunction:
     """A generated callback called through ctypes: the C computes, so the
     results are the firmware's bit for bit (in the build's precision)."""
 
-    def __init__(self, built, cname, kind, rows):
+    def __init__(self, built: "Built", cname: str, kind: str,
+                 rows: int) -> None:
         self.built = built
         self.c_name = cname
         self.kind = kind  # "g" or "h"
         self.rows = rows
         self._fn = getattr(built._lib, cname + built._suffix)
 
-    def __call__(self, mu, u=None):
+    def __call__(self, mu: Any, u: Any = None) -> Tuple[Any, Any]:
         import ctypes
         import numpy as np
         b = self.built
@@ -670,7 +673,8 @@ class Built:
     dt; h[sensor](mu)), R(dt) and Q[sensor] in the build's precision, and
     the models for a step (motion(dt), meas(sensor))."""
 
-    def __init__(self, model, lib_path, dtype, header, source):
+    def __init__(self, model: Model, lib_path: pathlib.Path, dtype: Any,
+                 header: pathlib.Path, source: pathlib.Path) -> None:
         import ctypes
         import numpy as np
         self.model = model
@@ -693,13 +697,13 @@ class Built:
         self.angle_masks = {s.name: sum(1 << i for i in s.angles)
                             for s in model.sensors}
 
-    def _ctx(self):
+    def _ctx(self) -> Any:
         import ctypes
         if not self.params.size:
             return None
         return self.params.ctypes.data_as(ctypes.POINTER(self._ctype))
 
-    def set_params(self, **values):
+    def set_params(self, **values: float) -> None:
         """Sets parameters by name."""
         names = [str(p) for p in self.model.params]
         for k, v in values.items():
@@ -708,7 +712,7 @@ class Built:
                                % (k, ", ".join(names)))
             self.params[names.index(k)] = v
 
-    def R(self, dt):
+    def R(self, dt: float) -> Any:
         import ctypes
         import numpy as np
         R = np.zeros((self.n, self.n), dtype=self.dtype)
@@ -717,7 +721,7 @@ class Built:
             self._ctx(), self._ctype(dt), R.ctypes.data_as(ptr))
         return R
 
-    def Q(self, sensor):
+    def Q(self, sensor: str) -> Any:
         import ctypes
         import numpy as np
         m = self.h[sensor].rows
@@ -726,16 +730,16 @@ class Built:
             self._ctx(), Q.ctypes.data_as(ctypes.POINTER(self._ctype)))
         return Q
 
-    def _module(self):
+    def _module(self) -> Any:
         import numpy as np
         from . import float32, float64
         return float32 if self.dtype == np.float32 else float64
 
-    def motion(self, dt):
+    def motion(self, dt: float) -> Any:
         """An EKFMotion of the generated g with R(dt)."""
         return self._module().EKFMotion(g=self.g, R=self.R(dt))
 
-    def meas(self, sensor, gate=0.0):
+    def meas(self, sensor: str, gate: float = 0.0) -> Any:
         """An EKFMeas of sensor's generated h, its Q and angles."""
         return self._module().EKFMeas(h=self.h[sensor], Q=self.Q(sensor),
                                       n=self.n,
@@ -743,33 +747,39 @@ class Built:
                                       gate=gate)
 
 
-def build(model, workdir, root, dtype="float64", cc="cc"):
+def build(model: Model, workdir: Union[str, "os.PathLike[str]"],
+          root: Optional[Union[str, "os.PathLike[str]"]] = None,
+          dtype: str = "float64", cc: str = "cc") -> "Built":
     """Writes the model's C into workdir, compiles it for the host with the
-    library's angle code (root: a gaussfilt checkout or vendored copy, with
-    include/ and src/) into a shared object in the precision asked for, and
-    returns a Built whose callbacks run that C."""
+    library's angle code into a shared object in the precision asked for
+    (float32 or float64), and returns a Built whose callbacks run that C.
+    root: a gaussfilt checkout or vendored copy (include/ and src/); by
+    default the copy the package carries (gaussfilt/c/)."""
+    import os
     import pathlib
     import subprocess
     import numpy as np
-    dtype = np.dtype(dtype)
-    if dtype not in (np.float32, np.float64):
+    dt_ = np.dtype(dtype)
+    if dt_ not in (np.float32, np.float64):
         raise CodegenError("dtype must be float32 or float64")
-    root = pathlib.Path(root)
-    if not (root / "include" / "gaussfilt" / "gaussfilt.h").exists() or \
-            not (root / "src" / "angle.c").exists():
+    base = pathlib.Path(root) if root is not None else \
+        pathlib.Path(__file__).parent / "c"
+    if not (base / "include" / "gaussfilt" / "gaussfilt.h").exists() or \
+            not (base / "src" / "angle.c").exists():
         raise CodegenError("%s is not a gaussfilt checkout or vendored copy "
                            "(no include/gaussfilt/gaussfilt.h or src/angle.c)"
-                           % root)
+                           % base)
     h, c = write(model, workdir)
-    tag = "f32" if dtype == np.float32 else "f64"
+    tag = "f32" if dt_ == np.float32 else "f64"
     lib = pathlib.Path(workdir) / ("lib%s_%s.so" % (model.name, tag))
     cmd = [cc, "-std=c99", "-O2", "-ffp-contract=off", "-fPIC", "-shared",
-           "-Wall", "-Wextra", "-Werror", "-I", str(root / "include"),
-           str(c), str(root / "src" / "angle.c"), "-o", str(lib)]
-    if dtype == np.float32:
+           "-Wall", "-Wextra", "-Werror", "-I", str(base / "include"),
+           str(c), str(base / "src" / "angle.c"), "-o", str(lib)]
+    if dt_ == np.float32:
         cmd.insert(1, "-DGF_SINGLE_PRECISION")
-    r = subprocess.run(cmd, capture_output=True, text=True)
+    r = subprocess.run(cmd, capture_output=True, text=True,
+                       env=dict(os.environ))
     if r.returncode != 0:
         raise CodegenError("compiling the generated model failed:\n%s\n%s"
                            % (" ".join(cmd), r.stderr))
-    return Built(model, lib, dtype, h, c)
+    return Built(model, lib, dt_, h, c)
