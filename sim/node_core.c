@@ -1055,6 +1055,8 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, unsigned stream,
 static double consume(gf_node *node, gf_node_track *t, unsigned stream,
                       int64_t session, int64_t seq, int64_t utime, int64_t now)
 {
+    const char *sensor =
+        stream > 0 ? t->mdl.sensors->s[stream - 1u].name : NULL;
     unsigned bit = 1u << stream;
     double dt = t->mdl.dt;
     // seq > the stream's last here; unsigned arithmetic cannot overflow.
@@ -1066,10 +1068,11 @@ static double consume(gf_node *node, gf_node_track *t, unsigned stream,
         // sent and never arrived (before the node was ready, typically)
         node->counts.lost_before_first += (uint64_t)seq - 1u;
         say(node,
-            "track %ld: its first input has seq %lld: %llu earlier input%s "
-            "never reached this node (sent before it was ready?)",
-            (long)t->id, (long long)seq, (unsigned long long)(seq - 1),
-            seq == 2 ? "" : "s");
+            "track %ld: its first input%s%s has seq %lld: %llu earlier "
+            "input%s never reached this node (sent before it was ready?)",
+            (long)t->id, sensor != NULL ? " of sensor " : "",
+            sensor != NULL ? sensor : "", (long long)seq,
+            (unsigned long long)(seq - 1), seq == 2 ? "" : "s");
     }
     if (t->has_input) {
         // utime >= time here (check_order)
@@ -1356,25 +1359,32 @@ static int linear_correct(gf_node *node, gf_node_track *t,
     }
 }
 
-// The sensor a message on GF_MEAS_<id>_<name> names in the track's model,
-// or NULL (said once per track).
-static const gf_node_sensor *track_sensor(gf_node *node, gf_node_track *t,
+// The sensor a message on GF_MEAS_<id>_<name> names in the model of track
+// id (mdl: the track's, or the one it would be made with), or NULL: said
+// once per track id (the first GF_NODE_MAX_TRACKS ids).
+static const gf_node_sensor *model_sensor(gf_node *node, int32_t id,
+                                          const gf_node_model *mdl,
                                           const char *name, unsigned *stream)
 {
-    const gf_node_sensor *sen = gf_node_model_sensor(&t->mdl, name);
-    if (sen == NULL) {
-        if (!t->sensor_warned) {
-            t->sensor_warned = 1;
-            say(node,
-                "track %ld: a measurement on %s%ld_%s: its model %s has no "
-                "sensor %s (bad_field)",
-                (long)t->id, GF_CHANNEL_MEAS, (long)t->id, name, t->mdl.name,
-                name);
-        }
-        return NULL;
+    const gf_node_sensor *sen = gf_node_model_sensor(mdl, name);
+    unsigned i;
+    if (sen != NULL) {
+        *stream = 1u + (unsigned)(sen - mdl->sensors->s);
+        return sen;
     }
-    *stream = 1u + (unsigned)(sen - t->mdl.sensors->s);
-    return sen;
+    for (i = 0; i < node->nnosensor; i++) {
+        if (node->nosensor[i] == id) {
+            return NULL;
+        }
+    }
+    if (node->nnosensor < GF_NODE_MAX_TRACKS) {
+        node->nosensor[node->nnosensor++] = id;
+    }
+    say(node,
+        "track %ld: a measurement on %s%ld_%s: its model %s has no sensor "
+        "%s (bad_field)",
+        (long)id, GF_CHANNEL_MEAS, (long)id, name, mdl->name, name);
+    return NULL;
 }
 
 static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
@@ -1403,12 +1413,18 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
         if (z->model == MODEL_CAR) {
             return GF_NODE_BAD_FIELD;
         }
+        mdl = track_model(node, id, z->model);
+        if (mdl != NULL) {
+            sen = model_sensor(node, id, mdl, sensor, &stream);
+            if (sen == NULL || m != sen->m) {
+                return GF_NODE_BAD_FIELD;
+            }
+        }
         t = track_get(node, id, z->model, z->utime, &r);
         if (t == NULL) {
             return r;
         }
-        sen = track_sensor(node, t, sensor, &stream);
-        if (sen == NULL || m != sen->m) {
+        if (sen == NULL) { // (a track is made only from a model)
             return GF_NODE_BAD_FIELD;
         }
     } else {
@@ -1691,7 +1707,7 @@ unsigned gf_node_tick(gf_node *node, int64_t now)
             }
         }
         t->belief_seq++;
-        b.utime = t->time + ahead;
+        b.utime = t->time <= INT64_MAX - ahead ? t->time + ahead : INT64_MAX;
         b.input_seq = t->input_seq;
         b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
         b.status = (int8_t)s;

@@ -225,7 +225,6 @@ typedef struct gf_node_track {
     int64_t belief_seq; // of the last belief published
     int64_t last_rx;    // `now` of the last input consumed
     unsigned rejected;  // out_of_order, late, too_old inputs in a row
-    int sensor_warned;  // a message of a sensor its model lacks was said
     gf_node_model mdl;  // its model, a copy (a linear one's numbers stay
                         // in the configuration)
     int peer_warned;    // another node's beliefs of it were reported
@@ -290,6 +289,9 @@ typedef struct gf_node {
     // GF_NODE_MAX_TRACKS)
     unsigned nrefused;
     int32_t refused[GF_NODE_MAX_TRACKS];
+    // ids whose message named a sensor their model lacks, each said once
+    unsigned nnosensor;
+    int32_t nosensor[GF_NODE_MAX_TRACKS];
     // scratch of one step: gf_kf's workspace, a linear model's numbers in
     // gf_real, a belief's numbers as belief_t carries them
     gf_kf_work work;

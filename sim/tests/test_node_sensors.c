@@ -518,7 +518,12 @@ static void late_and_old(void **state)
         assert_int_equal(
             feed(sensor_msg(701, GF_LINEAR, "lidar", 2, 2050000, 1, &z, &q), 0),
             GF_NODE_BAD_FIELD);
-        assert_int_equal(fx.said.n, 2); // the track's line, then once this
+        // a track it would make: not made by it, and said once too
+        assert_int_equal(
+            feed(sensor_msg(703, GF_LINEAR, "lidar", 1, 2050000, 1, &z, &q), 0),
+            GF_NODE_BAD_FIELD);
+        assert_null(gf_node_find(&fx.node, 703));
+        assert_int_equal(fx.said.n, 3); // the track's line, then once each
         assert_string_equal(fx.said.line[1],
                             "track 701: a measurement on GF_MEAS_701_lidar: "
                             "its model vehicle has no sensor lidar "
@@ -662,9 +667,15 @@ static void tick(void **state)
     (void)state;
     assert_int_equal(gf_node_tick(&fx.node, 5), 0); // no track yet
     assert_int_equal(
-        feed(sensor_msg(702, GF_LINEAR, "wheel", 1, 4000000, 1, &z, &q),
+        feed(sensor_msg(702, GF_LINEAR, "wheel", 3, 4000000, 1, &z, &q),
              1000000000),
         GF_NODE_APPLIED);
+    // its first input says two never came, and whose they were
+    assert_int_equal(fx.node.counts.lost_before_first, 2);
+    assert_string_equal(fx.said.line[1],
+                        "track 702: its first input of sensor wheel has seq "
+                        "3: 2 earlier inputs never reached this node (sent "
+                        "before it was ready?)");
     kf = gf_node_find(&fx.node, 702)->f.kf;
     memcpy(&before, gf_node_find(&fx.node, 702), sizeof before);
     n = fx.sink.n;
@@ -676,7 +687,7 @@ static void tick(void **state)
     assert_int_equal(last()->trigger, GAUSSFILT_LCM_BELIEF_T_TRIGGER_RATE);
     assert_int_equal(last()->utime, 4050000);
     assert_int_equal(last()->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT);
-    assert_int_equal(last()->input_seq, 1);
+    assert_int_equal(last()->input_seq, 3);
     assert_int_equal(last()->status, 0);
     // the track itself unchanged (its belief number aside)
     before.belief_seq++;
