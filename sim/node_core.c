@@ -991,7 +991,7 @@ static gf_node_result check_order(gf_node *node, gf_node_track *t,
     }
     if ((t->has_seq & bit) && seq < t->seq[stream]) {
         r = GF_NODE_OUT_OF_ORDER;
-    } else if (t->has_input && utime < t->time) {
+    } else if (t->has_time && utime < t->time) {
         r = GF_NODE_OUT_OF_ORDER;
         if (timed(t)) {
             // (a difference beyond int64's range is too old)
@@ -1034,6 +1034,7 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, unsigned stream,
             return GF_NODE_STALE_SESSION;
         }
         t->has_input = 0;
+        t->has_time = 0;
         t->has_seq = 0;
         t->counting = (1u << GF_NODE_STREAMS) - 1u;
         track_prior(node, t);
@@ -1074,7 +1075,7 @@ static double consume(gf_node *node, gf_node_track *t, unsigned stream,
             sensor != NULL ? sensor : "", (long long)seq,
             (unsigned long long)(seq - 1), seq == 2 ? "" : "s");
     }
-    if (t->has_input) {
+    if (t->has_time) {
         // utime >= time here (check_order)
         dt = (double)((uint64_t)utime - (uint64_t)t->time) / 1e6;
     }
@@ -1086,6 +1087,7 @@ static double consume(gf_node *node, gf_node_track *t, unsigned stream,
     t->seq[stream] = seq;
     t->input_seq = seq;
     t->time = utime;
+    t->has_time = 1;
     t->last_rx = now;
     return dt;
 }
@@ -1241,7 +1243,8 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     gf_node_track *t;
     gaussfilt_lcm_belief_t b;
     double dt;
-    int s;
+    int64_t time0;
+    int s, has_time0;
     if (c->track != id || !good_kind(c->model)) {
         return GF_NODE_BAD_FIELD;
     }
@@ -1266,6 +1269,8 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     if (r != GF_NODE_APPLIED) {
         return r;
     }
+    time0 = t->time;
+    has_time0 = t->has_time;
     dt = consume(node, t, 0, c->session, c->seq, c->utime, now);
     if (t->model == MODEL_LINEAR) {
         unsigned i;
@@ -1273,8 +1278,13 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
             node->vec[0][i] = (gf_real)c->u[i];
         }
         // one step of the model's A, or, in time, over the dt since the
-        // last input
+        // last input (a failed one leaves the track where it was: its
+        // belief and its time)
         s = linear_predict(node, t, &t->f.kf, dt, (unsigned)c->n);
+        if (s != GF_OK && timed(t)) {
+            t->time = time0;
+            t->has_time = has_time0;
+        }
     } else if (t->model == MODEL_CAR) {
         gf_kf2_model mdl;
         gf_vec2 u;
@@ -1398,7 +1408,8 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     gf_innovation info;
     gf_kf_innovation kinfo;
     double q[GF_NODE_NMAX][GF_NODE_NMAX], dt;
-    int s = GF_OK, measure = 0;
+    int64_t time0;
+    int s = GF_OK, measure = 0, has_time0;
     unsigned i, m, stream = 0;
     if (z->track != id || !good_kind(z->model)) {
         return GF_NODE_BAD_FIELD;
@@ -1456,18 +1467,30 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     if (r != GF_NODE_APPLIED) {
         return r;
     }
+    time0 = t->time;
+    has_time0 = t->has_time;
     dt = consume(node, t, stream, z->session, z->seq, z->utime, now);
     memset(&info, 0, sizeof(info));
     memset(&kinfo, 0, sizeof(kinfo));
     meas_noise(sen, z, m, q);
     if (t->model == MODEL_LINEAR) {
-        // in time: predicted to the measurement's utime first
+        // in time: predicted to the measurement's utime first. A gated
+        // measurement leaves the prediction (the belief at its time); any
+        // other failure the track where it was, its belief and its time
         if (timed(t) && dt > 0.0) {
+            node->ahead.kf = t->f.kf;
             s = linear_predict(node, t, &t->f.kf, dt, 0);
         }
         if (s == GF_OK) {
             s = linear_correct(node, t, sen, z,
                                (const double(*)[GF_NODE_NMAX])q, &kinfo);
+        }
+        if (s != GF_OK && s != GF_ERR_GATED && timed(t)) {
+            if (dt > 0.0) {
+                t->f.kf = node->ahead.kf;
+            }
+            t->time = time0;
+            t->has_time = has_time0;
         }
     } else if (t->model == MODEL_CAR) {
         gf_kf2_meas mm;
@@ -1679,7 +1702,7 @@ unsigned gf_node_tick(gf_node *node, int64_t now)
         int64_t ahead = now > t->last_rx ? now - t->last_rx : 0;
         double dt = (double)ahead / 1e6;
         int s = GF_OK;
-        if (!t->has_input) {
+        if (!t->has_time) {
             continue;
         }
         // the belief as it is, then (a track in time, a car) predicted

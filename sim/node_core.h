@@ -41,7 +41,9 @@
 // Time: a track whose linear model has dt-built axes (motion = cv|ca|c)
 // is in time: every input first predicts it to its utime, A and R built
 // for the dt since the track's last input (the model's dt before its
-// first), a control with its B u. An input older than the track's time is
+// first), a control with its B u; an input the core refuses leaves the
+// track's belief and time as they were, a gated measurement the
+// prediction to its utime. An input older than the track's time is
 // late (within the model's late_window: refused, a STATUS_LATE belief) or
 // too_old (refused, no belief); both keep their stream's seq. Other tracks
 // step once per control, and an input whose utime falls is out_of_order.
@@ -221,6 +223,7 @@ typedef struct gf_node_track {
     unsigned has_seq;             // bit k: stream k has one
     unsigned counting;  // bit k: stream k's next input is a session's first
     int64_t time;       // the track's time: the utime of its last input
+    int has_time;       // time holds one (since the track or session began)
     int64_t input_seq;  // seq of the last input consumed
     int64_t belief_seq; // of the last belief published
     int64_t last_rx;    // `now` of the last input consumed

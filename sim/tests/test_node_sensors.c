@@ -4,7 +4,8 @@
 // a vehicle's sensors each updating the one belief, predicted to each
 // input's utime, against gf_kf stepped here with A(dt), R(dt) written out;
 // a control's own dt; a sensor's default Q; late and too old inputs, out
-// of order and duplicates per sensor, each with its counter; a robot's
+// of order and duplicates per sensor, each with its counter; a refused
+// input leaving the track's belief and time, a gated one the prediction; a robot's
 // heading and range sensors against EKF3 with callbacks written here;
 // gf_node_tick's belief predicted to now.
 #include <math.h>
@@ -549,6 +550,60 @@ static void late_and_old(void **state)
     }
 }
 
+// A failed input of a track in time leaves the track where it was, its
+// belief and its time; a gated one leaves the prediction to its time.
+static void failed_in_time(void **state)
+{
+    const gf_real mu0[4] = {0, 10, 0, 0},
+                  P0[16] = {1, 0, 0,    0, 0, 1, 0, 0,
+                            0, 0, 0.01, 0, 0, 0, 0, 0.01};
+    static const gf_real Cw[4] = {0, 1, 0, 0};
+    const double zw = 10.0, qw = 0.0025, bad = NAN;
+    const double zn[2] = {1000.0, 0.0}, zero[2] = {0, 0};
+    gf_real Q[1] = {GF_R(0.0025)}, zr[1] = {GF_R(10.0)};
+    const gf_node_track *t;
+    gf_kf kf, before;
+    int64_t time;
+    (void)state;
+    assert_int_equal(gf_kf_init(&kf, 4, mu0, P0, &fx.work), GF_OK);
+    assert_int_equal(
+        feed(sensor_msg(704, GF_LINEAR, "wheel", 1, 1000000, 1, &zw, &qw), 0),
+        GF_NODE_APPLIED);
+    vehicle_predict(&kf, 0.01);
+    vehicle_update(&kf, Cw, 1, Q, zr);
+    t = gf_node_find(&fx.node, 704);
+    before = t->f.kf;
+    time = t->time;
+    // a NaN 0.3 s later: refused by the core, the track as it was
+    assert_int_equal(
+        feed(sensor_msg(704, GF_LINEAR, "wheel", 2, 1300000, 1, &bad, &qw), 0),
+        GF_NODE_NONFINITE);
+    assert_memory_equal(&before, &t->f.kf, sizeof before);
+    assert_int_equal(t->time, time);
+    assert_int_equal(last()->status, GF_ERR_NONFINITE);
+    // the next one predicts over the whole 0.5 s since the last applied
+    assert_int_equal(
+        feed(sensor_msg(704, GF_LINEAR, "wheel", 3, 1500000, 1, &zw, &qw), 0),
+        GF_NODE_APPLIED);
+    vehicle_predict(&kf, 0.5);
+    vehicle_update(&kf, Cw, 1, Q, zr);
+    check_belief(last(), &kf);
+    // a wild gnss fix, gated: the belief predicted to its time, kept
+    assert_int_equal(
+        feed(sensor_msg(704, GF_LINEAR, "gnss", 1, 1700000, 2, zn, zero), 0),
+        GF_NODE_GATED);
+    vehicle_predict(&kf, 0.2);
+    check_belief(last(), &kf);
+    assert_int_equal(last()->status, GF_ERR_GATED);
+    assert_int_equal(t->time, 1700000);
+    assert_int_equal(
+        feed(sensor_msg(704, GF_LINEAR, "wheel", 4, 1800000, 1, &zw, &qw), 0),
+        GF_NODE_APPLIED);
+    vehicle_predict(&kf, 0.1);
+    vehicle_update(&kf, Cw, 1, Q, zr);
+    check_belief(last(), &kf);
+}
+
 // ---- a robot's sensors -----------------------------------------------------
 
 static gf_status my_heading(void *ctx, const gf_vec3 *mu, gf_vec3 *z_hat,
@@ -702,6 +757,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(sensors_in_time, setup, teardown),
         cmocka_unit_test_setup_teardown(control_in_time, setup, teardown),
         cmocka_unit_test_setup_teardown(late_and_old, setup, teardown),
+        cmocka_unit_test_setup_teardown(failed_in_time, setup, teardown),
         cmocka_unit_test_setup_teardown(robot_sensors, setup, teardown),
         cmocka_unit_test_setup_teardown(tick, setup, teardown),
     };
