@@ -7,7 +7,8 @@
 //   gf_sim --exercise 1|2|4 [--track N] [--session S] [--url URL]
 //   gf_sim --config FILE --model NAME [--runs M] [--track N] [--steps N]
 //          [--seed S] [--rate HZ] [--turn PHI] [--jitter J]
-//          [--drop SENSOR:FROM:TO] [--session S] [--url URL]
+//          [--drop SENSOR:FROM:TO] [--delay SENSOR:SECONDS] [--session S]
+//          [--url URL]
 //   any of them with --wait FILE (repeatable): first waits until each FILE
 //   has a ready line (": ready", as gf_node and examples/beliefs.py print
 //   one once they listen), up to --wait-s seconds (default 60)
@@ -37,7 +38,10 @@
 //   sample's utime with A(dt), R(dt) (the model's dt before the first
 //   sample) and sent before it; --jitter J moves sample k of a sensor of
 //   period T to (k + J (u - 1/2)) T, u uniform; --drop NAME:FROM:TO
-//   silences a sensor from FROM to TO seconds. --steps N: N steps of dt.
+//   silences a sensor from FROM to TO seconds; --delay NAME:SECONDS sends
+//   a sensor's measurements that much later (in the samples' time: after
+//   the other sensors' samples up to then), as a sensor with a latency
+//   would. --steps N: N steps of dt.
 // --exercise replays the book exactly:
 //   1: the car, 10 prediction steps, no measurement (Table 1.1, Fig. 1.2);
 //   2: the car, 5 prediction steps, z = 5 (Q = 10) at t = 5 (Table 2.1);
@@ -212,8 +216,10 @@ static void send_meas_m(sim *s, long t, int m, const double *z, const double *q)
 }
 
 // A measurement on a sensor's channel with its own seq, at utime u.
-static void send_meas_on(sim *s, const char *channel, int64_t *seq, int64_t u,
-                         int m, const double *z, const double *q)
+// Its bytes into buf (at most size): the encoded length, or < 0.
+static int encode_meas_on(sim *s, int64_t *seq, int64_t u, int m,
+                          const double *z, const double *q, uint8_t *buf,
+                          int size)
 {
     gaussfilt_lcm_measurement_t msg;
     double zz[NMAX], qq[NMAX * NMAX], *rows[NMAX];
@@ -232,9 +238,14 @@ static void send_meas_on(sim *s, const char *channel, int64_t *seq, int64_t u,
     msg.m = (int8_t)m;
     msg.z = zz;
     msg.q = rows;
+    return gaussfilt_lcm_measurement_t_encode(buf, 0, size, &msg);
+}
+
+static void send_meas_on(sim *s, const char *channel, int64_t *seq, int64_t u,
+                         int m, const double *z, const double *q)
+{
     send(s, channel,
-         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
-                                            &msg));
+         encode_meas_on(s, seq, u, m, z, q, s->buf, (int)sizeof(s->buf)));
     s->sent_meas++;
 }
 
@@ -405,6 +416,8 @@ static void linear_step(run *q, const gf_node_linear *l, long t, int measure)
 // ---- a linear model's named sensors (see the top) ---------------------------
 
 // One run's sensors: each one's channel, seq and next sample.
+#define SENSOR_HELD 64
+
 typedef struct sensor_run {
     char ch[GF_NODE_SENSORS][GF_CHANNEL_MAX];
     int64_t seq[GF_NODE_SENSORS];
@@ -412,6 +425,14 @@ typedef struct sensor_run {
     int64_t next[GF_NODE_SENSORS]; // utime of the next sample
     int64_t last;                  // utime of the last sample (truth's time)
     int started;
+    // the delayed sensor's measurements, sent once the samples have
+    // reached their utime + delay (in order)
+    struct {
+        int64_t release;
+        int len;
+        uint8_t buf[64 + 8 * (NMAX + NMAX * NMAX)];
+    } held[SENSOR_HELD];
+    unsigned nheld, first_held;
 } sensor_run;
 
 // Sensors' samples: sample k of a sensor of rate r (every step of dt when
@@ -422,7 +443,26 @@ typedef struct sensor_opts {
     int drop;          // the sensor index dropped, -1 for none
     int64_t drop_from; // utime
     int64_t drop_to;   // utime
+    int delay;         // the sensor index delayed, -1 for none
+    int64_t delay_us;  // its measurements go out this much later
 } sensor_opts;
+
+// Sends the delayed sensor's held measurements due by utime u (all of
+// them for INT64_MAX).
+static void release_held(run *q, sensor_run *sr, const sensor_opts *o,
+                         int64_t u)
+{
+    while (sr->nheld > 0 && sr->held[sr->first_held].release <= u) {
+        unsigned i = sr->first_held;
+        if (sr->held[i].len < 0 ||
+            lcm_publish(q->s.lcm, sr->ch[o->delay], sr->held[i].buf,
+                        (unsigned)sr->held[i].len) != 0) {
+            q->s.failed = 1;
+        }
+        sr->first_held = (sr->first_held + 1) % SENSOR_HELD;
+        sr->nheld--;
+    }
+}
 
 static double sensor_period(const gf_node_sensor *sen, double dt)
 {
@@ -463,6 +503,7 @@ static void sensors_until(run *q, sensor_run *sr, const gf_node_model *mdl,
         if (u > until) {
             return;
         }
+        release_held(q, sr, o, u); // those due before this sample
         k = best;
         sr->next[k] = sensor_next(sr, &q->r, &set->s[k], k, mdl->dt, o);
         if (k == (unsigned)o->drop && u >= o->drop_from && u < o->drop_to) {
@@ -495,8 +536,17 @@ static void sensors_until(run *q, sensor_run *sr, const gf_node_model *mdl,
                     z[i] = remainder(z[i], 2.0 * 3.14159265358979323846);
                 }
             }
-            send_meas_on(&q->s, sr->ch[k], &sr->seq[k], u, (int)sen->m, z,
-                         sen->Q);
+            if ((int)k == o->delay && sr->nheld < SENSOR_HELD) {
+                unsigned h = (sr->first_held + sr->nheld++) % SENSOR_HELD;
+                sr->held[h].release = u + o->delay_us;
+                sr->held[h].len = encode_meas_on(
+                    &q->s, &sr->seq[k], u, (int)sen->m, z, sen->Q,
+                    sr->held[h].buf, (int)sizeof sr->held[i].buf);
+                q->s.sent_meas++;
+            } else {
+                send_meas_on(&q->s, sr->ch[k], &sr->seq[k], u, (int)sen->m, z,
+                             sen->Q);
+            }
         }
     }
 }
@@ -575,7 +625,7 @@ static const char help_text[] =
     "              [--rate HZ] [--meas-every K] [--meas-var V] [--turn PHI]\n"
     "       gf_sim --config FILE --model NAME [--runs M] [--track N]\n"
     "              [--steps N] [--seed S] [--rate HZ] [--turn PHI]\n"
-    "              [--jitter J] [--drop SENSOR:FROM:TO]\n\n"
+    "              [--jitter J] [--drop SENSOR:FROM:TO] [--delay S:SECONDS]\n\n"
     "  --exercise E    Probabilistic Robotics ch. 3, exercise 1, 2 or 4 "
     "exactly;\n"
     "                  exercise 2 with --steps N, --z Z, --meas-var V changed\n"
@@ -593,6 +643,9 @@ static const char help_text[] =
     "  --jitter J      a model's sensors: each sample moved by up to J/2 of\n"
     "                  its sensor's period (0 <= J < 1)\n"
     "  --drop S:A:B    a model's sensor S sends nothing from A to B seconds\n"
+    "  --delay S:D     a model's sensor S sends each measurement D seconds\n"
+    "                  later (after the others' of that time: late at the\n"
+    "                  node)\n"
     "  --session S     the run's session (default: the start time in us)\n"
     "  --url URL       LCM URL (default LCM's); file:///x.lcmlog?mode=w "
     "writes\n"
@@ -611,8 +664,8 @@ int main(int argc, char **argv)
     static gf_node_config config;
     static run runs[MAX_RUNS];
     static sensor_run sruns[MAX_RUNS];
-    sensor_opts so = {0.0, -1, 0, 0};
-    const char *drop = NULL;
+    sensor_opts so = {0.0, -1, 0, 0, -1, 0};
+    const char *drop = NULL, *delay = NULL;
     int sensors = 0;
     const gf_node_model *mdl = NULL;
     long nruns = 1;
@@ -681,6 +734,8 @@ int main(int argc, char **argv)
             so.jitter = atof(v);
         } else if (strcmp(a, "--drop") == 0) {
             drop = v;
+        } else if (strcmp(a, "--delay") == 0) {
+            delay = v;
         } else if (strcmp(a, "--wait") == 0 && nwait < 16) {
             wait_for[nwait++] = v;
         } else if (strcmp(a, "--wait-s") == 0) {
@@ -741,6 +796,23 @@ int main(int argc, char **argv)
             so.drop = (int)(d - mdl->sensors->s);
             so.drop_from = (int64_t)llround(from * 1e6);
             so.drop_to = (int64_t)llround(to * 1e6);
+        }
+        if (delay != NULL) {
+            char name[GF_NODE_SENSOR_NAME];
+            double by;
+            const gf_node_sensor *d = NULL;
+            if (sscanf(delay, "%15[A-Za-z0-9]:%lf", name, &by) == 2) {
+                d = gf_node_model_sensor(mdl, name);
+            }
+            if (d == NULL || !(by > 0.0 && by < 3600.0)) {
+                fprintf(stderr,
+                        "gf_sim: --delay SENSOR:SECONDS (0 < SECONDS "
+                        "< 3600), SENSOR one of model %s's\n",
+                        model_name);
+                return 2;
+            }
+            so.delay = (int)(d - mdl->sensors->s);
+            so.delay_us = (int64_t)llround(by * 1e6);
         }
     }
     if (exercise == 1 || exercise == 2) {
@@ -895,6 +967,9 @@ int main(int argc, char **argv)
                 }
             }
             pace(&next, period_ns);
+        }
+        for (k = 0; sensors && k < nruns; k++) {
+            release_held(&runs[k], &sruns[k], &so, INT64_MAX); // the rest
         }
         s.sent_ctrl = s.sent_meas = s.sent_truth = 0;
         for (k = 0; k < nruns; k++) {

@@ -63,7 +63,9 @@
 #              3 runs with jittered sample times and the gnss silent for
 #              2 s equal a filter written in the checker, dt by dt; that
 #              node with --rate 20 also publishes beliefs predicted to
-#              now, and its inputs' beliefs are a replay's without --rate
+#              now, and its inputs' beliefs are a replay's without --rate;
+#              a sensor 0.1 s late (late, a status belief each) and one
+#              0.5 s late (too_old), counted exactly
 #   java       a demo-like log (exercises 1, 2, 4 and a random robot through
 #              an EKF and a PF node, a run-time model_t) by gf_record; the
 #              Java types jar decodes every GF_ event of it the way lcm-spy
@@ -554,6 +556,29 @@ print("lcm_udpm: --rate 20: %d beliefs predicted to now beside %d for "
       "inputs, those the same numbers as without --rate" % (len(rate),
                                                           len(inputs)))
 PY
+    # late and too old: each gnss fix sent 0.1 s late (within the model's
+    # late_window of 0.2 s: late, a status belief each), each wheel speed
+    # 0.5 s late (too_old, no belief; those of the last 0.2 s late); the
+    # last sample of each at 5 s is no older than the track: applied
+    # (the node is stopped once its last belief has been seen)
+    start late "$bin/gf_record" --url "$URL" --channels 'GF_BELIEF_7[67][0-9]' \
+        --count $((2 * 3 * 775 - 3 * 239 + 6)) "$work/late.lcmlog"
+    ready late
+    start node "$bin/gf_node" --config "$conf" --strict --name late \
+        --url "$URL&recv_buf_size=4194304" --channels "$chans"
+    ready node
+    "$bin/gf_sim" --url "$URL" --config "$conf" --model vehicle --track 760 \
+        --runs 3 --steps $steps --seed 5 --session 1 --rate 200 --delay gnss:0.1
+    "$bin/gf_sim" --url "$URL" --config "$conf" --model vehicle --track 770 \
+        --runs 3 --steps $steps --seed 5 --session 1 --rate 200 --delay wheel:0.5
+    recorded late
+    stop_node
+    expect received $((2 * 3 * 775))
+    expect late $((3 * 24 + 3 * 10))
+    expect too_old $((3 * (250 - 11)))
+    expect applied $((2 * 3 * 775 - 3 * 24 - 3 * 10 - 3 * 239))
+    expect published $((2 * 3 * 775 - 3 * 239 + 6))
+    expect gaps 0
     ;;
 quickstart)
     root=$(cd "$(dirname "$0")/../.." && pwd)
