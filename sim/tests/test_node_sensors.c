@@ -3,7 +3,7 @@
 // in process: the sensor sections of a configuration and their errors;
 // a vehicle's sensors each updating the one belief, predicted to each
 // input's utime, against gf_kf stepped here with A(dt), R(dt) written out;
-// a control's own dt; a sensor's default Q; late and too old inputs, out
+// a control's own dt; a constant axis; a sensor's default Q; late and too old inputs, out
 // of order and duplicates per sensor, each with its counter; a refused
 // input leaving the track's belief and time, a gated one the prediction; a robot's
 // heading and range sensors against EKF3 with callbacks written here;
@@ -65,6 +65,17 @@ static const char vehicle_conf[] =
     "Q = 0.5\n"
     "prior_mean = 1 2\n"
     "prior_cov = 1 0.5\n"
+    "# a constant-velocity axis and a constant (a bias), in time\n"
+    "[model biased]\n"
+    "type = linear\n"
+    "channels = GF_(MEAS|CTRL|MODEL)_6[0-9][0-9]\n"
+    "motion = cv c\n"
+    "dt = 0.05\n"
+    "accel_var = 1.5 0.2\n"
+    "C = 1 0 1\n"
+    "Q = 0.04\n"
+    "prior_mean = 0 1 0.5\n"
+    "prior_cov = 1 1 0.25\n"
     "# a robot with a compass and a range finder to (4, 3)\n"
     "[model rover]\n"
     "type = robot\n"
@@ -453,6 +464,39 @@ static void control_in_time(void **state)
     assert_int_equal(last()->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT);
 }
 
+// A constant axis (c): A = 1, R = q dt, beside a cv axis; the model's own
+// C on GF_MEAS_<id>, in time.
+static void constant_axis(void **state)
+{
+    const gf_real mu0[3] = {0, 1, GF_R(0.5)},
+                  P0[9] = {1, 0, 0, 0, 1, 0, 0, 0, GF_R(0.25)},
+                  C[3] = {1, 0, 1}, Q[1] = {GF_R(0.04)};
+    gf_real A[9], R[9], z[1];
+    gf_kf kf;
+    gf_kf_model km = {0, A, NULL, R, NULL};
+    gf_kf_meas mm = {1, C, Q, NULL, 0};
+    const double zs[2] = {0.62, 1.4}, q = 0.04;
+    const int64_t ut[2] = {7000000, 7730000};
+    const double dts[2] = {0.05, 0.73};
+    (void)state;
+    assert_int_equal(gf_kf_init(&kf, 3, mu0, P0, &fx.work), GF_OK);
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(
+            feed(gf_msg_meas(600, GF_LINEAR, k + 1, ut[k], zs[k], q), 0),
+            GF_NODE_APPLIED);
+        memset(A, 0, sizeof A);
+        memset(R, 0, sizeof R);
+        cv_block(A, R, 3, 0, dts[k], 1.5);
+        A[8] = GF_R(1.0);
+        R[8] = (gf_real)(0.2 * dts[k]);
+        assert_int_equal(gf_kf_predict(&kf, &km, NULL, &fx.work), GF_OK);
+        z[0] = (gf_real)zs[k];
+        assert_int_equal(gf_kf_update(&kf, &mm, z, NULL, &fx.work), GF_OK);
+        check_belief(last(), &kf);
+        assert_string_equal(last()->sensor, "");
+    }
+}
+
 // Late and too old inputs, out of order and duplicates: each its counter;
 // a late one's status belief; no false gap.
 static void late_and_old(void **state)
@@ -756,6 +800,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(sensor_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(sensors_in_time, setup, teardown),
         cmocka_unit_test_setup_teardown(control_in_time, setup, teardown),
+        cmocka_unit_test_setup_teardown(constant_axis, setup, teardown),
         cmocka_unit_test_setup_teardown(late_and_old, setup, teardown),
         cmocka_unit_test_setup_teardown(failed_in_time, setup, teardown),
         cmocka_unit_test_setup_teardown(robot_sensors, setup, teardown),
