@@ -791,6 +791,45 @@ static void tick(void **state)
     // the track itself unchanged (its belief number aside)
     before.belief_seq++;
     assert_memory_equal(&before, gf_node_find(&fx.node, 702), sizeof before);
+    // a car (the preset book-car): predicted with its A and R over the
+    // 0.25 s since its control; a robot as it is
+    gf_node_set_strict(&fx.node, 0);
+    assert_int_equal(
+        feed(gf_msg_ctrl(5, GF_CAR, 1, 3000000, 0, 0, 0), 1000000000),
+        GF_NODE_APPLIED);
+    assert_int_equal(
+        feed(gf_msg_ctrl(6, GF_ROBOT, 1, 3000000, 2, 1, 0), 1000000000),
+        GF_NODE_APPLIED);
+    {
+        gf_node_model car = *gf_node_model_book_car();
+        gf_kf2 kf2 = gf_node_find(&fx.node, 5)->f.kf2;
+        gf_kf2_model km;
+        gf_mat2 sigma;
+        gf_vec3 mu3 = gf_node_find(&fx.node, 6)->f.ekf3.mu;
+        const gf_wire_belief *b;
+        car.dt = 0.25;
+        gf_node_model_car(&car, &km);
+        assert_int_equal(gf_kf2_predict(&kf2, &km, NULL), GF_OK);
+        assert_int_equal(gf_kf2_cov(&kf2, &sigma), GF_OK);
+        n = fx.sink.n;
+        assert_int_equal(gf_node_tick(&fx.node, 1000250000), 3);
+        assert_int_equal(fx.sink.n, n + 3);
+        b = &fx.sink.b[n + 1]; // tracks in creation order: 702, 5, 6
+        assert_int_equal(b->track, 5);
+        assert_int_equal(b->utime, 3250000);
+        for (unsigned i = 0; i < 2; i++) {
+            check_close(b->mean[i], (double)kf2.mu.v[i]);
+            for (unsigned j = 0; j < 2; j++) {
+                check_close(b->cov[i][j], (double)sigma.m[i][j]);
+            }
+        }
+        b = &fx.sink.b[n + 2];
+        assert_int_equal(b->track, 6);
+        for (unsigned i = 0; i < 3; i++) {
+            check_close(b->mean[i], (double)mu3.v[i]);
+        }
+        assert_int_equal(b->trigger, GAUSSFILT_LCM_BELIEF_T_TRIGGER_RATE);
+    }
 }
 
 int main(void)
