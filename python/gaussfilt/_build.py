@@ -28,3 +28,7 @@ def fill(namespace: dict, ext, real: str) -> None:
     namespace["dtype"] = np.dtype(real)
     namespace["__all__"] = list(_EXT_NAMES + ("dtype",) + _CONSTANTS
                                 + _ERRORS)
+    # pickle and copy for the models (the beliefs have their own)
+    from types import SimpleNamespace
+    from ._state import register
+    register(SimpleNamespace(**{n: namespace[n] for n in _EXT_NAMES}), real)

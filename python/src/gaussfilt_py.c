@@ -1082,6 +1082,135 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
     return out;
 }
 
+// ---- state, for pickle and copy ----------------------------------------
+
+// __getstate__ of a belief: (1, precision, the library's belief as bytes,
+// the last accepted update's innovation as bytes, whether there is one).
+// A copy restores every bit: the factors, not Sigma recomputed.
+static PyObject *state_get(const Family *fam, PyObject *self_)
+{
+    FilterObj *f = (FilterObj *)self_;
+    return Py_BuildValue(
+        "(isy#y#i)", 1, GF_PREC_NAME, (const char *)self_ + fam->belief_offset,
+        (Py_ssize_t)fam->belief_size, (const char *)&f->last,
+        (Py_ssize_t)sizeof f->last, f->has_last);
+}
+
+// The factors' order perm[0..n-1] is a permutation of 0..n-1 (what the
+// accessor indexes by), and n within the library's range.
+static int state_sound(const unsigned char *perm, unsigned n)
+{
+    unsigned seen = 0;
+    if (n < 1u || n > NMAX) {
+        return 0;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        if (perm[i] >= n || (seen >> perm[i]) & 1u) {
+            return 0;
+        }
+        seen |= 1u << perm[i];
+    }
+    return 1;
+}
+
+// __setstate__: the belief and innovation of state_get's tuple, checked
+// (version, precision, sizes, the factors' order, n) before anything is
+// written; BadArgument otherwise, the filter unchanged.
+static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
+{
+    FilterObj *f = (FilterObj *)self_;
+    int version, has_last;
+    const char *prec, *belief, *last;
+    Py_ssize_t nb, nl;
+    char what[64];
+    snprintf(what, sizeof what, "%s.__setstate__", fam->name);
+    if (!PyTuple_Check(st) ||
+        !PyArg_ParseTuple(st, "isy#y#i", &version, &prec, &belief, &nb,
+                          &last, &nl, &has_last)) {
+        PyErr_Clear();
+        return bad_arg("%s: not a state of this package", what);
+    }
+    if (version != 1 || strcmp(prec, GF_PREC_NAME) != 0 ||
+        (size_t)nb != fam->belief_size || (size_t)nl != sizeof f->last) {
+        return bad_arg("%s: a state of version %d in %s, %zd bytes; this "
+                       "filter's is version 1 in %s, %zu bytes",
+                       what, version, prec, nb, GF_PREC_NAME,
+                       fam->belief_size);
+    }
+    unsigned n = fam->belief_size == sizeof(gf_kf2)    ? 2u
+                 : fam->belief_size == sizeof(gf_ekf3) ? 3u
+                                                       : 0u;
+    const unsigned char *perm;
+    if (n == 0u) {
+        gf_kf k;
+        memcpy(&k, belief, sizeof k);
+        n = k.n;
+        perm = (const unsigned char *)belief + offsetof(gf_kf, perm);
+    } else {
+        perm = (const unsigned char *)belief +
+               (n == 2u ? offsetof(gf_kf2, perm) : offsetof(gf_ekf3, perm));
+    }
+    gf_kf_innovation in;
+    memcpy(&in, last, sizeof in);
+    if (!state_sound(perm, n) || (has_last && (in.m < 1u || in.m > n))) {
+        return bad_arg("%s: the state's belief is not one the library made",
+                       what);
+    }
+    if (check_idle(f, reinit_back, what) < 0) {
+        return NULL;
+    }
+    memcpy((char *)self_ + fam->belief_offset, belief, fam->belief_size);
+    f->last = in;
+    f->has_last = has_last != 0;
+    Py_RETURN_NONE;
+}
+
+// ---- settable state ----------------------------------------------------
+
+// The mean's setter: value read as n finite numbers (the states in `angles`
+// wrapped, as init wraps them) into dst, the factors kept; BadArgument or
+// NonFinite otherwise, the belief unchanged.
+static int set_mean(FilterObj *f, gf_real *dst, unsigned n, unsigned angles,
+                    PyObject *value, const char *who)
+{
+    gf_real m[NMAX];
+    if (!value) {
+        bad_arg("%s cannot be deleted", who);
+        return -1;
+    }
+    if (n < 1u) {
+        bad_arg("%s: the filter was never initialised", who);
+        return -1;
+    }
+    if (read_real(value, who, 0, n, m) < 0) {
+        return -1;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        if (!isfinite((double)m[i])) {
+            raise_status(GF_ERR_NONFINITE, who, NULL, NULL, 0, 0);
+            return -1;
+        }
+        if (i < 32u && ((angles >> i) & 1u)) {
+            m[i] = gf_angle_wrap(m[i]);
+        }
+    }
+    if (check_idle(f, reinit_back, who) < 0) {
+        return -1;
+    }
+    memcpy(dst, m, n * sizeof(gf_real));
+    return 0;
+}
+
+// reset(mu, sigma[, angles]): the constructor again on this object, which
+// judges and factors as it does; the belief unchanged when it refuses.
+static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
+{
+    if (Py_TYPE(self)->tp_init(self, args, kw) < 0) {
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
 // ---- KF2 ------------------------------------------------------------------
 
 typedef struct {
@@ -1309,6 +1438,17 @@ static PyObject *KF2_update(PyObject *self, PyObject *const *args,
 
 // run(): the batch entry of KF2, see its docstring. On a failure other
 // than a gate the belief is put back as it was before the call.
+static PyObject *KF2_getstate(PyObject *self, PyObject *unused)
+{
+    (void)unused;
+    return state_get(&kf2_family, self);
+}
+
+static PyObject *KF2_setstate(PyObject *self, PyObject *st)
+{
+    return state_set(&kf2_family, self, st);
+}
+
 static PyObject *KF2_run(PyObject *self, PyObject *const *args,
                          Py_ssize_t nargs, PyObject *kwnames)
 {
@@ -1325,6 +1465,13 @@ static PyObject *KF2_sigma(PyObject *self_, PyObject *unused)
         return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
     }
     return new_array(2, 2, &s.m[0][0]);
+}
+
+static int KF2_set_mu(PyObject *self_, PyObject *value, void *unused)
+{
+    KF2Obj *self = (KF2Obj *)self_;
+    (void)unused;
+    return set_mean(&self->f, self->kf.mu.v, 2, 0, value, "KF2.mu");
 }
 
 static PyObject *KF2_mu(PyObject *self, void *unused)
@@ -1364,11 +1511,22 @@ static PyMethodDef KF2_methods[] = {
      "(status -5 and its NIS) and the run goes on from the prediction;\n"
      "nis is NaN where no update ran. Any other failure raises with\n"
      "exc.step = k and puts the belief back as it was before the call."},
+    {"__getstate__", KF2_getstate, METH_NOARGS,
+     "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
+     "every bit of its factors."},
+    {"__setstate__", KF2_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
+     "belief (checked first)."},
+    {"reset", (PyCFunction)(void (*)(void))Filter_reset,
+     METH_VARARGS | METH_KEYWORDS,
+     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
 
 static PyGetSetDef KF2_getset[] = {
-    {"mu", KF2_mu, NULL, "the mean, a (2,) copy", NULL},
+    {"mu", KF2_mu, KF2_set_mu,
+     "the mean, a (2,) copy; set: a new mean, the covariance kept", NULL},
     {"nis", Filter_nis, NULL,
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
@@ -1678,6 +1836,17 @@ static PyObject *EKF3_update(PyObject *self, PyObject *const *args,
 
 // run(): the batch entry of EKF3, see its docstring. On a failure other
 // than a gate the belief is put back as it was before the call.
+static PyObject *EKF3_getstate(PyObject *self, PyObject *unused)
+{
+    (void)unused;
+    return state_get(&ekf3_family, self);
+}
+
+static PyObject *EKF3_setstate(PyObject *self, PyObject *st)
+{
+    return state_set(&ekf3_family, self, st);
+}
+
 static PyObject *EKF3_run(PyObject *self, PyObject *const *args,
                           Py_ssize_t nargs, PyObject *kwnames)
 {
@@ -1693,6 +1862,13 @@ static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
         return raise_status(st, "EKF3.sigma", NULL, NULL, 0, 0);
     }
     return new_array(3, 3, &s.m[0][0]);
+}
+
+static int EKF3_set_mu(PyObject *self_, PyObject *value, void *unused)
+{
+    EKF3Obj *self = (EKF3Obj *)self_;
+    (void)unused;
+    return set_mean(&self->f, self->ekf.mu.v, 3, 4u, value, "EKF3.mu");
 }
 
 static PyObject *EKF3_mu(PyObject *self, void *unused)
@@ -1733,11 +1909,24 @@ static PyMethodDef EKF3_methods[] = {
      "(status -5 and its NIS) and the run goes on; any other failure, a\n"
      "callback's exception included, raises with exc.step = k and puts\n"
      "the belief back as it was before the call."},
+    {"__getstate__", EKF3_getstate, METH_NOARGS,
+     "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
+     "every bit of its factors."},
+    {"__setstate__", EKF3_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
+     "belief (checked first)."},
+    {"reset", (PyCFunction)(void (*)(void))Filter_reset,
+     METH_VARARGS | METH_KEYWORDS,
+     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
 
 static PyGetSetDef EKF3_getset[] = {
-    {"mu", EKF3_mu, NULL, "the mean (x, y, theta), a (3,) copy", NULL},
+    {"mu", EKF3_mu, EKF3_set_mu,
+     "the mean (x, y, theta), a (3,) copy; set: a new mean (theta\n"
+     "wrapped), the covariance kept",
+     NULL},
     {"nis", Filter_nis, NULL,
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
@@ -2272,6 +2461,17 @@ static PyObject *KF_update(PyObject *self, PyObject *const *args,
     return update_entry(&kf_family, self, args, nargs, kwnames);
 }
 
+static PyObject *KF_getstate(PyObject *self, PyObject *unused)
+{
+    (void)unused;
+    return state_get(&kf_family, self);
+}
+
+static PyObject *KF_setstate(PyObject *self, PyObject *st)
+{
+    return state_set(&kf_family, self, st);
+}
+
 static PyObject *KF_run(PyObject *self, PyObject *const *args, Py_ssize_t nargs,
                         PyObject *kwnames)
 {
@@ -2291,6 +2491,17 @@ static PyObject *EKF_update(PyObject *self, PyObject *const *args,
 }
 
 // run(): the batch entry of EKF, as EKF3.run.
+static PyObject *EKF_getstate(PyObject *self, PyObject *unused)
+{
+    (void)unused;
+    return state_get(&ekf_family, self);
+}
+
+static PyObject *EKF_setstate(PyObject *self, PyObject *st)
+{
+    return state_set(&ekf_family, self, st);
+}
+
 static PyObject *EKF_run(PyObject *self, PyObject *const *args,
                          Py_ssize_t nargs, PyObject *kwnames)
 {
@@ -2348,6 +2559,16 @@ static PyMethodDef KF_methods[] = {
      "update(meas, z[k]) unless z[k] has a NaN; a gated update is recorded\n"
      "and skipped; any other failure raises with exc.step and puts the\n"
      "belief back as it was before the call."},
+    {"__getstate__", KF_getstate, METH_NOARGS,
+     "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
+     "every bit of its factors."},
+    {"__setstate__", KF_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
+     "belief (checked first)."},
+    {"reset", (PyCFunction)(void (*)(void))Filter_reset,
+     METH_VARARGS | METH_KEYWORDS,
+     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
 
@@ -2380,11 +2601,32 @@ static PyMethodDef EKF_methods[] = {
      "array (None without u); update unless z[k] has a NaN; a gated\n"
      "update is recorded; any other failure raises with exc.step and puts\n"
      "the belief back as it was before the call."},
+    {"__getstate__", EKF_getstate, METH_NOARGS,
+     "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
+     "every bit of its factors."},
+    {"__setstate__", EKF_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
+     "belief (checked first)."},
+    {"reset", (PyCFunction)(void (*)(void))Filter_reset,
+     METH_VARARGS | METH_KEYWORDS,
+     "reset($self, /, mu, sigma, angles=0)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
 
+static int KF_set_mu(PyObject *self_, PyObject *value, void *unused)
+{
+    KFObj *self = (KFObj *)self_;
+    (void)unused;
+    return set_mean(&self->f, self->kf.mu, self->kf.n, self->kf.angles, value,
+                    Py_TYPE(self_) == &EKF_Type ? "EKF.mu" : "KF.mu");
+}
+
 static PyGetSetDef KF_getset[] = {
-    {"mu", KF_get, NULL, "the mean, an (n,) copy", (void *)0},
+    {"mu", KF_get, KF_set_mu,
+     "the mean, an (n,) copy; set: a new mean (the angle states wrapped),\n"
+     "the covariance kept",
+     (void *)0},
     {"nis", Filter_nis, NULL,
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
@@ -2467,6 +2709,57 @@ static PyMethodDef module_methods[] = {
 
 // ---- types and module -----------------------------------------------------
 
+// The repr of every class here: its name (with the precision), n and m
+// where it has them, and a belief's mean:
+//   <gaussfilt.float32.KF2 n=2 mu=[4.0244 1.2195]>
+//   <gaussfilt.float64.KFMeas n=4 m=2>
+static PyObject *Obj_repr(PyObject *self)
+{
+    static const char *const sizes[] = {"n", "m"};
+    PyObject *parts = PyList_New(0), *out = NULL, *mu = NULL;
+    if (!parts) {
+        return NULL;
+    }
+    PyObject *head = PyUnicode_FromFormat("<%s", Py_TYPE(self)->tp_name);
+    int ok = head && PyList_Append(parts, head) == 0;
+    Py_XDECREF(head);
+    mu = ok && PyObject_HasAttrString(self, "mu")
+             ? PyObject_GetAttrString(self, "mu")
+             : NULL;
+    if (mu) {
+        PyObject *t = PyUnicode_FromFormat(
+            "n=%zd", PyArray_Check(mu) ? PyArray_SIZE((PyArrayObject *)mu)
+                                       : (Py_ssize_t)0);
+        ok = t && PyList_Append(parts, t) == 0;
+        Py_XDECREF(t);
+    }
+    for (int i = 0; ok && !mu && i < 2; i++) {
+        if (!PyObject_HasAttrString(self, sizes[i])) {
+            continue;
+        }
+        PyObject *v = PyObject_GetAttrString(self, sizes[i]);
+        PyObject *t = v ? PyUnicode_FromFormat("%s=%S", sizes[i], v) : NULL;
+        ok = t && PyList_Append(parts, t) == 0;
+        Py_XDECREF(v);
+        Py_XDECREF(t);
+    }
+    if (ok && mu) {
+        PyObject *t = PyUnicode_FromFormat("mu=%S", mu);
+        ok = t && PyList_Append(parts, t) == 0;
+        Py_XDECREF(t);
+    }
+    if (ok) {
+        PyObject *sep = PyUnicode_FromString(" ");
+        PyObject *body = sep ? PyUnicode_Join(sep, parts) : NULL;
+        out = body ? PyUnicode_FromFormat("%U>", body) : NULL;
+        Py_XDECREF(body);
+        Py_XDECREF(sep);
+    }
+    Py_XDECREF(mu);
+    Py_DECREF(parts);
+    return out;
+}
+
 #define GF_TYPE(T, name, doc, init, methods, getset)                           \
     static PyTypeObject T##_Type = {                                           \
         PyVarObject_HEAD_INIT(NULL, 0).tp_name =                               \
@@ -2478,6 +2771,7 @@ static PyMethodDef module_methods[] = {
         .tp_init = init,                                                       \
         .tp_methods = methods,                                                 \
         .tp_getset = getset,                                                   \
+        .tp_repr = Obj_repr,                                                   \
     }
 
 #define GF_GC_TYPE(T, name, doc, init, getset)                                 \
@@ -2494,6 +2788,7 @@ static PyMethodDef module_methods[] = {
         .tp_traverse = Callback_traverse,                                      \
         .tp_clear = Callback_clear,                                            \
         .tp_dealloc = Callback_dealloc,                                        \
+        .tp_repr = Obj_repr,                                                   \
     }
 
 GF_TYPE(KF2Model, "KF2Model",

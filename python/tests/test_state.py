@@ -1,0 +1,167 @@
+# SPDX-License-Identifier: MIT
+"""A filter's state from Python: pickle, copy and deepcopy restore every bit
+of a belief (its factors, its last innovation) in both precisions, and the
+copy steps on its own; models pickle and copy (built-in models by name,
+Python functions as pickle can); a state that is not one of this
+package's, or of the other precision, is refused with the filter
+unchanged; the repr shows class, precision, n and the mean; the mean is
+settable and reset() judges as the constructor does, the belief unchanged
+when either refuses."""
+import copy
+import pickle
+
+import numpy as np
+import pytest
+
+import gaussfilt
+from gaussfilt import float32, float64
+
+MODS = [float32, float64]
+
+
+def motion_g(mu, u):  # a module-level Python model: picklable
+    return mu + 0.1, np.eye(len(mu))
+
+
+def meas_h(mu):
+    return mu[:1].copy(), np.eye(1, len(mu))
+
+
+def stepped(gf):
+    """One of each belief, stepped so that its factors are off the
+    identity and it has a last innovation."""
+    kf2 = gf.KF2(mu=[0, 0], sigma=[[2, 0.5], [0.5, 1]])
+    car = gf.KF2Model(A=[[1, 1], [0, 1]], R=[[0.25, 0.5], [0.5, 1]])
+    for z in (1.0, 2.5, 3.9):
+        kf2.predict(car)
+        kf2.update(gf.KF2Meas(C=[[1, 0]], Q=[[10]]), z=[z])
+    ekf3 = gf.EKF3(mu=[0, 0, 3.0], sigma=np.diag([1, 1, 0.1]))
+    ekf3.predict(gf.EKF3Motion(g=gf.forward_turn, R=np.eye(3) * 0.01),
+                 u=[1, 0.3])
+    ekf3.update(gf.EKF3Meas(h=gf.meas_xy, Q=np.eye(2)), z=[1, 0.2])
+    kf = gf.KF(mu=[0, 1, 0, 1], sigma=np.eye(4))
+    model = gf.KFModel(A=np.kron(np.eye(2), [[1, 1], [0, 1]]),
+                       R=np.eye(4) * 0.1)
+    kf.predict(model)
+    kf.update(gf.KFMeas(C=[[1, 0, 0, 0], [0, 0, 1, 0]], Q=np.eye(2)),
+              z=[0.5, 0.7])
+    ekf = gf.EKF(mu=[0, 0, 3.1], sigma=np.eye(3), angles=4)
+    ekf.predict(gf.EKFMotion(g=motion_g, R=np.eye(3) * 0.01))
+    ekf.update(gf.EKFMeas(h=meas_h, Q=[[1]], n=3), z=[0.3])
+    return {"KF2": kf2, "EKF3": ekf3, "KF": kf, "EKF": ekf}
+
+
+def same(a, b):
+    return a.__getstate__() == b.__getstate__()
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_pickle_and_copy_keep_every_bit(gf):
+    for name, f in stepped(gf).items():
+        for twin in (pickle.loads(pickle.dumps(f)),
+                     pickle.loads(pickle.dumps(f, protocol=2)),
+                     copy.copy(f), copy.deepcopy(f)):
+            assert type(twin) is type(f) and same(twin, f), name
+            assert np.array_equal(twin.mu, f.mu) and twin.nis == f.nis
+            assert np.array_equal(twin.sigma(), f.sigma())
+            assert np.array_equal(twin.innovation, f.innovation)
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_a_copy_steps_on_its_own_and_as_the_original(gf):
+    f = stepped(gf)["KF2"]
+    twin = copy.deepcopy(f)
+    car = gf.KF2Model(A=[[1, 0.5], [0, 1]], R=np.eye(2) * 0.1)
+    before = f.__getstate__()
+    twin.predict(car)
+    assert f.__getstate__() == before  # the original untouched
+    f.predict(car)
+    assert same(twin, f)  # the same step, the same bits
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_models_pickle(gf):
+    car = gf.KF2Model(A=[[1, 1], [0, 1]], R=[[0.25, 0.5], [0.5, 1]],
+                      c=[0.1, 0])
+    meas = gf.KFMeas(C=[[1, 0, 0]], Q=[[2]], c=[1], gate=9)
+    for m in (car, meas, gf.KFModel(A=np.eye(3), R=np.eye(3)),
+              gf.KF2Meas(C=[[1, 0], [0, 1]], Q=np.eye(2), gate=4)):
+        back = pickle.loads(pickle.dumps(m))
+        assert type(back) is type(m)
+        for attr in ("A", "R", "B", "c", "C", "Q", "gate"):
+            if hasattr(m, attr):
+                assert np.array_equal(getattr(back, attr), getattr(m, attr),
+                                      equal_nan=False) or (
+                    getattr(m, attr) is None and getattr(back, attr) is None)
+    # a prediction with the copy is the original's, bit for bit
+    a, b = gf.KF2(mu=[1, 2], sigma=np.eye(2)), gf.KF2(mu=[1, 2],
+                                                      sigma=np.eye(2))
+    a.predict(car)
+    b.predict(pickle.loads(pickle.dumps(car)))
+    assert same(a, b)
+    for builtin in (gf.forward_turn, gf.meas_x, gf.meas_xy):
+        assert pickle.loads(pickle.dumps(builtin)) is builtin
+    motion = pickle.loads(pickle.dumps(gf.EKFMotion(g=motion_g, R=np.eye(2))))
+    assert motion.g is motion_g and motion.n == 2
+    meas3 = pickle.loads(pickle.dumps(gf.EKF3Meas(h=gf.meas_x, Q=[[1]],
+                                                  angle_mask=1, gate=3)))
+    assert meas3.h is gf.meas_x and meas3.angle_mask == 1 and meas3.gate == 3
+    with pytest.raises((pickle.PicklingError, AttributeError)):
+        pickle.dumps(gf.EKFMotion(g=lambda mu, u: (mu, np.eye(2)),
+                                  R=np.eye(2)))
+
+
+def test_a_foreign_state_is_refused_and_nothing_changes():
+    f32, f64 = stepped(float32)["KF2"], stepped(float64)["KF2"]
+    before = f32.__getstate__()
+    for bad in (f64.__getstate__(), (2,) + before[1:], "x", (1, "float32"),
+                before[:2] + (before[2][:-1],) + before[3:]):
+        with pytest.raises(gaussfilt.BadArgument):
+            f32.__setstate__(bad)
+        assert f32.__getstate__() == before
+    # factors whose order is not a permutation: refused, not read
+    belief = bytearray(before[2])
+    belief[-4] = 9
+    with pytest.raises(gaussfilt.BadArgument, match="not one the library"):
+        f32.__setstate__(before[:2] + (bytes(belief),) + before[3:])
+    k = stepped(float64)["KF"]
+    st = k.__getstate__()
+    n_bad = (99).to_bytes(4, "little") + st[2][4:]
+    with pytest.raises(gaussfilt.BadArgument):
+        k.__setstate__(st[:2] + (n_bad,) + st[3:])
+    assert k.__getstate__() == st
+
+
+def test_repr():
+    f = float32.KF2(mu=[4.0244, 1.2195], sigma=np.eye(2))
+    assert repr(f) == "<gaussfilt.float32.KF2 n=2 mu=[4.0244 1.2195]>"
+    assert repr(float64.EKF(mu=[1, 2, 3], sigma=np.eye(3))) == \
+        "<gaussfilt.float64.EKF n=3 mu=[1. 2. 3.]>"
+    assert repr(float64.KFMeas(C=[[1, 0, 0, 0]], Q=[[1]])) == \
+        "<gaussfilt.float64.KFMeas n=4 m=1>"
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_the_mean_is_settable_and_reset_judges(gf):
+    for name, f in stepped(gf).items():
+        n = len(f.mu)
+        sigma = f.sigma()
+        before = f.__getstate__()
+        for bad in ([1.0] * (n + 1), [np.nan] * n, "abc", None):
+            with pytest.raises(gaussfilt.GaussfiltError):
+                f.mu = bad
+            assert f.__getstate__() == before, name
+        f.mu = np.arange(n, dtype=float) + 0.5
+        assert np.array_equal(f.mu, (np.arange(n) + 0.5).astype(gf.dtype)) \
+            or name in ("EKF3", "EKF")  # an angle state is wrapped
+        assert np.array_equal(f.sigma(), sigma), name  # the factors kept
+        kept = f.__getstate__()
+        with pytest.raises(gaussfilt.NotPSD):
+            f.reset(mu=np.zeros(n), sigma=-np.eye(n))
+        assert f.__getstate__() == kept
+        f.reset(mu=np.zeros(n), sigma=np.eye(n) * 2)
+        assert np.array_equal(f.sigma(), np.eye(n) * 2)
+        assert f.innovation is None  # a new belief, no update yet
+    ekf3 = gf.EKF3(mu=[0, 0, 0], sigma=np.eye(3))
+    ekf3.mu = [0, 0, 4.0]
+    assert abs(float(ekf3.mu[2]) - (4.0 - 2 * np.pi)) < 1e-6
