@@ -1090,10 +1090,10 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
 static PyObject *state_get(const Family *fam, PyObject *self_)
 {
     FilterObj *f = (FilterObj *)self_;
-    return Py_BuildValue(
-        "(isy#y#i)", 1, GF_PREC_NAME, (const char *)self_ + fam->belief_offset,
-        (Py_ssize_t)fam->belief_size, (const char *)&f->last,
-        (Py_ssize_t)sizeof f->last, f->has_last);
+    return Py_BuildValue("(isy#y#i)", 1, GF_PREC_NAME,
+                         (const char *)self_ + fam->belief_offset,
+                         (Py_ssize_t)fam->belief_size, (const char *)&f->last,
+                         (Py_ssize_t)sizeof f->last, f->has_last);
 }
 
 // The factors' order perm[0..n-1] is a permutation of 0..n-1 (what the
@@ -1125,8 +1125,8 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
     char what[64];
     snprintf(what, sizeof what, "%s.__setstate__", fam->name);
     if (!PyTuple_Check(st) ||
-        !PyArg_ParseTuple(st, "isy#y#i", &version, &prec, &belief, &nb,
-                          &last, &nl, &has_last)) {
+        !PyArg_ParseTuple(st, "isy#y#i", &version, &prec, &belief, &nb, &last,
+                          &nl, &has_last)) {
         PyErr_Clear();
         return bad_arg("%s: not a state of this package", what);
     }
@@ -1134,8 +1134,7 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
         (size_t)nb != fam->belief_size || (size_t)nl != sizeof f->last) {
         return bad_arg("%s: a state of version %d in %s, %zd bytes; this "
                        "filter's is version 1 in %s, %zu bytes",
-                       what, version, prec, nb, GF_PREC_NAME,
-                       fam->belief_size);
+                       what, version, prec, nb, GF_PREC_NAME, fam->belief_size);
     }
     unsigned n = fam->belief_size == sizeof(gf_kf2)    ? 2u
                  : fam->belief_size == sizeof(gf_ekf3) ? 3u
@@ -1519,7 +1518,8 @@ static PyMethodDef KF2_methods[] = {
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
      METH_VARARGS | METH_KEYWORDS,
-     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and "
+     "factored as the\n"
      "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
@@ -1917,7 +1917,8 @@ static PyMethodDef EKF3_methods[] = {
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
      METH_VARARGS | METH_KEYWORDS,
-     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and "
+     "factored as the\n"
      "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
@@ -2567,7 +2568,8 @@ static PyMethodDef KF_methods[] = {
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
      METH_VARARGS | METH_KEYWORDS,
-     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "reset($self, /, mu, sigma)\n--\n\nA new belief N(mu, sigma), judged and "
+     "factored as the\n"
      "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
@@ -2609,7 +2611,8 @@ static PyMethodDef EKF_methods[] = {
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
      METH_VARARGS | METH_KEYWORDS,
-     "reset($self, /, mu, sigma, angles=0)\n--\n\nA new belief N(mu, sigma), judged and factored as the\n"
+     "reset($self, /, mu, sigma, angles=0)\n--\n\nA new belief N(mu, sigma), "
+     "judged and factored as the\n"
      "constructor does; raises as it does, the belief unchanged then."},
     {NULL, NULL, 0, NULL},
 };
