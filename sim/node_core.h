@@ -147,6 +147,7 @@ typedef enum gf_node_result {
     GF_NODE_GATED,           // the core said GF_ERR_GATED: the measurement's
                              // NIS beyond the model's gate, published with
                              // that status (and its NIS), belief unchanged
+                             // (a track in time: predicted to its utime)
     GF_NODE_NO_MODEL,        // a new track no configured model names, where
                              // no preset may stand in: a linear track, or
                              // any track under gf_node_set_strict
