@@ -118,19 +118,93 @@ static void set_step(npy_intp k)
 
 // ---- arrays in and out --------------------------------------------------
 
+// a's shape as numpy prints it: (3,), (2, 2).
 static void shape_str(PyArrayObject *a, char *buf, size_t len)
 {
     int nd = PyArray_NDIM(a);
     size_t k = 0;
     k += (size_t)PyOS_snprintf(buf + k, len - k, "(");
     for (int i = 0; i < nd && k < len; i++) {
-        k += (size_t)PyOS_snprintf(buf + k, len - k, "%ld%s",
-                                   (long)PyArray_DIM(a, i),
-                                   (nd == 1 || i + 1 < nd) ? "," : "");
+        k += (size_t)PyOS_snprintf(buf + k, len - k, "%s%ld", i ? ", " : "",
+                                   (long)PyArray_DIM(a, i));
     }
     if (k < len) {
-        PyOS_snprintf(buf + k, len - k, ")");
+        PyOS_snprintf(buf + k, len - k, nd == 1 ? ",)" : ")");
     }
+}
+
+// obj as a C-contiguous gf_real array, when it is numbers: an array or
+// sequence of booleans, integers or real floating-point numbers, or one
+// of them. None, text, bytes, complex numbers and objects are refused
+// (BadArgument naming `name`), not parsed or truncated. NULL then.
+static PyArrayObject *numeric_array(PyObject *obj, const char *name)
+{
+    if (obj == Py_None || PyUnicode_Check(obj) || PyBytes_Check(obj) ||
+        PyByteArray_Check(obj)) {
+        bad_arg("%s: not an array of numbers (%s)", name,
+                obj == Py_None ? "None" : Py_TYPE(obj)->tp_name);
+        return NULL;
+    }
+    PyArrayObject *raw =
+        (PyArrayObject *)PyArray_FromAny(obj, NULL, 0, 0, 0, NULL);
+    if (!raw) {
+        if (PyErr_ExceptionMatches(PyExc_TypeError) ||
+            PyErr_ExceptionMatches(PyExc_ValueError)) {
+            PyErr_Clear();
+            bad_arg("%s: not an array of numbers", name);
+        }
+        return NULL;
+    }
+    const char kind = PyArray_DESCR(raw)->kind;
+    if (!strchr("biuf", kind)) {
+        bad_arg("%s: not an array of real numbers (%s)", name,
+                kind == 'c'                  ? "complex"
+                : kind == 'U' || kind == 'S' ? "text"
+                                             : "objects");
+        Py_DECREF(raw);
+        return NULL;
+    }
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(
+        (PyObject *)raw, NPY_GF, 0, 0,
+        NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
+    Py_DECREF(raw);
+    return a;
+}
+
+// 0 when obj is numbers as numeric_array takes them; else its BadArgument
+// and -1.
+static int numbers_only(PyObject *obj, const char *name)
+{
+    if (PyArray_Check(obj) &&
+        strchr("biuf", PyArray_DESCR((PyArrayObject *)obj)->kind)) {
+        return 0;
+    }
+    PyArrayObject *a = numeric_array(obj, name);
+    Py_XDECREF(a);
+    return a ? 0 : -1;
+}
+
+// 1 when seq (a list or tuple of n items) holds only Python floats and
+// ints (not bools), read into out; else 0, out unspecified.
+static int read_flat_floats(PyObject *seq, npy_intp n, gf_real *out)
+{
+    PyObject **items = PySequence_Fast_ITEMS(seq);
+    for (npy_intp i = 0; i < n; i++) {
+        PyObject *x = items[i];
+        if (PyFloat_CheckExact(x)) {
+            out[i] = (gf_real)PyFloat_AS_DOUBLE(x);
+        } else if (PyLong_CheckExact(x)) {
+            const double v = PyLong_AsDouble(x);
+            if (v == -1.0 && PyErr_Occurred()) {
+                PyErr_Clear();
+                return 0;
+            }
+            out[i] = (gf_real)v;
+        } else {
+            return 0;
+        }
+    }
+    return 1;
 }
 
 // Reads obj into out (row-major gf_real): a vector of cols entries when
@@ -144,22 +218,33 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
     npy_intp size = rows ? rows * cols : cols;
     int ok;
     if (PyArray_CheckExact(obj) &&
-        PyArray_TYPE((PyArrayObject *)obj) == NPY_GF &&
+        (PyArray_TYPE((PyArrayObject *)obj) == NPY_GF ||
+         PyArray_TYPE((PyArrayObject *)obj) == NPY_DOUBLE ||
+         PyArray_TYPE((PyArrayObject *)obj) == NPY_FLOAT) &&
         PyArray_ISCARRAY_RO((PyArrayObject *)obj)) {
+        // the module's type, or the other precision's: rounded entry by
+        // entry below, as numpy's cast rounds them
         a = (PyArrayObject *)obj;
         Py_INCREF(a);
     } else if (PyFloat_CheckExact(obj) && size == 1) {
         out[0] = (gf_real)PyFloat_AS_DOUBLE(obj);
         return 0;
+    } else if (size == 1 && (PyArray_IsScalar(obj, Floating) ||
+                             PyArray_IsScalar(obj, Integer))) {
+        // a numpy scalar: its value, rounded to gf_real as a cast rounds it
+        const double v = PyFloat_AsDouble(obj);
+        if (v == -1.0 && PyErr_Occurred()) {
+            return -1;
+        }
+        out[0] = (gf_real)v;
+        return 0;
+    } else if ((PyList_CheckExact(obj) || PyTuple_CheckExact(obj)) &&
+               rows <= 1 && PySequence_Fast_GET_SIZE(obj) == cols &&
+               read_flat_floats(obj, cols, out)) {
+        return 0; // a list or tuple of Python floats and ints
     } else {
-        a = (PyArrayObject *)PyArray_FROMANY(
-            obj, NPY_GF, 0, 0, NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
+        a = numeric_array(obj, name);
         if (!a) {
-            if (PyErr_ExceptionMatches(PyExc_TypeError) ||
-                PyErr_ExceptionMatches(PyExc_ValueError)) {
-                PyErr_Clear();
-                bad_arg("%s: not an array of numbers", name);
-            }
             return -1;
         }
     }
@@ -188,7 +273,19 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
         Py_DECREF(a);
         return -1;
     }
-    memcpy(out, PyArray_DATA(a), (size_t)size * sizeof(gf_real));
+    if (PyArray_TYPE(a) == NPY_GF) {
+        memcpy(out, PyArray_DATA(a), (size_t)size * sizeof(gf_real));
+    } else if (PyArray_TYPE(a) == NPY_DOUBLE) {
+        const double *d = (const double *)PyArray_DATA(a);
+        for (npy_intp i = 0; i < size; i++) {
+            out[i] = (gf_real)d[i];
+        }
+    } else {
+        const float *d = (const float *)PyArray_DATA(a);
+        for (npy_intp i = 0; i < size; i++) {
+            out[i] = (gf_real)d[i];
+        }
+    }
     Py_DECREF(a);
     return 0;
 }
@@ -199,14 +296,8 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
 static int shape_of(PyObject *obj, const char *name, int vec_is_row,
                     npy_intp *rows, npy_intp *cols)
 {
-    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(
-        obj, NPY_GF, 0, 0, NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
+    PyArrayObject *a = numeric_array(obj, name);
     if (!a) {
-        if (PyErr_ExceptionMatches(PyExc_TypeError) ||
-            PyErr_ExceptionMatches(PyExc_ValueError)) {
-            PyErr_Clear();
-            bad_arg("%s: not an array of numbers", name);
-        }
         return -1;
     }
     int nd = PyArray_NDIM(a);
@@ -722,6 +813,9 @@ static PyObject *predict_entry(const Family *fam, PyObject *self_,
     }
     if (fam->ekf) {
         if (given(a[1])) {
+            if (numbers_only(a[1], fam->u_name) < 0) {
+                return NULL;
+            }
             U = PyArray_FROMANY(a[1], NPY_GF, 0, 1,
                                 NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST |
                                     NPY_ARRAY_ENSURECOPY);
@@ -832,6 +926,11 @@ static int run_arrays(const Family *fam, PyObject *u_o, PyObject *z_o,
             bad_arg("%s: %s", who, u_refused);
             return -1;
         }
+        char un[80];
+        PyOS_snprintf(un, sizeof un, "%s: u", who);
+        if (numbers_only(u_o, un) < 0) {
+            return -1;
+        }
         *U = PyArray_FROMANY(u_o, NPY_GF, fam->u_min_nd, 2,
                              NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
         if (!*U) {
@@ -860,6 +959,12 @@ static int run_arrays(const Family *fam, PyObject *u_o, PyObject *z_o,
         if (!m) {
             Py_CLEAR(*U);
             bad_arg("%s: z without meas", who);
+            return -1;
+        }
+        char zn[80];
+        PyOS_snprintf(zn, sizeof zn, "%s: z", who);
+        if (numbers_only(z_o, zn) < 0) {
+            Py_CLEAR(*U);
             return -1;
         }
         *Z = PyArray_FROMANY(z_o, NPY_GF, 1, 2,
@@ -1090,10 +1195,19 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
 static PyObject *state_get(const Family *fam, PyObject *self_)
 {
     FilterObj *f = (FilterObj *)self_;
+    // the innovation's entries beyond m, and its padding, as zeros: equal
+    // filters give equal states
+    gf_kf_innovation last;
+    memset(&last, 0, sizeof last);
+    if (f->has_last && f->last.m <= NMAX) {
+        last.m = f->last.m;
+        memcpy(last.y, f->last.y, f->last.m * sizeof(gf_real));
+        last.nis = f->last.nis;
+    }
     return Py_BuildValue("(isy#y#i)", 1, GF_PREC_NAME,
                          (const char *)self_ + fam->belief_offset,
-                         (Py_ssize_t)fam->belief_size, (const char *)&f->last,
-                         (Py_ssize_t)sizeof f->last, f->has_last);
+                         (Py_ssize_t)fam->belief_size, (const char *)&last,
+                         (Py_ssize_t)sizeof last, f->has_last);
 }
 
 // The factors' order perm[0..n-1] is a permutation of 0..n-1 (what the
@@ -2267,15 +2381,15 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
 {
     gf_real m[NMAX], s[NMAX * NMAX];
     npy_intp n, r;
-    if (shape_of(mu, who, 0, &n, &r) < 0) {
+    char name[64];
+    PyOS_snprintf(name, sizeof name, "%s: mu", who);
+    if (shape_of(mu, name, 0, &n, &r) < 0) {
         return -1;
     }
     if (r != 1 || n < 1 || n > NMAX) {
         bad_arg("%s: mu must have shape (n,), n = 1..%d", who, NMAX);
         return -1;
     }
-    char name[64];
-    PyOS_snprintf(name, sizeof name, "%s: mu", who);
     if (read_real(mu, name, 0, n, m) < 0) {
         return -1;
     }

@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 
+import gaussfilt
 from gaussfilt import float64 as gf
 
 
@@ -92,6 +93,28 @@ def main():
     print("  FilterPy KalmanFilter            %8.3f us per step" % (fp_ns / 1e3))
     print("    FilterPy / Python calls        %8.1f x" % (fp_ns / py_ns))
     print("    FilterPy / batch               %8.1f x" % (fp_ns / batch_ns))
+    print("update alone, by the form z comes in (best of 5 of %d calls):"
+          % (N // 4))
+    for mod in (gf, gaussfilt.float32):
+        kf = mod.KF2([0, 0], np.eye(2))
+        meas = mod.KF2Meas(C=[[1, 0]], Q=[[10]])
+        forms = [("an array of the module's type", np.array([0.5],
+                                                         dtype=mod.dtype)),
+                 ("a list", [0.5]), ("a float", 0.5),
+                 ("a numpy.float64", np.float64(0.5)),
+                 ("a float64 array", np.array([0.5]))]
+        base = None
+        for label, zf in forms:
+            update = kf.update
+
+            def calls(zf=zf, update=update, meas=meas):
+                for _ in range(N // 4):
+                    update(meas, zf)
+            ns = best_of(calls) / (N // 4) * 1e9
+            base = base or ns
+            print("  %s, z as %-31s %7.3f us (%.2fx)"
+                  % (mod.__name__.split(".")[1], label, ns / 1e3,
+                     ns / base))
 
 
 if __name__ == "__main__":
