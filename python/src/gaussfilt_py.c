@@ -616,7 +616,20 @@ static int Callback_clear(PyObject *self)
 static void Callback_dealloc(PyObject *self)
 {
     PyObject_GC_UnTrack(self);
+    if (Py_TYPE(self)->tp_weaklistoffset) {
+        PyObject_ClearWeakRefs(self);
+    }
     Callback_clear(self);
+    Py_TYPE(self)->tp_free(self);
+}
+
+// The deallocation of the classes without references of their own: the
+// weak references to the object cleared first.
+static void Obj_dealloc(PyObject *self)
+{
+    if (Py_TYPE(self)->tp_weaklistoffset) {
+        PyObject_ClearWeakRefs(self);
+    }
     Py_TYPE(self)->tp_free(self);
 }
 
@@ -1328,15 +1341,18 @@ static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
 
 typedef struct {
     PyObject_HEAD gf_kf2_pmodel pm;
+    PyObject *weakrefs; // weakref support
 } KF2ModelObj;
 
 typedef struct {
     PyObject_HEAD gf_kf2_pmeas pq;
+    PyObject *weakrefs; // weakref support
 } KF2MeasObj;
 
 typedef struct {
     FilterObj f;
     gf_kf2 kf;
+    PyObject *weakrefs; // weakref support
 } KF2Obj;
 
 static PyTypeObject KF2Model_Type, KF2Meas_Type, KF2_Type;
@@ -1654,16 +1670,19 @@ static PyGetSetDef KF2_getset[] = {
 typedef struct {
     CallbackObj cb;
     gf_ekf3_pmotion pm;
+    PyObject *weakrefs; // weakref support
 } EKF3MotionObj;
 
 typedef struct {
     CallbackObj cb;
     gf_ekf3_pmeas pq;
+    PyObject *weakrefs; // weakref support
 } EKF3MeasObj;
 
 typedef struct {
     FilterObj f;
     gf_ekf3 ekf;
+    PyObject *weakrefs; // weakref support
 } EKF3Obj;
 
 static PyTypeObject EKF3Motion_Type, EKF3Meas_Type, EKF3_Type;
@@ -2054,23 +2073,27 @@ static PyGetSetDef EKF3_getset[] = {
 typedef struct {
     PyObject_HEAD gf_kf_pmodel pm;
     gf_real A[NMAX * NMAX], B[NMAX * NMAX], R[NMAX * NMAX], c[NMAX];
+    PyObject *weakrefs; // weakref support
 } KFModelObj;
 
 typedef struct {
     PyObject_HEAD gf_kf_pmeas pq;
     gf_real C[NMAX * NMAX], Q[NMAX * NMAX], c[NMAX];
+    PyObject *weakrefs; // weakref support
 } KFMeasObj;
 
 typedef struct {
     CallbackObj cb;
     gf_ekf_pmotion pm;
     gf_real R[NMAX * NMAX];
+    PyObject *weakrefs; // weakref support
 } EKFMotionObj;
 
 typedef struct {
     CallbackObj cb;
     gf_ekf_pmeas pq;
     gf_real Q[NMAX * NMAX];
+    PyObject *weakrefs; // weakref support
 } EKFMeasObj;
 
 // KF and EKF share it: the belief and the workspace its steps use (its
@@ -2079,6 +2102,7 @@ typedef struct {
     FilterObj f;
     gf_kf kf;
     gf_kf_work work;
+    PyObject *weakrefs; // weakref support
 } KFObj;
 
 typedef KFObj EKFObj;
@@ -2889,6 +2913,8 @@ static PyObject *Obj_repr(PyObject *self)
         .tp_methods = methods,                                                 \
         .tp_getset = getset,                                                   \
         .tp_repr = Obj_repr,                                                   \
+        .tp_dealloc = Obj_dealloc,                                             \
+        .tp_weaklistoffset = offsetof(T##Obj, weakrefs),                       \
     }
 
 #define GF_GC_TYPE(T, name, doc, init, getset)                                 \
@@ -2906,6 +2932,7 @@ static PyObject *Obj_repr(PyObject *self)
         .tp_clear = Callback_clear,                                            \
         .tp_dealloc = Callback_dealloc,                                        \
         .tp_repr = Obj_repr,                                                   \
+        .tp_weaklistoffset = offsetof(T##Obj, weakrefs),                       \
     }
 
 GF_TYPE(KF2Model, "KF2Model",

@@ -165,3 +165,21 @@ def test_the_mean_is_settable_and_reset_judges(gf):
     ekf3 = gf.EKF3(mu=[0, 0, 0], sigma=np.eye(3))
     ekf3.mu = [0, 0, 4.0]
     assert abs(float(ekf3.mu[2]) - (4.0 - 2 * np.pi)) < 1e-6
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_weak_references(gf):
+    import gc
+    import weakref
+    objs = list(stepped(gf).values()) + [
+        gf.KF2Model(A=np.eye(2), R=np.eye(2)), gf.KFMeas(C=[[1, 0]], Q=[[1]]),
+        gf.EKF3Motion(g=gf.forward_turn, R=np.eye(3)),
+        gf.EKFMeas(h=meas_h, Q=[[1]], n=3)]
+    for o in objs:
+        r = weakref.ref(o)
+        assert r() is o
+        cache = weakref.WeakValueDictionary({"o": o})
+        del o
+    del objs
+    gc.collect()
+    assert r() is None and len(cache) == 0
