@@ -23,9 +23,10 @@ from ._errors import (BadArgument, GaussfiltError, Gated, ModelError,
 from . import float32, float64
 from .check import JacobianCheck, check_jacobians
 from .export import Recorder, export_c
+from .smooth import rts_smooth
 
 __all__ = ["float32", "float64", "GaussfiltError", "BadArgument",
            "NonFinite", "NotPSD", "Singular", "Gated", "Undefined",
            "ModelError", "Recorder", "export_c", "check_jacobians",
-           "JacobianCheck"]
+           "JacobianCheck", "rts_smooth"]
 __version__ = "0.1.0"
