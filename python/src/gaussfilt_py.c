@@ -739,6 +739,14 @@ static int check_idle(const FilterObj *f, const char *fmt, const char *who)
     return -1;
 }
 
+// 0 unless a run() of f is on without the GIL (in another thread: its
+// belief changes under the reader); else RuntimeError naming who and -1.
+// A step's own callback may read its filter.
+static int check_readable(const FilterObj *f, const char *who)
+{
+    return f->busy == BUSY_NOGIL ? check_idle(f, NULL, who) : 0;
+}
+
 // KF2's and EKF3's innovation (in) as the filters keep it (out).
 static void innovation_of(const gf_innovation *in, gf_kf_innovation *out)
 {
@@ -752,6 +760,9 @@ static PyObject *Filter_nis(PyObject *self_, void *unused)
 {
     FilterObj *self = (FilterObj *)self_;
     (void)unused;
+    if (check_readable(self, "nis") < 0) {
+        return NULL;
+    }
     return PyFloat_FromDouble(self->has_last ? (double)self->last.nis
                                              : (double)NAN);
 }
@@ -760,6 +771,9 @@ static PyObject *Filter_innovation(PyObject *self_, void *unused)
 {
     FilterObj *self = (FilterObj *)self_;
     (void)unused;
+    if (check_readable(self, "innovation") < 0) {
+        return NULL;
+    }
     if (!self->has_last) {
         Py_RETURN_NONE;
     }
@@ -1208,6 +1222,9 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
 static PyObject *state_get(const Family *fam, PyObject *self_)
 {
     FilterObj *f = (FilterObj *)self_;
+    if (check_readable(f, fam->name) < 0) {
+        return NULL;
+    }
     // the innovation's entries beyond m, and its padding, as zeros: equal
     // filters give equal states
     gf_kf_innovation last;
@@ -1589,6 +1606,9 @@ static PyObject *KF2_sigma(PyObject *self_, PyObject *unused)
 {
     gf_mat2 s;
     (void)unused;
+    if (check_readable((FilterObj *)self_, "KF2.sigma") < 0) {
+        return NULL;
+    }
     gf_status st = gf_kf2_cov(&((KF2Obj *)self_)->kf, &s);
     if (st != GF_OK) {
         return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
@@ -1606,6 +1626,9 @@ static int KF2_set_mu(PyObject *self_, PyObject *value, void *unused)
 static PyObject *KF2_mu(PyObject *self, void *unused)
 {
     (void)unused;
+    if (check_readable((FilterObj *)self, "KF2.mu") < 0) {
+        return NULL;
+    }
     return new_array(2, 0, ((KF2Obj *)self)->kf.mu.v);
 }
 
@@ -1990,6 +2013,9 @@ static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
 {
     gf_mat3 s;
     (void)unused;
+    if (check_readable((FilterObj *)self_, "EKF3.sigma") < 0) {
+        return NULL;
+    }
     gf_status st = gf_ekf3_cov(&((EKF3Obj *)self_)->ekf, &s);
     if (st != GF_OK) {
         return raise_status(st, "EKF3.sigma", NULL, NULL, 0, 0);
@@ -2007,6 +2033,9 @@ static int EKF3_set_mu(PyObject *self_, PyObject *value, void *unused)
 static PyObject *EKF3_mu(PyObject *self, void *unused)
 {
     (void)unused;
+    if (check_readable((FilterObj *)self, "EKF3.mu") < 0) {
+        return NULL;
+    }
     return new_array(3, 0, ((EKF3Obj *)self)->ekf.mu.v);
 }
 
@@ -2651,6 +2680,9 @@ static PyObject *KF_sigma(PyObject *self_, PyObject *unused)
 {
     KFObj *self = (KFObj *)self_;
     (void)unused;
+    if (check_readable(&self->f, "sigma") < 0) {
+        return NULL;
+    }
     PyObject *a = new_array(self->kf.n, self->kf.n, NULL);
     if (a) {
         gf_kf_cov(&self->kf, (gf_real *)PyArray_DATA((PyArrayObject *)a));
@@ -2663,6 +2695,9 @@ static PyObject *KF_get(PyObject *self_, void *which)
     KFObj *self = (KFObj *)self_;
     switch ((int)(size_t)which) {
     case 0:
+        if (check_readable(&self->f, "mu") < 0) {
+            return NULL;
+        }
         return new_array(self->kf.n, 0, self->kf.mu);
     case 3:
         return PyLong_FromUnsignedLong(self->kf.n);

@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: MIT
 """run() without Python models releases the GIL: another thread runs
-Python meanwhile, and may not step, run or re-initialise that filter
-(RuntimeError, the run's results untouched), while filters of their own
-sharing the same models step in parallel to the same bits as alone."""
+Python meanwhile, and may neither step, run, re-initialise or set that
+filter nor read it (RuntimeError, the run's results untouched), while
+filters of their own sharing the same models step in parallel to the same
+bits as alone."""
+import copy
 import threading
 
 import numpy as np
@@ -43,6 +45,11 @@ def start(fn):
     return th, out
 
 
+def sigma_of(kf):
+    s = kf.sigma
+    return s() if callable(s) else s
+
+
 def run_when_idle(kf, car, gps, z):
     """kf.run(car, gps, z=z), tried again while refused (a probe's own run
     holds the filter: the first to ask has it)."""
@@ -65,13 +72,22 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
     # scheduled within one, so a few are tried
     for _ in range(20):
         kf = mod.KF2(mu=[0, 0], sigma=np.eye(2))
-        probes = (("predict", lambda: kf.predict(car, u=[nan, nan])),
-                  ("update", lambda: kf.update(gps, [nan])),
-                  ("run", lambda: kf.run(car, u=[[nan, nan]])),
-                  ("init", lambda: kf.__init__([nan, 0], np.eye(2))))
+        probes = {
+            "predict": lambda: kf.predict(car, u=[nan, nan]),
+            "update": lambda: kf.update(gps, [nan]),
+            "run": lambda: kf.run(car, u=[[nan, nan]]),
+            "init": lambda: kf.__init__([nan, 0], np.eye(2)),
+            "reset": lambda: kf.reset([nan, 0], np.eye(2)),
+            # reads: the belief changes under them
+            "mu": lambda: kf.mu,
+            "sigma": lambda: sigma_of(kf),
+            "nis": lambda: kf.nis,
+            "innovation": lambda: kf.innovation,
+            "copy": lambda: copy.copy(kf),
+        }
         th, out = start(lambda: run_when_idle(kf, car, gps, z))
-        while th.is_alive() and len(refused) < 4:
-            for name, call in probes:
+        while th.is_alive() and len(refused) < len(probes):
+            for name, call in probes.items():
                 try:
                     call()
                 except RuntimeError as e:
@@ -83,12 +99,13 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
         for a, b in zip(out["result"], alone):
             assert a.tobytes() == b.tobytes()
         np.testing.assert_array_equal(kf.mu, alone[0][-1])
-        if len(refused) == 4:
+        if len(refused) == len(probes):
             break
     # this thread ran while a run did, and every entry was refused
-    assert sorted(refused) == ["init", "predict", "run", "update"], refused
-    assert all("KF2" in msg and "in progress in another thread" in msg
+    assert sorted(refused) == sorted(probes), refused
+    assert all("in progress in another thread" in msg
                for msg in refused.values()), refused
+    assert "KF2.predict" in refused["predict"], refused
 
 
 @pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
