@@ -62,3 +62,30 @@ def firmware_replay():
              '-DGF_FW_REPLAY=ON | tail -1'], cwd=ROOT,
             env=dict(os.environ, GF_BUILD=str(BUILD)))
     return pathlib.Path(r.stdout.strip())
+
+
+def run_export_on_m4f(files, variant):
+    """Builds C files written by gaussfilt.export_c (the exported run
+    first, then the sources of the models it uses) into the Cortex-M4F
+    image gf_fw_export (float, -Os; firmware/CMakeLists.txt) and runs it on
+    QEMU's mps2-an386; returns what it printed. Skips (or, with
+    GF_PY_REQUIRE_FIRMWARE=1, fails) without the Arm toolchain and QEMU."""
+    need = ["arm-none-eabi-gcc", "qemu-system-arm"]
+    missing = [t for t in need if not shutil.which(t)]
+    if missing:
+        msg = "missing %s (scripts/test python installs them)" % " ".join(
+            missing)
+        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    r = run(["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
+             'GF_FW_VARIANT="$0" gf_fw_build cortex-m4f float '
+             '-DGF_FW_EXPORT="$1" | tail -1', variant,
+             ";".join(str(f) for f in files)],
+            cwd=ROOT, env=dict(os.environ, GF_BUILD=str(BUILD)))
+    elf = os.path.join(r.stdout.strip(), "gf_fw_export.elf")
+    q = run(["qemu-system-arm", "-M", "mps2-an386", "-nographic",
+             "-monitor", "none", "-serial", "none",
+             "-semihosting-config", "enable=on,target=native",
+             "-kernel", elf], cwd=os.path.dirname(str(files[0])), timeout=300)
+    return q.stdout.strip()

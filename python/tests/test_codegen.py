@@ -311,27 +311,9 @@ def test_the_bicycle_run_exports_bit_for_bit(tmp_path, dtype):
 
 
 def test_the_bicycle_on_the_cortex_m4f_equals_the_python_run(tmp_path):
-    import os
-    need = ["arm-none-eabi-gcc", "qemu-system-arm"]
-    missing = [t for t in need if not shutil.which(t)]
-    if missing:
-        msg = "missing %s (scripts/test python installs them)" % " ".join(
-            missing)
-        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
-            pytest.fail(msg)
-        pytest.skip(msg)
-    from conftest import BUILD, run
+    from conftest import run_export_on_m4f
     b = cg.build(bicycle(), tmp_path, ROOT, dtype="float32")
     rec = bicycle_run(b, b._module())
     path = gaussfilt.export_c(rec, tmp_path / "bike_run.c")
-    r = run(["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
-             'GF_FW_VARIANT=export-codegen gf_fw_build cortex-m4f float '
-             '-DGF_FW_EXPORT="$0;$1" | tail -1', str(path), str(b.source)],
-            cwd=ROOT, env=dict(os.environ, GF_BUILD=str(BUILD)))
-    elf = os.path.join(r.stdout.strip(), "gf_fw_export.elf")
-    q = run(["qemu-system-arm", "-M", "mps2-an386", "-nographic",
-             "-monitor", "none", "-serial", "none",
-             "-semihosting-config", "enable=on,target=native",
-             "-kernel", elf], cwd=tmp_path, timeout=300)
-    assert q.stdout.strip() == "bike_run: %d steps bit for bit" % len(
-        rec.steps)
+    assert run_export_on_m4f([path, b.source], "export-codegen") == \
+        "bike_run: %d steps bit for bit" % len(rec.steps)

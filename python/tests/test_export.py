@@ -9,7 +9,6 @@ bytes, on the host in both precisions (gcc, and clang where present) and
 on QEMU's Cortex-M4F in float. A perturbed expected value and a build in
 the wrong precision must fail.
 """
-import os
 import re
 import shutil
 
@@ -17,7 +16,7 @@ import numpy as np
 import pytest
 
 import gaussfilt
-from conftest import BUILD, ROOT, run
+from conftest import ROOT, run, run_export_on_m4f
 
 MODS = {"float": gaussfilt.float32, "double": gaussfilt.float64}
 FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
@@ -205,24 +204,7 @@ def test_export_records_nothing_the_package_refused(tmp_path):
 
 
 def test_export_runs_bit_for_bit_on_the_cortex_m4f(tmp_path):
-    need = ["arm-none-eabi-gcc", "qemu-system-arm"]
-    missing = [t for t in need if not shutil.which(t)]
-    if missing:
-        msg = "missing %s (scripts/test python installs them)" % " ".join(
-            missing)
-        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
-            pytest.fail(msg)
-        pytest.skip(msg)
     for kind in sorted(RUNS):
         rec, path = export(tmp_path, kind, "float", seed=3)
-        r = run(["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
-                 'GF_FW_VARIANT=export gf_fw_build cortex-m4f float '
-                 '-DGF_FW_EXPORT="$0" | tail -1', str(path)], cwd=ROOT,
-                env=dict(os.environ, GF_BUILD=str(BUILD)))
-        elf = os.path.join(r.stdout.strip(), "gf_fw_export.elf")
-        q = run(["qemu-system-arm", "-M", "mps2-an386", "-nographic",
-                 "-monitor", "none", "-serial", "none",
-                 "-semihosting-config", "enable=on,target=native",
-                 "-kernel", elf], cwd=tmp_path, timeout=300)
-        assert q.stdout.strip() == "%s_float: %d steps bit for bit" % (
-            kind, len(rec.steps))
+        assert run_export_on_m4f([path], "export") == \
+            "%s_float: %d steps bit for bit" % (kind, len(rec.steps))
