@@ -1169,8 +1169,11 @@ static inline void gr_tb_predict(gr_tb *t, const gr_scen *sc)
     }
 }
 
-// Returns 1 if accepted.
-static inline int gr_tb_update(gr_tb *t, const gr_scen *sc, const gf_real z[3])
+// Returns 1 if accepted. With gate > 0, an update whose NIS y^T S^-1 y
+// (in gf_real) exceeds it is refused too (*gated set to 1).
+static inline int gr_tb_update_gated(gr_tb *t, const gr_scen *sc,
+                                     const gf_real z[3], gf_real gate,
+                                     int *gated)
 {
     const int n = t->n, m = sc->m;
     gf_real PH[3][3], S[3][3], L[3][3], Si[3][3], K[3][3], M[3][3], y[3];
@@ -1235,6 +1238,19 @@ static inline int gr_tb_update(gr_tb *t, const gr_scen *sc, const gf_real z[3])
             y[i] = gf_angle_wrap(y[i]);
         }
     }
+    *gated = 0;
+    if (gate > 0) {
+        gf_real nis = 0;
+        for (int i = 0; i < m; i++) {
+            for (int j = 0; j < m; j++) {
+                nis += y[i] * Si[i][j] * y[j];
+            }
+        }
+        if (!(nis <= gate)) {
+            *gated = 1;
+            return 0;
+        }
+    }
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < m; j++) {
             K[i][j] = 0;
@@ -1286,6 +1302,12 @@ static inline int gr_tb_update(gr_tb *t, const gr_scen *sc, const gf_real z[3])
         }
     }
     return 1;
+}
+
+static inline int gr_tb_update(gr_tb *t, const gr_scen *sc, const gf_real z[3])
+{
+    int gated;
+    return gr_tb_update_gated(t, sc, z, 0, &gated);
 }
 
 #endif
