@@ -14,8 +14,11 @@
 // no further); then states the target
 //   float error no larger than a float32 textbook Joseph filter's, and no
 //   more refusals (goal beyond: ten times smaller)
-// as met or NOT met. Build and run: scripts/accuracy (float, and double
-// for information).
+// as met or NOT met. Then the KF2 class (kf2_class): 2N/3 KF2 scenarios
+// with every update taken (a singular Q's too), one in four gated, each
+// filter against the reference on its own path; worst and median errors
+// and the refused updates by the class of S (docs/accuracy.md). Build and
+// run: scripts/accuracy (float, and double for information).
 //
 //   gf_accuracy [scenarios per family]   (default 3000)
 //
