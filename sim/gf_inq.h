@@ -14,7 +14,8 @@
 //
 // Entries are packed in a byte ring (header, channel, payload, 8-byte
 // aligned); a payload longer than GF_INQ_MAX_DATA is queued without its
-// bytes (the node calls it malformed: it takes none that long).
+// bytes (the node calls it malformed: it reads none that long,
+// node_core.h's GF_NODE_MAX_LEN).
 #ifndef GF_INQ_H
 #define GF_INQ_H
 
@@ -23,7 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define GF_INQ_MAX_DATA 4096
+#define GF_INQ_MAX_DATA 131072
 // Bytes per message the ring is sized for (an input is about 150 bytes
 // with its header and channel).
 #define GF_INQ_BYTES_PER_MSG 256u

@@ -8,7 +8,9 @@
 // NAME is a model of FILE (a gf_node configuration, docs/node.md) or a
 // preset (book-car, book-robot). --reset restarts the track's belief from
 // the model's prior; without it the track keeps its belief and runs its
-// next inputs with the new model. --utime: the message's utime (default 0;
+// next inputs with the new model. A linear model's numbers are the node's
+// own configuration: for one, gf_setmodel only resets the track to its
+// configured prior (--reset). --utime: the message's utime (default 0;
 // the belief a reset publishes carries it).
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,7 +51,10 @@ int main(int argc, char **argv)
                   "  --track N      the track\n"
                   "  --config FILE  a gf_node configuration (docs/node.md)\n"
                   "  --reset        restart the belief from the model's "
-                  "prior\n"
+                  "prior (a\n"
+                  "                 linear model: the only thing sent, "
+                  "from the node's\n"
+                  "                 own configuration)\n"
                   "  --utime US     the message's utime (default 0)\n"
                   "  --url URL      LCM URL (default: LCM's)\n\n"
                   "example:\n  gf_setmodel --config car100.conf --model "
@@ -85,6 +90,13 @@ int main(int argc, char **argv)
     mdl = gf_node_config_find(&cfg, name);
     if (mdl == NULL) {
         fprintf(stderr, "gf_setmodel: no model %s\n", name);
+        return 2;
+    }
+    if (mdl->kind == GF_NODE_KIND_LINEAR && !reset) {
+        fprintf(stderr,
+                "gf_setmodel: model %s is linear: its numbers are the node's "
+                "configuration; --reset restarts track %ld from its prior\n",
+                name, track);
         return 2;
     }
     memset(&m, 0, sizeof m);

@@ -26,9 +26,6 @@
 #define FILTER_KF GAUSSFILT_LCM_BELIEF_T_FILTER_KF
 #define MODEL_LINEAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_LINEAR
 
-// The largest message the node decodes; anything longer is malformed.
-#define GF_NODE_MAX_LEN 4096
-
 const char *gf_node_result_str(gf_node_result r)
 {
     switch (r) {
@@ -158,6 +155,56 @@ static void say(const gf_node *node, const char *fmt, ...)
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
     node->log(node->log_ctx, line);
+}
+
+// What the node says once per track id (gf_node.said).
+enum {
+    SAY_TRACK,       // an input's track field not its channel's
+    SAY_SIZE_M,      // a measurement's m its track cannot take
+    SAY_SIZE_N,      // a control's n
+    SAY_SENSOR,      // a sensor its model lacks (bad_field)
+    SAY_KIND,        // another model kind than the track's (bad_field)
+    SAY_NO_MODEL,    // refused for want of a model
+    SAY_TRACK_LIMIT, // no room for the track
+    SAY_MALFORMED,   // bytes that do not decode
+    SAY_TYPE,        // another of our types on its channel
+    SAY_DUPLICATE,
+    SAY_OUT_OF_ORDER,
+    SAY_STALE,
+    SAY_LATE,
+    SAY_TOO_OLD,
+    SAY_STEP,        // a step the core refused (nonfinite, filter_error)
+    SAY_GATED_FIRST, // its first updates all gated
+    SAY_GATED_RUN    // later updates gated in a row
+};
+
+// The entry of id in the node's said table, made if new (NULL: full).
+static int said_index(gf_node *node, int32_t id, int make)
+{
+    unsigned i;
+    for (i = 0; i < node->nsaid; i++) {
+        if (node->said[i].id == id) {
+            return (int)i;
+        }
+    }
+    if (!make || node->nsaid >= GF_NODE_SAID_IDS) {
+        return -1;
+    }
+    memset(&node->said[node->nsaid], 0, sizeof node->said[0]);
+    node->said[node->nsaid].id = id;
+    return (int)node->nsaid++;
+}
+
+// 1 the first time topic is to be said about track id (it is then marked
+// said), else 0: said before, or no room left to remember it.
+static int say_first(gf_node *node, int32_t id, unsigned topic)
+{
+    int i = said_index(node, id, 1);
+    if (i < 0 || (node->said[i].topics & (1u << topic)) != 0u) {
+        return 0;
+    }
+    node->said[i].topics |= 1u << topic;
+    return 1;
 }
 
 int gf_node_filter_parse(const char *name, gf_node_filter *out)
@@ -859,14 +906,8 @@ static const gf_node_model *model_for(const gf_node *node, int32_t id,
 // caller as no_model.
 static gf_node_result refuse(gf_node *node, int32_t id, int8_t kind)
 {
-    unsigned i;
-    for (i = 0; i < node->nrefused; i++) {
-        if (node->refused[i] == id) {
-            return GF_NODE_NO_MODEL;
-        }
-    }
-    if (node->nrefused < GF_NODE_MAX_TRACKS) {
-        node->refused[node->nrefused++] = id;
+    if (!say_first(node, id, SAY_NO_MODEL)) {
+        return GF_NODE_NO_MODEL;
     }
     if (kind == MODEL_LINEAR && !node->strict) {
         say(node,
@@ -881,19 +922,6 @@ static gf_node_result refuse(gf_node *node, int32_t id, int8_t kind)
             GF_CHANNEL_CTRL, (long)id);
     }
     return GF_NODE_NO_MODEL;
-}
-
-// The track's model, or the one it would be created with (NULL: it would
-// be refused).
-static const gf_node_model *track_model(const gf_node *node, int32_t id,
-                                        int8_t kind)
-{
-    const gf_node_track *t = gf_node_find(node, id);
-    int named;
-    if (t != NULL) {
-        return t->model == kind ? &t->mdl : NULL;
-    }
-    return model_for(node, id, kind, &named);
 }
 
 // The track with this id (of this kind), created from mdl (NULL: the
@@ -927,6 +955,14 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
     if (node->ntracks >= GF_NODE_MAX_TRACKS ||
         (model == MODEL_ROBOT && node->robot_filter == GF_NODE_FILTER_PF &&
          (node->pf_pool == NULL || node->pf_pool->used >= GF_NODE_PF_TRACKS))) {
+        if (say_first(node, id, SAY_TRACK_LIMIT)) {
+            say(node,
+                "track %ld (%s): no room for it: the node holds %u tracks "
+                "(at most GF_NODE_MAX_TRACKS = %d, GF_NODE_PF_TRACKS = %d "
+                "with --filter pf) (track_limit)",
+                (long)id, kind_name(model), node->ntracks, GF_NODE_MAX_TRACKS,
+                GF_NODE_PF_TRACKS);
+        }
         *why = GF_NODE_TRACK_LIMIT;
         return NULL;
     }
@@ -976,6 +1012,47 @@ static int timed(const gf_node_track *t)
     return t->model == MODEL_LINEAR && t->mdl.lin->axes > 0;
 }
 
+// An input of a stream received, taken or refused, with a seq newer than
+// the stream's last: the seq numbers skipped since that last are gaps; a
+// session's first input of the stream with seq > 1 says that the ones
+// before it never arrived (lost_before_first; those refused before the
+// track was made did arrive).
+static void stream_seen(gf_node *node, gf_node_track *t, unsigned stream,
+                        int64_t seq)
+{
+    const char *sensor =
+        stream > 0 ? t->mdl.sensors->s[stream - 1u].name : NULL;
+    unsigned bit = 1u << stream;
+    // seq > the stream's last here; unsigned arithmetic cannot overflow.
+    if (t->has_seq & bit) {
+        node->counts.gaps += (uint64_t)seq - (uint64_t)t->seq[stream] - 1u;
+    } else if ((t->counting & bit) && seq > 1) {
+        uint64_t lost = (uint64_t)seq - 1u;
+        int i = said_index(node, t->id, 0);
+        if (i >= 0) {
+            uint64_t k = node->said[i].refused[stream];
+            lost -= k < lost ? k : lost;
+            node->said[i].refused[stream] = 0;
+        }
+        if (lost > 0) {
+            // a session's seq starts at 1: the inputs before this one
+            // were sent and never arrived (before the node was ready,
+            // typically)
+            node->counts.lost_before_first += lost;
+            say(node,
+                "track %ld: its first input%s%s has seq %lld: %llu earlier "
+                "input%s never reached this node (sent before it was "
+                "ready?)",
+                (long)t->id, sensor != NULL ? " of sensor " : "",
+                sensor != NULL ? sensor : "", (long long)seq,
+                (unsigned long long)lost, lost == 1 ? "" : "s");
+        }
+    }
+    t->counting &= ~bit;
+    t->has_seq |= bit;
+    t->seq[stream] = seq;
+}
+
 // Sequence rules, per stream: seq strictly increasing (equal = duplicate,
 // lower = out of order). Time: an input older than the track's time is
 // out of order (a track in time: late within its late_window, else
@@ -1006,9 +1083,7 @@ static gf_node_result check_order(gf_node *node, gf_node_track *t,
     if ((r == GF_NODE_LATE || r == GF_NODE_TOO_OLD) &&
         (!(t->has_seq & bit) || seq > t->seq[stream])) {
         // received, in its stream's order: no gap for it later
-        t->seq[stream] = seq;
-        t->has_seq |= bit;
-        t->counting &= ~bit;
+        stream_seen(node, t, stream, seq);
     }
     if (t->rejected >= GF_NODE_RESYNC_AFTER) {
         node->counts.seq_resyncs++;
@@ -1056,35 +1131,15 @@ static gf_node_result admit(gf_node *node, gf_node_track *t, unsigned stream,
 static double consume(gf_node *node, gf_node_track *t, unsigned stream,
                       int64_t session, int64_t seq, int64_t utime, int64_t now)
 {
-    const char *sensor =
-        stream > 0 ? t->mdl.sensors->s[stream - 1u].name : NULL;
-    unsigned bit = 1u << stream;
     double dt = t->mdl.dt;
-    // seq > the stream's last here; unsigned arithmetic cannot overflow.
-    if (t->has_seq & bit) {
-        node->counts.gaps += (uint64_t)seq - (uint64_t)t->seq[stream] - 1u;
-    }
-    if ((t->counting & bit) && seq > 1) {
-        // a session's seq starts at 1: the inputs before this one were
-        // sent and never arrived (before the node was ready, typically)
-        node->counts.lost_before_first += (uint64_t)seq - 1u;
-        say(node,
-            "track %ld: its first input%s%s has seq %lld: %llu earlier "
-            "input%s never reached this node (sent before it was ready?)",
-            (long)t->id, sensor != NULL ? " of sensor " : "",
-            sensor != NULL ? sensor : "", (long long)seq,
-            (unsigned long long)(seq - 1), seq == 2 ? "" : "s");
-    }
+    stream_seen(node, t, stream, seq);
     if (t->has_time) {
         // utime >= time here (check_order)
         dt = (double)((uint64_t)utime - (uint64_t)t->time) / 1e6;
     }
-    t->counting &= ~bit;
-    t->has_seq |= bit;
     t->has_input = 1;
     t->rejected = 0;
     t->session = session;
-    t->seq[stream] = seq;
     t->input_seq = seq;
     t->time = utime;
     t->has_time = 1;
@@ -1219,21 +1274,261 @@ static void meas_noise(const gf_node_sensor *sen, const node_meas *z,
     }
 }
 
-// The status belief of a late input: the track's belief as it is.
-static void publish_late(gf_node *node, gf_node_track *t, int64_t utime,
-                         int64_t seq, int8_t stage, const char *sensor)
+// An input as its refusal sees it: a control's or a measurement's header.
+typedef struct node_in {
+    const char *what; // "control", "measurement"
+    int8_t stage;     // of its status belief: the step it asked for
+    int64_t utime, seq, session;
+    const char *sensor; // the configured sensor it came from, or NULL
+} node_in;
+
+// The status belief of an input the node refused: the track's belief as
+// it is, with the input's utime, seq and stage.
+static void publish_refused(gf_node *node, gf_node_track *t, const node_in *in,
+                            int status)
 {
     gaussfilt_lcm_belief_t b;
     t->belief_seq++;
     belief_fill(node, t, &b);
-    b.utime = utime;
-    b.input_seq = seq;
-    b.stage = stage;
-    b.status = GF_NODE_STATUS_LATE;
-    if (sensor != NULL) {
-        b.sensor = (char *)(uintptr_t)sensor;
+    b.utime = in->utime;
+    b.input_seq = in->seq;
+    b.stage = in->stage;
+    b.status = (int8_t)status;
+    if (in->sensor != NULL) {
+        b.sensor = (char *)(uintptr_t)in->sensor;
     }
     publish_step(node, t, &b);
+}
+
+// The track the node holds with this id, or NULL.
+static gf_node_track *track_of(gf_node *node, int32_t id)
+{
+    return (gf_node_track *)(uintptr_t)gf_node_find(node, id);
+}
+
+// An input of track id refused for one of its fields (bad_field), which
+// fmt says (once per track id and topic, as "track ID: ... (bad_field)").
+// A track the node holds publishes a status belief for it, and counts its
+// seq as received in its stream (-1: none), so that no gap is counted for
+// it; before the track is made it is remembered as received for the
+// track's first input (stream_seen).
+static gf_node_result refuse_field(gf_node *node, int32_t id, unsigned topic,
+                                   const node_in *in, int stream,
+                                   const char *fmt, ...)
+{
+    gf_node_track *t = track_of(node, id);
+    if (say_first(node, id, topic)) {
+        char why[200];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(why, sizeof why, fmt, ap);
+        va_end(ap);
+        say(node, "track %ld: %s (bad_field)", (long)id, why);
+    }
+    if (t == NULL) {
+        int i = stream >= 0 ? said_index(node, id, 1) : -1;
+        if (i >= 0) {
+            node->said[i].refused[stream]++;
+        }
+        return GF_NODE_BAD_FIELD;
+    }
+    if (stream >= 0 && (!t->has_input || in->session == t->session) &&
+        (!(t->has_seq & (1u << stream)) || in->seq > t->seq[stream])) {
+        stream_seen(node, t, (unsigned)stream, in->seq);
+    }
+    publish_refused(node, t, in, GF_NODE_STATUS_BAD_FIELD);
+    return GF_NODE_BAD_FIELD;
+}
+
+// An input admit() refused (duplicate, out_of_order, stale_session, late,
+// too_old): its status belief, and a line once per track and reason.
+static gf_node_result refuse_order(gf_node *node, gf_node_track *t,
+                                   gf_node_result r, const node_in *in,
+                                   unsigned stream)
+{
+    const char *of = in->sensor != NULL ? " of sensor " : "";
+    const char *sen = in->sensor != NULL ? in->sensor : "";
+    double age = ((double)t->time - (double)in->utime) / 1e6;
+    int status = GF_NODE_STATUS_OUT_OF_ORDER;
+    unsigned topic = SAY_OUT_OF_ORDER;
+    switch (r) {
+    case GF_NODE_DUPLICATE:
+        status = GF_NODE_STATUS_DUPLICATE;
+        topic = SAY_DUPLICATE;
+        break;
+    case GF_NODE_STALE_SESSION:
+        status = GF_NODE_STATUS_STALE_SESSION;
+        topic = SAY_STALE;
+        break;
+    case GF_NODE_LATE:
+        status = GF_NODE_STATUS_LATE;
+        topic = SAY_LATE;
+        break;
+    case GF_NODE_TOO_OLD:
+        status = GF_NODE_STATUS_TOO_OLD;
+        topic = SAY_TOO_OLD;
+        break;
+    default:
+        break;
+    }
+    if (say_first(node, t->id, topic)) {
+        switch (r) {
+        case GF_NODE_DUPLICATE:
+            say(node,
+                "track %ld: a %s%s%s with seq %lld came again (duplicate)",
+                (long)t->id, in->what, of, sen, (long long)in->seq);
+            break;
+        case GF_NODE_STALE_SESSION:
+            say(node,
+                "track %ld: a %s%s%s of session %lld after session %lld's "
+                "(stale_session)",
+                (long)t->id, in->what, of, sen, (long long)in->session,
+                (long long)t->session);
+            break;
+        case GF_NODE_LATE:
+        case GF_NODE_TOO_OLD:
+            say(node,
+                "track %ld: a %s%s%s %.6g s older than the track's time, "
+                "its model %s's late_window %g s (%s)",
+                (long)t->id, in->what, of, sen, age, t->mdl.name,
+                t->mdl.late_window, r == GF_NODE_LATE ? "late" : "too_old");
+            break;
+        default:
+            say(node,
+                "track %ld: a %s%s%s with seq %lld, utime %lld: its stream "
+                "is at seq %lld, the track at utime %lld (out_of_order)",
+                (long)t->id, in->what, of, sen, (long long)in->seq,
+                (long long)in->utime, (long long)t->seq[stream],
+                (long long)t->time);
+            break;
+        }
+    }
+    publish_refused(node, t, in, status);
+    return r;
+}
+
+// A step the core refused (its belief published with that status), or a
+// PF step without a summary: said once per track.
+static void step_failed(gf_node *node, const gf_node_track *t,
+                        const node_in *in, int s)
+{
+    if (s == GF_OK || s == GF_ERR_GATED || !say_first(node, t->id, SAY_STEP)) {
+        return;
+    }
+    say(node,
+        "track %ld: a %s%s%s with seq %lld: its step failed with status %d "
+        "(%s), published with it (%s)",
+        (long)t->id, in->what, in->sensor != NULL ? " of sensor " : "",
+        in->sensor != NULL ? in->sensor : "", (long long)in->seq, s,
+        s == GF_NODE_STATUS_NO_SUMMARY ? "STATUS_NO_SUMMARY"
+                                       : gf_status_str((gf_status)s),
+        gf_node_result_str(from_status(s)));
+}
+
+// An update that ran (applied or gated, belief b): its NIS into the
+// track's sums; a track whose first GF_NODE_GATED_WARN updates were all
+// gated, or later as many in a row, said once each.
+static void update_seen(gf_node *node, gf_node_track *t,
+                        const gaussfilt_lcm_belief_t *b, int s, double gate)
+{
+    if (s != GF_OK && s != GF_ERR_GATED) {
+        return;
+    }
+    t->updates++;
+    if (b->m > 0) {
+        t->nis_last = b->nis;
+        t->m_last = (unsigned)b->m;
+        t->nis_sum += b->nis;
+        t->nis_dof += (unsigned)b->m;
+        t->nis_n++;
+    }
+    t->gated_run = s == GF_ERR_GATED ? t->gated_run + 1u : 0u;
+    if (t->gated_run != GF_NODE_GATED_WARN) {
+        return;
+    }
+    if (t->updates == t->gated_run) {
+        if (say_first(node, t->id, SAY_GATED_FIRST)) {
+            say(node,
+                "track %ld: its first %u updates were all gated (the last "
+                "NIS %.4g > gate %g of model %s): prior too tight or wrong?",
+                (long)t->id, t->gated_run, b->nis, gate, t->mdl.name);
+        }
+    } else if (say_first(node, t->id, SAY_GATED_RUN)) {
+        say(node,
+            "track %ld: %u updates in a row gated (the last NIS %.4g > gate "
+            "%g of model %s): has the track been lost? (a model_t with reset "
+            "= 1 restarts it)",
+            (long)t->id, t->gated_run, b->nis, gate, t->mdl.name);
+    }
+}
+
+// The model of another kind the node's lookup names for track id, which
+// a new track of this kind would otherwise run without (NULL: none).
+static const gf_node_model *model_elsewhere(const gf_node *node, int32_t id,
+                                            int8_t kind)
+{
+    static const int8_t kinds[3] = {MODEL_CAR, MODEL_ROBOT, MODEL_LINEAR};
+    const gf_node_model *m;
+    unsigned k;
+    if (node->models == NULL) {
+        return NULL;
+    }
+    for (k = 0; k < 3; k++) {
+        if (kinds[k] != kind &&
+            (m = node->models(node->models_ctx, id, kinds[k])) != NULL &&
+            m->kind == kinds[k] && m != gf_node_model_book_car() &&
+            m != gf_node_model_book_robot()) {
+            return m;
+        }
+    }
+    return NULL;
+}
+
+// The input stream of a message on GF_MEAS_<id>[_<sensor>] or
+// GF_CTRL_<id> under model mdl: 0, 1 + the sensor's index, or -1 (a
+// sensor mdl lacks).
+static int stream_of(const gf_node_model *mdl, const char *sensor)
+{
+    const gf_node_sensor *sen;
+    if (sensor == NULL) {
+        return 0;
+    }
+    sen = mdl != NULL ? gf_node_model_sensor(mdl, sensor) : NULL;
+    return sen != NULL ? 1 + (int)(sen - mdl->sensors->s) : -1;
+}
+
+// The model kind checks every input makes before its sizes: the kind
+// names a model, is the track's, or (a track not made yet) no model of
+// another kind names the track. Returns GF_NODE_APPLIED, or the refusal.
+static gf_node_result check_kind(gf_node *node, int32_t id, int8_t kind,
+                                 const node_in *in)
+{
+    const gf_node_track *t = gf_node_find(node, id);
+    const gf_node_model *other;
+    if (!good_kind(kind)) {
+        return refuse_field(node, id, SAY_KIND, in,
+                            stream_of(t != NULL ? &t->mdl : NULL, in->sensor),
+                            "a %s says model %d (MODEL_CAR 1, MODEL_ROBOT 2 "
+                            "or MODEL_LINEAR 3)",
+                            in->what, (int)kind);
+    }
+    if (t != NULL && t->model != kind) {
+        return refuse_field(node, id, SAY_KIND, in,
+                            stream_of(&t->mdl, in->sensor),
+                            "a %s says model %d (%s), the track is %s (model "
+                            "%s)",
+                            in->what, (int)kind, kind_name(kind),
+                            kind_name(t->model), t->mdl.name);
+    }
+    if (t == NULL && (other = model_elsewhere(node, id, kind)) != NULL) {
+        return refuse_field(
+            node, id, SAY_KIND, in, stream_of(other, in->sensor),
+            "a %s says model %d (%s), but the configured model %s (%s) "
+            "names the track: its messages say model %d",
+            in->what, (int)kind, kind_name(kind), other->name,
+            kind_name(other->kind), (int)other->kind);
+    }
+    return GF_NODE_APPLIED;
 }
 
 static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
@@ -1241,33 +1536,65 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
 {
     gf_node_result r = GF_NODE_APPLIED;
     gf_node_track *t;
+    const gf_node_model *mdl;
     gaussfilt_lcm_belief_t b;
+    node_in in;
     double dt;
     int64_t time0;
-    int s, has_time0;
-    if (c->track != id || !good_kind(c->model)) {
-        return GF_NODE_BAD_FIELD;
+    int s, has_time0, named;
+    in.what = "control";
+    in.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
+    in.utime = c->utime;
+    in.seq = c->seq;
+    in.session = c->session;
+    in.sensor = NULL;
+    if (c->track != id) {
+        return refuse_field(node, id, SAY_TRACK, &in, -1,
+                            "a control on %s%ld says track %ld",
+                            GF_CHANNEL_CTRL, (long)id, (long)c->track);
+    }
+    r = check_kind(node, id, c->model, &in);
+    if (r != GF_NODE_APPLIED) {
+        return r;
+    }
+    t = track_of(node, id);
+    mdl = t != NULL ? &t->mdl : model_for(node, id, c->model, &named);
+    if (c->n > GF_NODE_NMAX) {
+        return refuse_field(node, id, SAY_SIZE_N, &in, 0,
+                            "a control has n = %d, more than any model "
+                            "takes (%d)",
+                            (int)c->n, GF_NODE_NMAX);
     }
     if (c->model == MODEL_LINEAR) {
         // no control, or the model's nu
-        const gf_node_model *mdl = track_model(node, id, c->model);
         if (mdl != NULL && c->n != 0 && (unsigned)c->n != mdl->lin->nu) {
-            return GF_NODE_BAD_FIELD;
+            if (mdl->lin->nu == 0) {
+                return refuse_field(node, id, SAY_SIZE_N, &in, 0,
+                                    "a control has n = %d, its model %s "
+                                    "takes n = 0 (it has no B)",
+                                    (int)c->n, mdl->name);
+            }
+            return refuse_field(node, id, SAY_SIZE_N, &in, 0,
+                                "a control has n = %d, its model %s takes n "
+                                "= 0 or %u (B's columns)",
+                                (int)c->n, mdl->name, mdl->lin->nu);
         }
     } else if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2) {
-        return GF_NODE_BAD_FIELD;
+        return refuse_field(node, id, SAY_SIZE_N, &in, 0,
+                            c->model == MODEL_CAR
+                                ? "a control has n = %d, a car takes n = 0 "
+                                  "or 2 (B u, B = I)"
+                                : "a control has n = %d, a robot takes n = 2 "
+                                  "(u = (d, phi))",
+                            (int)c->n);
     }
     t = track_get(node, id, c->model, c->utime, &r);
     if (t == NULL) {
         return r;
     }
     r = admit(node, t, 0, c->session, c->seq, c->utime);
-    if (r == GF_NODE_LATE) {
-        publish_late(node, t, c->utime, c->seq,
-                     GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT, NULL);
-    }
     if (r != GF_NODE_APPLIED) {
-        return r;
+        return refuse_order(node, t, r, &in, 0);
     }
     time0 = t->time;
     has_time0 = t->has_time;
@@ -1286,12 +1613,12 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
             t->has_time = has_time0;
         }
     } else if (t->model == MODEL_CAR) {
-        gf_kf2_model mdl;
+        gf_kf2_model km;
         gf_vec2 u;
-        gf_node_model_car(&t->mdl, &mdl);
+        gf_node_model_car(&t->mdl, &km);
         u.v[0] = (gf_real)c->u[0];
         u.v[1] = (gf_real)c->u[1];
-        s = gf_kf2_predict(&t->f.kf2, &mdl, c->n == 2 ? &u : NULL);
+        s = gf_kf2_predict(&t->f.kf2, &km, c->n == 2 ? &u : NULL);
     } else {
         gf_ekf3_motion mot;
         gf_real u[2];
@@ -1322,6 +1649,7 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
     b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT;
     b.status = (int8_t)s;
     publish_step(node, t, &b);
+    step_failed(node, t, &in, s);
     return from_status(s);
 }
 
@@ -1371,24 +1699,18 @@ static int linear_correct(gf_node *node, gf_node_track *t,
 
 // The sensor a message on GF_MEAS_<id>_<name> names in the model of track
 // id (mdl: the track's, or the one it would be made with), or NULL: said
-// once per track id (the first GF_NODE_MAX_TRACKS ids).
+// once per track id.
 static const gf_node_sensor *model_sensor(gf_node *node, int32_t id,
                                           const gf_node_model *mdl,
                                           const char *name, unsigned *stream)
 {
     const gf_node_sensor *sen = gf_node_model_sensor(mdl, name);
-    unsigned i;
     if (sen != NULL) {
         *stream = 1u + (unsigned)(sen - mdl->sensors->s);
         return sen;
     }
-    for (i = 0; i < node->nnosensor; i++) {
-        if (node->nosensor[i] == id) {
-            return NULL;
-        }
-    }
-    if (node->nnosensor < GF_NODE_MAX_TRACKS) {
-        node->nosensor[node->nnosensor++] = id;
+    if (!say_first(node, id, SAY_SENSOR)) {
+        return NULL;
     }
     say(node,
         "track %ld: a measurement on %s%ld_%s: its model %s has no sensor "
@@ -1407,65 +1729,94 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
     gaussfilt_lcm_belief_t b;
     gf_innovation info;
     gf_kf_innovation kinfo;
+    node_in in;
     double q[GF_NODE_NMAX][GF_NODE_NMAX], dt;
     int64_t time0;
-    int s = GF_OK, measure = 0, has_time0;
+    int s = GF_OK, measure = 0, has_time0, named;
     unsigned i, m, stream = 0;
-    if (z->track != id || !good_kind(z->model)) {
-        return GF_NODE_BAD_FIELD;
+    in.what = "measurement";
+    in.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE;
+    in.utime = z->utime;
+    in.seq = z->seq;
+    in.session = z->session;
+    in.sensor = NULL;
+    if (z->track != id) {
+        return refuse_field(node, id, SAY_TRACK, &in, -1,
+                            "a measurement on %s%ld%s%s says track %ld",
+                            GF_CHANNEL_MEAS, (long)id,
+                            sensor != NULL ? "_" : "",
+                            sensor != NULL ? sensor : "", (long)z->track);
     }
-    if (z->m < 1 || (z->model != MODEL_LINEAR && z->m > 2)) { // see
-        return GF_NODE_BAD_FIELD; // gf_node_measure_m
+    if (sensor != NULL && z->model == MODEL_CAR) {
+        return refuse_field(node, id, SAY_SENSOR, &in, -1,
+                            "a measurement on %s%ld_%s says model 1 (car): "
+                            "a car has no sensors",
+                            GF_CHANNEL_MEAS, (long)id, sensor);
     }
-    m = (unsigned)z->m;
-    if (sensor != NULL) {
-        // a named sensor: the track's model says what it measures (a car
-        // has none)
-        if (z->model == MODEL_CAR) {
-            return GF_NODE_BAD_FIELD;
-        }
-        mdl = track_model(node, id, z->model);
-        if (mdl != NULL) {
-            sen = model_sensor(node, id, mdl, sensor, &stream);
-            if (sen == NULL || m != sen->m) {
-                return GF_NODE_BAD_FIELD;
-            }
-        }
-        t = track_get(node, id, z->model, z->utime, &r);
-        if (t == NULL) {
-            return r;
-        }
-        if (sen == NULL) { // (a track is made only from a model)
-            return GF_NODE_BAD_FIELD;
-        }
-    } else {
-        // what the track's model expects (a track of another kind:
-        // bad_field from track_get; a track that would be refused:
-        // no_model from it)
-        mdl = track_model(node, id, z->model);
-        if (mdl != NULL && z->model == MODEL_LINEAR) {
-            if (m != mdl->lin->m) {
-                return GF_NODE_BAD_FIELD;
-            }
-        } else if (mdl != NULL) {
-            measure = gf_node_model_measure(mdl, m);
-            if (measure < 0) {
-                return GF_NODE_BAD_FIELD;
-            }
-        }
-        t = track_get(node, id, z->model, z->utime, &r);
-        if (t == NULL) {
-            return r;
-        }
-    }
-    r = admit(node, t, stream, z->session, z->seq, z->utime);
-    if (r == GF_NODE_LATE) {
-        publish_late(node, t, z->utime, z->seq,
-                     GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE,
-                     sen != NULL ? sen->name : NULL);
-    }
+    r = check_kind(node, id, z->model, &in);
     if (r != GF_NODE_APPLIED) {
         return r;
+    }
+    t = track_of(node, id);
+    mdl = t != NULL ? &t->mdl : model_for(node, id, z->model, &named);
+    if (sensor != NULL && mdl != NULL) {
+        // a named sensor: the track's model says what it measures
+        sen = model_sensor(node, id, mdl, sensor, &stream);
+        if (sen == NULL) {
+            return refuse_field(node, id, SAY_SENSOR, &in, -1, "no sensor %s",
+                                sensor);
+        }
+        in.sensor = sen->name;
+    }
+    if (z->m < 1 || z->m > GF_NODE_NMAX ||
+        (z->model != MODEL_LINEAR && z->m > 2)) {
+        return refuse_field(node, id, SAY_SIZE_M, &in, (int)stream,
+                            "a measurement has m = %d, %s", (int)z->m,
+                            z->m < 1 ? "at least 1 is measured"
+                            : z->m > GF_NODE_NMAX
+                                ? "more than any model measures "
+                                  "(" GF_NODE_NMAX_STR ")"
+                                : "a car or robot measures 1 or 2");
+    }
+    m = (unsigned)z->m;
+    if (sen != NULL && m != sen->m) {
+        return refuse_field(node, id, SAY_SIZE_M, &in, (int)stream,
+                            "a measurement of sensor %s has m = %u, the "
+                            "sensor measures m = %u",
+                            sen->name, m, sen->m);
+    }
+    if (sen == NULL && mdl != NULL && z->model == MODEL_LINEAR) {
+        if (mdl->lin->m == 0) {
+            return refuse_field(node, id, SAY_SIZE_M, &in, 0,
+                                "a measurement on %s%ld: its model %s "
+                                "measures on its sensors' channels only (%s%ld_"
+                                "<sensor>)",
+                                GF_CHANNEL_MEAS, (long)id, mdl->name,
+                                GF_CHANNEL_MEAS, (long)id);
+        }
+        if (m != mdl->lin->m) {
+            return refuse_field(node, id, SAY_SIZE_M, &in, 0,
+                                "a measurement has m = %u, its model %s "
+                                "measures m = %u (C's rows)",
+                                m, mdl->name, mdl->lin->m);
+        }
+    } else if (sen == NULL && mdl != NULL) {
+        measure = gf_node_model_measure(mdl, m);
+        if (measure < 0) {
+            return refuse_field(
+                node, id, SAY_SIZE_M, &in, 0,
+                "a measurement has m = %u, its model %s measures m = %u", m,
+                mdl->name, gf_node_measure_m(mdl->kind, mdl->measure));
+        }
+    }
+    // (a track that would be refused: no_model from here)
+    t = track_get(node, id, z->model, z->utime, &r);
+    if (t == NULL) {
+        return r;
+    }
+    r = admit(node, t, stream, z->session, z->seq, z->utime);
+    if (r != GF_NODE_APPLIED) {
+        return refuse_order(node, t, r, &in, stream);
     }
     time0 = t->time;
     has_time0 = t->has_time;
@@ -1559,29 +1910,103 @@ static gf_node_result handle_meas(gf_node *node, int32_t id, const node_meas *z,
         b.nis = (double)info.nis;
     }
     publish_step(node, t, &b);
+    update_seen(node, t, &b, s, sen != NULL ? sen->gate : t->mdl.gate);
+    step_failed(node, t, &in, s);
     return from_status(s);
 }
 
-// A model_t: checks it, then sets the track's model (creating the track
-// from it if new); reset or a new track restarts the belief from its prior.
+// A model_t refused (bad_field): said every time (a model_t is an
+// operator's command, and rare), with a status belief of the track when
+// the node holds it (stage STAGE_INIT, input_seq -1).
+static gf_node_result refuse_model(gf_node *node, int32_t id,
+                                   const gaussfilt_lcm_model_t *mm,
+                                   const char *fmt, ...)
+{
+    gf_node_track *t = track_of(node, id);
+    node_in in;
+    char why[200];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    say(node, "track %ld: a model_t refused: %s (bad_field)", (long)id, why);
+    if (t != NULL) {
+        in.what = "model_t";
+        in.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
+        in.utime = mm->utime;
+        in.seq = -1;
+        in.session = 0;
+        in.sensor = NULL;
+        publish_refused(node, t, &in, GF_NODE_STATUS_BAD_FIELD);
+    }
+    return GF_NODE_BAD_FIELD;
+}
+
+// Restarts a track's belief from its model's prior, published as a
+// STAGE_INIT belief (at the track's time: its sequence and time go on).
+static void track_reset(gf_node *node, gf_node_track *t, int64_t utime)
+{
+    gaussfilt_lcm_belief_t b;
+    track_prior(node, t);
+    t->updates = 0;
+    t->gated_run = 0;
+    t->belief_seq++;
+    belief_fill(node, t, &b);
+    b.utime = utime;
+    b.input_seq = -1;
+    b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
+    publish_step(node, t, &b);
+}
+
+// A model_t: checks it, then sets a car's or robot's model (creating the
+// track from it if new), or resets a linear track (whose model is the
+// configuration's); reset or a new track restarts the belief from its
+// prior.
 static gf_node_result handle_model(gf_node *node, int32_t id,
                                    const gaussfilt_lcm_model_t *mm)
 {
     gf_node_model mdl;
     gf_node_track *t;
     gf_node_result r = GF_NODE_APPLIED;
-    gaussfilt_lcm_belief_t b;
     const gf_node_track *old;
+    const char *why = NULL;
     unsigned i, j;
-    // a linear model comes from the configuration only (model_t carries a
-    // car's or a robot's numbers)
-    if (mm->track != id ||
-        (mm->model != MODEL_CAR && mm->model != MODEL_ROBOT)) {
-        return GF_NODE_BAD_FIELD;
+    if (mm->track != id) {
+        return refuse_model(node, id, mm, "it says track %ld", (long)mm->track);
+    }
+    if (!good_kind(mm->model)) {
+        return refuse_model(node, id, mm,
+                            "it says model %d (MODEL_CAR 1, MODEL_ROBOT 2 or "
+                            "MODEL_LINEAR 3)",
+                            (int)mm->model);
     }
     old = gf_node_find(node, id);
     if (old != NULL && old->model != mm->model) {
-        return GF_NODE_BAD_FIELD;
+        return refuse_model(node, id, mm,
+                            "it says model %d (%s), the track is %s (model "
+                            "%s)",
+                            (int)mm->model, kind_name(mm->model),
+                            kind_name(old->model), old->mdl.name);
+    }
+    if (mm->model == MODEL_LINEAR) {
+        // a linear model's numbers are the configuration's: reset only
+        if (!mm->reset) {
+            return refuse_model(node, id, mm,
+                                "a linear model's numbers come from the "
+                                "configuration: a model_t resets a linear "
+                                "track (reset = 1) and sets nothing");
+        }
+        if (old == NULL) { // made from its configured model, at its prior
+            t = track_get(node, id, MODEL_LINEAR, mm->utime, &r);
+        } else {
+            t = track_of(node, id);
+            track_reset(node, t, mm->utime);
+        }
+        if (t == NULL) {
+            return r;
+        }
+        node->counts.models++;
+        return GF_NODE_APPLIED;
     }
     memset(&mdl, 0, sizeof(mdl));
     snprintf(mdl.name, sizeof mdl.name, "%s%ld", GF_CHANNEL_MODEL, (long)id);
@@ -1609,43 +2034,50 @@ static gf_node_result handle_model(gf_node *node, int32_t id,
         }
     }
     // the sensor's noise is the measurements' own: leave meas_cov zero
-    if (gf_node_model_check(&mdl, NULL) != 0) {
-        return GF_NODE_BAD_FIELD;
+    if (gf_node_model_check(&mdl, &why) != 0) {
+        return refuse_model(node, id, mm, "%s", why);
     }
-    node->counts.models++;
     if (old == NULL) {
         t = track_get_with(node, id, mm->model, mm->utime, &mdl, &r);
-        return t == NULL ? r : GF_NODE_APPLIED;
+        if (t == NULL) {
+            return r;
+        }
+        node->counts.models++;
+        return GF_NODE_APPLIED;
     }
-    t = &node->tracks[old - node->tracks];
+    node->counts.models++;
+    t = track_of(node, id);
     mdl.sensors = t->mdl.sensors; // a robot's configured sensors stay
     t->mdl = mdl;
     if (mm->reset) {
-        track_prior(node, t);
-        t->belief_seq++;
-        belief_fill(node, t, &b);
-        b.utime = mm->utime;
-        b.input_seq = -1;
-        b.stage = GAUSSFILT_LCM_BELIEF_T_STAGE_INIT;
-        publish_step(node, t, &b);
+        track_reset(node, t, mm->utime);
     }
     return GF_NODE_APPLIED;
 }
 
-static gf_node_result dispatch(gf_node *node, const char *channel,
-                               const void *data, size_t len, int64_t now)
+// The name of the type a channel of this kind carries.
+static const char *kind_type(int kind)
 {
-    int32_t id = 0;
+    return kind == KIND_CTRL   ? "control_t"
+           : kind == KIND_MEAS ? "measurement_t"
+                               : "model_t";
+}
+
+static gf_node_result dispatch(gf_node *node, int kind, int32_t id,
+                               const char *sensor, const void *data, size_t len,
+                               int64_t now)
+{
     gf_node_result r;
-    const char *sensor = NULL;
-    int kind = channel_kind(channel, &id, &sensor);
+    // (a whole control or measurement with n or m beyond GF_NODE_NMAX
+    // decodes as bad_field, its header read: its handler says so)
     if (kind == KIND_CTRL) {
-        node_ctrl c;
+        static const node_ctrl zero;
+        node_ctrl c = zero;
         r = check_fingerprint(data, len, __gaussfilt_lcm_control_t_get_hash());
         if (r == GF_NODE_APPLIED) {
             r = decode_ctrl(data, len, &c);
         }
-        if (r != GF_NODE_APPLIED) {
+        if (r != GF_NODE_APPLIED && r != GF_NODE_BAD_FIELD) {
             return r;
         }
         return handle_ctrl(node, id, &c, now);
@@ -1658,7 +2090,7 @@ static gf_node_result dispatch(gf_node *node, const char *channel,
         if (r == GF_NODE_APPLIED) {
             r = decode_meas(data, len, &z);
         }
-        if (r != GF_NODE_APPLIED) {
+        if (r != GF_NODE_APPLIED && r != GF_NODE_BAD_FIELD) {
             return r;
         }
         return handle_meas(node, id, &z, sensor, now);
@@ -1681,12 +2113,44 @@ gf_node_result gf_node_handle(gf_node *node, const char *channel,
                               const void *data, size_t len, int64_t now)
 {
     gf_node_result r;
+    int32_t id = 0;
+    const char *sensor = NULL;
+    int kind;
+    gf_node_track *t;
     if (node == NULL) {
         return GF_NODE_MALFORMED;
     }
-    r = dispatch(node, channel, data, len, now);
+    kind = channel_kind(channel, &id, &sensor);
+    r = dispatch(node, kind, id, sensor, data, len, now);
     node->counts.received++;
     node->counts.by_result[r]++;
+    if (kind == KIND_NONE) {
+        if (!node->said_channel) {
+            node->said_channel = 1;
+            say(node,
+                "a message on %.64s: not a track's channel (%s<id>[_<sensor>], "
+                "%s<id>, %s<id>, the id in its one decimal spelling) "
+                "(unknown_channel; said once)",
+                channel != NULL ? channel : "(none)", GF_CHANNEL_MEAS,
+                GF_CHANNEL_CTRL, GF_CHANNEL_MODEL);
+        }
+        return r;
+    }
+    if (r == GF_NODE_MALFORMED && say_first(node, id, SAY_MALFORMED)) {
+        say(node,
+            "track %ld: a message on %.64s of %zu bytes is not a whole %s "
+            "(malformed)",
+            (long)id, channel, len, kind_type(kind));
+    } else if (r == GF_NODE_TYPE_MISMATCH && say_first(node, id, SAY_TYPE)) {
+        say(node,
+            "track %ld: a message on %.64s is another gaussfilt type than %s "
+            "(type_mismatch)",
+            (long)id, channel, kind_type(kind));
+    }
+    t = track_of(node, id);
+    if (t != NULL) {
+        t->by_result[r]++;
+    }
     return r;
 }
 

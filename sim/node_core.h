@@ -26,7 +26,8 @@
 // model's prior and publishes that initial belief first. A linear track
 // has no preset: with no model named it is refused (no_model), and so is
 // every track no model names once gf_node_set_strict is on. A model_t on
-// GF_MODEL_<id> sets a car's or robot's model at run time. The node says
+// GF_MODEL_<id> sets a car's or robot's model at run time, or resets any
+// track (a linear one to its configured prior). The node says
 // which model each new track got and why, a track whose first input comes
 // after others it never saw, and another node's beliefs of its own tracks,
 // through the log callback (gf_node_set_log).
@@ -47,6 +48,17 @@
 // late (within the model's late_window: refused, a STATUS_LATE belief) or
 // too_old (refused, no belief); both keep their stream's seq. Other tracks
 // step once per control, and an input whose utime falls is out_of_order.
+//
+// Refusals: every control or measurement of a track the node holds that
+// decodes gets a belief, a refused one too: the track's belief as it is,
+// with the input's utime, seq, stage and sensor and a status that says
+// why (GF_NODE_STATUS_* below, the core's gf_status for a failed step); a
+// refused input's seq counts as received (no gap; before the track is
+// made, none lost before its first). A refused model_t is said and gets a
+// GF_NODE_STATUS_BAD_FIELD belief (STAGE_INIT). The first refusal of each
+// kind on each track id is said through the log callback, naming the
+// field and both sizes where a size is wrong; a track's first
+// GF_NODE_GATED_WARN updates all gated, or as many in a row later, too.
 //
 // Edges, with their rules:
 // - Sequence resync: GF_NODE_RESYNC_AFTER inputs in a row rejected as
@@ -86,6 +98,14 @@ extern "C" {
 #if GF_NODE_MAX_TRACKS < 1
 #error "GF_NODE_MAX_TRACKS must be at least 1"
 #endif
+
+// The longest message the node reads (gf_node's input queue keeps as
+// many bytes). Every size an int8 field can hold fits: a whole control
+// or measurement with n or m beyond GF_NODE_NMAX is bad_field however
+// long (a measurement with m = 127 is 130 086 bytes); a longer message
+// is malformed. The largest input the node takes, a measurement with
+// m = GF_NODE_NMAX = 12, is 1 286 bytes (one UDP datagram).
+#define GF_NODE_MAX_LEN 131072
 
 // The robot's filter (gf_node_set_filter; gf_node --filter ekf|ukf|pf).
 // The car is always KF2.
@@ -199,8 +219,19 @@ typedef struct gf_node_counts {
 // The PF summary's status in belief_t.status (belief_t.STATUS_NO_SUMMARY,
 // not a gf_status).
 #define GF_NODE_STATUS_NO_SUMMARY (-64)
-// A late input's status belief (belief_t.STATUS_LATE).
+// The status beliefs of refused inputs (belief_t.STATUS_*): the track's
+// belief as it was, with the input's utime, seq and stage.
 #define GF_NODE_STATUS_LATE (-65)
+#define GF_NODE_STATUS_TOO_OLD (-66)
+#define GF_NODE_STATUS_DUPLICATE (-67)
+#define GF_NODE_STATUS_OUT_OF_ORDER (-68)
+#define GF_NODE_STATUS_STALE_SESSION (-69)
+#define GF_NODE_STATUS_BAD_FIELD (-70)
+
+// A track's first updates all gated, this many in a row (or, later, this
+// many gated in a row): said once per track (the prior too tight or
+// wrong, or the track lost).
+#define GF_NODE_GATED_WARN 5
 
 // A track's input streams, each with its own seq: 0 its controls and
 // GF_MEAS_<id>, 1 + k its model's sensor k (GF_MEAS_<id>_<name>).
@@ -232,6 +263,17 @@ typedef struct gf_node_track {
     gf_node_model mdl;  // its model, a copy (a linear one's numbers stay
                         // in the configuration)
     int peer_warned;    // another node's beliefs of it were reported
+    // what became of the messages on its channels (as gf_node_counts'
+    // by_result, from the track's first)
+    uint64_t by_result[GF_NODE_RESULT_COUNT];
+    unsigned updates;   // measurements that ran an update (applied, gated)
+    unsigned gated_run; // of those, gated in a row up to the last
+    // NIS of its updates (gated ones too): the last, and sums since
+    // gf_node_nis_take
+    double nis_last;
+    unsigned m_last; // the last update's measured quantities
+    double nis_sum;
+    unsigned nis_dof, nis_n; // sums of m and updates since then
     union {
         gf_kf kf; // linear
         gf_kf2 kf2;
@@ -252,6 +294,8 @@ typedef struct gf_node_track {
 
 // The longest node id (gf_node_set_id) carried in belief_t.node.
 #define GF_NODE_ID_MAX 64
+// Track ids the node keeps what it said about (see gf_node.said).
+#define GF_NODE_SAID_IDS (2 * GF_NODE_MAX_TRACKS)
 #define GF_NODE_PEER_EARLY 16
 
 // Log callback: one line of what the node did with a track (no newline).
@@ -289,13 +333,17 @@ typedef struct gf_node {
     int strict; // refuse tracks no model names
     gf_node_log_fn log;
     void *log_ctx;
-    // ids refused as no_model, each said once (the first
-    // GF_NODE_MAX_TRACKS)
-    unsigned nrefused;
-    int32_t refused[GF_NODE_MAX_TRACKS];
-    // ids whose message named a sensor their model lacks, each said once
-    unsigned nnosensor;
-    int32_t nosensor[GF_NODE_MAX_TRACKS];
+    // What the node said about each track id (the first
+    // GF_NODE_SAID_IDS ids, tracks it never made too), each topic once,
+    // and per input stream the inputs it refused before it made the track
+    // (its first input's lost_before_first does not count them).
+    unsigned nsaid;
+    struct {
+        int32_t id;
+        uint32_t topics; // bit k: topic k was said
+        uint32_t refused[GF_NODE_STREAMS];
+    } said[GF_NODE_SAID_IDS];
+    int said_channel; // a message on a channel no track names was said
     // scratch of one step: gf_kf's workspace, a linear model's numbers in
     // gf_real, a belief's numbers as belief_t carries them
     gf_kf_work work;

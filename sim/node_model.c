@@ -1262,6 +1262,11 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
     gf_node_model *mdl = NULL;
     gf_node_linear *lin = NULL;
     gf_node_sensor *sen = NULL; // the sensor section being read, if any
+    // per model: the line of its [model NAME], and whether a later model
+    // takes it as its base
+    unsigned start[GF_NODE_CONFIG_MODELS], im;
+    int based[GF_NODE_CONFIG_MODELS];
+    memset(based, 0, sizeof based);
     memset(cfg, 0, sizeof(*cfg));
     memset(&sec, 0, sizeof(sec));
     memset(ssec, 0, sizeof(ssec));
@@ -1355,6 +1360,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             mdl->late_window = GF_NODE_LATE_WINDOW;
             memset(&sec, 0, sizeof(sec));
             sec.start = line;
+            start[cfg->count - 1] = line;
             continue;
         }
         eq = strchr(s, '=');
@@ -1382,6 +1388,9 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
             if (b == NULL || b == mdl) {
                 return fail(err, err_size, line, "no model %s before this",
                             val);
+            }
+            if (b >= cfg->model && b < mdl) {
+                based[b - cfg->model] = 1;
             }
             memcpy(name, mdl->name, sizeof name);
             *mdl = *b;
@@ -1512,6 +1521,18 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
     }
     if (mdl != NULL && finish(cfg, &sec, ssec, err, err_size) != 0) {
         return -1;
+    }
+    // A linear model no channels pattern names could run no track (there is
+    // no linear preset), unless it is a base of others.
+    for (im = 0; im < cfg->count; im++) {
+        if (cfg->model[im].kind == GF_NODE_KIND_LINEAR &&
+            cfg->model[im].channels == NULL && !based[im]) {
+            return fail(err, err_size, start[im],
+                        "model %s: a linear model needs channels (the tracks "
+                        "that run it: no preset stands in for a linear "
+                        "track), or another model taking it as its base",
+                        cfg->model[im].name);
+        }
     }
     return 0;
 }

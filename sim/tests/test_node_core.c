@@ -25,13 +25,25 @@ static int sink_publish(void *ctx, const char *channel, const void *data,
 typedef struct fixture {
     gf_node node;
     gf_sink sink;
+    unsigned nsaid; // the node's log lines
+    char said[16][256];
 } fixture;
+
+static void keep_line(void *ctx, const char *line)
+{
+    fixture *f = ctx;
+    if (f->nsaid < 16) {
+        snprintf(f->said[f->nsaid], sizeof f->said[0], "%s", line);
+    }
+    f->nsaid++;
+}
 
 static int setup(void **state)
 {
     static fixture f; // large; one test at a time
     memset(&f, 0, sizeof(f));
     gf_node_init(&f.node, sink_publish, &f.sink);
+    gf_node_set_log(&f.node, keep_line, &f);
     *state = &f;
     return 0;
 }
@@ -128,6 +140,8 @@ static void duplicates_and_out_of_order(void **state)
 {
     fixture *f = *state;
     gf_node_track before;
+    const gf_node_track *t;
+    int i;
     assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 10, 0, 0, 0)),
                      GF_NODE_APPLIED);
     assert_int_equal(f->sink.n, 2);
@@ -141,11 +155,31 @@ static void duplicates_and_out_of_order(void **state)
     // Newer seq but older utime: out of order too.
     assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 2, 9, 0, 0, 0)),
                      GF_NODE_OUT_OF_ORDER);
-    // only the count of out_of_order in a row moved
-    assert_int_equal(gf_node_find(&f->node, 1)->rejected, 2);
-    before.rejected = 2;
-    assert_memory_equal(&before, gf_node_find(&f->node, 1), sizeof(before));
-    assert_int_equal(f->sink.n, 2); // nothing published for rejections
+    // the filter and the sequence as they were; the count of
+    // out_of_order in a row moved
+    t = gf_node_find(&f->node, 1);
+    assert_int_equal(t->rejected, 2);
+    assert_memory_equal(&before.f, &t->f, sizeof(before.f));
+    assert_true(t->seq[0] == 1 && t->input_seq == 1 && t->time == 10);
+    // a status belief for each: the belief as it was, the input's seq,
+    // utime and stage
+    assert_int_equal(f->sink.n, 6);
+    for (i = 2; i < 6; i++) {
+        static const int8_t st[4] = {
+            GF_NODE_STATUS_DUPLICATE, GF_NODE_STATUS_OUT_OF_ORDER,
+            GF_NODE_STATUS_DUPLICATE, GF_NODE_STATUS_OUT_OF_ORDER};
+        static const int64_t seq[4] = {1, 0, 1, 2}, utime[4] = {10, 10, 10, 9};
+        const gf_wire_belief *b = &f->sink.b[i];
+        assert_int_equal(b->status, st[i - 2]);
+        assert_int_equal(b->input_seq, seq[i - 2]);
+        assert_int_equal(b->utime, utime[i - 2]);
+        assert_int_equal(b->seq, i);
+        assert_int_equal(b->stage, i == 4
+                                       ? GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE
+                                       : GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT);
+        assert_memory_equal(b->mean, f->sink.b[1].mean, sizeof(b->mean));
+        assert_memory_equal(b->cov, f->sink.b[1].cov, sizeof(b->cov));
+    }
     // seq 2 and 3 lost: counted as a gap of 2, then 2 is late.
     assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 4, 11, 0, 0, 0)),
                      GF_NODE_APPLIED);
@@ -420,7 +454,7 @@ static void simulator_restart_resyncs(void **state)
     check_close(b->cov[0][1], 0.5);
     check_close(b->cov[1][1], 1.0);
     // The old session is stale, the new one's seq 1 a duplicate; neither
-    // touches the belief or publishes.
+    // touches the belief; each publishes its status belief.
     t = gf_node_find(&f->node, 3);
     assert_non_null(t);
     before = t->f.kf2;
@@ -431,10 +465,151 @@ static void simulator_restart_resyncs(void **state)
         feed(f, in_session(gf_msg_ctrl(3, GF_CAR, 1, 1, 0, 0, 0), 200)),
         GF_NODE_DUPLICATE);
     assert_memory_equal(&before, &t->f.kf2, sizeof(before));
-    assert_int_equal(f->sink.n, 6);
+    assert_int_equal(f->sink.n, 8);
+    assert_int_equal(f->sink.b[6].status, GF_NODE_STATUS_STALE_SESSION);
+    assert_int_equal(f->sink.b[7].status, GF_NODE_STATUS_DUPLICATE);
     assert_true(f->node.counts.by_result[GF_NODE_STALE_SESSION] == 1);
     assert_true(f->node.counts.gaps == 0);
     assert_true(f->node.counts.resyncs == 1);
+    check_counts(&f->node);
+}
+
+// A whole measurement with m beyond GF_NODE_NMAX, longer than 4096 bytes:
+// bad_field (its header read), said once with its m.
+static void too_large_is_bad_field(void **state)
+{
+    fixture *f = *state;
+    static uint8_t big[64 + 8 * (23 + 23 * 23)];
+    static double z[23], q[23][23], *rows[23];
+    gaussfilt_lcm_measurement_t x;
+    int len, k;
+    memset(&x, 0, sizeof(x));
+    for (k = 0; k < 23; k++) {
+        z[k] = k;
+        q[k][k] = 1.0;
+        rows[k] = q[k];
+    }
+    x.track = 1;
+    x.seq = 2;
+    x.model = GF_CAR;
+    x.m = 23;
+    x.z = z;
+    x.q = rows;
+    len = gaussfilt_lcm_measurement_t_encode(big, 0, (int)sizeof big, &x);
+    assert_true(len > 4096);
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 0, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(gf_node_handle(&f->node, "GF_MEAS_1", big, (size_t)len, 0),
+                     GF_NODE_BAD_FIELD);
+    assert_int_equal(f->sink.n, 3); // init, predict, the status belief
+    assert_int_equal(f->sink.b[2].status, GF_NODE_STATUS_BAD_FIELD);
+    assert_int_equal(f->sink.b[2].input_seq, 2);
+    assert_int_equal(f->nsaid, 2);
+    assert_string_equal(f->said[1], "track 1: a measurement has m = 23, more "
+                                    "than any model measures (12) (bad_field)");
+    // one byte more: malformed, said once for the track
+    for (k = 0; k < 2; k++) {
+        assert_int_equal(
+            gf_node_handle(&f->node, "GF_MEAS_1", big, (size_t)len + 1, 0),
+            GF_NODE_MALFORMED);
+    }
+    assert_int_equal(f->nsaid, 3);
+    assert_string_equal(f->said[2], "track 1: a message on GF_MEAS_1 of 4455 "
+                                    "bytes is not a whole measurement_t "
+                                    "(malformed)");
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 3, 0, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->node.counts.gaps, 0);
+    check_counts(&f->node);
+}
+
+// Nothing refused in silence: a status belief for every refused input of
+// a track the node holds, its seq counted as arrived (no false gap, no
+// false loss before the first); each kind of refusal said once per track,
+// naming the field and both sizes.
+static void refusals_said_once(void **state)
+{
+    fixture *f = *state;
+    const double z3[3] = {1, 2, 3}, q3[3] = {1, 1, 1};
+    gf_msg m;
+    int i;
+    // a car track, then a measurement of m = 3, twice (seq 2 and 3)
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 1, 0, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    for (i = 2; i <= 3; i++) {
+        assert_int_equal(feed(f, gf_msg_meas_m(1, GF_CAR, i, 0, 3, z3, q3)),
+                         GF_NODE_BAD_FIELD);
+        assert_int_equal(f->sink.b[f->sink.n - 1].status,
+                         GF_NODE_STATUS_BAD_FIELD);
+        assert_int_equal(f->sink.b[f->sink.n - 1].input_seq, i);
+        assert_int_equal(f->sink.b[f->sink.n - 1].stage,
+                         GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE);
+    }
+    assert_int_equal(f->sink.n, 4);
+    // all arrived: the next is no gap
+    assert_int_equal(feed(f, gf_msg_ctrl(1, GF_CAR, 4, 0, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->node.counts.gaps, 0);
+    // a robot's measurement on the car's track; a control naming track 2
+    assert_int_equal(feed(f, gf_msg_meas(1, GF_ROBOT, 5, 0, 1.0, 1.0)),
+                     GF_NODE_BAD_FIELD);
+    m = gf_msg_ctrl(2, GF_CAR, 6, 0, 0, 0, 0);
+    snprintf(m.channel, sizeof m.channel, "GF_CTRL_1");
+    assert_int_equal(feed(f, m), GF_NODE_BAD_FIELD);
+    assert_int_equal(f->sink.n, 7);
+    // a new track whose first input is refused: its seq arrived, so its
+    // first taken input (seq 2) lost nothing before it
+    assert_int_equal(feed(f, gf_msg_meas_m(3, GF_CAR, 1, 0, 3, z3, q3)),
+                     GF_NODE_BAD_FIELD);
+    assert_null(gf_node_find(&f->node, 3));
+    assert_int_equal(feed(f, gf_msg_ctrl(3, GF_CAR, 2, 0, 0, 0, 0)),
+                     GF_NODE_APPLIED);
+    assert_int_equal(f->node.counts.lost_before_first, 0);
+    // a NaN: its step fails (a status belief, as always), said once
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(
+            feed(f, gf_msg_meas(3, GF_CAR, 3 + i, 0, (double)NAN, 1.0)),
+            GF_NODE_NONFINITE);
+    }
+    // a channel no track names, twice
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(
+            gf_node_handle(&f->node, "GF_CTRL_x", m.data, (size_t)m.len, 0),
+            GF_NODE_UNKNOWN_CHANNEL);
+    }
+    {
+        static const char *const want[] = {
+            "track 1 (car): the preset book-car: no configured model's "
+            "channels name GF_MEAS_1 or GF_CTRL_1 (strict refuses such a "
+            "track)",
+            "track 1: a measurement has m = 3, a car or robot measures 1 or 2 "
+            "(bad_field)",
+            "track 1: a measurement says model 2 (robot), the track is car "
+            "(model book-car) (bad_field)",
+            "track 1: a control on GF_CTRL_1 says track 2 (bad_field)",
+            "track 3: a measurement has m = 3, a car or robot measures 1 or 2 "
+            "(bad_field)",
+            "track 3 (car): the preset book-car: no configured model's "
+            "channels name GF_MEAS_3 or GF_CTRL_3 (strict refuses such a "
+            "track)",
+            "track 3: a measurement with seq 3: its step failed with status "
+            "-2 (non-finite value), published with it (nonfinite)",
+            "a message on GF_CTRL_x: not a track's channel "
+            "(GF_MEAS_<id>[_<sensor>], GF_CTRL_<id>, GF_MODEL_<id>, the id in "
+            "its one decimal spelling) (unknown_channel; said once)",
+        };
+        unsigned k;
+        assert_int_equal(f->nsaid, sizeof want / sizeof want[0]);
+        for (k = 0; k < f->nsaid; k++) {
+            assert_string_equal(f->said[k], want[k]);
+        }
+    }
+    // per track: what became of the messages on its channels
+    assert_int_equal(gf_node_find(&f->node, 1)->by_result[GF_NODE_APPLIED], 2);
+    assert_int_equal(gf_node_find(&f->node, 1)->by_result[GF_NODE_BAD_FIELD],
+                     4);
+    assert_int_equal(gf_node_find(&f->node, 3)->by_result[GF_NODE_NONFINITE],
+                     2);
     check_counts(&f->node);
 }
 
@@ -462,6 +637,8 @@ int main(void)
         cmocka_unit_test_setup(nonfinite_reported_nothing_changed, setup),
         cmocka_unit_test_setup(track_limit, setup),
         cmocka_unit_test_setup(simulator_restart_resyncs, setup),
+        cmocka_unit_test_setup(too_large_is_bad_field, setup),
+        cmocka_unit_test_setup(refusals_said_once, setup),
         cmocka_unit_test_setup(summary_names_every_counter, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

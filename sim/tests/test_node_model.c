@@ -248,13 +248,21 @@ static void model_between_steps(void **state)
     assert_int_equal(feed(msg_model(&mm)), GF_NODE_APPLIED);
     assert_int_equal(fx.c.sink.n, n); // kept the belief: nothing published
     assert_int_equal(fx.node.counts.models, 1);
-    // a position alone no longer fits the model
+    // a position alone no longer fits the model: its status belief, the
+    // belief as it was; its seq arrived (the next is no gap)
     assert_int_equal(feed(gf_msg_meas(5, GF_CAR, 3, 2, 0.5, 10)),
                      GF_NODE_BAD_FIELD);
-    assert_int_equal(feed(gf_msg_ctrl(5, GF_CAR, 3, 2, 0, 0, 0)),
+    assert_int_equal(fx.c.sink.n, n + 1);
+    b = &fx.c.sink.b[n];
+    assert_int_equal(b->status, GF_NODE_STATUS_BAD_FIELD);
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE);
+    assert_int_equal(b->input_seq, 3);
+    assert_memory_equal(b->mean, fx.c.sink.b[n - 1].mean, sizeof b->mean);
+    assert_int_equal(feed(gf_msg_ctrl(5, GF_CAR, 4, 2, 0, 0, 0)),
                      GF_NODE_APPLIED);
-    assert_int_equal(feed(msg_meas2(5, GF_CAR, 4, 2, 0.7, 0.2, 0.5, 0.25)),
+    assert_int_equal(feed(msg_meas2(5, GF_CAR, 5, 2, 0.7, 0.2, 0.5, 0.25)),
                      GF_NODE_APPLIED);
+    assert_int_equal(fx.node.counts.gaps, 0);
 
     // The core directly: the book's step, then the new model, written
     // out here, from the book car's prior N(0, 0).
@@ -662,6 +670,12 @@ static void linear_errors(void **state)
          "m*n numbers)"},
         {"[model a]\ntype = linear\nmotion = cv\nA = 1 0 0 1\nC = 1 0\n",
          "line 4: model a: A or motion, not both"},
+        // a linear model no pattern names runs nothing, unless a base
+        {"[model a]\ntype = car\n[model b]\ntype = linear\nn = 2\nC = 1 0\n"
+         "[model c]\nbase = b\nchannels = GF_MEAS_1\n[model d]\nbase = c\n",
+         "line 10: model d: a linear model needs channels (the tracks that run "
+         "it: no preset stands in for a linear track), or another model "
+         "taking it as its base"},
         // a key the model keeps from its base: the base line
         {"[model a]\ntype = car\n[model b]\nbase = a\n# x\ndt = 0\n",
          "line 6: model b: dt must be a finite number > 0"},
@@ -736,15 +750,24 @@ static void linear_track(void **state)
         assert_int_equal(
             gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
             GF_NODE_APPLIED);
-        // m = 2 for a model of m = 1; a control of 2 for nu = 1
+        // m = 2 for a model of m = 1 (twice), a control of 2 for nu = 1:
+        // each a status belief, each field said once with both sizes;
+        // their seqs arrived: no gap before the next
         m = msg_meas2(500, 3, 5, 100, 1, 1, 1, 1);
+        for (i = 0; i < 2; i++) {
+            assert_int_equal(
+                gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                GF_NODE_BAD_FIELD);
+        }
+        m = gf_msg_ctrl(500, 3, 6, 100, 2, 2.0, 0.0);
         assert_int_equal(
             gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
             GF_NODE_BAD_FIELD);
-        m = gf_msg_ctrl(500, 3, 5, 100, 2, 2.0, 0.0);
+        m = gf_msg_ctrl(500, 3, 7, 100, 0, 0.0, 0.0);
         assert_int_equal(
             gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
-            GF_NODE_BAD_FIELD);
+            GF_NODE_APPLIED);
+        assert_int_equal(node.counts.gaps, 0);
         // a linear track nothing names: refused, said once
         m = gf_msg_ctrl(7, 3, 1, 0, 0, 0, 0);
         for (i = 0; i < 2; i++) {
@@ -757,7 +780,20 @@ static void linear_track(void **state)
     assert_int_equal(gf_kf_predict(&kf, &km, u, &work), GF_OK);
     assert_int_equal(gf_kf_update(&kf, &mm, z, &info, &work), GF_OK);
     assert_int_equal(gf_kf_cov(&kf, sigma), GF_OK);
-    assert_int_equal(c.sink.n, 3); // init, predict, update
+    // init, predict, update, the status beliefs of three bad_field, then
+    // a prediction
+    assert_int_equal(c.sink.n, 7);
+    for (i = 3; i < 6; i++) {
+        b = &c.sink.b[i];
+        assert_int_equal(b->status, GF_NODE_STATUS_BAD_FIELD);
+        assert_int_equal(b->stage, i < 5
+                                       ? GAUSSFILT_LCM_BELIEF_T_STAGE_UPDATE
+                                       : GAUSSFILT_LCM_BELIEF_T_STAGE_PREDICT);
+        assert_int_equal(b->input_seq, i < 5 ? 5 : 6);
+        assert_int_equal(b->seq, i);
+        assert_memory_equal(b->mean, c.sink.b[2].mean, sizeof b->mean);
+        assert_memory_equal(b->cov, c.sink.b[2].cov, sizeof b->cov);
+    }
     b = &c.sink.b[2];
     assert_string_equal(b->node, "test-node");
     assert_int_equal(b->model, 3);
@@ -773,7 +809,7 @@ static void linear_track(void **state)
     check_close(b->innovation[0], (double)info.y[0]);
     check_close(b->nis, (double)info.nis);
     assert_int_equal(node.counts.lost_before_first, 2);
-    assert_int_equal(said.n, 3);
+    assert_int_equal(said.n, 5);
     assert_string_equal(said.line[0],
                         "track 500 (linear, gf_kf): model pushed, its "
                         "channels GF_(MEAS|CTRL)_5[0-9][0-9] name it");
@@ -782,12 +818,128 @@ static void linear_track(void **state)
                         "inputs never reached this node (sent before it was "
                         "ready?)");
     assert_string_equal(said.line[2],
+                        "track 500: a measurement has m = 2, its model pushed "
+                        "measures m = 1 (C's rows) (bad_field)");
+    assert_string_equal(said.line[3],
+                        "track 500: a control has n = 2, its model pushed "
+                        "takes n = 0 or 1 (B's columns) (bad_field)");
+    assert_string_equal(said.line[4],
                         "track 7 (linear) refused: no configured linear "
                         "model's channels name GF_MEAS_7 or GF_CTRL_7 (a "
                         "linear track has no preset)");
     assert_true(gf_node_summary(&node, line, sizeof line) > 0);
     assert_non_null(strstr(line, " lost_before_first=2 "));
     assert_non_null(strstr(line, " no_model=2"));
+    gf_node_config_free(&cfg);
+}
+
+// A linear track: its first 5 updates gated say once that its prior may be
+// wrong, 5 more in a row later that it may be lost; a model_t resets it
+// to its configured prior (and makes a track from its configuration),
+// and refuses to set a linear model's numbers; a car's measurement on a
+// track a linear model names is refused, naming that model.
+static void linear_reset_and_gates(void **state)
+{
+    static gf_node_config cfg;
+    static gf_node node;
+    static catch_ c;
+    said_ said;
+    char err[160];
+    gaussfilt_lcm_model_t mm;
+    const gf_wire_belief *b;
+    const double far = 100.0, near = 1.0, q = 0.3;
+    gf_msg m;
+    int64_t seq = 1;
+    int i, n;
+    (void)state;
+    memset(&c, 0, sizeof c);
+    memset(&said, 0, sizeof said);
+    assert_int_equal(gf_node_config_parse(&cfg, linear_conf, err, sizeof err),
+                     0);
+    gf_node_init(&node, on_publish, &c);
+    gf_node_set_models(&node, named_lookup, &cfg);
+    gf_node_set_log(&node, keep_line, &said);
+    // z = 100 against the prior x = 1 +- 0.71: NIS 99^2 / 0.8 > gate 9
+    for (i = 0; i < GF_NODE_GATED_WARN + 1; i++) {
+        m = gf_msg_meas_m(500, 3, seq++, 0, 1, &far, &q);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_GATED);
+        assert_int_equal(said.n, i + 1 < GF_NODE_GATED_WARN ? 1 : 2);
+    }
+    assert_string_equal(said.line[1],
+                        "track 500: its first 5 updates were all gated (the "
+                        "last NIS 1.225e+04 > gate 9 of model pushed): prior "
+                        "too tight or wrong?");
+    // a model_t cannot set a linear model's numbers (a status belief)...
+    memset(&mm, 0, sizeof mm);
+    mm.track = 500;
+    mm.model = 3;
+    mm.utime = 9;
+    n = c.sink.n;
+    m = msg_model(&mm);
+    assert_int_equal(gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                     GF_NODE_BAD_FIELD);
+    assert_int_equal(c.sink.n, n + 1);
+    assert_int_equal(c.sink.b[n].status, GF_NODE_STATUS_BAD_FIELD);
+    assert_int_equal(c.sink.b[n].stage, GAUSSFILT_LCM_BELIEF_T_STAGE_INIT);
+    assert_string_equal(said.line[2],
+                        "track 500: a model_t refused: a linear model's "
+                        "numbers come from the configuration: a model_t "
+                        "resets a linear track (reset = 1) and sets nothing "
+                        "(bad_field)");
+    // ... and resets it to its configured prior, N((1, -1), P0)
+    mm.reset = 1;
+    m = msg_model(&mm);
+    assert_int_equal(gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                     GF_NODE_APPLIED);
+    assert_int_equal(node.counts.models, 1);
+    b = &c.sink.b[c.sink.n - 1];
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_INIT);
+    assert_int_equal(b->status, 0);
+    assert_int_equal(b->utime, 9);
+    check_close(b->mean[0], 1.0);
+    check_close(b->mean[1], -1.0);
+    check_close(b->cov[0][0], 0.5);
+    check_close(b->cov[0][1], 0.1);
+    check_close(b->cov[1][1], 0.3);
+    // taken at once; then 5 gated in a row: the track may be lost
+    m = gf_msg_meas_m(500, 3, seq++, 0, 1, &near, &q);
+    assert_int_equal(gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                     GF_NODE_APPLIED);
+    for (i = 0; i < GF_NODE_GATED_WARN; i++) {
+        m = gf_msg_meas_m(500, 3, seq++, 0, 1, &far, &q);
+        assert_int_equal(
+            gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+            GF_NODE_GATED);
+    }
+    assert_int_equal(said.n, 4);
+    assert_string_equal(said.line[3],
+                        "track 500: 5 updates in a row gated (the last NIS "
+                        "2.01e+04 > gate 9 of model pushed): has the track "
+                        "been lost? (a model_t with reset = 1 restarts it)");
+    // a reset of a track not made yet: made from its configured model
+    mm.track = 501;
+    m = msg_model(&mm);
+    assert_int_equal(gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                     GF_NODE_APPLIED);
+    assert_non_null(gf_node_find(&node, 501));
+    b = &c.sink.b[c.sink.n - 1];
+    assert_int_equal(b->track, 501);
+    assert_int_equal(b->stage, GAUSSFILT_LCM_BELIEF_T_STAGE_INIT);
+    check_close(b->cov[1][1], 0.3);
+    // a car's measurement on a track the linear model pushed names
+    n = c.sink.n;
+    m = gf_msg_meas(502, GF_CAR, 1, 0, near, q);
+    assert_int_equal(gf_node_handle(&node, m.channel, m.data, (size_t)m.len, 0),
+                     GF_NODE_BAD_FIELD);
+    assert_null(gf_node_find(&node, 502));
+    assert_int_equal(c.sink.n, n);
+    assert_int_equal(said.n, 6);
+    assert_string_equal(said.line[5],
+                        "track 502: a measurement says model 1 (car), but the "
+                        "configured model pushed (linear) names the track: "
+                        "its messages say model 3 (bad_field)");
     gf_node_config_free(&cfg);
 }
 
@@ -889,6 +1041,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(config_and_lookup, setup, teardown),
         cmocka_unit_test_setup_teardown(config_errors, setup, teardown),
+        cmocka_unit_test_setup_teardown(linear_reset_and_gates, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(model_between_steps, setup, teardown),
         cmocka_unit_test_setup_teardown(range_bearing, setup, teardown),
         cmocka_unit_test_setup_teardown(one_channel_spelling, setup, teardown),

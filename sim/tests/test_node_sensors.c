@@ -97,13 +97,13 @@ static const char vehicle_conf[] =
 
 typedef struct said_ {
     unsigned n;
-    char line[8][256];
+    char line[16][256];
 } said_;
 
 static void keep_line(void *ctx, const char *line)
 {
     said_ *s = ctx;
-    if (s->n < 8) {
+    if (s->n < 16) {
         snprintf(s->line[s->n++], sizeof s->line[0], "%s", line);
     }
 }
@@ -326,6 +326,7 @@ static void sensor_errors(void **state)
                                           "[model v]\ntype = linear\nmotion "
                                           "= cv\n[sensor a]\nC = 1 0\nQ = 1\n"
                                           "[model w]\nbase = v\n"
+                                          "channels = GF_MEAS_1\n"
                                           "[sensor b]\nC = 0 1\nQ = 2\n",
                                           err, sizeof err),
                      0);
@@ -525,11 +526,15 @@ static void late_and_old(void **state)
     assert_int_equal(last()->utime, 1910000);
     assert_string_equal(last()->sensor, "wheel");
     assert_memory_equal(&before.f.kf, &t->f.kf, sizeof t->f.kf); // unchanged
-    // 0.5 s older: too old, no belief
+    // 0.5 s older: too old, its status belief
     assert_int_equal(
         feed(sensor_msg(701, GF_LINEAR, "wheel", 3, 1510000, 1, &z, &q), 0),
         GF_NODE_TOO_OLD);
-    assert_int_equal(fx.sink.n, n + 1);
+    assert_int_equal(fx.sink.n, n + 2);
+    assert_int_equal(last()->status, GF_NODE_STATUS_TOO_OLD);
+    assert_int_equal(last()->input_seq, 3);
+    assert_string_equal(last()->sensor, "wheel");
+    assert_memory_equal(&before.f.kf, &t->f.kf, sizeof t->f.kf);
     // the wheel's seq 3 again, and 1: duplicate, out of order
     assert_int_equal(
         feed(sensor_msg(701, GF_LINEAR, "wheel", 3, 2020000, 1, &z, &q), 0),
@@ -568,8 +573,24 @@ static void late_and_old(void **state)
             feed(sensor_msg(703, GF_LINEAR, "lidar", 1, 2050000, 1, &z, &q), 0),
             GF_NODE_BAD_FIELD);
         assert_null(gf_node_find(&fx.node, 703));
-        assert_int_equal(fx.said.n, 3); // the track's line, then once each
+        // the track's line, each refusal's once, the sensor's once each
+        assert_int_equal(fx.said.n, 7);
         assert_string_equal(fx.said.line[1],
+                            "track 701: a measurement of sensor wheel 0.1 s "
+                            "older than the track's time, its model vehicle's "
+                            "late_window 0.2 s (late)");
+        assert_string_equal(fx.said.line[2],
+                            "track 701: a measurement of sensor wheel 0.5 s "
+                            "older than the track's time, its model vehicle's "
+                            "late_window 0.2 s (too_old)");
+        assert_string_equal(fx.said.line[3],
+                            "track 701: a measurement of sensor wheel with "
+                            "seq 3 came again (duplicate)");
+        assert_string_equal(fx.said.line[4],
+                            "track 701: a measurement of sensor wheel with "
+                            "seq 1, utime 2020000: its stream is at seq 3, "
+                            "the track at utime 2010000 (out_of_order)");
+        assert_string_equal(fx.said.line[5],
                             "track 701: a measurement on GF_MEAS_701_lidar: "
                             "its model vehicle has no sensor lidar "
                             "(bad_field)");
@@ -579,6 +600,13 @@ static void late_and_old(void **state)
         assert_int_equal(
             feed(sensor_msg(1, GF_CAR, "wheel", 1, 0, 1, &z, &q), 0),
             GF_NODE_BAD_FIELD);
+        assert_int_equal(fx.said.n, 9);
+        assert_string_equal(fx.said.line[7],
+                            "track 701: a measurement of sensor wheel has "
+                            "m = 2, the sensor measures m = 1 (bad_field)");
+        assert_string_equal(fx.said.line[8],
+                            "track 1: a measurement on GF_MEAS_1_wheel says "
+                            "model 1 (car): a car has no sensors (bad_field)");
     }
     {
         gf_msg m = sensor_msg(701, GF_LINEAR, "gyro", 9, 2060000, 1, &z, &q);
