@@ -37,8 +37,10 @@
 //               thread filters and publishes. A message that finds it
 //               full is dropped and counted (dropped= in the summary,
 //               apart from gaps); a file:// replay waits instead. The
-//               kernel's socket buffer is set in the URL:
-//               udpm://...?recv_buf_size=BYTES (the ready line says both)
+//               kernel's socket buffer: GF_NODE_RCVBUF bytes asked, or
+//               the URL's udpm://...?recv_buf_size=BYTES (the ready line
+//               says what the kernel gave; kernel_drops= in the summary
+//               what it dropped for want of room)
 //   --filter    the robot tracks' filter (the car is always KF2): ekf
 //               (EKF3, default), ukf (UKF3) or pf (PF3, GF_NODE_PF_PARTICLES
 //               particles per track, at most GF_NODE_PF_TRACKS tracks; each
@@ -78,7 +80,18 @@
 #include "gf_inq.h"
 #include "gf_route.h"
 #include "gf_rt.h"
+#include "gf_sock.h"
 #include "node_core.h"
+
+#if GF_INQ_MAX_DATA < GF_NODE_MAX_LEN
+#error "the input queue must keep every message the node reads"
+#endif
+
+// The receive buffer the node asks of the kernel for its udpm socket
+// unless the URL says (recv_buf_size=BYTES): 4 MiB holds about 25 000 of
+// its inputs, a tenth of a second of the heaviest burst net_burst sends.
+// The kernel caps it at net.core.rmem_max.
+#define GF_NODE_RCVBUF 4194304L
 
 static volatile sig_atomic_t g_stop; // set by the signal handler only
 
@@ -301,7 +314,8 @@ int main(int argc, char **argv)
     double rate = 0.0;
     int64_t period_us = 0, next_tick = 0;
     pthread_t handler;
-    char rcvbuf[32];
+    long rcvbuf_asked = GF_NODE_RCVBUF, rcvbuf = -1;
+    int sock = -1;
     lcm_subscription_t *sub, *peers;
 
     for (i = 1; i < argc; i++) {
@@ -355,11 +369,13 @@ int main(int argc, char **argv)
         return 2;
     }
 
-    // the kernel's socket buffer as the URL asks (LCM's default otherwise)
+    // the kernel's socket buffer as the URL asks (LCM sets it), else ours
     {
-        const char *r = url ? strstr(url, "recv_buf_size=") : NULL;
-        snprintf(rcvbuf, sizeof rcvbuf, "%s", r ? r + 14 : "default");
-        rcvbuf[strcspn(rcvbuf, "&,")] = '\0';
+        const char *u = url != NULL ? url : getenv("LCM_DEFAULT_URL");
+        const char *r = u != NULL ? strstr(u, "recv_buf_size=") : NULL;
+        if (r != NULL) {
+            rcvbuf_asked = strtol(r + 14, NULL, 10);
+        }
     }
 
     // LCM's receive thread, started by lcm_subscribe, inherits CPU and policy.
@@ -435,18 +451,38 @@ int main(int argc, char **argv)
         g_stop = 1;
     } else {
         have_handler = 1;
+        // (lcm_subscribe made LCM's receive socket)
+        sock = gf_sock_udpm();
+        if (sock >= 0 && rcvbuf_asked == GF_NODE_RCVBUF) {
+            int v = (int)GF_NODE_RCVBUF;
+            (void)setsockopt(sock, SOL_SOCKET, SO_RCVBUF, &v, sizeof v);
+        }
+        // (SO_RCVBUF reads twice what the kernel granted: its bookkeeping)
+        rcvbuf = gf_sock_rcvbuf(sock) >= 0 ? gf_sock_rcvbuf(sock) / 2 : -1;
         pthread_mutex_lock(&ctx.mu);
         while (!ctx.started) {
             pthread_cond_wait(&ctx.cv, &ctx.mu);
         }
         pthread_mutex_unlock(&ctx.mu);
         gf_rt_describe(&rt, placement, sizeof placement);
-        printf("gf_node: ready channels=%s queue=%d queue_bytes=%zu "
-               "rcvbuf=%s max_tracks=%d track_bytes=%zu node_bytes=%zu "
+        if (rcvbuf >= 0 && rcvbuf < rcvbuf_asked) {
+            printf("gf_node: warning: the kernel granted the socket a "
+                   "receive buffer of %ld bytes of the %ld asked: "
+                   "net.core.rmem_max caps it; as root: sysctl -w "
+                   "net.core.rmem_max=%ld\n",
+                   rcvbuf, rcvbuf_asked, rcvbuf_asked);
+        }
+        printf("gf_node: ready channels=%s queue=%d queue_bytes=%zu ", channels,
+               queue, ctx.q.cap);
+        if (rcvbuf >= 0) {
+            printf("rcvbuf=%ld rcvbuf_asked=%ld ", rcvbuf, rcvbuf_asked);
+        } else {
+            printf("rcvbuf=none ");
+        }
+        printf("max_tracks=%d track_bytes=%zu node_bytes=%zu "
                "filter=%s models=%u%s%s%s id=%s %s",
-               channels, queue, ctx.q.cap, rcvbuf, GF_NODE_MAX_TRACKS,
-               sizeof(gf_node_track), sizeof(gf_node), filter_name,
-               config.count, config_path ? " config=" : "",
+               GF_NODE_MAX_TRACKS, sizeof(gf_node_track), sizeof(gf_node),
+               filter_name, config.count, config_path ? " config=" : "",
                config_path ? config_path : "", strict ? " strict" : "", id,
                placement);
         if (rate > 0.0) {
@@ -493,7 +529,11 @@ int main(int argc, char **argv)
     }
     gf_node_add_dropped(&node, ctx.q.dropped);
     gf_node_summary(&node, summary, sizeof(summary));
-    printf("gf_node: summary %s queue_peak=%u\n", summary, ctx.q.peak);
+    printf("gf_node: summary %s queue_peak=%u", summary, ctx.q.peak);
+    if (gf_sock_drops(sock) >= 0) {
+        printf(" kernel_drops=%ld", gf_sock_drops(sock));
+    }
+    printf("\n");
     if (ctx.timing && ctx.count > 0) {
         printf("gf_node: timing messages=%lu in_node_p50_us=%ld "
                "in_node_p99_us=%ld in_node_max_us=%lld\n",

@@ -11,7 +11,8 @@
 # exercise 4 through EKF, UKF and PF nodes, log replay, configured car,
 # robot and linear (n = 4, 6) nodes' NEES/NIS consistency and scripts/nees
 # on their logs, a run-time model, --strict, two nodes on one track,
-# docs/node.md's quick start as written, the Python example on a replayed
+# docs/node.md's quick start as written, refusals and the kernel's drops
+# never in silence, the Python example on a replayed
 # log, the Java types decoding a demo-like log and lcm-spy's plugin naming
 # its codes), in a private network namespace when root; and scripts/nees,
 # scripts/plot and examples/beliefs.py on logs a node replayed (lcm_tools).

@@ -29,7 +29,6 @@
 // if the kernel dropped a datagram. Event timestamps are LCM's receive
 // times, as lcm-logger writes them.
 #define _GNU_SOURCE // SO_RCVBUFFORCE, SO_MEMINFO
-#include <dirent.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdint.h>
@@ -38,15 +37,13 @@
 #include <string.h>
 #include <time.h>
 
-#include <arpa/inet.h>
-#include <linux/sock_diag.h> // SK_MEMINFO_DROPS
-#include <netinet/in.h>
 #include <sys/socket.h>
 
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
 #include "gf_help.h"
+#include "gf_sock.h"
 
 static volatile sig_atomic_t g_stop; // set by the signal handler only
 
@@ -92,57 +89,6 @@ static long ms_since(const struct timespec *t0)
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (long)(t.tv_sec - t0->tv_sec) * 1000L +
            (t.tv_nsec - t0->tv_nsec) / 1000000L;
-}
-
-// LCM's udpm receive socket: the datagram socket of this process bound to
-// a multicast address (224.0.0.0/4; the sending socket is not). -1 if
-// there is none (another provider, or LCM binds otherwise).
-static int find_udpm_socket(void)
-{
-    DIR *d = opendir("/proc/self/fd");
-    struct dirent *ent;
-    int found = -1;
-    if (d == NULL) {
-        return -1;
-    }
-    while (found < 0 && (ent = readdir(d)) != NULL) {
-        struct sockaddr_in a;
-        socklen_t len = sizeof a;
-        int fd, type = 0;
-        socklen_t tlen = sizeof type;
-        char *end;
-        long v = strtol(ent->d_name, &end, 10);
-        if (*end != '\0' || end == ent->d_name || v < 0) {
-            continue;
-        }
-        fd = (int)v;
-        if (getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &tlen) != 0 ||
-            type != SOCK_DGRAM) {
-            continue;
-        }
-        if (getsockname(fd, (struct sockaddr *)&a, &len) != 0 ||
-            a.sin_family != AF_INET) {
-            continue;
-        }
-        if ((ntohl(a.sin_addr.s_addr) & 0xf0000000u) == 0xe0000000u) {
-            found = fd;
-        }
-    }
-    closedir(d);
-    return found;
-}
-
-// Datagrams the kernel dropped for fd because its buffer was full; -1 if
-// it cannot say.
-static long kernel_drops(int fd)
-{
-    uint32_t mem[SK_MEMINFO_VARS];
-    socklen_t len = sizeof mem;
-    if (fd < 0 || getsockopt(fd, SOL_SOCKET, SO_MEMINFO, mem, &len) != 0 ||
-        len < (socklen_t)((SK_MEMINFO_DROPS + 1) * sizeof mem[0])) {
-        return -1;
-    }
-    return (long)mem[SK_MEMINFO_DROPS];
 }
 
 static const char help_text[] =
@@ -234,7 +180,7 @@ int main(int argc, char **argv)
         lcm_eventlog_destroy(r.log);
         return 1;
     }
-    fd = find_udpm_socket();
+    fd = gf_sock_udpm();
     if (fd >= 0) {
         forced = setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf_want,
                             sizeof rcvbuf_want) == 0;
@@ -267,7 +213,7 @@ int main(int argc, char **argv)
             break;
         }
     }
-    drops = kernel_drops(fd);
+    drops = gf_sock_drops(fd);
     lcm_destroy(lcm);
     lcm_eventlog_destroy(r.log);
 

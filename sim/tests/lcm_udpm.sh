@@ -66,6 +66,14 @@
 #              now, and its inputs' beliefs are a replay's without --rate;
 #              a sensor 0.1 s late (late) and one 0.5 s late (too_old),
 #              a status belief each, counted exactly
+#   silence    nothing wrong in silence: a simulator sends m = 2 to a
+#              track whose model measures m = 3: every measurement
+#              bad_field, each with its status belief on the wire, said
+#              once with both sizes, no false gap; the node's socket
+#              buffer as asked (capped by net.core.rmem_max) on its ready
+#              line; a node stopped (SIGSTOP) while 400 inputs are sent
+#              to its small socket buffer: the kernel's drops counted
+#              (kernel_drops=), received + kernel_drops = sent exactly
 #   java       a demo-like log (exercises 1, 2, 4 and a random robot through
 #              an EKF and a PF node, a run-time model_t) by gf_record; the
 #              Java types jar decodes every GF_ event of it the way lcm-spy
@@ -579,6 +587,75 @@ PY
     expect applied $((2 * 3 * 775 - 3 * 24 - 3 * 10 - 3 * 239))
     expect published $((2 * 3 * 775 + 6))
     expect gaps 0
+    ;;
+silence)
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    # the node's model measures (x, y, vx); the simulator's sends (x, y)
+    model() {
+        printf '[model t]\ntype = linear\nchannels = GF_(MEAS|CTRL|MODEL)_4[0-9][0-9]\n'
+        printf 'motion = cv cv\ndt = 0.1\naccel_var = 0.5\nprior_cov = 1 1 1 1\n%s\n' "$1"
+    }
+    model 'C = 1 0 0 0 ; 0 0 1 0 ; 0 1 0 0
+Q = 0.09 0.09 0.01' >"$work/node.conf"
+    model 'C = 1 0 0 0 ; 0 0 1 0
+Q = 0.09 0.09' >"$work/sim.conf"
+    start beliefs "$bin/gf_record" --url "$URL" --channels 'GF_BELIEF_400' \
+        --count 41 "$work/beliefs.lcmlog"
+    ready beliefs
+    start node "$bin/gf_node" --config "$work/node.conf" --url "$URL"
+    ready node
+    rmem=$(cat /proc/sys/net/core/rmem_max)
+    want=$((rmem < 4194304 ? rmem : 4194304))
+    grep -q " rcvbuf=$want rcvbuf_asked=4194304 " "$work/node.out" ||
+        { echo "lcm_udpm: the ready line does not say rcvbuf=$want" >&2; exit 1; }
+    "$bin/gf_sim" --url "$URL" --config "$work/sim.conf" --model t --track 400 \
+        --steps 20 --seed 3 --session 1 --rate 1000
+    recorded beliefs
+    stop_node
+    cat "$work/node.out"
+    expect received 40
+    expect applied 20
+    expect bad_field 20
+    expect gaps 0
+    expect published 41
+    [ "$(grep -c 'bad_field' "$work/node.out")" -eq 2 ] &&
+        grep -qxF 'gf_node: track 400: a measurement has m = 2, its model t measures m = 3 (C'"'"'s rows) (bad_field)' \
+            "$work/node.out" ||
+        { echo "lcm_udpm: the refusal was not said once, with both sizes" >&2; exit 1; }
+    "$py" - "$work/beliefs.lcmlog" <<'PY'
+import sys
+import lcm
+from gaussfilt_lcm import belief_t
+log = lcm.EventLog(sys.argv[1], "r")
+b = [belief_t.decode(e.data) for e in log]
+refused = [x for x in b if x.status == belief_t.STATUS_BAD_FIELD]
+assert len(refused) == 20, len(refused)
+assert all(x.stage == belief_t.STAGE_UPDATE for x in refused)
+assert sorted(x.input_seq for x in refused) == list(range(2, 41, 2))
+# each the belief as it was: the prediction before it
+prev = {x.seq: x for x in b}
+assert all(list(prev[x.seq - 1].mean) == list(x.mean) for x in refused)
+print("lcm_udpm: 20 status beliefs STATUS_BAD_FIELD on the wire, each the "
+      "prediction before it")
+PY
+    # the kernel's drops: a small socket buffer, the node stopped while a
+    # burst is sent (its beliefs elsewhere: only inputs reach its socket)
+    start node "$bin/gf_node" --config "$work/node.conf" \
+        --url "$URL&recv_buf_size=65536" --out-url "udpm://239.255.76.67:$((port + 100))?ttl=0"
+    ready node
+    kill -STOP "$node_pid"
+    # (gf_load: controls and measurements only, no truths)
+    "$bin/gf_load" --url "$URL" --first 1 --tracks 1 --rate 2000 --seconds 0.1 \
+        >"$work/load.out"
+    kill -CONT "$node_pid"
+    sleep 0.5
+    stop_node
+    sent=$(sed -nE 's/.*sent=([0-9]+).*/\1/p' "$work/load.out")
+    drops=$(sed -nE 's/.* kernel_drops=([0-9]+).*/\1/p' <<<"$summary")
+    received=$(sed -nE 's/.* received=([0-9]+) .*/\1/p' <<<"$summary")
+    echo "lcm_udpm: $sent sent to a stopped node: received $received, dropped by the kernel $drops"
+    [ -n "$drops" ] && [ "$drops" -gt 0 ] && [ $((received + drops)) -eq "$sent" ] ||
+        { echo "lcm_udpm: received + kernel_drops is not the $sent sent" >&2; exit 1; }
     ;;
 quickstart)
     root=$(cd "$(dirname "$0")/../.." && pwd)

@@ -222,6 +222,9 @@ burst)
             "$peak" | tee -a "$work/figures"
         [ "$sent" -eq $((received + dropped + lost_socket)) ] ||
             die "sent $sent != received $received + dropped $dropped + socket $lost_socket"
+        # the node counts the socket's drops itself (SO_MEMINFO)
+        [ "$(key kernel_drops "$f")" = "$lost_socket" ] ||
+            die "the node says kernel_drops=$(key kernel_drops "$f"), /proc/net/udp $lost_socket"
         [ "$gaps" -le $((dropped + lost_socket)) ] ||
             die "more gaps ($gaps) than messages lost ($((dropped + lost_socket)))"
         if [ "$queue" = default ]; then
