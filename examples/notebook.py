@@ -63,9 +63,9 @@ def exercises_1_2():
             fp.predict()
             for m, kf in kfs.items():
                 kf.predict(car[m])
-                rho[m].append(m.correlation(kf.sigma()))
+                rho[m].append(m.correlation(kf.sigma))
             rho_fp.append(fp.P[0, 1] / math.sqrt(fp.P[0, 0] * fp.P[1, 1]))
-        s = {m: kf.sigma() for m, kf in kfs.items()}
+        s = {m: kf.sigma for m, kf in kfs.items()}
         worst = max(worst, np.abs(s[float64] - fp.P).max())
         if t <= 5:
             print("  %2d %-30s %-30s %-30s" % (
@@ -104,7 +104,7 @@ def exercises_1_2():
     for m, kf in kfs.items():
         kf.update(m.KF2Meas(C=[[1, 0]], Q=[[10]]), [5])
         print("  %-8s mu = %s  Sigma = %s  NIS = %.4f" % (
-            m.dtype.name, fmt(kf.mu), fmt(kf.sigma()[[0, 0, 1], [0, 1, 1]]),
+            m.dtype.name, fmt(kf.mu), fmt(kf.sigma[[0, 0, 1], [0, 1, 1]]),
             kf.nis))
     print("  %-8s mu = %s  Sigma = %s" % (
         "FilterPy", fmt(fp.x), fmt(fp.P[[0, 0, 1], [0, 1, 1]])))
@@ -136,14 +136,14 @@ def exercise_4():
     for m in (float64, float32):
         ekf = m.EKF3([0, 0, 0], S0)
         ekf.predict(m.EKF3Motion(m.forward_turn, np.zeros((3, 3))), [1, 0])
-        pred = ekf.sigma()
+        pred = ekf.sigma
         ekf.update(m.EKF3Meas(m.meas_x, [[0.01]]), [-0.7])
         print("  %-8s predicted Sigma_yy %.2f; corrected mu = %s, "
               "Sigma_xx = %.5f" % (m.dtype.name, pred[1, 1], fmt(ekf.mu),
-                                   ekf.sigma()[0, 0]))
+                                   ekf.sigma[0, 0]))
         if m is float64:
             ok = (np.abs(ekf.mu - fp.x).max() <= 1e-12 and
-                  np.abs(ekf.sigma() - fp.P).max() <= 1e-9 and
+                  np.abs(ekf.sigma - fp.P).max() <= 1e-9 and
                   np.abs(pred - fp_pred).max() <= 1e-9)
     print("  %-8s predicted Sigma_yy %.2f; corrected mu = %s, "
           "Sigma_xx = %.5f" % ("FilterPy", fp_pred[1, 1], fmt(fp.x),

@@ -82,8 +82,10 @@ class Recorder:
         y: Optional[NDArray[Any]] = self.filter.innovation
         return y
 
+    @property
     def sigma(self) -> NDArray[Any]:
-        return _sigma_of(self.filter)
+        sigma: NDArray[Any] = self.filter.sigma
+        return sigma
 
     def predict(self, model: Any, u: Optional[ArrayLike] = None) -> None:
         """The filter's predict(model, u), recorded."""
@@ -134,7 +136,7 @@ class Recorder:
             "params": None if built is None else np.array(built.params),
             "op": op, "model": model, "arg": arg, "status": status,
             "mu": np.array(f.mu, dtype=self.dtype),
-            "sigma": np.array(_sigma_of(f), dtype=self.dtype),
+            "sigma": np.array(f.sigma, dtype=self.dtype),
             # what the update's info receives (on GF_OK and GF_ERR_GATED)
             "y": None if y is None else np.array(y, dtype=self.dtype),
             "nis": self.dtype.type(0.0 if nis is None else nis),
@@ -146,12 +148,6 @@ def _generated(fn: Any, where: str, what: str) -> None:
         raise BadArgument("%s: an EKF is recorded only with models built by "
                           "gaussfilt.codegen (a Python %s has no C to export)"
                           % (where, what))
-
-
-def _sigma_of(f: Any) -> NDArray[Any]:
-    s = f.sigma
-    sigma: NDArray[Any] = s() if callable(s) else s
-    return sigma
 
 
 # ---- the C text ---------------------------------------------------------

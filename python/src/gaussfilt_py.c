@@ -1325,7 +1325,8 @@ static int set_mean(FilterObj *f, gf_real *dst, unsigned n, unsigned angles,
         bad_arg("%s: the filter was never initialised", who);
         return -1;
     }
-    if (read_real(value, who, 0, n, m) < 0) {
+    if (read_real(value, who, 0, n, m) < 0 ||
+        check_idle(f, reinit_back, who) < 0) {
         return -1;
     }
     for (unsigned i = 0; i < n; i++) {
@@ -1337,11 +1338,19 @@ static int set_mean(FilterObj *f, gf_real *dst, unsigned n, unsigned angles,
             m[i] = gf_angle_wrap(m[i]);
         }
     }
-    if (check_idle(f, reinit_back, who) < 0) {
-        return -1;
-    }
     memcpy(dst, m, n * sizeof(gf_real));
     return 0;
+}
+
+// 0 when value is a value for a sigma setter (not a deletion); else
+// BadArgument and -1.
+static int set_sigma_value(PyObject *value, const char *who)
+{
+    if (value) {
+        return 0;
+    }
+    bad_arg("%s cannot be deleted", who);
+    return -1;
 }
 
 // reset(mu, sigma[, angles]): the constructor again on this object, which
@@ -1601,8 +1610,8 @@ static PyObject *KF2_run(PyObject *self, PyObject *const *args,
     return run_entry(&kf2_family, self, args, nargs, kwnames);
 }
 
-// Sigma of a KF2 or EKF3 as an (n, n) array.
-static PyObject *KF2_sigma(PyObject *self_, PyObject *unused)
+// The getter of KF2's sigma: Sigma = U D U^T, (2, 2).
+static PyObject *KF2_sigma(PyObject *self_, void *unused)
 {
     gf_mat2 s;
     (void)unused;
@@ -1614,6 +1623,28 @@ static PyObject *KF2_sigma(PyObject *self_, PyObject *unused)
         return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
     }
     return new_array(2, 2, &s.m[0][0]);
+}
+
+// The setter of KF2's sigma: the mean and value factored by gf_kf2_init
+// into a copy of the belief, which replaces it only when that succeeds.
+static int KF2_set_sigma(PyObject *self_, PyObject *value, void *unused)
+{
+    KF2Obj *self = (KF2Obj *)self_;
+    gf_mat2 s;
+    gf_kf2 fresh;
+    (void)unused;
+    if (set_sigma_value(value, "KF2.sigma") < 0 ||
+        read_real(value, "KF2.sigma", 2, 2, &s.m[0][0]) < 0) {
+        return -1;
+    }
+    memcpy(&fresh, &self->kf, sizeof fresh);
+    const gf_vec2 m = self->kf.mu;
+    if (check_idle(&self->f, reinit_back, "KF2.sigma") < 0 ||
+        check(gf_kf2_init(&fresh, &m, &s), "KF2.sigma") < 0) {
+        return -1;
+    }
+    memcpy(&self->kf, &fresh, sizeof fresh);
+    return 0;
 }
 
 static int KF2_set_mu(PyObject *self_, PyObject *value, void *unused)
@@ -1651,9 +1682,6 @@ static PyMethodDef KF2_methods[] = {
      "(Bierman's scalar updates on the whitened rows), NIS = y^T S^-1 y.\n"
      "Gated (NIS > meas.gate) carries the innovation and NIS; every error\n"
      "leaves the belief unchanged."},
-    {"sigma", KF2_sigma, METH_NOARGS,
-     "sigma($self, /)\n--\n\n(2, 2) array: Sigma = U D U^T, exactly "
-     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))KF2_run, METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, model=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, 2), sigma (N, 2, 2), nis (N,), status (N,))\n\n"
@@ -1680,6 +1708,10 @@ static PyMethodDef KF2_methods[] = {
 static PyGetSetDef KF2_getset[] = {
     {"mu", KF2_mu, KF2_set_mu,
      "the mean, a (2,) copy; set: a new mean, the covariance kept", NULL},
+    {"sigma", KF2_sigma, KF2_set_sigma,
+     "the covariance, a (2, 2) array: Sigma = U D U^T, exactly symmetric;\n"
+     "set: factored with the mean as the constructor does",
+     NULL},
     {"nis", Filter_nis, NULL,
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
@@ -2009,7 +2041,8 @@ static PyObject *EKF3_run(PyObject *self, PyObject *const *args,
     return run_entry(&ekf3_family, self, args, nargs, kwnames);
 }
 
-static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
+// The getter of EKF3's sigma, (3, 3).
+static PyObject *EKF3_sigma(PyObject *self_, void *unused)
 {
     gf_mat3 s;
     (void)unused;
@@ -2021,6 +2054,27 @@ static PyObject *EKF3_sigma(PyObject *self_, PyObject *unused)
         return raise_status(st, "EKF3.sigma", NULL, NULL, 0, 0);
     }
     return new_array(3, 3, &s.m[0][0]);
+}
+
+// The setter of EKF3's sigma, as KF2's.
+static int EKF3_set_sigma(PyObject *self_, PyObject *value, void *unused)
+{
+    EKF3Obj *self = (EKF3Obj *)self_;
+    gf_mat3 s;
+    gf_ekf3 fresh;
+    (void)unused;
+    if (set_sigma_value(value, "EKF3.sigma") < 0 ||
+        read_real(value, "EKF3.sigma", 3, 3, &s.m[0][0]) < 0) {
+        return -1;
+    }
+    memcpy(&fresh, &self->ekf, sizeof fresh);
+    const gf_vec3 m = self->ekf.mu;
+    if (check_idle(&self->f, reinit_back, "EKF3.sigma") < 0 ||
+        check(gf_ekf3_init(&fresh, &m, &s), "EKF3.sigma") < 0) {
+        return -1;
+    }
+    memcpy(&self->ekf, &fresh, sizeof fresh);
+    return 0;
 }
 
 static int EKF3_set_mu(PyObject *self_, PyObject *value, void *unused)
@@ -2057,9 +2111,6 @@ static PyMethodDef EKF3_methods[] = {
      "    mu = mu_bar + K y,  Sigma = (I - K H) Sigma_bar,  NIS = y^T S^-1 y.\n"
      "Gated carries the innovation and NIS; every failure leaves the\n"
      "belief unchanged."},
-    {"sigma", EKF3_sigma, METH_NOARGS,
-     "sigma($self, /)\n--\n\n(3, 3) array: Sigma = U D U^T, exactly "
-     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))EKF3_run,
      METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
@@ -2089,6 +2140,10 @@ static PyGetSetDef EKF3_getset[] = {
     {"mu", EKF3_mu, EKF3_set_mu,
      "the mean (x, y, theta), a (3,) copy; set: a new mean (theta\n"
      "wrapped), the covariance kept",
+     NULL},
+    {"sigma", EKF3_sigma, EKF3_set_sigma,
+     "the covariance, a (3, 3) array: Sigma = U D U^T, exactly symmetric;\n"
+     "set: factored with the mean as the constructor does",
      NULL},
     {"nis", Filter_nis, NULL,
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
@@ -2676,11 +2731,19 @@ static PyObject *EKF_run(PyObject *self, PyObject *const *args,
     return run_entry(&ekf_family, self, args, nargs, kwnames);
 }
 
-static PyObject *KF_sigma(PyObject *self_, PyObject *unused)
+// "KF.name" or "EKF.name" (self an EKF, or a subclass of it), for
+// messages.
+static const char *kf_who(PyObject *self, const char *kf, const char *ekf)
+{
+    return PyObject_TypeCheck(self, &EKF_Type) ? ekf : kf;
+}
+
+// The getter of KF's and EKF's sigma, (n, n).
+static PyObject *KF_sigma(PyObject *self_, void *unused)
 {
     KFObj *self = (KFObj *)self_;
     (void)unused;
-    if (check_readable(&self->f, "sigma") < 0) {
+    if (check_readable(&self->f, kf_who(self_, "KF.sigma", "EKF.sigma")) < 0) {
         return NULL;
     }
     PyObject *a = new_array(self->kf.n, self->kf.n, NULL);
@@ -2688,6 +2751,40 @@ static PyObject *KF_sigma(PyObject *self_, PyObject *unused)
         gf_kf_cov(&self->kf, (gf_real *)PyArray_DATA((PyArrayObject *)a));
     }
     return a;
+}
+
+// The setter of KF's and EKF's sigma: gf_kf_init (gf_ekf_init, with the
+// filter's angles) into a copy of the belief, as KF2's.
+static int KF_set_sigma(PyObject *self_, PyObject *value, void *unused)
+{
+    KFObj *self = (KFObj *)self_;
+    const int ekf = PyObject_TypeCheck(self_, &EKF_Type);
+    const char *who = ekf ? "EKF.sigma" : "KF.sigma";
+    const unsigned n = self->kf.n;
+    gf_real m[NMAX], s[NMAX * NMAX];
+    gf_kf fresh;
+    (void)unused;
+    if (set_sigma_value(value, who) < 0) {
+        return -1;
+    }
+    if (n < 1u || n > NMAX) {
+        bad_arg("%s: the filter was never initialised", who);
+        return -1;
+    }
+    if (read_real(value, who, n, n, s) < 0 ||
+        check_idle(&self->f, reinit_back, who) < 0) {
+        return -1;
+    }
+    memcpy(&fresh, &self->kf, sizeof fresh);
+    memcpy(m, self->kf.mu, n * sizeof(gf_real));
+    gf_status st =
+        ekf ? gf_ekf_init(&fresh, n, m, s, self->kf.angles, &self->work)
+            : gf_kf_init(&fresh, n, m, s, &self->work);
+    if (check(st, who) < 0) {
+        return -1;
+    }
+    memcpy(&self->kf, &fresh, sizeof fresh);
+    return 0;
 }
 
 static PyObject *KF_get(PyObject *self_, void *which)
@@ -2723,9 +2820,6 @@ static PyMethodDef KF_methods[] = {
      "y\n"
      "(Q whitened, Bierman's scalar updates). Gated carries the\n"
      "innovation and NIS; every failure leaves the belief unchanged."},
-    {"sigma", KF_sigma, METH_NOARGS,
-     "sigma($self, /)\n--\n\n(n, n) array: Sigma = P U D U^T P^T, exactly "
-     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))KF_run, METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, model=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
@@ -2766,9 +2860,6 @@ static PyMethodDef EKF_methods[] = {
      "y.\n"
      "h gets mu_bar and returns (z_hat, H). Gated carries the innovation\n"
      "and NIS; every failure leaves the belief unchanged."},
-    {"sigma", KF_sigma, METH_NOARGS,
-     "sigma($self, /)\n--\n\n(n, n) array: Sigma = P U D U^T P^T, exactly "
-     "symmetric."},
     {"run", (PyCFunction)(void (*)(void))EKF_run, METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
@@ -2795,7 +2886,7 @@ static int KF_set_mu(PyObject *self_, PyObject *value, void *unused)
     KFObj *self = (KFObj *)self_;
     (void)unused;
     return set_mean(&self->f, self->kf.mu, self->kf.n, self->kf.angles, value,
-                    Py_TYPE(self_) == &EKF_Type ? "EKF.mu" : "KF.mu");
+                    kf_who(self_, "KF.mu", "EKF.mu"));
 }
 
 static PyGetSetDef KF_getset[] = {
@@ -2803,6 +2894,10 @@ static PyGetSetDef KF_getset[] = {
      "the mean, an (n,) copy; set: a new mean (the angle states wrapped),\n"
      "the covariance kept",
      (void *)0},
+    {"sigma", KF_sigma, KF_set_sigma,
+     "the covariance, an (n, n) array: Sigma = P U D U^T P^T, exactly\n"
+     "symmetric; set: factored with the mean as the constructor does",
+     NULL},
     {"nis", Filter_nis, NULL,
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,

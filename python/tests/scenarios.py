@@ -234,7 +234,7 @@ def run_python(ops, mod):
     def record(status, info=None):
         out.append(struct.pack("<iI", status, filt.mu.shape[0]))
         out.append(np.asarray(filt.mu, dt).tobytes())
-        out.append(np.asarray(filt.sigma(), dt).tobytes())
+        out.append(np.asarray(filt.sigma, dt).tobytes())
         if info is not None and status in (0, gaussfilt.Gated.status):
             nis, y = info
             out.append(np.asarray([nis], dt).tobytes())

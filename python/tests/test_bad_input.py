@@ -15,7 +15,7 @@ MODS = [pytest.param(float64, id="float64"), pytest.param(float32, id="float32")
 
 
 def snapshot(f):
-    return f.mu.tobytes() + f.sigma().tobytes() + np.float64(f.nis).tobytes()
+    return f.mu.tobytes() + f.sigma.tobytes() + np.float64(f.nis).tobytes()
 
 
 def filters(mod):

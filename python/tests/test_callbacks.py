@@ -87,7 +87,7 @@ def run(mod, g, h1, h2, seed):
     out = []
     for u, m, z, gate in scenario(seed):
         ekf.predict(motion, u)
-        out.append((ekf.mu.tobytes(), ekf.sigma().tobytes()))
+        out.append((ekf.mu.tobytes(), ekf.sigma.tobytes()))
         if not m:
             continue
         key = (m, gate)
@@ -99,7 +99,7 @@ def run(mod, g, h1, h2, seed):
             st, nis, y = 0, ekf.nis, ekf.innovation
         except mod.Gated as e:
             st, nis, y = e.status, e.nis, e.innovation
-        out.append((st, ekf.mu.tobytes(), ekf.sigma().tobytes(),
+        out.append((st, ekf.mu.tobytes(), ekf.sigma.tobytes(),
                     np.asarray(nis, mod.dtype).tobytes(), y.tobytes()))
     return out
 
@@ -145,11 +145,11 @@ def test_libm_sin_and_cos_within_tolerance(mod, seed):
             2: mod.EKF3Meas(mod.meas_xy, [[0.04, 0.01], [0.01, 0.05]])}
     worst, differ = 0.0, 0
     for u, m, z, _ in scenario(seed):
-        a = mod.EKF3(ekf.mu, ekf.sigma())
-        b = mod.EKF3(ekf.mu, ekf.sigma())
+        a = mod.EKF3(ekf.mu, ekf.sigma)
+        b = mod.EKF3(ekf.mu, ekf.sigma)
         a.predict(c_motion, u)
         b.predict(p_motion, u)
-        for x, y in ((a.mu, b.mu), (a.sigma(), b.sigma())):
+        for x, y in ((a.mu, b.mu), (a.sigma, b.sigma)):
             differ += x.tobytes() != y.tobytes()
             x, y = x.astype(float), y.astype(float)
             worst = max(worst, (np.abs(x - y) / np.maximum(1, np.abs(x))).max())
@@ -162,7 +162,7 @@ def test_libm_sin_and_cos_within_tolerance(mod, seed):
 
 def snapshot(f):
     y = f.innovation
-    return (f.mu.tobytes() + f.sigma().tobytes() + np.float64(f.nis).tobytes()
+    return (f.mu.tobytes() + f.sigma.tobytes() + np.float64(f.nis).tobytes()
             + (b"none" if y is None else y.tobytes()))
 
 

@@ -116,7 +116,7 @@ def test_filterpy_agrees(family, n, seed):
             else:
                 fp.update(z, lambda x, h=h: h(x)[1], hx, R=f["Q"])
             assert ours.nis == pytest.approx(nis, rel=1e-6, abs=1e-9)
-        agree("%s n=%d" % (family, n), ours.mu, ours.sigma(), fp.x, fp.P,
+        agree("%s n=%d" % (family, n), ours.mu, ours.sigma, fp.x, fp.P,
               angle=2 if family == "ekf3" else None)
     print("%s n=%d seed %d: worst relative difference %.2g, %d gated" % (
         family, n, seed, worst["%s n=%d" % (family, n)], gated))

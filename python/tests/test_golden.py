@@ -41,8 +41,8 @@ def test_table_1_1(mod):
         if t:
             kf.predict(car(mod))
         close(mod, kf.mu, mu)
-        close(mod, kf.sigma(), sigma)
-        assert kf.mu.dtype == mod.dtype and kf.sigma().dtype == mod.dtype
+        close(mod, kf.sigma, sigma)
+        assert kf.mu.dtype == mod.dtype and kf.sigma.dtype == mod.dtype
 
 
 @pytest.mark.parametrize("mod", MODS)
@@ -51,7 +51,7 @@ def test_figure_1_2(mod):
     the exact rationals; undefined at t = 0."""
     kf = mod.KF2([0, 0], np.zeros((2, 2)))
     with pytest.raises(gaussfilt.Undefined) as e:
-        mod.correlation(kf.sigma())
+        mod.correlation(kf.sigma)
     assert e.value.status == -6
     xx, xv, vv = 0.0, 0.0, 0.0
     rhos = []
@@ -59,7 +59,7 @@ def test_figure_1_2(mod):
         # Sigma_t = A Sigma A^T + R, exactly (the entries are binary fractions)
         xx, xv, vv = xx + 2 * xv + vv + 0.25, xv + vv + 0.5, vv + 1
         kf.predict(car(mod))
-        rho = mod.correlation(kf.sigma())
+        rho = mod.correlation(kf.sigma)
         close(mod, rho, xv / math.sqrt(xx * vv))
         rhos.append(rho)
     assert rhos[0] == pytest.approx(1.0, abs=TOL[mod])
@@ -76,7 +76,7 @@ def test_table_2_1(mod):
     kf.update(mod.KF2Meas(C=[[1, 0]], Q=[[10]]), [5])
     k = np.array([41.25, 12.5]) / 51.25
     close(mod, kf.mu, 5 * k)
-    close(mod, kf.sigma(), [[41.25 * 10 / 51.25, 12.5 * 10 / 51.25],
+    close(mod, kf.sigma, [[41.25 * 10 / 51.25, 12.5 * 10 / 51.25],
                             [12.5 * 10 / 51.25, 5 - 12.5 ** 2 / 51.25]])
     close(mod, kf.nis, 25 / 51.25)
     close(mod, kf.innovation, [5])
@@ -87,14 +87,14 @@ def test_table_2_1(mod):
 @pytest.mark.parametrize("mod", MODS)
 def test_table_4_2(mod):
     ekf = mod.EKF3(mu=[0, 0, 0], sigma=np.diag([0.01, 0.01, 10000]))
-    close(mod, ekf.sigma(), np.diag([0.01, 0.01, 10000]))
+    close(mod, ekf.sigma, np.diag([0.01, 0.01, 10000]))
     ekf.predict(mod.EKF3Motion(mod.forward_turn, np.zeros((3, 3))), u=[1, 0])
     close(mod, ekf.mu, [1, 0, 0])
-    close(mod, ekf.sigma(), [[0.01, 0, 0], [0, 10000.01, 10000],
+    close(mod, ekf.sigma, [[0.01, 0, 0], [0, 10000.01, 10000],
                              [0, 10000, 10000]])
     ekf.update(mod.EKF3Meas(mod.meas_x, Q=[[0.01]]), z=[-0.7])
     close(mod, ekf.mu, [0.15, 0, 0])
-    close(mod, ekf.sigma(), [[0.005, 0, 0], [0, 10000.01, 10000],
+    close(mod, ekf.sigma, [[0.005, 0, 0], [0, 10000.01, 10000],
                              [0, 10000, 10000]])
 
 
@@ -116,7 +116,7 @@ def test_table_4_2_python_callbacks(mod):
     ekf.predict(mod.EKF3Motion(g, np.zeros((3, 3))), [1, 0])
     ekf.update(mod.EKF3Meas(h, [[0.01]]), [-0.7])
     close(mod, ekf.mu, [0.15, 0, 0])
-    close(mod, ekf.sigma(), [[0.005, 0, 0], [0, 10000.01, 10000],
+    close(mod, ekf.sigma, [[0.005, 0, 0], [0, 10000.01, 10000],
                              [0, 10000, 10000]])
 
 
@@ -131,8 +131,8 @@ def test_any_size_filters_on_table_2_1(mod):
     for _ in range(5):
         kf.predict(model)
         ekf.predict(motion)
-    close(mod, kf.sigma(), TABLE_1_1[5][1])
-    close(mod, ekf.sigma(), TABLE_1_1[5][1])
+    close(mod, kf.sigma, TABLE_1_1[5][1])
+    close(mod, ekf.sigma, TABLE_1_1[5][1])
     kf.update(mod.KFMeas([[1, 0]], [[10]]), [5])
     ekf.update(mod.EKFMeas(lambda mu: ([mu[0]], [[1, 0]]), [[10]], n=2), [5])
     for f in (kf, ekf):

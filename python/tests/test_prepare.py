@@ -28,7 +28,7 @@ def kinds(mod, n):
         def run(model):
             f = belief(np.zeros(n), np.eye(n))
             f.predict(model)
-            return f.sigma().tobytes()
+            return f.sigma.tobytes()
         return run
 
     def updated(belief):
@@ -37,7 +37,7 @@ def kinds(mod, n):
         def run(meas):
             f = belief(np.zeros(n), np.eye(n))
             f.update(meas, [1, 2])
-            return f.mu.tobytes() + f.sigma().tobytes()
+            return f.mu.tobytes() + f.sigma.tobytes()
         return run
 
     return [

@@ -63,7 +63,7 @@ def test_pickle_and_copy_keep_every_bit(gf):
                      copy.copy(f), copy.deepcopy(f)):
             assert type(twin) is type(f) and same(twin, f), name
             assert np.array_equal(twin.mu, f.mu) and twin.nis == f.nis
-            assert np.array_equal(twin.sigma(), f.sigma())
+            assert np.array_equal(twin.sigma, f.sigma)
             assert np.array_equal(twin.innovation, f.innovation)
 
 
@@ -145,7 +145,7 @@ def test_repr():
 def test_the_mean_is_settable_and_reset_judges(gf):
     for name, f in stepped(gf).items():
         n = len(f.mu)
-        sigma = f.sigma()
+        sigma = f.sigma
         before = f.__getstate__()
         for bad in ([1.0] * (n + 1), [np.nan] * n, "abc", None):
             with pytest.raises(gaussfilt.GaussfiltError):
@@ -154,17 +154,58 @@ def test_the_mean_is_settable_and_reset_judges(gf):
         f.mu = np.arange(n, dtype=float) + 0.5
         assert np.array_equal(f.mu, (np.arange(n) + 0.5).astype(gf.dtype)) \
             or name in ("EKF3", "EKF")  # an angle state is wrapped
-        assert np.array_equal(f.sigma(), sigma), name  # the factors kept
+        assert np.array_equal(f.sigma, sigma), name  # the factors kept
         kept = f.__getstate__()
         with pytest.raises(gaussfilt.NotPSD):
             f.reset(mu=np.zeros(n), sigma=-np.eye(n))
         assert f.__getstate__() == kept
         f.reset(mu=np.zeros(n), sigma=np.eye(n) * 2)
-        assert np.array_equal(f.sigma(), np.eye(n) * 2)
+        assert np.array_equal(f.sigma, np.eye(n) * 2)
         assert f.innovation is None  # a new belief, no update yet
     ekf3 = gf.EKF3(mu=[0, 0, 0], sigma=np.eye(3))
     ekf3.mu = [0, 0, 4.0]
     assert abs(float(ekf3.mu[2]) - (4.0 - 2 * np.pi)) < 1e-6
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_sigma_is_a_property_and_its_setter_factors_as_init(gf):
+    for name, f in stepped(gf).items():
+        n = len(f.mu)
+        assert type(f.sigma) is np.ndarray and f.sigma.dtype == gf.dtype
+        assert f.sigma.shape == (n, n) and f.sigma[0, 0] > 0
+        assert f.sigma is not f.sigma  # a new array each time, as mu
+        with pytest.raises(TypeError, match="not callable"):
+            f.sigma()  # the method it was: refused loudly
+        before = f.__getstate__()
+        bad = {"NotPSD": -np.eye(n), "NonFinite": np.full((n, n), np.nan),
+               "BadArgument": [np.eye(n + 1), "abc", None, b"1",
+                               np.eye(n) * 1j, np.eye(n, dtype=object)]}
+        for exc, values in bad.items():
+            for value in (values if isinstance(values, list) else [values]):
+                with pytest.raises(getattr(gaussfilt, exc)) as e:
+                    f.sigma = value
+                assert "%s.sigma" % name in str(e.value), str(e.value)
+                assert f.__getstate__() == before, (name, exc)
+        with pytest.raises(gaussfilt.BadArgument, match="cannot be deleted"):
+            del f.sigma
+        assert f.__getstate__() == before
+        new = np.diag(np.arange(1, n + 1) * 0.5)
+        new[0, 1] = new[1, 0] = 0.1
+        nis, y = f.nis, f.innovation
+        f.sigma = new
+        # the factors the constructor makes of the same mean and sigma
+        twin = type(f).__new__(type(f))
+        if name == "EKF":
+            twin.reset(mu=f.mu, sigma=new, angles=f.angles)
+        else:
+            twin.reset(mu=f.mu, sigma=new)
+        assert f.__getstate__()[2] == twin.__getstate__()[2], name
+        assert np.array_equal(f.sigma, new.astype(gf.dtype))
+        assert f.nis == nis and np.array_equal(f.innovation, y)  # kept
+        # a scalar is a 1 x 1 sigma
+        one = gf.KF(mu=[2.0], sigma=[[1.0]])
+        one.sigma = 4
+        assert one.sigma.tolist() == [[4.0]]
 
 
 @pytest.mark.parametrize("gf", MODS)
