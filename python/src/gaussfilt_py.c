@@ -290,16 +290,19 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
     return 0;
 }
 
-// The shape of obj as a gf_real array (1 or 2 dimensions): -1 with
-// GF_ERR_ARG's exception otherwise. A 1-D array is 1 x its length when
-// vec_is_row, else its length x 1; a scalar is 1 x 1.
+// The shape of obj as a gf_real array (1 or 2 dimensions), and in got
+// (GOT_LEN) as numpy prints it: -1 with GF_ERR_ARG's exception otherwise.
+// A 1-D array is 1 x its length when vec_is_row, else its length x 1; a
+// scalar is 1 x 1.
+enum { GOT_LEN = 64 };
 static int shape_of(PyObject *obj, const char *name, int vec_is_row,
-                    npy_intp *rows, npy_intp *cols)
+                    npy_intp *rows, npy_intp *cols, char *got)
 {
     PyArrayObject *a = numeric_array(obj, name);
     if (!a) {
         return -1;
     }
+    shape_str(a, got, GOT_LEN);
     int nd = PyArray_NDIM(a);
     if (nd == 0) {
         *rows = *cols = 1;
@@ -311,7 +314,7 @@ static int shape_of(PyObject *obj, const char *name, int vec_is_row,
         *cols = PyArray_DIM(a, 1);
     } else {
         Py_DECREF(a);
-        bad_arg("%s must be a vector or a matrix, got %d dimensions", name, nd);
+        bad_arg("%s must be a vector or a matrix, got %s", name, got);
         return -1;
     }
     Py_DECREF(a);
@@ -382,13 +385,84 @@ static int get_args(const char *fname, PyObject *const *args, Py_ssize_t nargs,
     return 0;
 }
 
-// A non-negative number (a gate) from obj; -1 with an exception otherwise.
-static int read_gate(PyObject *obj, const char *name, gf_real *gate)
+// obj's type for a message: "None", "str", "complex".
+static const char *type_name(PyObject *obj)
 {
-    double g = obj ? PyFloat_AsDouble(obj) : 0.0;
-    if (g == -1.0 && PyErr_Occurred()) {
-        PyErr_Clear();
-        bad_arg("%s: gate must be a number", name);
+    return obj == Py_None ? "None" : Py_TYPE(obj)->tp_name;
+}
+
+// A real number from obj: a Python or numpy bool, integer or float, or a
+// 0-d array of one. Else (text, bytes, None, complex, an array) GF_ERR_ARG's
+// exception naming `name` and -1.
+static int read_number(PyObject *obj, const char *name, double *out)
+{
+    const int real =
+        PyFloat_Check(obj) || PyLong_Check(obj) ||
+        PyArray_IsScalar(obj, Floating) || PyArray_IsScalar(obj, Integer) ||
+        PyArray_IsScalar(obj, Bool) ||
+        (PyArray_Check(obj) && PyArray_NDIM((PyArrayObject *)obj) == 0 &&
+         strchr("biuf", PyArray_DESCR((PyArrayObject *)obj)->kind));
+    if (real) {
+        const double v = PyFloat_AsDouble(obj);
+        if (!(v == -1.0 && PyErr_Occurred())) {
+            *out = v;
+            return 0;
+        }
+        PyErr_Clear(); // an integer beyond a double's range
+    }
+    bad_arg("%s: not a real number (%s)", name, type_name(obj));
+    return -1;
+}
+
+// An integer in 0..max from obj: a Python or numpy integer (a bool is 0
+// or 1). Else GF_ERR_ARG's exception naming `name` and -1.
+static int read_count(PyObject *obj, const char *name, unsigned long max,
+                      unsigned long *out)
+{
+    if (PyLong_Check(obj) || PyArray_IsScalar(obj, Integer)) {
+        PyObject *i = PyNumber_Index(obj);
+        int over = 0;
+        long long v = i ? PyLong_AsLongLongAndOverflow(i, &over) : -1;
+        Py_XDECREF(i);
+        if (PyErr_Occurred()) {
+            return -1;
+        }
+        if (!over && v >= 0 && (unsigned long long)v <= max) {
+            *out = (unsigned long)v;
+            return 0;
+        }
+        bad_arg("%s must be in 0..%lu", name, max);
+        return -1;
+    }
+    bad_arg("%s: not an integer (%s)", name, type_name(obj));
+    return -1;
+}
+
+// read_count of an unsigned (0..UINT_MAX): a mask, a size, an index; 0
+// when obj is NULL (not given).
+static int read_unsigned(PyObject *obj, const char *name, unsigned *out)
+{
+    unsigned long v = 0;
+    if (obj && read_count(obj, name, 0xFFFFFFFFul, &v) < 0) {
+        return -1;
+    }
+    *out = (unsigned)v;
+    return 0;
+}
+
+// A chi-square gate from obj (NULL: 0, no gate): a number >= 0 (a NaN is
+// left to the library, which refuses it); else GF_ERR_ARG's exception
+// naming who's gate and -1.
+static int read_gate(PyObject *obj, const char *who, gf_real *gate)
+{
+    char name[64];
+    double g = 0.0;
+    PyOS_snprintf(name, sizeof name, "%s: gate", who);
+    if (obj && read_number(obj, name, &g) < 0) {
+        return -1;
+    }
+    if (g < 0.0) {
+        bad_arg("%s must be >= 0 (0: no gate), got %g", name, g);
         return -1;
     }
     *gate = (gf_real)g;
@@ -939,14 +1013,13 @@ static int run_arrays(const Family *fam, PyObject *u_o, PyObject *z_o,
     *N = -1;
     *k = 0;
     if (given(steps_o)) {
-        *N = (npy_intp)PyLong_AsSsize_t(steps_o);
-        if (*N == -1 && PyErr_Occurred()) {
+        char sn[80];
+        unsigned long steps;
+        PyOS_snprintf(sn, sizeof sn, "%s: steps", who);
+        if (read_count(steps_o, sn, (unsigned long)NPY_MAX_INTP, &steps) < 0) {
             return -1;
         }
-        if (*N < 0) {
-            bad_arg("%s: steps must be >= 0", who);
-            return -1;
-        }
+        *N = (npy_intp)steps;
     }
     if (given(u_o)) {
         if (u_refused) {
@@ -1200,8 +1273,8 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
             return NULL;
         }
     }
-    if (fam->ekf && !model && given(a[2])) {
-        return bad_arg("%s: u without motion", fam->run_name);
+    if (!model && given(a[2])) {
+        return bad_arg("%s: u without %s", fam->run_name, what);
     }
     if (run_arrays(fam, a[2], a[3], a[4], nu, fam->ekf && nu,
                    !fam->ekf && !nu ? "u given, the model has no B" : NULL, m,
@@ -1367,6 +1440,7 @@ static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
 
 typedef struct {
     PyObject_HEAD gf_kf2_pmodel pm;
+    int has_B; // B was given: a prediction takes u (else B is zero, u refused)
     PyObject *weakrefs; // weakref support
 } KF2ModelObj;
 
@@ -1399,8 +1473,12 @@ static int KF2Model_init(PyObject *self_, PyObject *args, PyObject *kw)
         (c != Py_None && read_real(c, "KF2Model: c", 0, 2, m.c.v) < 0)) {
         return -1;
     }
-    return check(gf_kf2_prepare_model(&((KF2ModelObj *)self_)->pm, &m),
-                 "KF2Model");
+    if (check(gf_kf2_prepare_model(&((KF2ModelObj *)self_)->pm, &m),
+              "KF2Model") < 0) {
+        return -1;
+    }
+    ((KF2ModelObj *)self_)->has_B = B != Py_None;
+    return 0;
 }
 
 static PyObject *KF2Model_get(PyObject *self_, void *which)
@@ -1412,6 +1490,9 @@ static PyObject *KF2Model_get(PyObject *self_, void *which)
     case 1:
         return new_array(2, 2, &m->R.m[0][0]);
     case 2:
+        if (!((KF2ModelObj *)self_)->has_B) {
+            Py_RETURN_NONE;
+        }
         return new_array(2, 2, &m->B.m[0][0]);
     default:
         return new_array(2, 0, m->c.v);
@@ -1421,7 +1502,7 @@ static PyObject *KF2Model_get(PyObject *self_, void *which)
 static PyGetSetDef KF2Model_getset[] = {
     {"A", KF2Model_get, NULL, "state transition (2, 2)", (void *)0},
     {"R", KF2Model_get, NULL, "process noise covariance (2, 2)", (void *)1},
-    {"B", KF2Model_get, NULL, "control matrix (2, 2)", (void *)2},
+    {"B", KF2Model_get, NULL, "control matrix (2, 2), or None", (void *)2},
     {"c", KF2Model_get, NULL, "constant motion term (2,)", (void *)3},
     {NULL, NULL, NULL, NULL, NULL},
 };
@@ -1435,17 +1516,17 @@ static int KF2Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
     PyObject *C, *Q, *c = Py_None, *gate = NULL;
     gf_kf2_meas m;
     npy_intp rows, cols;
+    char got[GOT_LEN];
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KF2Meas", names, &C, &Q,
                                      &c, &gate)) {
         return -1;
     }
     memset(&m, 0, sizeof m);
-    if (shape_of(C, "KF2Meas: C", 1, &rows, &cols) < 0) {
+    if (shape_of(C, "KF2Meas: C", 1, &rows, &cols, got) < 0) {
         return -1;
     }
     if (rows < 1 || rows > 2 || cols != 2) {
-        bad_arg("KF2Meas: C must have shape (1, 2) or (2, 2), got (%ld, %ld)",
-                (long)rows, (long)cols);
+        bad_arg("KF2Meas: C must have shape (1, 2) or (2, 2), got %s", got);
         return -1;
     }
     m.m = (unsigned)rows;
@@ -1513,12 +1594,12 @@ static unsigned kf2_states(PyObject *f)
     return 2;
 }
 
+// A model without B: no u (nu = 0).
 static void kf2_model_size(PyObject *model, unsigned *n, npy_intp *nu,
                            int *python_g)
 {
-    (void)model;
     *n = 2;
-    *nu = 2;
+    *nu = model && ((KF2ModelObj *)model)->has_B ? 2 : 0;
     *python_g = 0;
 }
 
@@ -1811,25 +1892,26 @@ static int EKF3Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
 {
     static char *names[] = {"h", "Q", "angle_mask", "gate", NULL};
     EKF3MeasObj *self = (EKF3MeasObj *)self_;
-    PyObject *h, *Q, *gate = NULL;
+    PyObject *h, *Q, *mask = NULL, *gate = NULL;
     unsigned angle_mask = 0;
     gf_ekf3_meas me;
     npy_intp rows, cols;
     gf_real Qv[9];
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|IO:EKF3Meas", names, &h, &Q,
-                                     &angle_mask, &gate)) {
+    char got[GOT_LEN];
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:EKF3Meas", names, &h, &Q,
+                                     &mask, &gate) ||
+        read_unsigned(mask, "EKF3Meas: angle_mask", &angle_mask) < 0) {
         return -1;
     }
     if (check_callable(h, "EKF3Meas", "h") < 0) {
         return -1;
     }
     memset(&me, 0, sizeof me);
-    if (shape_of(Q, "EKF3Meas: Q", 1, &rows, &cols) < 0) {
+    if (shape_of(Q, "EKF3Meas: Q", 1, &rows, &cols, got) < 0) {
         return -1;
     }
     if (rows != cols || rows < 1 || rows > 3) {
-        bad_arg("EKF3Meas: Q must be m x m with m = 1..3, got (%ld, %ld)",
-                (long)rows, (long)cols);
+        bad_arg("EKF3Meas: Q must have shape (m, m), m = 1..3, got %s", got);
         return -1;
     }
     me.m = (unsigned)rows;
@@ -2198,12 +2280,13 @@ static PyTypeObject EKFMotion_Type, EKFMeas_Type, EKF_Type;
 static int square_size(PyObject *obj, const char *name, npy_intp *n)
 {
     npy_intp r, c;
-    if (shape_of(obj, name, 1, &r, &c) < 0) {
+    char got[GOT_LEN];
+    if (shape_of(obj, name, 1, &r, &c, got) < 0) {
         return -1;
     }
     if (r != c || r < 1 || r > NMAX) {
-        bad_arg("%s must be n x n with n = 1..%d, got (%ld, %ld)", name, NMAX,
-                (long)r, (long)c);
+        bad_arg("%s must have shape (n, n), n = 1..%d, got %s", name, NMAX,
+                got);
         return -1;
     }
     *n = r;
@@ -2217,6 +2300,7 @@ static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
     PyObject *A, *R, *B = Py_None, *c = Py_None;
     gf_kf_model m;
     npy_intp n, nu = 0, br;
+    char got[GOT_LEN];
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KFModel", names, &A, &R,
                                      &B, &c)) {
         return -1;
@@ -2227,13 +2311,12 @@ static int KFModel_init(PyObject *self_, PyObject *args, PyObject *kw)
         return -1;
     }
     if (B != Py_None) {
-        if (shape_of(B, "KFModel: B", 0, &br, &nu) < 0) {
+        if (shape_of(B, "KFModel: B", 0, &br, &nu, got) < 0) {
             return -1;
         }
         if (br != n || nu < 1 || nu > NMAX) {
-            bad_arg("KFModel: B must have shape (%ld, nu), nu = 1..%d, got "
-                    "(%ld, %ld)",
-                    (long)n, NMAX, (long)br, (long)nu);
+            bad_arg("KFModel: B must have shape (%ld, nu), nu = 1..%d, got %s",
+                    (long)n, NMAX, got);
             return -1;
         }
         if (read_real(B, "KFModel: B", n, nu, self->B) < 0) {
@@ -2297,17 +2380,17 @@ static int KFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
     PyObject *C, *Q, *c = Py_None, *gate = NULL;
     gf_kf_meas me;
     npy_intp m, n;
+    char got[GOT_LEN];
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KFMeas", names, &C, &Q,
                                      &c, &gate)) {
         return -1;
     }
-    if (shape_of(C, "KFMeas: C", 1, &m, &n) < 0) {
+    if (shape_of(C, "KFMeas: C", 1, &m, &n, got) < 0) {
         return -1;
     }
     if (n < 1 || n > NMAX || m < 1 || m > n) {
-        bad_arg("KFMeas: C must be m x n with 1 <= m <= n <= %d, got "
-                "(%ld, %ld)",
-                NMAX, (long)m, (long)n);
+        bad_arg("KFMeas: C must have shape (m, n), 1 <= m <= n <= %d, got %s",
+                NMAX, got);
         return -1;
     }
     memset(&me, 0, sizeof me);
@@ -2410,12 +2493,14 @@ static int EKFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
 {
     static char *names[] = {"h", "Q", "n", "angle_mask", "gate", NULL};
     EKFMeasObj *self = (EKFMeasObj *)self_;
-    PyObject *h, *Q, *gate = NULL;
+    PyObject *h, *Q, *n_o, *mask = NULL, *gate = NULL;
     unsigned n, angle_mask = 0;
     gf_ekf_meas me;
     npy_intp m;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOI|IO:EKFMeas", names, &h, &Q,
-                                     &n, &angle_mask, &gate)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOO|OO:EKFMeas", names, &h, &Q,
+                                     &n_o, &mask, &gate) ||
+        read_unsigned(n_o, "EKFMeas: n", &n) < 0 ||
+        read_unsigned(mask, "EKFMeas: angle_mask", &angle_mask) < 0) {
         return -1;
     }
     if (check_callable(h, "EKFMeas", "h") < 0 ||
@@ -2489,13 +2574,14 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
 {
     gf_real m[NMAX], s[NMAX * NMAX];
     npy_intp n, r;
-    char name[64];
+    char name[64], got[GOT_LEN];
     PyOS_snprintf(name, sizeof name, "%s: mu", who);
-    if (shape_of(mu, name, 0, &n, &r) < 0) {
+    if (shape_of(mu, name, 0, &n, &r, got) < 0) {
         return -1;
     }
     if (r != 1 || n < 1 || n > NMAX) {
-        bad_arg("%s: mu must have shape (n,), n = 1..%d", who, NMAX);
+        bad_arg("%s: mu must have shape (n,), n = 1..%d, got %s", who, NMAX,
+                got);
         return -1;
     }
     if (read_real(mu, name, 0, n, m) < 0) {
@@ -2529,10 +2615,11 @@ static int KF_init(PyObject *self_, PyObject *args, PyObject *kw)
 static int EKF_init(PyObject *self_, PyObject *args, PyObject *kw)
 {
     static char *names[] = {"mu", "sigma", "angles", NULL};
-    PyObject *mu, *sigma;
+    PyObject *mu, *sigma, *angles_o = NULL;
     unsigned angles = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|I:EKF", names, &mu, &sigma,
-                                     &angles)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|O:EKF", names, &mu, &sigma,
+                                     &angles_o) ||
+        read_unsigned(angles_o, "EKF: angles", &angles) < 0) {
         return -1;
     }
     return KF_init_common((KFObj *)self_, mu, sigma, angles, 1, "EKF");
@@ -2912,14 +2999,15 @@ static PyGetSetDef KF_getset[] = {
 static PyObject *py_ellipse(PyObject *mod, PyObject *args, PyObject *kw)
 {
     static char *names[] = {"sigma", "p", NULL};
-    PyObject *s_o;
+    PyObject *s_o, *p_o = NULL;
     double p = 0.68;
     gf_mat2 s;
     gf_ellipse e;
     (void)mod;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|d:ellipse", names, &s_o,
-                                     &p) ||
-        read_real(s_o, "ellipse: sigma", 2, 2, &s.m[0][0]) < 0) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|O:ellipse", names, &s_o,
+                                     &p_o) ||
+        read_real(s_o, "ellipse: sigma", 2, 2, &s.m[0][0]) < 0 ||
+        (p_o && read_number(p_o, "ellipse: p", &p) < 0)) {
         return NULL;
     }
     gf_status st = gf_cov2_ellipse(&s, (gf_real)p, &e);
@@ -2946,13 +3034,15 @@ static PyObject *py_correlation(PyObject *mod, PyObject *arg)
 
 static PyObject *py_marginal(PyObject *mod, PyObject *args)
 {
-    PyObject *s_o;
+    PyObject *s_o, *i_o, *j_o;
     unsigned i, j;
     gf_mat3 s;
     gf_mat2 out;
     (void)mod;
-    if (!PyArg_ParseTuple(args, "OII:marginal", &s_o, &i, &j) ||
-        read_real(s_o, "marginal: sigma", 3, 3, &s.m[0][0]) < 0) {
+    if (!PyArg_ParseTuple(args, "OOO:marginal", &s_o, &i_o, &j_o) ||
+        read_real(s_o, "marginal: sigma", 3, 3, &s.m[0][0]) < 0 ||
+        read_unsigned(i_o, "marginal: i", &i) < 0 ||
+        read_unsigned(j_o, "marginal: j", &j) < 0) {
         return NULL;
     }
     gf_status st = gf_cov2_marginal(&s, i, j, &out);
@@ -3069,7 +3159,8 @@ GF_TYPE(KF2Model, "KF2Model",
         "KF2Model(A, R, B=None, c=None)\n--\n\n"
         "KF2's motion x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R)\n"
         "(book names: R is the process noise; FilterPy's F and Q). A, B, R\n"
-        "2x2, c (2,); B and c default to zero. Checked and factored once\n"
+        "2x2, c (2,). B None: no control (a prediction given u raises\n"
+        "BadArgument); c defaults to zero. Checked and factored once\n"
         "(gf_kf2_prepare_model): NonFinite, NotPSD (R) raise here.",
         KF2Model_init, NULL, KF2Model_getset);
 GF_TYPE(KF2Meas, "KF2Meas",

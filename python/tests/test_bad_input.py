@@ -25,16 +25,18 @@ def filters(mod):
     kf2 = mod.KF2([1, 2], [[2, 0.5], [0.5, 1]])
     m2 = mod.KF2Model([[1, 1], [0, 1]], [[0.25, 0.5], [0.5, 1]])
     q2 = mod.KF2Meas([[1, 0]], [[10]])
+    b2 = mod.KF2Model([[1, 1], [0, 1]], np.eye(2), B=np.eye(2))
     kf2.predict(m2)
     kf2.update(q2, [1.5])
     out["KF2"] = (kf2, [
         (gaussfilt.BadArgument, lambda: kf2.update(q2, [1, 2])),
         (gaussfilt.BadArgument, lambda: kf2.update(q2, "five")),
-        (gaussfilt.BadArgument, lambda: kf2.predict(m2, [1, 2, 3])),
+        (gaussfilt.BadArgument, lambda: kf2.predict(b2, [1, 2, 3])),
+        (gaussfilt.BadArgument, lambda: kf2.predict(m2, [1, 0])),  # no B
         (gaussfilt.BadArgument, lambda: kf2.predict(q2)),
         (gaussfilt.BadArgument, lambda: mod.KF2Model(np.eye(3), np.eye(2))),
         (gaussfilt.NonFinite, lambda: kf2.update(q2, [np.nan])),
-        (gaussfilt.NonFinite, lambda: kf2.predict(m2, [np.inf, 0])),
+        (gaussfilt.NonFinite, lambda: kf2.predict(b2, [np.inf, 0])),
         (gaussfilt.NonFinite, lambda: mod.KF2Model([[np.nan, 0], [0, 1]],
                                                    np.eye(2))),
         (gaussfilt.NotPSD, lambda: mod.KF2Model(np.eye(2), [[1, 2], [2, 1]])),

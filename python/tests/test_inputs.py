@@ -65,3 +65,137 @@ def test_shapes_are_printed_as_numpy_prints_them():
         gf.KF2(mu=[0, 0, 0], sigma=np.eye(2))
     with pytest.raises(gaussfilt.BadArgument, match=r"got \(2, 2\)"):
         gf.KF(mu=[0], sigma=np.eye(2))
+
+
+@pytest.mark.parametrize("gf", [float32, float64])
+def test_u_where_the_model_has_no_B_is_refused(gf):
+    kf2 = gf.KF2(mu=[1, 2], sigma=np.eye(2))
+    k = gf.KF(mu=[1, 2, 3], sigma=np.eye(3))
+    car = gf.KF2Model(A=[[1, 1], [0, 1]], R=np.eye(2))  # no B
+    model = gf.KFModel(A=np.eye(3), R=np.eye(3))
+    assert car.B is None and model.B is None
+    before = kf2.__getstate__(), k.__getstate__()
+    calls = [
+        ("KF2.predict: u given, the model has no B",
+         lambda: kf2.predict(car, u=[1, 0])),
+        ("KF2.run: u given, the model has no B",
+         lambda: kf2.run(car, u=np.ones((3, 2)))),
+        ("KF2.run: u without model", lambda: kf2.run(u=np.ones((3, 2)))),
+        ("KF.predict: u given, the model has no B",
+         lambda: k.predict(model, u=[1])),
+        ("KF.run: u given, the model has no B",
+         lambda: k.run(model, u=np.ones((3, 1)))),
+        ("KF.run: u without model", lambda: k.run(u=np.ones((3, 1)))),
+    ]
+    for msg, call in calls:
+        with pytest.raises(gaussfilt.BadArgument) as e:
+            call()
+        assert str(e.value) == msg
+    assert (kf2.__getstate__(), k.__getstate__()) == before
+    # with B, the same u moves the mean
+    pushed = gf.KF2Model(A=[[1, 1], [0, 1]], R=np.eye(2), B=np.eye(2))
+    kf2.predict(pushed, u=[1, 0])
+    assert np.array_equal(pushed.B, np.eye(2)) and kf2.mu[0] == 4
+
+
+@pytest.mark.parametrize("gf", [float32, float64])
+def test_a_scalar_is_a_1x1_matrix_everywhere(gf):
+    def h(mu):
+        return mu * 2, np.array([[2.0]])
+
+    def g(mu, u):
+        return mu + 1, np.array([[1.0]])
+
+    def beliefs(vec, mat):
+        """A 1-state run with every (1,) vector given as vec(x) and every
+        1 x 1 matrix as mat(x) (the values exact in float32)."""
+        k = gf.KF(mu=vec(0.5), sigma=mat(2))
+        k.predict(gf.KFModel(A=mat(1), R=mat(0.25), B=mat(2), c=vec(0.125)),
+                  u=vec(0.375))
+        k.update(gf.KFMeas(C=mat(1), Q=mat(4), c=vec(0.25), gate=9),
+                 z=vec(1))
+        k.mu, k.sigma = vec(0.75), mat(1.5)
+        e = gf.EKF(mu=vec(0.5), sigma=mat(2))
+        e.predict(gf.EKFMotion(g=g, R=mat(0.5)))
+        e.update(gf.EKFMeas(h=h, Q=mat(3), n=1), z=vec(2.5))
+        e3 = gf.EKF3(mu=[0, 0, 0], sigma=np.eye(3))
+        e3.update(gf.EKF3Meas(h=gf.meas_x, Q=mat(2)), z=vec(0.5))
+        k2 = gf.KF2(mu=[0, 0], sigma=np.eye(2))
+        k2.update(gf.KF2Meas(C=[1, 0], Q=mat(2), c=vec(0.5)), z=vec(1))
+        return [f.__getstate__() for f in (k, e, e3, k2)]
+
+    arrays = beliefs(lambda x: [x], lambda x: [[x]])
+    for one in (lambda x: x, lambda x: float(x), np.float64, np.float32,
+                np.array):
+        assert beliefs(one, one) == arrays
+
+
+@pytest.mark.parametrize("gf", [float32, float64])
+def test_counts_and_numbers_refused_with_their_name(gf):
+    kf2 = gf.KF2(mu=[1, 2], sigma=np.eye(2))
+    before = kf2.__getstate__()
+    cases = [
+        ("KF2Meas: gate: not a real number (str)",
+         lambda: gf.KF2Meas(C=[1, 0], Q=1, gate="3")),
+        ("KFMeas: gate: not a real number (None)",
+         lambda: gf.KFMeas(C=[1, 0], Q=1, gate=None)),
+        ("EKF3Meas: gate: not a real number (complex)",
+         lambda: gf.EKF3Meas(h=gf.meas_x, Q=1, gate=1j)),
+        ("EKFMeas: gate: not a real number (numpy.ndarray)",
+         lambda: gf.EKFMeas(h=gf.meas_x, Q=1, n=3, gate=np.array([3.0]))),
+        ("KF2Meas: gate must be >= 0 (0: no gate), got -1",
+         lambda: gf.KF2Meas(C=[1, 0], Q=1, gate=-1)),
+        ("EKF3Meas: angle_mask: not an integer (str)",
+         lambda: gf.EKF3Meas(h=gf.meas_x, Q=1, angle_mask="1")),
+        ("EKF3Meas: angle_mask must be in 0..4294967295",
+         lambda: gf.EKF3Meas(h=gf.meas_x, Q=1, angle_mask=-1)),
+        ("EKFMeas: n: not an integer (float)",
+         lambda: gf.EKFMeas(h=gf.meas_x, Q=1, n=3.0)),
+        ("EKFMeas: angle_mask: not an integer (bytes)",
+         lambda: gf.EKFMeas(h=gf.meas_x, Q=1, n=3, angle_mask=b"1")),
+        ("EKF: angles: not an integer (None)",
+         lambda: gf.EKF(mu=[0], sigma=1, angles=None)),
+        ("EKF: angles must be in 0..4294967295",
+         lambda: gf.EKF(mu=[0], sigma=1, angles=2 ** 40)),
+        ("KF2.run: steps: not an integer (str)", lambda: kf2.run(steps="3")),
+        ("KF2.run: steps must be in", lambda: kf2.run(steps=-1)),
+        ("ellipse: p: not a real number (str)",
+         lambda: gf.ellipse(np.eye(2), p="0.5")),
+        ("marginal: i: not an integer (str)",
+         lambda: gf.marginal(np.eye(3), "0", 1)),
+        ("marginal: j: not an integer (float)",
+         lambda: gf.marginal(np.eye(3), 0, 1.0)),
+    ]
+    for msg, call in cases:
+        with pytest.raises(gaussfilt.BadArgument) as e:
+            call()
+        assert str(e.value).startswith(msg), (msg, str(e.value))
+    assert kf2.__getstate__() == before
+    # what they take: integers of numpy too, and bools as 0 and 1
+    assert gf.EKF(mu=[0, 0], sigma=np.eye(2), angles=np.uint8(2)).angles == 2
+    assert gf.KF2Meas(C=[1, 0], Q=1, gate=np.float32(4)).gate == 4
+    assert gf.marginal(np.eye(3), np.int64(0), True).shape == (2, 2)
+    assert kf2.run(steps=np.int32(2))[0].shape == (2, 2)
+
+
+def test_every_shape_is_printed_as_numpy_prints_it():
+    gf = float64
+    cases = [  # (call, the array whose shape the message names)
+        (lambda a: gf.KF2Meas(C=a, Q=1), np.ones(3)),
+        (lambda a: gf.KF2Meas(C=a, Q=1), np.ones((3, 2))),
+        (lambda a: gf.KFMeas(C=a, Q=1), np.ones((1, 1, 1))),
+        (lambda a: gf.KFMeas(C=a, Q=1), np.ones((3, 2))),
+        (lambda a: gf.KFModel(A=a, R=1), np.ones((2, 3))),
+        (lambda a: gf.KFModel(A=np.eye(2), R=np.eye(2), B=a), np.ones((3, 1))),
+        (lambda a: gf.EKF3Meas(h=gf.meas_x, Q=a), np.ones((4, 4))),
+        (lambda a: gf.KF(mu=a, sigma=np.eye(2)), np.ones((2, 2))),
+        (lambda a: gf.KF(mu=a, sigma=1), np.ones(13)),
+        (lambda a: gf.KF(mu=[0, 0], sigma=a), np.ones(2)),
+        (lambda a: gf.KF2(mu=a, sigma=np.eye(2)), np.ones((2, 1))),
+        (lambda a: gf.KF2(mu=[0, 0], sigma=np.eye(2)).update(
+            gf.KF2Meas(C=[1, 0], Q=1), a), np.ones((1, 1))),
+    ]
+    for call, a in cases:
+        with pytest.raises(gaussfilt.BadArgument) as e:
+            call(a)
+        assert str(e.value).endswith("got %s" % (a.shape,)), str(e.value)

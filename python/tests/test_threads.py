@@ -62,15 +62,16 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
     # each probe fails either way, so the belief never changes: not finite
     # when the filter is idle, RuntimeError while the run is on
     nan = float("nan")
+    pushed = mod.KF2Model(A=[[1, 0.1], [0, 1]], R=np.eye(2), B=np.eye(2))
     refused = {}
     # a run takes some 50 ms: on a busy machine this thread may not be
     # scheduled within one, so a few are tried
     for _ in range(20):
         kf = mod.KF2(mu=[0, 0], sigma=np.eye(2))
         probes = {
-            "predict": lambda: kf.predict(car, u=[nan, nan]),
+            "predict": lambda: kf.predict(pushed, u=[nan, nan]),
             "update": lambda: kf.update(gps, [nan]),
-            "run": lambda: kf.run(car, u=[[nan, nan]]),
+            "run": lambda: kf.run(pushed, u=[[nan, nan]]),
             "init": lambda: kf.__init__([nan, 0], np.eye(2)),
             "reset": lambda: kf.reset([nan, 0], np.eye(2)),
             "set mu": lambda: setattr(kf, "mu", [nan, 0]),
