@@ -1,11 +1,13 @@
 # SPDX-License-Identifier: MIT
-"""Pickle and copy for the models and the built-in models (copyreg).
+"""Pickle and copy for the built-in EKF3 models (copyreg).
 
 A belief (KF2, EKF3, KF, EKF) pickles through its own __getstate__ and
-__setstate__ (every bit of its factors). A model is rebuilt from what it
-was given (its getters), which factors it again to the same bits; an EKF
-model's g or h pickles as pickle can (a module-level function does, a
-lambda does not); a built-in model by its name in its precision's module.
+__setstate__ (every bit of its factors), a model through its own
+__reduce__ and __setstate__ (rebuilt from its arguments, which factors it
+again to the same bits; an EKF model's g or h pickles as pickle can: a
+module-level function does, a lambda does not); both carry a subclass's
+instance attributes. A built-in model pickles by its name in its
+precision's module, so that it loads as the same object.
 """
 import copyreg
 from typing import Any, Callable, Tuple
@@ -17,7 +19,7 @@ def _builtin(precision: str, name: str) -> Any:
 
 
 def register(module: Any, precision: str) -> None:
-    """copyreg reductions for one precision module's models."""
+    """The copyreg reduction of one precision module's built-in models."""
     m = module
     names = {id(getattr(m, n)): n for n in ("forward_turn", "meas_x",
                                             "meas_xy")}
@@ -26,13 +28,3 @@ def register(module: Any, precision: str) -> None:
         return _builtin, (precision, names[id(b)])
 
     copyreg.pickle(type(m.forward_turn), builtin)
-    copyreg.pickle(m.KF2Model, lambda o: (m.KF2Model, (o.A, o.R, o.B, o.c)))
-    copyreg.pickle(m.KF2Meas, lambda o: (m.KF2Meas, (o.C, o.Q, o.c, o.gate)))
-    copyreg.pickle(m.KFModel, lambda o: (m.KFModel, (o.A, o.R, o.B, o.c)))
-    copyreg.pickle(m.KFMeas, lambda o: (m.KFMeas, (o.C, o.Q, o.c, o.gate)))
-    copyreg.pickle(m.EKF3Motion, lambda o: (m.EKF3Motion, (o.g, o.R)))
-    copyreg.pickle(m.EKF3Meas, lambda o: (
-        m.EKF3Meas, (o.h, o.Q, o.angle_mask, o.gate)))
-    copyreg.pickle(m.EKFMotion, lambda o: (m.EKFMotion, (o.g, o.R)))
-    copyreg.pickle(m.EKFMeas, lambda o: (
-        m.EKFMeas, (o.h, o.Q, o.n, o.angle_mask, o.gate)))

@@ -1289,28 +1289,33 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
 
 // ---- state, for pickle and copy ----------------------------------------
 
-// __getstate__ of a belief: (1, precision, the library's belief as bytes,
-// the last accepted update's innovation as bytes, whether there is one).
-// A copy restores every bit: the factors, not Sigma recomputed.
-static PyObject *state_get(const Family *fam, PyObject *self_)
+// The instance dictionary of self when its class is a Python subclass
+// with one and it holds anything (a new reference); NULL otherwise, with
+// an exception only when reading it failed.
+static PyObject *instance_dict(PyObject *self)
 {
-    FilterObj *f = (FilterObj *)self_;
-    if (check_readable(f, fam->name) < 0) {
+    if (!Py_TYPE(self)->tp_dictoffset) {
         return NULL;
     }
-    // the innovation's entries beyond m, and its padding, as zeros: equal
-    // filters give equal states
-    gf_kf_innovation last;
-    memset(&last, 0, sizeof last);
-    if (f->has_last && f->last.m <= NMAX) {
-        last.m = f->last.m;
-        memcpy(last.y, f->last.y, f->last.m * sizeof(gf_real));
-        last.nis = f->last.nis;
+    PyObject *d = PyObject_GetAttrString(self, "__dict__");
+    if (d && PyDict_Check(d) && PyDict_GET_SIZE(d) > 0) {
+        return d;
     }
-    return Py_BuildValue("(isy#y#i)", 1, GF_PREC_NAME,
-                         (const char *)self_ + fam->belief_offset,
-                         (Py_ssize_t)fam->belief_size, (const char *)&last,
-                         (Py_ssize_t)sizeof last, f->has_last);
+    Py_XDECREF(d);
+    return NULL;
+}
+
+// Puts the entries of d (a dict, or None: nothing) into self's instance
+// dictionary. 0, or -1 with an exception.
+static int update_instance_dict(PyObject *self, PyObject *d)
+{
+    if (d == Py_None) {
+        return 0;
+    }
+    PyObject *mine = PyObject_GetAttrString(self, "__dict__");
+    int rc = mine ? PyDict_Update(mine, d) : -1;
+    Py_XDECREF(mine);
+    return rc;
 }
 
 // The factors' order perm[0..n-1] is a permutation of 0..n-1 (what the
@@ -1330,29 +1335,11 @@ static int state_sound(const unsigned char *perm, unsigned n)
     return 1;
 }
 
-// __setstate__: the belief and innovation of state_get's tuple, checked
-// (version, precision, sizes, the factors' order, n) before anything is
-// written; BadArgument otherwise, the filter unchanged.
-static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
+// The states n of a belief of the family fam as bytes (fam->belief_size)
+// when it is one the library could have made (state_sound: n, the
+// factors' order); else 0.
+static unsigned belief_sound(const Family *fam, const char *belief)
 {
-    FilterObj *f = (FilterObj *)self_;
-    int version, has_last;
-    const char *prec, *belief, *last;
-    Py_ssize_t nb, nl;
-    char what[64];
-    snprintf(what, sizeof what, "%s.__setstate__", fam->name);
-    if (!PyTuple_Check(st) ||
-        !PyArg_ParseTuple(st, "isy#y#i", &version, &prec, &belief, &nb, &last,
-                          &nl, &has_last)) {
-        PyErr_Clear();
-        return bad_arg("%s: not a state of this package", what);
-    }
-    if (version != 1 || strcmp(prec, GF_PREC_NAME) != 0 ||
-        (size_t)nb != fam->belief_size || (size_t)nl != sizeof f->last) {
-        return bad_arg("%s: a state of version %d in %s, %zd bytes; this "
-                       "filter's is version 1 in %s, %zu bytes",
-                       what, version, prec, nb, GF_PREC_NAME, fam->belief_size);
-    }
     unsigned n = fam->belief_size == sizeof(gf_kf2)    ? 2u
                  : fam->belief_size == sizeof(gf_ekf3) ? 3u
                                                        : 0u;
@@ -1366,13 +1353,90 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
         perm = (const unsigned char *)belief +
                (n == 2u ? offsetof(gf_kf2, perm) : offsetof(gf_ekf3, perm));
     }
+    return state_sound(perm, n) ? n : 0u;
+}
+
+// __getstate__ of a belief: (1, precision, the library's belief as bytes,
+// the last accepted update's innovation as bytes, whether there is one),
+// and the instance dictionary as a sixth item when a subclass's object
+// has anything in it. A copy restores every bit: the factors, not Sigma
+// recomputed. A filter never initialised has no state (BadArgument).
+static PyObject *state_get(const Family *fam, PyObject *self_)
+{
+    FilterObj *f = (FilterObj *)self_;
+    const char *belief = (const char *)self_ + fam->belief_offset;
+    if (check_readable(f, fam->name) < 0) {
+        return NULL;
+    }
+    if (!belief_sound(fam, belief)) {
+        return bad_arg("%s.__getstate__: the filter was never initialised",
+                       fam->name);
+    }
+    // the innovation's entries beyond m, and its padding, as zeros: equal
+    // filters give equal states
+    gf_kf_innovation last;
+    memset(&last, 0, sizeof last);
+    if (f->has_last && f->last.m <= NMAX) {
+        last.m = f->last.m;
+        memcpy(last.y, f->last.y, f->last.m * sizeof(gf_real));
+        last.nis = f->last.nis;
+    }
+    PyObject *d = instance_dict(self_);
+    if (!d && PyErr_Occurred()) {
+        return NULL;
+    }
+    PyObject *st =
+        d ? Py_BuildValue("(isy#y#iN)", 1, GF_PREC_NAME, belief,
+                          (Py_ssize_t)fam->belief_size, (const char *)&last,
+                          (Py_ssize_t)sizeof last, f->has_last, d)
+          : Py_BuildValue("(isy#y#i)", 1, GF_PREC_NAME, belief,
+                          (Py_ssize_t)fam->belief_size, (const char *)&last,
+                          (Py_ssize_t)sizeof last, f->has_last);
+    return st;
+}
+
+// __setstate__: the belief and innovation of state_get's tuple, checked
+// (version, precision, sizes, the factors' order, n, a dictionary only
+// for an object that has one) before anything is written; BadArgument
+// otherwise, the filter unchanged.
+static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
+{
+    FilterObj *f = (FilterObj *)self_;
+    int version, has_last;
+    const char *prec, *belief, *last;
+    PyObject *d = Py_None;
+    Py_ssize_t nb, nl;
+    char what[64];
+    snprintf(what, sizeof what, "%s.__setstate__", fam->name);
+    if (!PyTuple_Check(st) ||
+        !PyArg_ParseTuple(st, "isy#y#i|O", &version, &prec, &belief, &nb, &last,
+                          &nl, &has_last, &d)) {
+        PyErr_Clear();
+        return bad_arg("%s: not a state of this package", what);
+    }
+    if (version != 1 || strcmp(prec, GF_PREC_NAME) != 0 ||
+        (size_t)nb != fam->belief_size || (size_t)nl != sizeof f->last) {
+        return bad_arg("%s: a state of version %d in %s, %zd bytes; this "
+                       "filter's is version 1 in %s, %zu bytes",
+                       what, version, prec, nb, GF_PREC_NAME, fam->belief_size);
+    }
+    if (d != Py_None && (!PyDict_Check(d) || !Py_TYPE(self_)->tp_dictoffset)) {
+        return bad_arg("%s: the state's attributes are not a dict for an "
+                       "object with a __dict__",
+                       what);
+    }
     gf_kf_innovation in;
     memcpy(&in, last, sizeof in);
-    if (!state_sound(perm, n) || (has_last && (in.m < 1u || in.m > n))) {
+    const unsigned n = belief_sound(fam, belief);
+    if (n == 0u || (has_last && (in.m < 1u || in.m > n))) {
         return bad_arg("%s: the state's belief is not one the library made",
                        what);
     }
     if (check_idle(f, reinit_back, what) < 0) {
+        return NULL;
+    }
+    // the attributes first: the only part that can fail (memory)
+    if (update_instance_dict(self_, d) < 0) {
         return NULL;
     }
     memcpy((char *)self_ + fam->belief_offset, belief, fam->belief_size);
@@ -3121,6 +3185,115 @@ static PyObject *Obj_repr(PyObject *self)
     return out;
 }
 
+// ---- models: pickle and copy ---------------------------------------------
+
+// A model class, its constructor and the arguments it is rebuilt from (its
+// getters of the same names).
+typedef struct {
+    PyTypeObject *type;
+    initproc init;
+    const char *names[5];
+} ModelKind;
+
+static const ModelKind model_kinds[] = {
+    {&KF2Model_Type, KF2Model_init, {"A", "R", "B", "c", NULL}},
+    {&KF2Meas_Type, KF2Meas_init, {"C", "Q", "c", "gate", NULL}},
+    {&EKF3Motion_Type, EKF3Motion_init, {"g", "R", NULL}},
+    {&EKF3Meas_Type, EKF3Meas_init, {"h", "Q", "angle_mask", "gate", NULL}},
+    {&KFModel_Type, KFModel_init, {"A", "R", "B", "c", NULL}},
+    {&KFMeas_Type, KFMeas_init, {"C", "Q", "c", "gate", NULL}},
+    {&EKFMotion_Type, EKFMotion_init, {"g", "R", NULL}},
+    {&EKFMeas_Type, EKFMeas_init, {"h", "Q", "n", "angle_mask", "gate"}},
+};
+
+// The kind of the model self (of one of the classes or a subclass).
+static const ModelKind *model_kind(PyObject *self)
+{
+    for (size_t i = 0; i < sizeof model_kinds / sizeof model_kinds[0]; i++) {
+        if (PyObject_TypeCheck(self, model_kinds[i].type)) {
+            return &model_kinds[i];
+        }
+    }
+    return NULL;
+}
+
+// __reduce__ of a model: (copyreg.__newobj__, (type,), (its arguments as
+// the constructor takes them, its instance dictionary or None)). The
+// object is made without calling a subclass's __init__, then __setstate__
+// runs the model's own constructor on the arguments, which checks and
+// factors them again (to the same bits).
+static PyObject *Model_reduce(PyObject *self, PyObject *unused)
+{
+    const ModelKind *k = model_kind(self);
+    PyObject *copyreg, *newobj = NULL, *args = NULL, *d = NULL, *out = NULL;
+    (void)unused;
+    if (!k) {
+        return PyErr_Format(PyExc_TypeError, "not a gaussfilt model");
+    }
+    int n = 0;
+    while (n < 5 && k->names[n]) {
+        n++;
+    }
+    args = PyTuple_New(n);
+    for (int i = 0; args && i < n; i++) {
+        PyObject *v = PyObject_GetAttrString(self, k->names[i]);
+        if (!v) {
+            Py_CLEAR(args);
+            break;
+        }
+        PyTuple_SET_ITEM(args, i, v);
+    }
+    if (!args) {
+        return NULL;
+    }
+    d = instance_dict(self);
+    if (!d && PyErr_Occurred()) {
+        Py_DECREF(args);
+        return NULL;
+    }
+    copyreg = PyImport_ImportModule("copyreg");
+    newobj = copyreg ? PyObject_GetAttrString(copyreg, "__newobj__") : NULL;
+    Py_XDECREF(copyreg);
+    if (newobj) {
+        out = Py_BuildValue("(O(O)(OO))", newobj, (PyObject *)Py_TYPE(self),
+                            args, d ? d : Py_None);
+    }
+    Py_XDECREF(newobj);
+    Py_XDECREF(d);
+    Py_DECREF(args);
+    return out;
+}
+
+// __setstate__ of a model: __reduce__'s (arguments, dictionary or None),
+// the arguments given to the model's own constructor (which refuses what
+// it refuses, the model unchanged then).
+static PyObject *Model_setstate(PyObject *self, PyObject *st)
+{
+    const ModelKind *k = model_kind(self);
+    const char *name = k ? strrchr(k->type->tp_name, '.') + 1 : "model";
+    PyObject *args, *d;
+    if (!k || !PyTuple_Check(st) || PyTuple_GET_SIZE(st) != 2 ||
+        !PyTuple_Check(args = PyTuple_GET_ITEM(st, 0)) ||
+        ((d = PyTuple_GET_ITEM(st, 1)) != Py_None &&
+         (!PyDict_Check(d) || !Py_TYPE(self)->tp_dictoffset))) {
+        return bad_arg("%s.__setstate__: not a state of this package", name);
+    }
+    if (k->init(self, args, NULL) < 0 || update_instance_dict(self, d) < 0) {
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef Model_methods[] = {
+    {"__reduce__", Model_reduce, METH_NOARGS,
+     "__reduce__($self, /)\n--\n\nFor pickle and copy: the model rebuilt "
+     "from its arguments."},
+    {"__setstate__", Model_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nThe model made again from "
+     "__reduce__'s state."},
+    {NULL, NULL, 0, NULL},
+};
+
 #define GF_TYPE(T, name, doc, init, methods, getset)                           \
     static PyTypeObject T##_Type = {                                           \
         PyVarObject_HEAD_INIT(NULL, 0).tp_name =                               \
@@ -3147,6 +3320,7 @@ static PyObject *Obj_repr(PyObject *self)
         .tp_doc = doc,                                                         \
         .tp_new = PyType_GenericNew,                                           \
         .tp_init = init,                                                       \
+        .tp_methods = Model_methods,                                           \
         .tp_getset = getset,                                                   \
         .tp_traverse = Callback_traverse,                                      \
         .tp_clear = Callback_clear,                                            \
@@ -3162,7 +3336,7 @@ GF_TYPE(KF2Model, "KF2Model",
         "2x2, c (2,). B None: no control (a prediction given u raises\n"
         "BadArgument); c defaults to zero. Checked and factored once\n"
         "(gf_kf2_prepare_model): NonFinite, NotPSD (R) raise here.",
-        KF2Model_init, NULL, KF2Model_getset);
+        KF2Model_init, Model_methods, KF2Model_getset);
 GF_TYPE(KF2Meas, "KF2Meas",
         "KF2Meas(C, Q, c=None, gate=0.0)\n--\n\n"
         "KF2's measurement z = C x + c + delta, delta ~ N(0, Q) of m = 1 or\n"
@@ -3170,7 +3344,7 @@ GF_TYPE(KF2Meas, "KF2Meas",
         "and R). C (m, 2), Q (m, m), c (m,). gate: reject an update whose\n"
         "NIS exceeds it (raises Gated); 0: no gate. Checked and factored\n"
         "once (gf_kf2_prepare_meas).",
-        KF2Meas_init, NULL, KF2Meas_getset);
+        KF2Meas_init, Model_methods, KF2Meas_getset);
 GF_TYPE(KF2, "KF2",
         "KF2(mu, sigma)\n--\n\n"
         "The 2-state Kalman filter's belief N(mu, Sigma) (gf_kf2), Sigma\n"
@@ -3200,12 +3374,12 @@ GF_TYPE(KFModel, "KFModel",
         "KFModel(A, R, B=None, c=None)\n--\n\n"
         "gf_kf's motion of n states: x_t = A x_{t-1} + B u_t + c + eps,\n"
         "eps ~ N(0, R). A, R (n, n); B (n, nu) or None; c (n,) or None.",
-        KFModel_init, NULL, KFModel_getset);
+        KFModel_init, Model_methods, KFModel_getset);
 GF_TYPE(KFMeas, "KFMeas",
         "KFMeas(C, Q, c=None, gate=0.0)\n--\n\n"
         "gf_kf's measurement of m quantities: z = C x + c + delta,\n"
         "delta ~ N(0, Q). C (m, n), Q (m, m), c (m,) or None.",
-        KFMeas_init, NULL, KFMeas_getset);
+        KFMeas_init, Model_methods, KFMeas_getset);
 GF_TYPE(KF, "KF",
         "KF(mu, sigma)\n--\n\n"
         "The linear Kalman filter of n = len(mu) states (gf_kf, n up to\n"

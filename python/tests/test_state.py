@@ -2,11 +2,12 @@
 """A filter's state from Python: pickle, copy and deepcopy restore every bit
 of a belief (its factors, its last innovation) in both precisions, and the
 copy steps on its own; models pickle and copy (built-in models by name,
-Python functions as pickle can); a state that is not one of this
-package's, or of the other precision, is refused with the filter
-unchanged; the repr shows class, precision, n and the mean; the mean is
-settable and reset() judges as the constructor does, the belief unchanged
-when either refuses."""
+Python functions as pickle can) and step as the originals do; subclasses
+keep their attributes; a state that is not one of this package's, or of
+the other precision, is refused with the filter unchanged; the repr shows
+class, precision, n and the mean; the mean and sigma are settable (sigma
+a property, factored as the constructor does) and reset() judges as the
+constructor does, the belief unchanged when any refuses."""
 import copy
 import pickle
 
@@ -216,11 +217,132 @@ def test_weak_references(gf):
         gf.KF2Model(A=np.eye(2), R=np.eye(2)), gf.KFMeas(C=[[1, 0]], Q=[[1]]),
         gf.EKF3Motion(g=gf.forward_turn, R=np.eye(3)),
         gf.EKFMeas(h=meas_h, Q=[[1]], n=3)]
-    for o in objs:
-        r = weakref.ref(o)
-        assert r() is o
-        cache = weakref.WeakValueDictionary({"o": o})
-        del o
+    refs = [weakref.ref(o) for o in objs]
+    cache = weakref.WeakValueDictionary(enumerate(objs))
+    assert all(r() is o for r, o in zip(refs, objs)) and len(cache) == 8
     del objs
     gc.collect()
-    assert r() is None and len(cache) == 0
+    assert all(r() is None for r in refs) and len(cache) == 0
+
+
+def subclass(base, gf):
+    """A subclass of base whose __init__ takes other arguments, as this
+    module's global MyKF2_float32 (so that pickle finds it)."""
+    name = "My%s_%s" % (base.__name__, gf.__name__.split(".")[1])
+    if name not in globals():
+        globals()[name] = type(name, (base,), {
+            "__init__": lambda self, tag: setattr(self, "tag", tag),
+            "__module__": __name__})
+    return globals()[name]
+
+
+def subclassed(gf):
+    """A subclass of every belief and model, with an attribute of its own
+    and an __init__ of another signature, and one object of each."""
+    out = []
+    for name, f in stepped(gf).items():
+        cls = subclass(type(f), gf)
+        twin = cls.__new__(cls)
+        twin.__setstate__(f.__getstate__())
+        twin.tag = {"name": name}
+        out.append((twin, f))
+    models = [
+        gf.KF2Model(A=[[1, 1], [0, 1]], R=np.eye(2), B=np.eye(2), c=[1, 0]),
+        gf.KF2Meas(C=[[1, 0]], Q=[[2]], c=[0.5], gate=9),
+        gf.EKF3Motion(g=gf.forward_turn, R=np.eye(3) * 0.01),
+        gf.EKF3Meas(h=gf.meas_xy, Q=np.eye(2), angle_mask=2, gate=5),
+        gf.KFModel(A=np.eye(3), R=np.eye(3), B=np.ones((3, 1))),
+        gf.KFMeas(C=[[1, 0, 0]], Q=[[1]], c=[2], gate=4),
+        gf.EKFMotion(g=motion_g, R=np.eye(3)),
+        gf.EKFMeas(h=meas_h, Q=[[1]], n=3, angle_mask=1, gate=3)]
+    for m in models:
+        cls = subclass(type(m), gf)
+        twin = cls.__new__(cls)
+        type(m).__init__(twin, *[getattr(m, a) for a in ARGS[type(m).__name__]])
+        twin.tag = [type(m).__name__]
+        out.append((twin, m))
+    return out
+
+
+ARGS = {"KF2Model": ("A", "R", "B", "c"), "KFModel": ("A", "R", "B", "c"),
+        "KF2Meas": ("C", "Q", "c", "gate"), "KFMeas": ("C", "Q", "c", "gate"),
+        "EKF3Motion": ("g", "R"), "EKFMotion": ("g", "R"),
+        "EKF3Meas": ("h", "Q", "angle_mask", "gate"),
+        "EKFMeas": ("h", "Q", "n", "angle_mask", "gate")}
+
+
+def same_model(a, b):
+    for attr in ARGS[type(b).__name__]:
+        x, y = getattr(a, attr), getattr(b, attr)
+        if isinstance(y, np.ndarray):
+            assert x.dtype == y.dtype and x.tobytes() == y.tobytes(), attr
+        else:
+            assert x is y or x == y, attr
+    return True
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_subclasses_pickle_and_copy_with_their_attributes(gf):
+    for obj, plain in subclassed(gf):
+        for twin in (pickle.loads(pickle.dumps(obj)), copy.copy(obj),
+                     copy.deepcopy(obj)):
+            assert type(twin) is type(obj) and twin.tag == obj.tag
+            if hasattr(plain, "mu"):
+                assert twin.__getstate__()[:5] == plain.__getstate__()
+                assert twin.__getstate__()[5] == {"tag": obj.tag}
+            else:
+                assert same_model(twin, plain)
+        deep = copy.deepcopy(obj)
+        assert deep.tag is not obj.tag  # deepcopy copies the attributes
+    # an object of the class itself: no attributes in its state
+    assert all(len(f.__getstate__()) == 5 for f in stepped(gf).values())
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_models_step_as_their_copies(gf):
+    """A prediction and an update with a model's pickled or copied twin
+    give the original's bits (the twin factored to the same bits)."""
+    kf = gf.KF(mu=[1, 2, 3], sigma=np.diag([2, 1, 0.5]))
+    model = gf.KFModel(A=[[1, 0.1, 0], [0, 1, 0.1], [0, 0, 1]],
+                       R=[[0.3, 0.1, 0], [0.1, 0.2, 0.05], [0, 0.05, 0.1]],
+                       B=[[0.5], [1], [0]], c=[0.01, 0, 0])
+    meas = gf.KFMeas(C=[[1, 0, 0], [0, 0, 1]], Q=[[2, 0.3], [0.3, 1]])
+    ekf3 = gf.EKF3(mu=[0, 0, 0.5], sigma=np.eye(3))
+    motion = gf.EKF3Motion(g=gf.forward_turn, R=np.diag([0.1, 0.1, 0.01]))
+    for twin_of in (lambda m: pickle.loads(pickle.dumps(m)), copy.copy,
+                    copy.deepcopy):
+        a, b = copy.deepcopy(kf), copy.deepcopy(kf)
+        a.predict(model, u=[0.5])
+        b.predict(twin_of(model), u=[0.5])
+        a.update(meas, z=[1, 2])
+        b.update(twin_of(meas), z=[1, 2])
+        assert same(a, b)
+        c, d = copy.deepcopy(ekf3), copy.deepcopy(ekf3)
+        c.predict(motion, u=[1, 0.2])
+        d.predict(twin_of(motion), u=[1, 0.2])
+        assert same(c, d)
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_states_refused_and_nothing_changes(gf):
+    # a filter never initialised has no state to give
+    for cls in (gf.KF2, gf.EKF3, gf.KF, gf.EKF):
+        with pytest.raises(gaussfilt.BadArgument, match="never initialised"):
+            pickle.dumps(cls.__new__(cls))
+    # attributes for an object that has no __dict__, or not a dict
+    f = stepped(gf)["KF"]
+    st = f.__getstate__()
+    for bad in (st + ({"tag": 1},), st + ([1],)):
+        with pytest.raises(gaussfilt.BadArgument, match="attributes"):
+            f.__setstate__(bad)
+        assert f.__getstate__() == st
+    # a model's state that is not one, or that its constructor refuses
+    car = gf.KF2Model(A=[[1, 1], [0, 1]], R=np.eye(2))
+    for bad, exc in (("x", gaussfilt.BadArgument),
+                     (((np.eye(2),), None), TypeError),
+                     ((np.eye(2), np.eye(2)), gaussfilt.BadArgument),
+                     (((np.eye(2), -np.eye(2), None, None), None),
+                      gaussfilt.NotPSD)):
+        with pytest.raises(exc):
+            car.__setstate__(bad)
+        assert same_model(car, gf.KF2Model(A=[[1, 1], [0, 1]], R=np.eye(2)))
