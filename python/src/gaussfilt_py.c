@@ -15,6 +15,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <numpy/arrayobject.h>
+#include <numpy/arrayscalars.h>
 
 #include <math.h>
 #include <stddef.h>
@@ -184,23 +185,51 @@ static int numbers_only(PyObject *obj, const char *name)
     return a ? 0 : -1;
 }
 
-// 1 when seq (a list or tuple of n items) holds only Python floats and
-// ints (not bools), read into out; else 0, out unspecified.
+// 1 when x is a Python float, a numpy.float64 or numpy.float32, or a
+// Python or numpy integer (not a bool) of at most 2^53 in magnitude, read
+// into *out rounded once to gf_real as numpy's cast rounds it; else 0
+// (numpy reads it: a larger integer would be rounded twice here), *out
+// unspecified.
+static int read_float_item(PyObject *x, gf_real *out)
+{
+    double v;
+    if (PyFloat_CheckExact(x)) {
+        *out = (gf_real)PyFloat_AS_DOUBLE(x);
+        return 1;
+    }
+    if (PyArray_IsScalar(x, Double)) {
+        *out = (gf_real)PyArrayScalar_VAL(x, Double);
+        return 1;
+    }
+    if (PyArray_IsScalar(x, Float)) {
+        *out = (gf_real)PyArrayScalar_VAL(x, Float);
+        return 1;
+    }
+    if (PyLong_CheckExact(x)) {
+        v = PyLong_AsDouble(x);
+    } else if (PyArray_IsScalar(x, Integer)) {
+        v = PyFloat_AsDouble(x);
+    } else {
+        return 0;
+    }
+    if (v == -1.0 && PyErr_Occurred()) {
+        PyErr_Clear();
+        return 0;
+    }
+    if (fabs(v) > 9007199254740992.0) {
+        return 0;
+    }
+    *out = (gf_real)v;
+    return 1;
+}
+
+// 1 when seq (a list or tuple of n items) holds only numbers
+// read_float_item reads, read into out; else 0, out unspecified.
 static int read_flat_floats(PyObject *seq, npy_intp n, gf_real *out)
 {
     PyObject **items = PySequence_Fast_ITEMS(seq);
     for (npy_intp i = 0; i < n; i++) {
-        PyObject *x = items[i];
-        if (PyFloat_CheckExact(x)) {
-            out[i] = (gf_real)PyFloat_AS_DOUBLE(x);
-        } else if (PyLong_CheckExact(x)) {
-            const double v = PyLong_AsDouble(x);
-            if (v == -1.0 && PyErr_Occurred()) {
-                PyErr_Clear();
-                return 0;
-            }
-            out[i] = (gf_real)v;
-        } else {
+        if (!read_float_item(items[i], &out[i])) {
             return 0;
         }
     }
@@ -226,22 +255,12 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
         // entry below, as numpy's cast rounds them
         a = (PyArrayObject *)obj;
         Py_INCREF(a);
-    } else if (PyFloat_CheckExact(obj) && size == 1) {
-        out[0] = (gf_real)PyFloat_AS_DOUBLE(obj);
-        return 0;
-    } else if (size == 1 && (PyArray_IsScalar(obj, Floating) ||
-                             PyArray_IsScalar(obj, Integer))) {
-        // a numpy scalar: its value, rounded to gf_real as a cast rounds it
-        const double v = PyFloat_AsDouble(obj);
-        if (v == -1.0 && PyErr_Occurred()) {
-            return -1;
-        }
-        out[0] = (gf_real)v;
-        return 0;
+    } else if (size == 1 && read_float_item(obj, out)) {
+        return 0; // a Python or numpy scalar
     } else if ((PyList_CheckExact(obj) || PyTuple_CheckExact(obj)) &&
                rows <= 1 && PySequence_Fast_GET_SIZE(obj) == cols &&
                read_flat_floats(obj, cols, out)) {
-        return 0; // a list or tuple of Python floats and ints
+        return 0; // a list or tuple of such scalars
     } else {
         a = numeric_array(obj, name);
         if (!a) {

@@ -8,13 +8,20 @@ step; python/tests/replay/replay.c --bench-kf2 is the C loop):
 - the package, one predict and one update call per step, and its
   overhead over the C step;
 - the package's batch entry, KF2.run, over arrays of z;
-- FilterPy's KalmanFilter, predict + update, on the same workload.
+- FilterPy's KalmanFilter, predict + update, on the same workload;
+- an update alone with z in each form the package reads in place (a
+  list, a tuple, Python and numpy scalars, the other precision's array),
+  beside an array of the module's own type.
+
+Every figure is the median of --repeat timed runs (default 7).
 
     python python/tests/bench_kf2.py [--replay PATH_TO_gf_replay] [--steps N]
+                                     [--repeat R]
 
 scripts/bench-python builds gf_replay (double) and runs this.
 """
 import argparse
+import statistics
 import subprocess
 import time
 
@@ -24,21 +31,29 @@ import gaussfilt
 from gaussfilt import float64 as gf
 
 
-def best_of(fn, repeat=5):
+REPEAT = 7
+
+
+def median_of(fn, repeat=None):
+    """The median time of repeat calls of fn, in seconds."""
     times = []
-    for _ in range(repeat):
+    for _ in range(repeat or REPEAT):
         t0 = time.perf_counter()
         fn()
         times.append(time.perf_counter() - t0)
-    return min(times)
+    return statistics.median(times)
 
 
 def main():
+    global REPEAT
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--replay", help="gf_replay (double) for the C loop")
     ap.add_argument("--steps", type=int, default=200000)
+    ap.add_argument("--repeat", type=int, default=REPEAT,
+                    help="timed runs of each figure; the median is printed")
     a = ap.parse_args()
     N = a.steps
+    REPEAT = max(1, a.repeat)
     z = (np.arange(N) % 17 - 8.0).reshape(N, 1)
 
     car = gf.KF2Model(A=[[1, 1], [0, 1]], R=[[0.25, 0.5], [0.5, 1]])
@@ -59,12 +74,12 @@ def main():
     if a.replay:
         out = subprocess.run([a.replay, "--bench-kf2", str(N)], check=True,
                              capture_output=True, text=True).stdout
-        c_ns = min(float(subprocess.run(
+        c_ns = statistics.median(float(subprocess.run(
             [a.replay, "--bench-kf2", str(N)], check=True, capture_output=True,
-            text=True).stdout.split(":")[1].split()[0]) for _ in range(5))
+            text=True).stdout.split(":")[1].split()[0]) for _ in range(REPEAT))
         print(out.strip())
-    py_ns = best_of(steps) / N * 1e9
-    batch_ns = best_of(batch) / N * 1e9
+    py_ns = median_of(steps) / N * 1e9
+    batch_ns = median_of(batch) / N * 1e9
 
     from filterpy.kalman import KalmanFilter
     fk = KalmanFilter(dim_x=2, dim_z=1)
@@ -79,9 +94,10 @@ def main():
         for zk in zs[:M]:
             fk.predict()
             fk.update(zk)
-    fp_ns = best_of(filterpy_steps, 3) / M * 1e9
+    fp_ns = median_of(filterpy_steps, 3) / M * 1e9
 
-    print("KF2, predict + update, %d steps (best of 5):" % N)
+    print("KF2, predict + update, %d steps (median of %d; FilterPy: %d "
+          "steps, median of 3):" % (N, REPEAT, M))
     if c_ns is not None:
         print("  C loop (gf_replay --bench-kf2)   %8.3f us per step" % (c_ns / 1e3))
     print("  Python, a call each              %8.3f us per step" % (py_ns / 1e3))
@@ -93,28 +109,37 @@ def main():
     print("  FilterPy KalmanFilter            %8.3f us per step" % (fp_ns / 1e3))
     print("    FilterPy / Python calls        %8.1f x" % (fp_ns / py_ns))
     print("    FilterPy / batch               %8.1f x" % (fp_ns / batch_ns))
-    print("update alone, by the form z comes in (best of 5 of %d calls):"
-          % (N // 4))
+    print("update alone, by the form z comes in (median of %d runs of %d "
+          "calls; x: over an array of the module's type, and over a "
+          "float64 array):" % (REPEAT, N // 4))
     for mod in (gf, gaussfilt.float32):
         kf = mod.KF2([0, 0], np.eye(2))
         meas = mod.KF2Meas(C=[[1, 0]], Q=[[10]])
-        forms = [("an array of the module's type", np.array([0.5],
-                                                         dtype=mod.dtype)),
-                 ("a list", [0.5]), ("a float", 0.5),
+        forms = [("an array of the module's type",
+                  np.array([0.5], dtype=mod.dtype)),
+                 ("a float64 array", np.array([0.5])),
+                 ("a float32 array", np.array([0.5], dtype=np.float32)),
+                 ("a list", [0.5]), ("a tuple", (0.5,)),
+                 ("a list of ints", [1]),
+                 ("a list of numpy.float64", [np.float64(0.5)]),
+                 ("a float", 0.5), ("an int", 1),
                  ("a numpy.float64", np.float64(0.5)),
-                 ("a float64 array", np.array([0.5]))]
-        base = None
+                 ("a numpy.float32", np.float32(0.5)),
+                 ("an int16 array (numpy converts)",
+                  np.array([1], dtype=np.int16))]
+        times = {}
         for label, zf in forms:
             update = kf.update
 
             def calls(zf=zf, update=update, meas=meas):
                 for _ in range(N // 4):
                     update(meas, zf)
-            ns = best_of(calls) / (N // 4) * 1e9
-            base = base or ns
-            print("  %s, z as %-31s %7.3f us (%.2fx)"
-                  % (mod.__name__.split(".")[1], label, ns / 1e3,
-                     ns / base))
+            times[label] = median_of(calls) / (N // 4) * 1e9
+        own, f64 = times[forms[0][0]], times["a float64 array"]
+        for label, ns in times.items():
+            print("  %s, z as %-33s %7.3f us  %5.2fx  %5.2fx"
+                  % (mod.__name__.split(".")[1], label, ns / 1e3, ns / own,
+                     ns / f64))
 
 
 if __name__ == "__main__":

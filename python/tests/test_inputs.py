@@ -199,3 +199,72 @@ def test_every_shape_is_printed_as_numpy_prints_it():
         with pytest.raises(gaussfilt.BadArgument) as e:
             call(a)
         assert str(e.value).endswith("got %s" % (a.shape,)), str(e.value)
+
+
+def fast_forms(gf):
+    """The forms of a one-entry z that take the fast path (read without
+    making an array), each with its label."""
+    return [("an array of the module's type", np.array([0.5], gf.dtype)),
+            ("a float64 array", np.array([0.5])),
+            ("a float32 array", np.array([0.5], np.float32)),
+            ("a list", [0.5]), ("a tuple", (0.5,)), ("a list of ints", [1]),
+            ("a list of numpy.float64", [np.float64(0.5)]),
+            ("a list of numpy.float32", [np.float32(0.5)]),
+            ("a float", 0.5), ("an int", 1), ("a numpy.float64",
+                                               np.float64(0.5)),
+            ("a numpy.float32", np.float32(0.5)), ("a numpy.int64",
+                                                   np.int64(1))]
+
+
+def peak_of_updates(kf, meas, z, calls=200):
+    """The traced heap's peak over calls updates with z, above what it held
+    before: the loop's own bytes when z is read in place, more when each
+    call makes an array of it."""
+    import tracemalloc
+    update = kf.update
+    for _ in range(10):
+        update(meas, z)
+    tracemalloc.start()
+    try:
+        tracemalloc.reset_peak()
+        before, _ = tracemalloc.get_traced_memory()
+        for _ in range(calls):
+            update(meas, z)
+        return tracemalloc.get_traced_memory()[1] - before
+    finally:
+        tracemalloc.stop()
+
+
+@pytest.mark.parametrize("gf", [float32, float64])
+def test_lists_scalars_and_the_other_precision_take_the_fast_path(gf):
+    """No array is made of z in any of the fast forms (what made a list 4x
+    and a float64 array given to float32 3.4x an array of the module's
+    type): each update's traced heap peaks as the module's own array's
+    does, where a form numpy must convert (int16, a large int) peaks
+    higher, so the check can fail."""
+    kf = gf.KF2(mu=[0, 0], sigma=np.eye(2))
+    meas = gf.KF2Meas(C=[[1, 0]], Q=[[10]])
+    own = peak_of_updates(kf, meas, np.array([0.5], gf.dtype))
+    for label, z in fast_forms(gf):
+        assert peak_of_updates(kf, meas, z) == own, label
+    for z in (np.array([1], np.int16), 2 ** 60, [np.longdouble(0.5)]):
+        assert peak_of_updates(kf, meas, z) > own, z
+
+
+@pytest.mark.parametrize("gf", [float32, float64])
+def test_fast_forms_round_as_numpy_rounds(gf):
+    """Every form gives numpy's cast of its value, bit for bit; an integer
+    beyond 2^53 goes to numpy (which rounds it once, where a double on
+    the way would round it twice in float32)."""
+    for v in (0.1, 1 / 3, 1e-40, 3.4e38 * 0.99, 2 ** 53, 2 ** 60 + 2 ** 36 + 1,
+              -(2 ** 62) - 1):
+        want = np.array([v, v]).astype(gf.dtype) if isinstance(v, float) \
+            else np.array([v, v], np.int64).astype(gf.dtype)
+        t = np.float64 if isinstance(v, float) else np.int64
+        for form in ([v, v], (v, v), [t(v), t(v)], np.array([v, v], t)):
+            kf = gf.KF2(mu=[0, 0], sigma=np.eye(2))
+            kf.mu = form
+            assert kf.mu.tobytes() == want.tobytes(), (v, form)
+    # the double rounding the fast path must not do, seen in numpy itself
+    v = 2 ** 60 + 2 ** 36 + 1
+    assert np.float32(float(v)) != np.float32(np.int64(v))
