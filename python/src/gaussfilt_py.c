@@ -1509,11 +1509,16 @@ static int set_sigma_value(PyObject *value, const char *who)
     return -1;
 }
 
-// reset(mu, sigma[, angles]): the constructor again on this object, which
-// judges and factors as it does; the belief unchanged when it refuses.
+// reset(mu, sigma[, angles]): the class's own constructor again on this
+// object (a subclass's __init__ is not called), which judges and factors
+// as it does; the belief unchanged when it refuses.
 static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
 {
-    if (Py_TYPE(self)->tp_init(self, args, kw) < 0) {
+    PyTypeObject *t = Py_TYPE(self);
+    while (t->tp_flags & Py_TPFLAGS_HEAPTYPE) {
+        t = t->tp_base;
+    }
+    if (t->tp_init(self, args, kw) < 0) {
         return NULL;
     }
     Py_RETURN_NONE;
@@ -3153,23 +3158,53 @@ static PyMethodDef module_methods[] = {
 
 // ---- types and module -----------------------------------------------------
 
-// The repr of every class here: its name (with the precision), n and m
-// where it has them, and a belief's mean:
+// The repr of every class here: its name (with the precision; a
+// subclass's own name, then the class it derives from), n and m where it
+// has them, and a belief's mean:
 //   <gaussfilt.float32.KF2 n=2 mu=[4.0244 1.2195]>
 //   <gaussfilt.float64.KFMeas n=4 m=2>
+//   <tracks.Track gaussfilt.float64.KF2 n=2 mu=[0. 1.]>
+// A belief whose run() is in progress in another thread shows no mean.
 static PyObject *Obj_repr(PyObject *self)
 {
     static const char *const sizes[] = {"n", "m"};
-    PyObject *parts = PyList_New(0), *out = NULL, *mu = NULL;
+    PyObject *parts = PyList_New(0), *out = NULL, *mu = NULL, *head;
+    PyTypeObject *base = Py_TYPE(self);
     if (!parts) {
         return NULL;
     }
-    PyObject *head = PyUnicode_FromFormat("<%s", Py_TYPE(self)->tp_name);
+    while (base->tp_flags & Py_TPFLAGS_HEAPTYPE) {
+        base = base->tp_base;
+    }
+    if (base == Py_TYPE(self)) {
+        head = PyUnicode_FromFormat("<%s", base->tp_name);
+    } else {
+        PyObject *cls = (PyObject *)Py_TYPE(self);
+        PyObject *mod = PyObject_GetAttrString(cls, "__module__");
+        PyObject *qual =
+            mod ? PyObject_GetAttrString(cls, "__qualname__") : NULL;
+        head = qual
+                   ? PyUnicode_FromFormat("<%S.%S %s", mod, qual, base->tp_name)
+                   : NULL;
+        Py_XDECREF(mod);
+        Py_XDECREF(qual);
+    }
     int ok = head && PyList_Append(parts, head) == 0;
     Py_XDECREF(head);
-    mu = ok && PyObject_HasAttrString(self, "mu")
-             ? PyObject_GetAttrString(self, "mu")
-             : NULL;
+    const int belief = PyObject_TypeCheck(self, &KF2_Type) ||
+                       PyObject_TypeCheck(self, &EKF3_Type) ||
+                       PyObject_TypeCheck(self, &KF_Type) ||
+                       PyObject_TypeCheck(self, &EKF_Type);
+    const int running = belief && ((FilterObj *)self)->busy == BUSY_NOGIL;
+    if (ok && running) {
+        PyObject *t = PyUnicode_FromString("(a run in progress)");
+        ok = t && PyList_Append(parts, t) == 0;
+        Py_XDECREF(t);
+    }
+    mu = ok && belief && !running ? PyObject_GetAttrString(self, "mu") : NULL;
+    if (!mu && PyErr_Occurred()) {
+        ok = 0;
+    }
     if (mu) {
         PyObject *t = PyUnicode_FromFormat(
             "n=%zd", PyArray_Check(mu) ? PyArray_SIZE((PyArrayObject *)mu)
@@ -3177,7 +3212,7 @@ static PyObject *Obj_repr(PyObject *self)
         ok = t && PyList_Append(parts, t) == 0;
         Py_XDECREF(t);
     }
-    for (int i = 0; ok && !mu && i < 2; i++) {
+    for (int i = 0; ok && !mu && !belief && i < 2; i++) {
         if (!PyObject_HasAttrString(self, sizes[i])) {
             continue;
         }

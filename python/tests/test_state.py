@@ -140,6 +140,20 @@ def test_repr():
         "<gaussfilt.float64.EKF n=3 mu=[1. 2. 3.]>"
     assert repr(float64.KFMeas(C=[[1, 0, 0, 0]], Q=[[1]])) == \
         "<gaussfilt.float64.KFMeas n=4 m=1>"
+    assert repr(float32.EKF3Meas(h=float32.meas_xy, Q=np.eye(2))) == \
+        "<gaussfilt.float32.EKF3Meas m=2>"
+    sub = subclass(float32.KF2, float32).__new__(subclass(float32.KF2,
+                                                          float32))
+    sub.reset(mu=[1, 2], sigma=np.eye(2))
+    assert repr(sub) == ("<test_state.MyKF2_float32 gaussfilt.float32.KF2 "
+                         "n=2 mu=[1. 2.]>")
+    model = subclass(float64.KFMeas, float64).__new__(
+        subclass(float64.KFMeas, float64))
+    float64.KFMeas.__init__(model, C=[[1, 0]], Q=1)
+    assert repr(model) == ("<test_state.MyKFMeas_float64 "
+                           "gaussfilt.float64.KFMeas n=2 m=1>")
+    assert repr(float64.KF.__new__(float64.KF)) == \
+        "<gaussfilt.float64.KF n=0 mu=[]>"
 
 
 @pytest.mark.parametrize("gf", MODS)

@@ -45,6 +45,16 @@ def start(fn):
     return th, out
 
 
+def repr_probe(kf):
+    """repr(kf), which never raises: while a run is on it shows no mean
+    (RuntimeError here, as the other probes are refused); else the mean."""
+    r = repr(kf)
+    if r.endswith(" (a run in progress)>"):
+        raise RuntimeError("a run() of this filter is in progress in another "
+                           "thread: " + r)
+    assert r.startswith("<gaussfilt.float") and " n=2 mu=[" in r, r
+
+
 def run_when_idle(kf, car, gps, z):
     """kf.run(car, gps, z=z), tried again while refused (a probe's own run
     holds the filter: the first to ask has it)."""
@@ -82,6 +92,7 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
             "nis": lambda: kf.nis,
             "innovation": lambda: kf.innovation,
             "copy": lambda: copy.copy(kf),
+            "repr": lambda: repr_probe(kf),
         }
         th, out = start(lambda: run_when_idle(kf, car, gps, z))
         while th.is_alive() and len(refused) < len(probes):
