@@ -360,3 +360,41 @@ def test_states_refused_and_nothing_changes(gf):
         with pytest.raises(exc):
             car.__setstate__(bad)
         assert same_model(car, gf.KF2Model(A=[[1, 1], [0, 1]], R=np.eye(2)))
+
+
+def test_a_pickle_loads_in_another_interpreter():
+    """Checkpoints and multiprocessing: every belief and model pickled here
+    loads in a fresh Python (classes found by their module, built-in
+    models by name) and steps there to the bits it steps to here."""
+    import subprocess
+    import sys
+    script = r'''
+import pickle, sys
+import numpy as np
+objs = pickle.loads(sys.stdin.buffer.read())
+out = []
+for mod_name, kf, model, meas, ekf3, motion in objs:
+    kf.predict(model, u=[0.5])
+    kf.update(meas, z=[1.0, 2.0])
+    ekf3.predict(motion, u=[1.0, 0.3])
+    out.append((kf.__getstate__(), ekf3.__getstate__()))
+sys.stdout.buffer.write(pickle.dumps(out))
+'''
+    objs, want = [], []
+    for gf in MODS:
+        kf = gf.KF(mu=[1, 2, 3], sigma=np.diag([2, 1, 0.5]))
+        model = gf.KFModel(A=np.eye(3), R=np.eye(3) * 0.1,
+                           B=[[1], [0], [0.5]], c=[0, 0.1, 0])
+        meas = gf.KFMeas(C=[[1, 0, 0], [0, 1, 0]], Q=np.eye(2), gate=50)
+        ekf3 = gf.EKF3(mu=[0, 0, 0.2], sigma=np.eye(3))
+        motion = gf.EKF3Motion(g=gf.forward_turn, R=np.eye(3) * 0.01)
+        objs.append((gf.__name__, kf, model, meas, ekf3, motion))
+        k, e = copy.deepcopy(kf), copy.deepcopy(ekf3)
+        k.predict(model, u=[0.5])
+        k.update(meas, z=[1.0, 2.0])
+        e.predict(motion, u=[1.0, 0.3])
+        want.append((k.__getstate__(), e.__getstate__()))
+    got = subprocess.run([sys.executable, "-c", script],
+                         input=pickle.dumps(objs), capture_output=True,
+                         check=True).stdout
+    assert pickle.loads(got) == want
