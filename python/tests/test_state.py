@@ -398,3 +398,23 @@ sys.stdout.buffer.write(pickle.dumps(out))
                          input=pickle.dumps(objs), capture_output=True,
                          check=True).stdout
     assert pickle.loads(got) == want
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_exceptions_pickle_with_what_they_carry(gf):
+    """A worker's exception reaches its parent whole: Gated's innovation
+    and NIS, a run's failed step."""
+    kf = gf.KF2(mu=[0, 0], sigma=np.eye(2))
+    with pytest.raises(gaussfilt.Gated) as gated:
+        kf.update(gf.KF2Meas(C=[1, 0], Q=1, gate=1), 100)
+    pushed = gf.KF2Model(A=np.eye(2), R=np.eye(2), B=np.eye(2))
+    with pytest.raises(gaussfilt.NonFinite) as failed:
+        kf.run(pushed, u=[[0, 0], [0, 0], [np.nan, 0]])
+    for e in (gated.value, failed.value):
+        back = pickle.loads(pickle.dumps(e))
+        assert type(back) is type(e) and str(back) == str(e)
+        assert back.step == e.step and back.status == e.status
+    back = pickle.loads(pickle.dumps(gated.value))
+    assert back.nis == gated.value.nis == 5000
+    assert back.innovation.tobytes() == gated.value.innovation.tobytes()
+    assert pickle.loads(pickle.dumps(failed.value)).step == 2
