@@ -4,6 +4,8 @@
 
     python examples/beliefs.py [--url URL] [--track N] [--plot FILE.png]
                                [--config FILE] [--count N] [--seconds S]
+    python examples/beliefs.py --status [--url URL] [--track N]
+                               [--count N] [--seconds S]
 
 Subscribes to GF_BELIEF_<track> (every track by default) and prints a
 ready line once it listens ("beliefs.py: ready ..."; `gf_sim --wait FILE`
@@ -19,6 +21,12 @@ state is labelled with its name and unit: from --config, the gf_node
 configuration whose model the track runs (its states = and units = lines,
 or the axes of its motion = line: x vx y vy for cv cv); else the car's
 (position, velocity) and the robot's (x, y, theta in rad); else x0, x1, ...
+
+With --status it prints the nodes' status messages instead (node_status_t
+on GF_NODE_STATUS, once a second from every node): a line per status
+with the node's counters, then a line per track (only --track's with it):
+its inputs, applied, gated and refused by reason, the last NIS and the
+mean NIS since the node's previous status. --count then counts statuses.
 
 Needs the lcm package and the types (the package gaussfilt_lcm, which
 scripts/lcm.sh installs into the project's .venv). URL: LCM's, e.g.
@@ -100,6 +108,84 @@ def state_labels(config, track, model, n):
     return ["%s (%s)" % (a, u) if u else a for a, u in zip(names, units)]
 
 
+KIND = {1: "car", 2: "robot", 3: "linear"}
+# node_results_t's fields, the refusals after applied and gated
+REFUSALS = ["duplicate", "out_of_order", "malformed", "type_mismatch",
+            "bad_field", "unknown_channel", "track_limit", "nonfinite",
+            "filter_error", "stale_session", "no_summary", "no_model",
+            "late", "too_old"]
+
+
+def refused(results):
+    """'bad_field 20, late 3' (the results that refused any), or 'none'."""
+    r = ["%s %d" % (k, getattr(results, k)) for k in REFUSALS
+         if getattr(results, k)]
+    return ", ".join(r) if r else "none"
+
+
+def status_lines(s, track=None):
+    """A node_status_t as text: the node's line, then a line per track."""
+    lines = ["status %s seq %d%s (pid %d on %s): received %d, applied %d, "
+             "gated %d, refused %s; gaps %d, dropped %d, kernel_drops %s, "
+             "lost_before_first %d, name_clashes %d; queue %d (peak %d); "
+             "%d tracks" % (
+                 s.node, s.seq, " STOPPING" if s.stopping else "", s.pid,
+                 s.host, s.received, s.results.applied, s.results.gated,
+                 refused(s.results), s.gaps, s.dropped,
+                 s.kernel_drops if s.kernel_drops >= 0 else "-",
+                 s.lost_before_first, s.name_clashes, s.queue_depth,
+                 s.queue_peak, s.ntracks)]
+    for t in s.tracks:
+        if track is not None and t.track != track:
+            continue
+        nis = "NIS last %.3f (m=%d), " % (t.nis_last, t.m_last) + (
+            "mean %.3f over %d updates since the last status (%.3f per dof)"
+            % (t.nis_mean, t.nis_updates, t.nis_per_dof) if t.nis_updates
+            else "no update since the last status") if t.m_last else \
+            "no update yet"
+        lines.append("  track %d (%s, %s): inputs %d, applied %d, gated %d "
+                     "(%d in a row), refused %s; %s; last input seq %d, "
+                     "%s" % (
+                         t.track, KIND.get(t.model, t.model), t.model_name,
+                         t.inputs, t.results.applied, t.results.gated,
+                         t.gated_run, refused(t.results), nis, t.input_seq,
+                         "%.3f s ago" % t.age if t.age >= 0 else "age -"))
+    return lines
+
+
+def watch_status(a):
+    """--status: prints every node_status_t until --count, --seconds
+    without one, or the end of a log."""
+    from gaussfilt_lcm import node_status_t
+    lc = lcm.LCM(a.url) if a.url else lcm.LCM()
+    seen = []
+
+    def on_status(channel, data):
+        s = node_status_t.decode(data)
+        print("\n".join(status_lines(s, a.track)), flush=True)
+        seen.append(s)
+
+    lc.subscribe("GF_NODE_STATUS", on_status).set_queue_capacity(1000)
+    print("beliefs.py: ready url=%s channel=GF_NODE_STATUS" % (
+        a.url or "(LCM's default)"), flush=True)
+    replay = bool(a.url) and a.url.startswith("file://")
+    try:
+        while not a.count or len(seen) < a.count:
+            if replay:
+                lc.handle()  # IOError at the end of the log
+                continue
+            r, _, _ = select.select([lc.fileno()], [], [],
+                                    a.seconds if a.seconds > 0 else None)
+            if not r:
+                break
+            lc.handle()
+    except (KeyboardInterrupt, IOError):
+        pass
+    print("%d statuses from %d nodes" % (len(seen),
+                                         len({s.node for s in seen})),
+          flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--url", default=None, help="LCM URL (default: LCM's)")
@@ -111,7 +197,13 @@ def main():
     ap.add_argument("--count", type=int, default=0, help="stop after N beliefs")
     ap.add_argument("--seconds", type=float, default=0.0,
                     help="stop after S seconds without a belief")
+    ap.add_argument("--status", action="store_true",
+                    help="print the nodes' status messages instead")
     a = ap.parse_args()
+    if a.status:
+        if a.plot:
+            ap.error("--status draws nothing")
+        return watch_status(a)
     if a.plot and a.track is None:
         ap.error("--plot needs --track")
 

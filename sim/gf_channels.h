@@ -22,6 +22,9 @@
 // gaussfilt_lcm_particles_t, node -> anyone: after every belief of a
 // particle-filter track (gf_node --filter pf)
 #define GF_CHANNEL_PARTICLES "GF_PARTICLES_"
+// gaussfilt_lcm_node_status_t, node -> anyone: its diagnostics, once a
+// second (one channel for all nodes: each status names its node)
+#define GF_CHANNEL_STATUS "GF_NODE_STATUS"
 // gaussfilt_lcm_groundtruth_t, simulator -> tools (never read by the node)
 #define GF_CHANNEL_TRUTH "GF_TRUTH_"
 

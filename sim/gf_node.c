@@ -20,7 +20,13 @@
 //   --name      the node's id in every belief (belief_t.node; default
 //               host:pid:start). A belief of one of its tracks from
 //               another id is counted (peer_beliefs) and warned about
-//               once per track: two nodes filter it
+//               once per track: two nodes filter it. Another process
+//               with the same id (its status says another host, pid or
+//               start) is counted (name_clashes) and warned about once
+//
+// Its status (node_status_t on GF_NODE_STATUS: its counters, and per
+// track the results of its inputs, its updates and NIS) goes out at
+// start, once a second and as it stops; a replay's at its end only.
 //   --url       where to listen (default: $LCM_DEFAULT_URL, else LCM's
 //               default udpm URL); file:///log.lcmlog?speed=0 replays a log
 //   --out-url   publish beliefs on another LCM instead (needed with a
@@ -93,6 +99,9 @@
 // The kernel caps it at net.core.rmem_max.
 #define GF_NODE_RCVBUF 4194304L
 
+// The node's status goes out once a second.
+#define GF_NODE_STATUS_PERIOD_US 1000000
+
 static volatile sig_atomic_t g_stop; // set by the signal handler only
 
 static void on_signal(int sig)
@@ -145,6 +154,19 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel,
     node_ctx *c = user;
     (void)gf_inq_push(&c->q, channel, rbuf->data, rbuf->data_size,
                       rbuf->recv_utime);
+}
+
+// LCM's dispatch of a node's status (its own come back over udpm): one of
+// another process with this node's id is counted and warned about
+// (gf_node_peer_status), under the node's lock.
+static void on_status(const lcm_recv_buf_t *rbuf, const char *channel,
+                      void *user)
+{
+    node_ctx *c = user;
+    (void)channel;
+    pthread_mutex_lock(&c->node_mu);
+    (void)gf_node_peer_status(c->node, rbuf->data, rbuf->data_size);
+    pthread_mutex_unlock(&c->node_mu);
 }
 
 // LCM's dispatch of a belief (the node's own come back over udpm): one of
@@ -213,6 +235,24 @@ static int64_t wall_us(void)
     return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
 }
 
+// Publishes the node's status (gf_node_status): stopping = 1 for its last.
+static void publish_status(node_ctx *c, int sock, int replay, int stopping)
+{
+    static uint8_t buf[GF_NODE_STATUS_BYTES];
+    gf_node_status_info info;
+    info.utime = wall_us();
+    info.rx_now = replay ? -1 : info.utime;
+    info.kernel_drops = gf_sock_drops(sock);
+    pthread_mutex_lock(&c->q.mu);
+    info.queue_depth = (int32_t)c->q.count;
+    info.queue_peak = (int32_t)c->q.peak;
+    pthread_mutex_unlock(&c->q.mu);
+    info.stopping = stopping;
+    pthread_mutex_lock(&c->node_mu);
+    (void)gf_node_status(c->node, &info, buf, sizeof buf);
+    pthread_mutex_unlock(&c->node_mu);
+}
+
 // The microsecond below which a fraction q of the timed messages fall.
 static long timing_quantile(const node_ctx *c, double q)
 {
@@ -245,10 +285,14 @@ static void help(void)
           "(GF_CTRL_<id>) and measurements (GF_MEAS_<id>) over LCM, runs the\n"
           "track's filter (KF2 for a car, EKF3/UKF3/PF3 for a robot, gf_kf\n"
           "for a linear model of any size) and publishes its belief on\n"
-          "GF_BELIEF_<id> after every input. GF_MODEL_<id> (model_t) sets a\n"
-          "car's or robot's model at run time. Prints a ready line once it\n"
-          "listens, a line for each new track (its model and why), and at\n"
-          "exit (SIGINT, SIGTERM, end of a log) one summary line of counters.\n"
+          "GF_BELIEF_<id> after every input, a refused one too (its status\n"
+          "says why). GF_MODEL_<id> (model_t) sets a car's or robot's model\n"
+          "or resets any track at run time. Publishes its status\n"
+          "(node_status_t: counters, per track results and NIS) on\n"
+          "GF_NODE_STATUS once a second. Prints a ready line once it\n"
+          "listens, a line for each new track (its model and why), the first\n"
+          "refusal of each kind on each track, and at exit (SIGINT, SIGTERM,\n"
+          "end of a log) one summary line of counters.\n"
           "udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo (or\n"
           "your interface), else it says \"no route\" and stops.\n\n",
           stdout);
@@ -316,7 +360,8 @@ int main(int argc, char **argv)
     pthread_t handler;
     long rcvbuf_asked = GF_NODE_RCVBUF, rcvbuf = -1;
     int sock = -1;
-    lcm_subscription_t *sub, *peers;
+    lcm_subscription_t *sub, *peers, *statuses = NULL;
+    int64_t next_status = 0;
 
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
@@ -417,6 +462,12 @@ int main(int argc, char **argv)
                  (long long)time(NULL));
     }
     gf_node_set_id(&node, id);
+    {
+        char host[GF_NODE_HOST_MAX] = "host";
+        (void)gethostname(host, sizeof host);
+        host[sizeof host - 1] = '\0';
+        gf_node_set_process(&node, host, (int32_t)getpid(), wall_us());
+    }
     ctx.node = &node;
     ctx.rt = &rt;
     pthread_mutex_init(&ctx.mu, NULL);
@@ -440,11 +491,16 @@ int main(int argc, char **argv)
     peers = replay ? NULL
                    : lcm_subscribe(in, GF_CHANNEL_BELIEF "-?[0-9]+", on_belief,
                                    &ctx);
+    // other processes with this node's id (gf_node_peer_status)
+    if (!replay) {
+        statuses = lcm_subscribe(in, GF_CHANNEL_STATUS, on_status, &ctx);
+    }
     // LCM's own limit off: every message goes to on_message (the queue
     // above is the node's bound, and it counts what it drops)
     if (sub == NULL || lcm_subscription_set_queue_capacity(sub, 0) != 0 ||
-        (!replay && (peers == NULL ||
-                     lcm_subscription_set_queue_capacity(peers, 0) != 0)) ||
+        (!replay &&
+         (peers == NULL || lcm_subscription_set_queue_capacity(peers, 0) != 0 ||
+          statuses == NULL)) ||
         pthread_create(&handler, NULL, handling, &ctx) != 0) {
         fprintf(stderr, "gf_node: cannot subscribe to %s\n", channels);
         rc = 1;
@@ -500,11 +556,22 @@ int main(int argc, char **argv)
         period_us = (int64_t)(1e6 / rate + 0.5);
         next_tick = wall_us() + period_us;
     }
+    if (have_handler && !replay) { // the first status: seq 0, at start
+        publish_status(&ctx, sock, replay, 0);
+        next_status = wall_us() + GF_NODE_STATUS_PERIOD_US;
+    }
     while (!g_stop) {
         int ms = 100;
         if (period_us > 0) {
             int64_t left = next_tick - wall_us();
             ms = left <= 0 ? 0 : left >= 100000 ? 100 : (int)(left / 1000) + 1;
+        }
+        if (!replay && wall_us() >= next_status) {
+            publish_status(&ctx, sock, replay, 0);
+            next_status += GF_NODE_STATUS_PERIOD_US;
+            if (next_status <= wall_us()) { // fell behind: from now on
+                next_status = wall_us() + GF_NODE_STATUS_PERIOD_US;
+            }
         }
         // < 0: the end of a file:// log, a dead socket, or a signal.
         if (lcm_handle_timeout(in, ms) < 0) {
@@ -528,6 +595,9 @@ int main(int argc, char **argv)
         pthread_join(handler, NULL);
     }
     gf_node_add_dropped(&node, ctx.q.dropped);
+    if (have_handler) {
+        publish_status(&ctx, sock, replay, 1); // its last
+    }
     gf_node_summary(&node, summary, sizeof(summary));
     printf("gf_node: summary %s queue_peak=%u", summary, ctx.q.peak);
     if (gf_sock_drops(sock) >= 0) {

@@ -15,6 +15,7 @@
 #include "gaussfilt_lcm_groundtruth_t.h"
 #include "gaussfilt_lcm_measurement_t.h"
 #include "gaussfilt_lcm_model_t.h"
+#include "gaussfilt_lcm_node_status_t.h"
 #include "gaussfilt_lcm_particles_t.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
@@ -121,6 +122,18 @@ int gf_node_set_id(gf_node *node, const char *id)
         return -1;
     }
     snprintf(node->id, sizeof node->id, "%s", id);
+    return 0;
+}
+
+int gf_node_set_process(gf_node *node, const char *host, int32_t pid,
+                        int64_t start_utime)
+{
+    if (node == NULL || host == NULL) {
+        return -1;
+    }
+    snprintf(node->host, sizeof node->host, "%s", host);
+    node->pid = pid;
+    node->start_utime = start_utime;
     return 0;
 }
 
@@ -2205,6 +2218,189 @@ unsigned gf_node_tick(gf_node *node, int64_t now)
     return k;
 }
 
+// ---- the node's status -----------------------------------------------------
+
+// node_results_t has a field per result: a result added there too.
+typedef char gf_node_results_fields[GF_NODE_RESULT_COUNT == 16 ? 1 : -1];
+
+static void results_fill(const uint64_t *by, gaussfilt_lcm_node_results_t *r)
+{
+    r->applied = (int64_t)by[GF_NODE_APPLIED];
+    r->duplicate = (int64_t)by[GF_NODE_DUPLICATE];
+    r->out_of_order = (int64_t)by[GF_NODE_OUT_OF_ORDER];
+    r->malformed = (int64_t)by[GF_NODE_MALFORMED];
+    r->type_mismatch = (int64_t)by[GF_NODE_TYPE_MISMATCH];
+    r->bad_field = (int64_t)by[GF_NODE_BAD_FIELD];
+    r->unknown_channel = (int64_t)by[GF_NODE_UNKNOWN_CHANNEL];
+    r->track_limit = (int64_t)by[GF_NODE_TRACK_LIMIT];
+    r->nonfinite = (int64_t)by[GF_NODE_NONFINITE];
+    r->filter_error = (int64_t)by[GF_NODE_FILTER_ERROR];
+    r->stale_session = (int64_t)by[GF_NODE_STALE_SESSION];
+    r->no_summary = (int64_t)by[GF_NODE_NO_SUMMARY];
+    r->gated = (int64_t)by[GF_NODE_GATED];
+    r->no_model = (int64_t)by[GF_NODE_NO_MODEL];
+    r->late = (int64_t)by[GF_NODE_LATE];
+    r->too_old = (int64_t)by[GF_NODE_TOO_OLD];
+}
+
+static void track_status_fill(const gf_node_track *t,
+                              const gf_node_status_info *info,
+                              gaussfilt_lcm_track_status_t *ts)
+{
+    uint64_t inputs = 0;
+    unsigned r;
+    memset(ts, 0, sizeof(*ts));
+    for (r = 0; r < GF_NODE_RESULT_COUNT; r++) {
+        inputs += t->by_result[r];
+    }
+    ts->track = t->id;
+    ts->model = t->model;
+    ts->model_name = (char *)(uintptr_t)t->mdl.name;
+    ts->filter = t->filter;
+    ts->inputs = (int64_t)inputs;
+    results_fill(t->by_result, &ts->results);
+    ts->input_seq = t->has_time ? t->input_seq : -1;
+    ts->utime = t->time;
+    ts->age = t->has_time && info->rx_now >= 0
+                  ? (double)(info->rx_now - t->last_rx) / 1e6
+                  : -1.0;
+    ts->updates = (int64_t)t->updates;
+    ts->gated_run = (int32_t)t->gated_run;
+    ts->nis_last = t->nis_last;
+    ts->m_last = (int8_t)t->m_last;
+    ts->nis_updates = (int32_t)t->nis_n;
+    ts->nis_mean = t->nis_n > 0 ? t->nis_sum / (double)t->nis_n : 0.0;
+    ts->nis_per_dof = t->nis_dof > 0 ? t->nis_sum / (double)t->nis_dof : 0.0;
+}
+
+int gf_node_status(gf_node *node, const gf_node_status_info *info, uint8_t *buf,
+                   size_t size)
+{
+    gaussfilt_lcm_node_status_t s;
+    gaussfilt_lcm_track_status_t ts;
+    const gf_node_counts *c;
+    int len, head, k, max;
+    unsigned i;
+    if (node == NULL || info == NULL || buf == NULL) {
+        return -1;
+    }
+    c = &node->counts;
+    max = size > (size_t)INT32_MAX ? INT32_MAX : (int)size;
+    memset(&s, 0, sizeof s);
+    s.utime = info->utime;
+    s.node = node->id;
+    s.host = node->host;
+    s.pid = node->pid;
+    s.start_utime = node->start_utime;
+    s.seq = node->status_seq;
+    s.stopping = (int8_t)(info->stopping != 0);
+    s.period = node->status_seq > 0
+                   ? (double)(info->utime - node->status_utime) / 1e6
+                   : 0.0;
+    s.received = (int64_t)c->received;
+    results_fill(c->by_result, &s.results);
+    s.published = (int64_t)c->published;
+    s.publish_failed = (int64_t)c->publish_failed;
+    s.gaps = (int64_t)c->gaps;
+    s.dropped = (int64_t)c->dropped;
+    s.kernel_drops = info->kernel_drops;
+    s.lost_before_first = (int64_t)c->lost_before_first;
+    s.peer_beliefs = (int64_t)c->peer_beliefs;
+    s.name_clashes = (int64_t)c->name_clashes;
+    s.queue_depth = info->queue_depth;
+    s.queue_peak = info->queue_peak;
+    // Encoded without its tracks, then each track after it: LCM encodes an
+    // array of structs as their encodings one after the other (no
+    // fingerprint of their own), and tracks[ntracks] is the last field,
+    // so ntracks is the int32 just before them. One track_status_t at a
+    // time: nothing sized by the tracks is held.
+    s.ntracks = 0;
+    len = gaussfilt_lcm_node_status_t_encode(buf, 0, max, &s);
+    head = len;
+    for (i = 0; i < node->ntracks && len >= 0; i++) {
+        track_status_fill(&node->tracks[i], info, &ts);
+        k = __gaussfilt_lcm_track_status_t_encode_array(buf, len, max - len,
+                                                        &ts, 1);
+        len = k < 0 ? -1 : len + k;
+    }
+    if (len < 0) {
+        node->counts.publish_failed++;
+        return -1;
+    }
+    buf[head - 4] = (uint8_t)(node->ntracks >> 24);
+    buf[head - 3] = (uint8_t)(node->ntracks >> 16);
+    buf[head - 2] = (uint8_t)(node->ntracks >> 8);
+    buf[head - 1] = (uint8_t)node->ntracks;
+    for (i = 0; i < node->ntracks; i++) { // the NIS since this status
+        node->tracks[i].nis_sum = 0.0;
+        node->tracks[i].nis_dof = 0;
+        node->tracks[i].nis_n = 0;
+    }
+    node->status_seq++;
+    node->status_utime = info->utime;
+    if (node->publish != NULL &&
+        node->publish(node->ctx, GF_CHANNEL_STATUS, buf, (size_t)len) != 0) {
+        node->counts.publish_failed++;
+        return -1;
+    }
+    return 0;
+}
+
+// A string as LCM encodes it (int32 length with its NUL, the bytes), into
+// out cut to size - 1: 0, or -1 if it is not there.
+static int wire_str(wire *w, char *out, size_t size)
+{
+    int32_t n = wire_i32(w);
+    size_t k;
+    if (w->short_read || n < 1 || (size_t)n > w->len - w->pos ||
+        w->p[w->pos + (size_t)n - 1] != '\0') {
+        return -1;
+    }
+    k = (size_t)n - 1 < size - 1 ? (size_t)n - 1 : size - 1;
+    memcpy(out, w->p + w->pos, k);
+    out[k] = '\0';
+    w->pos += (size_t)n;
+    return 0;
+}
+
+int gf_node_peer_status(gf_node *node, const void *data, size_t len)
+{
+    // node_status_t: fingerprint, utime, node, host, pid, start_utime
+    wire w = {(const uint8_t *)data, len, 0, 0};
+    char id[GF_NODE_ID_MAX], host[GF_NODE_HOST_MAX];
+    int32_t pid;
+    int64_t start;
+    if (node == NULL || data == NULL ||
+        wire_i64(&w) != __gaussfilt_lcm_node_status_t_get_hash()) {
+        return 0;
+    }
+    (void)wire_i64(&w);
+    if (wire_str(&w, id, sizeof id) != 0 ||
+        wire_str(&w, host, sizeof host) != 0) {
+        return 0;
+    }
+    pid = wire_i32(&w);
+    start = wire_i64(&w);
+    if (w.short_read || strcmp(id, node->id) != 0 ||
+        (pid == node->pid && start == node->start_utime &&
+         strcmp(host, node->host) == 0)) {
+        return 0; // another node's, or this one's own
+    }
+    node->counts.name_clashes++;
+    if (!node->clash_warned) {
+        double after = ((double)start - (double)node->start_utime) / 1e6;
+        node->clash_warned = 1;
+        say(node,
+            "warning: another node is named \"%s\" (host %s, pid %ld, "
+            "started %.3f s %s this one): beliefs of two nodes of one name "
+            "cannot be told apart, and neither sees the other's; give each "
+            "its own --name",
+            id, host, (long)pid, after < 0.0 ? -after : after,
+            after < 0.0 ? "before" : "after");
+    }
+    return 1;
+}
+
 int gf_node_summary(const gf_node *node, char *out, size_t size)
 {
     const gf_node_counts *c = &node->counts;
@@ -2218,7 +2414,7 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         "received=%llu applied=%llu published=%llu "
         "publish_failed=%llu gaps=%llu dropped=%llu tracks=%u "
         "resyncs=%llu seq_resyncs=%llu models=%llu lost_before_first=%llu "
-        "peer_beliefs=%llu",
+        "peer_beliefs=%llu name_clashes=%llu",
         (unsigned long long)c->received,
         (unsigned long long)c->by_result[GF_NODE_APPLIED],
         (unsigned long long)c->published, (unsigned long long)c->publish_failed,
@@ -2226,7 +2422,8 @@ int gf_node_summary(const gf_node *node, char *out, size_t size)
         node->ntracks, (unsigned long long)c->resyncs,
         (unsigned long long)c->seq_resyncs, (unsigned long long)c->models,
         (unsigned long long)c->lost_before_first,
-        (unsigned long long)c->peer_beliefs);
+        (unsigned long long)c->peer_beliefs,
+        (unsigned long long)c->name_clashes);
     for (r = 1; r < GF_NODE_RESULT_COUNT && n >= 0 && (size_t)n < size; r++) {
         k = snprintf(out + n, size - (size_t)n, " %s=%llu",
                      gf_node_result_str((gf_node_result)r),

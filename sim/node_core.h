@@ -207,6 +207,9 @@ typedef struct gf_node_counts {
     // beliefs of this node's tracks published by another node
     // (gf_node_peer_belief)
     uint64_t peer_beliefs;
+    // status messages of another process that has this node's id
+    // (gf_node_peer_status)
+    uint64_t name_clashes;
 } gf_node_counts;
 
 // Inputs rejected as out_of_order in a row before a track's sequence
@@ -294,6 +297,10 @@ typedef struct gf_node_track {
 
 // The longest node id (gf_node_set_id) carried in belief_t.node.
 #define GF_NODE_ID_MAX 64
+// The longest host name a node's status carries (node_status_t.host).
+#define GF_NODE_HOST_MAX 64
+// Bytes that hold any node_status_t of a node (gf_node_status).
+#define GF_NODE_STATUS_BYTES (1024 + 320 * GF_NODE_MAX_TRACKS)
 // Track ids the node keeps what it said about (see gf_node.said).
 #define GF_NODE_SAID_IDS (2 * GF_NODE_MAX_TRACKS)
 #define GF_NODE_PEER_EARLY 16
@@ -321,6 +328,13 @@ typedef struct gf_node {
     gf_node_model_fn models;     // NULL: the presets
     const void *models_ctx;
     char id[GF_NODE_ID_MAX]; // belief_t.node ("" until gf_node_set_id)
+    // the process behind it (gf_node_set_process), and its statuses
+    char host[GF_NODE_HOST_MAX];
+    int32_t pid;
+    int64_t start_utime;
+    int clash_warned;     // another process of its id was reported
+    int64_t status_seq;   // of the next status
+    int64_t status_utime; // when the last was published
     // other nodes' beliefs of tracks this node has not made yet (the
     // latest GF_NODE_PEER_EARLY, oldest overwritten): a track made later
     // is warned about then (gf_node_peer_belief)
@@ -385,6 +399,13 @@ void gf_node_add_dropped(gf_node *node, uint64_t n);
 // GF_NODE_ID_MAX - 1 characters. Returns 0, or -1 on NULL.
 int gf_node_set_id(gf_node *node, const char *id);
 
+// The process behind the node, which its status carries (node_status_t
+// host, pid, start_utime): two processes with one id differ in these
+// (gf_node_peer_status). host is cut to GF_NODE_HOST_MAX - 1 characters.
+// Returns 0, or -1 on NULL.
+int gf_node_set_process(gf_node *node, const char *host, int32_t pid,
+                        int64_t start_utime);
+
 // strict = 1: a new track no model names is refused (no_model) instead
 // of running its kind's preset; model_t still creates tracks. Returns 0,
 // or -1 on NULL.
@@ -429,6 +450,30 @@ gf_node_result gf_node_handle(gf_node *node, const char *channel,
 // and a linear model whose A is given are published as they are. The
 // tracks themselves do not change. Returns the beliefs published.
 unsigned gf_node_tick(gf_node *node, int64_t now);
+
+// What the caller knows of the node beside its messages, for its status.
+typedef struct gf_node_status_info {
+    int64_t utime;        // wall clock now, microseconds
+    int64_t rx_now;       // now in gf_node_handle's `now` clock, or -1
+                          // (a replay: no track's age is known)
+    int64_t kernel_drops; // -1: unknown
+    int32_t queue_depth, queue_peak;
+    int stopping; // 1: the node's last status
+} gf_node_status_info;
+
+// Publishes the node's status (node_status_t: its identity, counters, and
+// per track its results, updates and NIS) on GF_NODE_STATUS through the
+// publish callback, encoded into buf (size bytes; GF_NODE_STATUS_BYTES
+// hold any), and starts each track's NIS sums afresh. Returns 0, or -1
+// (NULL, or buf too small: counted in publish_failed).
+int gf_node_status(gf_node *node, const gf_node_status_info *info, uint8_t *buf,
+                   size_t size);
+
+// A node_status_t seen on GF_NODE_STATUS (its own come back over udpm):
+// one of another process (host, pid or start) with this node's id is
+// counted in name_clashes and warned about once through the log
+// callback. Returns 1 for such a one, else 0.
+int gf_node_peer_status(gf_node *node, const void *data, size_t len);
 
 // The track with this id, or NULL.
 const gf_node_track *gf_node_find(const gf_node *node, int32_t id);

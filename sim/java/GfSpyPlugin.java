@@ -2,7 +2,8 @@
 // An lcm-spy plugin for gaussfilt's messages: every field of the last
 // message on a channel, with the codes named (model MODEL_LINEAR, stage
 // STAGE_UPDATE, status GF_ERR_GATED, filter FILTER_KF, measure MEASURE_XV)
-// where lcm-spy's own viewer shows the raw bytes. lcm-spy finds it on the
+// where lcm-spy's own viewer shows the raw bytes, and a node's status
+// (node_status_t) track by track. lcm-spy finds it on the
 // CLASSPATH (it is in gaussfilt_lcm_types.jar) and opens it on a
 // double-click of a GF_ channel; its own viewer stays in the right-click
 // menu ("Structure Viewer...").
@@ -42,6 +43,7 @@ public class GfSpyPlugin implements SpyPlugin {
         gaussfilt_lcm.belief_t.class, gaussfilt_lcm.control_t.class,
         gaussfilt_lcm.groundtruth_t.class, gaussfilt_lcm.measurement_t.class,
         gaussfilt_lcm.model_t.class, gaussfilt_lcm.particles_t.class,
+        gaussfilt_lcm.node_status_t.class,
     };
 
     // The core's gf_status (include/gaussfilt/status.h), which
@@ -88,11 +90,12 @@ public class GfSpyPlugin implements SpyPlugin {
 
     // The name of code v of field f of class c: the constant of c named
     // F_* (F the field's name in capitals) holding v; for model, those of
-    // measurement_t (MODEL_*); for status, also the core's gf_status.
-    // null when none.
+    // measurement_t (MODEL_*), for filter those of belief_t (a node's
+    // status); for status, also the core's gf_status. null when none.
     static String name(Class<?> c, String f, long v) {
         String prefix = f.toUpperCase() + "_";
-        Class<?>[] where = {c, gaussfilt_lcm.measurement_t.class};
+        Class<?>[] where = {c, gaussfilt_lcm.measurement_t.class,
+                            gaussfilt_lcm.belief_t.class};
         for (Class<?> w : where) {
             for (Field k : w.getFields()) {
                 int m = k.getModifiers();
@@ -120,7 +123,8 @@ public class GfSpyPlugin implements SpyPlugin {
             return true;
         }
         String prefix = f.toUpperCase() + "_";
-        for (Class<?> w : new Class<?>[] {c, gaussfilt_lcm.measurement_t.class}) {
+        for (Class<?> w : new Class<?>[] {c, gaussfilt_lcm.measurement_t.class,
+                                          gaussfilt_lcm.belief_t.class}) {
             for (Field k : w.getFields()) {
                 if (Modifier.isStatic(k.getModifiers()) && k.getName().startsWith(prefix) &&
                     !k.getName().equals("LCM_FINGERPRINT")) {
@@ -153,14 +157,25 @@ public class GfSpyPlugin implements SpyPlugin {
         }
     }
 
+    // Whether v is one of our structs (a field of node_status_t, say).
+    private static boolean struct(Object v) {
+        return v != null && v.getClass().getName().startsWith("gaussfilt_lcm.");
+    }
+
     // Every public field of message m, one a line, codes named:
-    // "stage = 2 STAGE_UPDATE", "status = -5 GF_ERR_GATED".
+    // "stage = 2 STAGE_UPDATE", "status = -5 GF_ERR_GATED"; a struct's
+    // fields indented under its name, an array of structs' one by one.
     public static String describe(Object m) {
         if (m == null) {
             return "(no message yet)";
         }
+        StringBuilder s = new StringBuilder(m.getClass().getName()).append('\n');
+        fields(s, m, "");
+        return s.toString();
+    }
+
+    private static void fields(StringBuilder s, Object m, String indent) {
         Class<?> c = m.getClass();
-        StringBuilder s = new StringBuilder(c.getName()).append('\n');
         for (Field f : c.getFields()) {
             if (Modifier.isStatic(f.getModifiers())) {
                 continue;
@@ -171,7 +186,23 @@ public class GfSpyPlugin implements SpyPlugin {
             } catch (IllegalAccessException e) {
                 continue;
             }
-            s.append(f.getName()).append(" = ");
+            s.append(indent).append(f.getName());
+            if (struct(v)) {
+                s.append(" =\n");
+                fields(s, v, indent + "    ");
+                continue;
+            }
+            if (v != null && v.getClass().isArray() &&
+                v.getClass().getComponentType().getName().startsWith("gaussfilt_lcm.")) {
+                int n = Array.getLength(v);
+                s.append(" = ").append(n).append(n == 1 ? " entry\n" : " entries\n");
+                for (int i = 0; i < n; i++) {
+                    s.append(indent).append("  [").append(i).append("]\n");
+                    fields(s, Array.get(v, i), indent + "    ");
+                }
+                continue;
+            }
+            s.append(" = ");
             value(s, v);
             if (v instanceof Number && !(v instanceof Double) && !(v instanceof Float) &&
                 coded(c, f.getName())) {
@@ -180,7 +211,6 @@ public class GfSpyPlugin implements SpyPlugin {
             }
             s.append('\n');
         }
-        return s.toString();
     }
 
     private static final class Viewer extends AbstractAction {

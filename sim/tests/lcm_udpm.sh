@@ -71,7 +71,10 @@
 #              bad_field, each with its status belief on the wire, said
 #              once with both sizes, no false gap; the node's socket
 #              buffer as asked (capped by net.core.rmem_max) on its ready
-#              line; a node stopped (SIGSTOP) while 400 inputs are sent
+#              line; its status (node_status_t) on the wire as its summary
+#              says, printed by examples/beliefs.py --status; two nodes of
+#              one --name each warn once and count the other's statuses;
+#              a node stopped (SIGSTOP) while 400 inputs are sent
 #              to its small socket buffer: the kernel's drops counted
 #              (kernel_drops=), received + kernel_drops = sent exactly
 #   java       a demo-like log (exercises 1, 2, 4 and a random robot through
@@ -602,7 +605,10 @@ Q = 0.09 0.09' >"$work/sim.conf"
     start beliefs "$bin/gf_record" --url "$URL" --channels 'GF_BELIEF_400' \
         --count 41 "$work/beliefs.lcmlog"
     ready beliefs
-    start node "$bin/gf_node" --config "$work/node.conf" --url "$URL"
+    start statuses "$bin/gf_record" --url "$URL" --channels GF_NODE_STATUS \
+        "$work/status.lcmlog"
+    ready statuses
+    start node "$bin/gf_node" --config "$work/node.conf" --url "$URL" --name s
     ready node
     rmem=$(cat /proc/sys/net/core/rmem_max)
     want=$((rmem < 4194304 ? rmem : 4194304))
@@ -611,7 +617,11 @@ Q = 0.09 0.09' >"$work/sim.conf"
     "$bin/gf_sim" --url "$URL" --config "$work/sim.conf" --model t --track 400 \
         --steps 20 --seed 3 --session 1 --rate 1000
     recorded beliefs
+    sleep 1.1 # a status between the first and the last
     stop_node
+    sleep 0.2
+    kill -TERM "$statuses_pid"
+    recorded statuses
     cat "$work/node.out"
     expect received 40
     expect applied 20
@@ -638,6 +648,35 @@ assert all(list(prev[x.seq - 1].mean) == list(x.mean) for x in refused)
 print("lcm_udpm: 20 status beliefs STATUS_BAD_FIELD on the wire, each the "
       "prediction before it")
 PY
+    # its status on the wire, as examples/beliefs.py --status prints it:
+    # the first (seq 0), one a second later, and its last, whose track
+    # 400 took 20 inputs and refused 20 (bad_field)
+    root=$(cd "$(dirname "$0")/../.." && pwd)
+    "$py" "$root/examples/beliefs.py" --status --url "file://$work/status.lcmlog?speed=0" \
+        >"$work/status.out"
+    cat "$work/status.out"
+    grep -q '^status s seq 0 ' "$work/status.out" &&
+        grep -q '^status s seq 1 ' "$work/status.out" &&
+        grep -q '^status s seq [0-9]* STOPPING .* received 40, applied 20, gated 0, refused bad_field 20; gaps 0, dropped 0, kernel_drops 0, lost_before_first 0, name_clashes 0; .* 1 tracks$' "$work/status.out" &&
+        grep -q '^  track 400 (linear, t): inputs 40, applied 20, gated 0 (0 in a row), refused bad_field 20; no update yet; last input seq 39, ' "$work/status.out" ||
+        { echo "lcm_udpm: the node's status is not as its summary" >&2; exit 1; }
+    # two nodes of one name: each warns once (the other's status), counts
+    for k in 1 2; do
+        start "twin$k" "$bin/gf_node" --url "$URL" --name twin --channels 'GF_MEAS_9'
+        ready "twin$k"
+    done
+    for k in 1 2; do
+        wait_line "twin$k" 'warning: another node is named "twin" \(host [^,]+, pid [0-9]+, started [0-9.]+ s (after|before) this one\)' 5
+    done
+    for k in 1 2; do
+        v=twin${k}_pid
+        kill -TERM "${!v}"
+        wait "${!v}"
+        [ "$(grep -c 'another node is named' "$work/twin$k.out")" -eq 1 ] &&
+            grep -Eq 'name_clashes=[1-9]' "$work/twin$k.out" ||
+            { cat "$work/twin$k.out"; echo "lcm_udpm: twin $k did not warn once and count" >&2; exit 1; }
+        grep -o 'warning: another node.*' "$work/twin$k.out"
+    done
     # the kernel's drops: a small socket buffer, the node stopped while a
     # burst is sent (its beliefs elsewhere: only inputs reach its socket)
     start node "$bin/gf_node" --config "$work/node.conf" \
@@ -724,10 +763,14 @@ model)
 java)
     # inputs 10 + 6 + 2 + 2 + 40 and 1 model_t; truths 20; beliefs (the
     # initial one and one per input) 11 + 7 + 3 + 3 + 41; clouds 3 (PF node)
+    # (the nodes' statuses, once a second, recorded apart)
     want=$((10 + 6 + 2 + 2 + 40 + 1 + 20 + 11 + 7 + 3 + 3 + 41 + 3))
-    start recorder "$bin/gf_record" --url "$URL" --channels 'GF_.*' \
+    start recorder "$bin/gf_record" --url "$URL" --channels 'GF_[A-Z]+_[0-9]+' \
         --count $want "$work/demo.lcmlog"
     ready recorder
+    start statuses "$bin/gf_record" --url "$URL" --channels GF_NODE_STATUS \
+        "$work/status.lcmlog"
+    ready statuses
     start node "$bin/gf_node" --url "$URL" --channels 'GF_(MEAS|CTRL|MODEL)_[0-9]'
     start pfnode "$bin/gf_node" --url "$URL" --filter pf \
         --channels 'GF_(MEAS|CTRL|MODEL)_43'
@@ -743,15 +786,26 @@ java)
     stop_node
     kill -TERM "$pfnode_pid"
     wait "$pfnode_pid" || true
+    sleep 0.2 # (their last statuses)
+    kill -TERM "$statuses_pid"
+    recorded statuses
     "$bin/gf_logcmp" --prefix GF_ --expect $want "$work/demo.lcmlog"
     "$GF_JAVA" -cp "$GF_JAVA_CP" GfDecodeLog "$work/demo.lcmlog" $want \
         2>"$work/java.err" | tee "$work/java.out"
     n=$(grep -c '^GfDecodeLog: gaussfilt_lcm\.' "$work/java.out")
     [ "$n" -eq 6 ] ||
         { echo "lcm_udpm: $n of the 6 types decoded" >&2; exit 1; }
+    # the nodes' statuses: at least the first and the last of each
+    "$GF_JAVA" -cp "$GF_JAVA_CP" GfDecodeLog "$work/status.lcmlog" \
+        2>>"$work/java.err" | tee "$work/java-status.out"
+    k=$(sed -nE 's/^GfDecodeLog: gaussfilt_lcm\.node_status_t ([0-9]+)$/\1/p' "$work/java-status.out")
+    [ -n "$k" ] && [ "$k" -ge 4 ] ||
+        { echo "lcm_udpm: ${k:-no} node_status_t decoded, 4 at least wanted" >&2; exit 1; }
     # lcm-spy's plugin: found as lcm-spy finds plugins, codes named
-    "$GF_JAVA" -Djava.awt.headless=true -cp "$GF_JAVA_CP" GfSpyCheck "$work/demo.lcmlog" ||
-        { echo "lcm_udpm: the lcm-spy plugin failed" >&2; exit 1; }
+    for log in demo status; do
+        "$GF_JAVA" -Djava.awt.headless=true -cp "$GF_JAVA_CP" GfSpyCheck "$work/$log.lcmlog" ||
+            { echo "lcm_udpm: the lcm-spy plugin failed on $log.lcmlog" >&2; exit 1; }
+    done
     ;;
 python)
     py=$(cd "$lcmbin/../../../.." && pwd)/bin/python

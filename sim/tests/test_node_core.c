@@ -10,24 +10,34 @@
 
 #include <cmocka.h>
 
+#include "gaussfilt_lcm_node_status_t.h"
 #include "gf_msgs.h"
 #include "node_core.h"
 
 #define TOL GF_SIM_TOL
-
-static int sink_publish(void *ctx, const char *channel, const void *data,
-                        size_t len)
-{
-    gf_sink_add((gf_sink *)ctx, channel, data, len);
-    return 0;
-}
 
 typedef struct fixture {
     gf_node node;
     gf_sink sink;
     unsigned nsaid; // the node's log lines
     char said[16][256];
+    uint8_t status[GF_NODE_STATUS_BYTES]; // the last status published
+    size_t status_len;
 } fixture;
+
+static int sink_publish(void *ctx, const char *channel, const void *data,
+                        size_t len)
+{
+    fixture *f = ctx;
+    if (strcmp(channel, GF_CHANNEL_STATUS) == 0) {
+        assert_true(len <= sizeof f->status);
+        memcpy(f->status, data, len);
+        f->status_len = len;
+        return 0;
+    }
+    gf_sink_add(&f->sink, channel, data, len);
+    return 0;
+}
 
 static void keep_line(void *ctx, const char *line)
 {
@@ -42,7 +52,7 @@ static int setup(void **state)
 {
     static fixture f; // large; one test at a time
     memset(&f, 0, sizeof(f));
-    gf_node_init(&f.node, sink_publish, &f.sink);
+    gf_node_init(&f.node, sink_publish, &f);
     gf_node_set_log(&f.node, keep_line, &f);
     *state = &f;
     return 0;
@@ -613,6 +623,101 @@ static void refusals_said_once(void **state)
     check_counts(&f->node);
 }
 
+// The node's status: its counters, per track the results of its inputs,
+// its updates and NIS (since the previous status), decoded by LCM's own
+// decoder; another process with the node's id counted and warned once.
+static void status_message(void **state)
+{
+    fixture *f = *state;
+    static gf_node other;
+    static uint8_t buf[GF_NODE_STATUS_BYTES];
+    const double z3[3] = {1, 2, 3}, q3[3] = {1, 1, 1}, s = 51.25;
+    gf_node_status_info info = {2000000, 2000000, 7, 3, 9, 0};
+    gaussfilt_lcm_node_status_t st;
+    const gaussfilt_lcm_track_status_t *t;
+    exercise_2(f, 2); // 5 predictions, one update: NIS 25 / 51.25
+    assert_int_equal(feed(f, gf_msg_meas_m(2, GF_CAR, 7, 5000000, 3, z3, q3)),
+                     GF_NODE_BAD_FIELD);
+    assert_int_equal(
+        feed(f, gf_msg_meas(2, GF_CAR, 8, 5000000, (double)NAN, 1.0)),
+        GF_NODE_NONFINITE);
+    gf_node_set_id(&f->node, "n");
+    gf_node_set_process(&f->node, "hostA", 100, 5000);
+    assert_int_equal(gf_node_status(&f->node, &info, f->status, 64), -1);
+    assert_int_equal(f->node.counts.publish_failed, 1); // too small
+    assert_int_equal(
+        gf_node_status(&f->node, &info, f->status, sizeof f->status), 0);
+    assert_int_equal(gaussfilt_lcm_node_status_t_decode(
+                         f->status, 0, (int)f->status_len, &st),
+                     (int)f->status_len);
+    assert_string_equal(st.node, "n");
+    assert_string_equal(st.host, "hostA");
+    assert_true(st.pid == 100 && st.start_utime == 5000 && st.seq == 0);
+    assert_true(st.utime == 2000000 && st.period == 0.0 && !st.stopping);
+    assert_true(st.received == 8 && st.results.applied == 6 &&
+                st.results.bad_field == 1 && st.results.nonfinite == 1);
+    assert_true(st.kernel_drops == 7 && st.queue_depth == 3 &&
+                st.queue_peak == 9 && st.publish_failed == 1);
+    assert_int_equal(st.ntracks, 1);
+    t = &st.tracks[0];
+    assert_int_equal(t->track, 2);
+    assert_string_equal(t->model_name, "book-car");
+    assert_true(t->inputs == 8 && t->results.applied == 6 &&
+                t->results.bad_field == 1 && t->results.nonfinite == 1);
+    assert_true(t->updates == 1 && t->m_last == 1 && t->nis_updates == 1);
+    check_close(t->nis_last, 25.0 / s);
+    check_close(t->nis_mean, 25.0 / s);
+    check_close(t->nis_per_dof, 25.0 / s);
+    check_close(t->age, 2.0); // its last input arrived at 0
+    assert_int_equal(t->input_seq, 8);
+    gaussfilt_lcm_node_status_t_decode_cleanup(&st);
+    // a second later: the NIS since then (none), the period
+    info.utime = 3000000;
+    info.stopping = 1;
+    assert_int_equal(
+        gf_node_status(&f->node, &info, f->status, sizeof f->status), 0);
+    assert_int_equal(gaussfilt_lcm_node_status_t_decode(
+                         f->status, 0, (int)f->status_len, &st),
+                     (int)f->status_len);
+    assert_true(st.seq == 1 && st.stopping == 1);
+    check_close(st.period, 1.0);
+    assert_true(st.tracks[0].nis_updates == 0 && st.tracks[0].nis_mean == 0.0);
+    check_close(st.tracks[0].nis_last, 25.0 / s);
+    gaussfilt_lcm_node_status_t_decode_cleanup(&st);
+    // its own status: no clash
+    assert_int_equal(gf_node_peer_status(&f->node, f->status, f->status_len),
+                     0);
+    // another process named n: counted each time, warned once
+    {
+        size_t len;
+        gf_node_init(&other, sink_publish, f);
+        gf_node_set_id(&other, "n");
+        gf_node_set_process(&other, "hostB", 200, 6000);
+        assert_int_equal(
+            gf_node_status(&other, &info, f->status, sizeof f->status), 0);
+        len = f->status_len;
+        memcpy(buf, f->status, len);
+        f->nsaid = 0;
+        assert_int_equal(gf_node_peer_status(&f->node, buf, len), 1);
+        assert_int_equal(gf_node_peer_status(&f->node, buf, len), 1);
+        assert_int_equal(f->node.counts.name_clashes, 2);
+        assert_int_equal(f->nsaid, 1);
+        assert_string_equal(
+            f->said[0], "warning: another node is named \"n\" (host hostB, "
+                        "pid 200, started 0.001 s after this one): beliefs "
+                        "of two nodes of one name cannot be told apart, and "
+                        "neither sees the other's; give each its own --name");
+        // cut short, or another id: nothing
+        assert_int_equal(gf_node_peer_status(&f->node, buf, 20), 0);
+        gf_node_set_id(&other, "m");
+        assert_int_equal(
+            gf_node_status(&other, &info, f->status, sizeof f->status), 0);
+        assert_int_equal(
+            gf_node_peer_status(&f->node, f->status, f->status_len), 0);
+        assert_int_equal(f->node.counts.name_clashes, 2);
+    }
+}
+
 static void summary_names_every_counter(void **state)
 {
     fixture *f = *state;
@@ -639,6 +744,7 @@ int main(void)
         cmocka_unit_test_setup(simulator_restart_resyncs, setup),
         cmocka_unit_test_setup(too_large_is_bad_field, setup),
         cmocka_unit_test_setup(refusals_said_once, setup),
+        cmocka_unit_test_setup(status_message, setup),
         cmocka_unit_test_setup(summary_names_every_counter, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The lcm-spy plugin (sim/java/GfSpyPlugin.java), headless: lcm-spy's own
 // class discovery (lcm.util.ClassDiscoverer over the CLASSPATH, as Spy
-// does at start) finds it and makes it; it takes the channels of all six
-// types and no other; its text names the codes (model, stage, status,
-// filter, measure) of messages made here, and of every GF_ event of LOG,
-// none unknown. Exits 1 on the first failure.
+// does at start) finds it and makes it; it takes the channels of all seven
+// message types and no other; its text names the codes (model, stage,
+// status, filter, measure) of messages made here, and of every GF_ event
+// of LOG, none unknown; a node's status shows its tracks one by one.
+// Exits 1 on the first failure.
 //
 //   java -Djava.awt.headless=true -cp lcm.jar:gaussfilt_lcm_types.jar:. GfSpyCheck LOG
 import java.io.ByteArrayInputStream;
@@ -56,7 +57,8 @@ public class GfSpyCheck {
                                    gaussfilt_lcm.groundtruth_t.LCM_FINGERPRINT,
                                    gaussfilt_lcm.measurement_t.LCM_FINGERPRINT,
                                    gaussfilt_lcm.model_t.LCM_FINGERPRINT,
-                                   gaussfilt_lcm.particles_t.LCM_FINGERPRINT}) {
+                                   gaussfilt_lcm.particles_t.LCM_FINGERPRINT,
+                                   gaussfilt_lcm.node_status_t.LCM_FINGERPRINT}) {
             check(p.canHandle(fp), String.format("does not take fingerprint %016x", fp));
         }
         check(!p.canHandle(0x0123456789abcdefL), "takes a foreign fingerprint");
@@ -94,6 +96,31 @@ public class GfSpyCheck {
         t = GfSpyPlugin.describe(m);
         has(t, "model = 1 MODEL_CAR");
         has(t, "measure = 3 MEASURE_XV");
+        // a node's status: its results and each track's, indented
+        gaussfilt_lcm.node_status_t st = new gaussfilt_lcm.node_status_t();
+        st.node = "n";
+        st.host = "h";
+        st.results = new gaussfilt_lcm.node_results_t();
+        st.results.bad_field = 20;
+        st.ntracks = 1;
+        st.tracks = new gaussfilt_lcm.track_status_t[] {new gaussfilt_lcm.track_status_t()};
+        st.tracks[0].track = 400;
+        st.tracks[0].model = gaussfilt_lcm.measurement_t.MODEL_LINEAR;
+        st.tracks[0].model_name = "target2d";
+        st.tracks[0].filter = gaussfilt_lcm.belief_t.FILTER_KF;
+        st.tracks[0].results = new gaussfilt_lcm.node_results_t();
+        st.tracks[0].results.gated = 21;
+        st.tracks[0].nis_last = 19.3;
+        t = GfSpyPlugin.describe(st);
+        System.out.print(t);
+        has(t, "results =");
+        has(t, "    bad_field = 20");
+        has(t, "tracks = 1 entry");
+        has(t, "    track = 400");
+        has(t, "    model = 3 MODEL_LINEAR");
+        has(t, "    filter = 5 FILTER_KF");
+        has(t, "        gated = 21");
+        has(t, "    nis_last = 19.3000");
 
         // every GF_ event of the log, decoded as lcm-spy does, described
         LCMTypeDatabase db = new LCMTypeDatabase();
