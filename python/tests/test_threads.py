@@ -55,14 +55,9 @@ def repr_probe(kf):
     assert r.startswith("<gaussfilt.float") and " n=2 mu=[" in r, r
 
 
-def run_when_idle(kf, car, gps, z):
-    """kf.run(car, gps, z=z), tried again while refused (a probe's own run
-    holds the filter: the first to ask has it)."""
-    while True:
-        try:
-            return kf.run(car, gps, z=z)
-        except RuntimeError:
-            pass
+def busy(kf):
+    """True while a run() of kf is in progress in another thread."""
+    return repr(kf).endswith(" (a run in progress)>")
 
 
 @pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
@@ -94,7 +89,11 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
             "copy": lambda: copy.copy(kf),
             "repr": lambda: repr_probe(kf),
         }
-        th, out = start(lambda: run_when_idle(kf, car, gps, z))
+        # the run is the first to take the filter: no probe starts before
+        # it is seen in progress, so none competes with it for the filter
+        th, out = start(lambda: kf.run(car, gps, z=z))
+        while th.is_alive() and not busy(kf):
+            pass
         while th.is_alive() and len(refused) < len(probes):
             for name, call in probes.items():
                 try:

