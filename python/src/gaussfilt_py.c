@@ -341,6 +341,23 @@ static int shape_of(PyObject *obj, const char *name, int vec_is_row,
 }
 
 // A new gf_real array of shape (d0,) (d1 == 0) or (d0, d1), from src.
+// gaussfilt._sigma.SigmaArray: what the sigma properties return (an
+// ndarray that can still be called as the sigma() method it was).
+static PyTypeObject *sigma_type;
+
+// A new (n, n) array of sigma_type, filled from src when src is not NULL.
+static PyObject *new_sigma(npy_intp n, const gf_real *src)
+{
+    npy_intp dims[2] = {n, n};
+    PyObject *a = PyArray_New(sigma_type, 2, dims, NPY_GF, NULL, NULL, 0, 0,
+                              NULL);
+    if (a && src) {
+        memcpy(PyArray_DATA((PyArrayObject *)a), src,
+               (size_t)(n * n) * sizeof(gf_real));
+    }
+    return a;
+}
+
 static PyObject *new_array(npy_intp d0, npy_intp d1, const gf_real *src)
 {
     npy_intp dims[2] = {d0, d1};
@@ -1791,7 +1808,7 @@ static PyObject *KF2_sigma(PyObject *self_, void *unused)
     if (st != GF_OK) {
         return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
     }
-    return new_array(2, 2, &s.m[0][0]);
+    return new_sigma(2, &s.m[0][0]);
 }
 
 // The setter of KF2's sigma: the mean and value factored by gf_kf2_init
@@ -2223,7 +2240,7 @@ static PyObject *EKF3_sigma(PyObject *self_, void *unused)
     if (st != GF_OK) {
         return raise_status(st, "EKF3.sigma", NULL, NULL, 0, 0);
     }
-    return new_array(3, 3, &s.m[0][0]);
+    return new_sigma(3, &s.m[0][0]);
 }
 
 // The setter of EKF3's sigma, as KF2's.
@@ -2921,7 +2938,7 @@ static PyObject *KF_sigma(PyObject *self_, void *unused)
     if (check_readable(&self->f, kf_who(self_, "KF.sigma", "EKF.sigma")) < 0) {
         return NULL;
     }
-    PyObject *a = new_array(self->kf.n, self->kf.n, NULL);
+    PyObject *a = new_sigma(self->kf.n, NULL);
     if (a) {
         gf_kf_cov(&self->kf, (gf_real *)PyArray_DATA((PyArrayObject *)a));
     }
@@ -3484,6 +3501,16 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
     from_status = PyObject_GetAttrString(errors, "_from_status");
     Py_DECREF(errors);
     if (!from_status) {
+        return NULL;
+    }
+    PyObject *sigma_mod = PyImport_ImportModule("gaussfilt._sigma");
+    if (!sigma_mod) {
+        return NULL;
+    }
+    sigma_type =
+        (PyTypeObject *)PyObject_GetAttrString(sigma_mod, "SigmaArray");
+    Py_DECREF(sigma_mod);
+    if (!sigma_type) {
         return NULL;
     }
     m = PyModule_Create(&moddef);

@@ -186,11 +186,21 @@ def test_the_mean_is_settable_and_reset_judges(gf):
 def test_sigma_is_a_property_and_its_setter_factors_as_init(gf):
     for name, f in stepped(gf).items():
         n = len(f.mu)
-        assert type(f.sigma) is np.ndarray and f.sigma.dtype == gf.dtype
+        assert isinstance(f.sigma, np.ndarray) and f.sigma.dtype == gf.dtype
         assert f.sigma.shape == (n, n) and f.sigma[0, 0] > 0
         assert f.sigma is not f.sigma  # a new array each time, as mu
-        with pytest.raises(TypeError, match="not callable"):
-            f.sigma()  # the method it was: refused loudly
+        # the method it was, for one release: the same values, and a warning
+        with pytest.warns(DeprecationWarning, match=r"write f\.sigma"):
+            old = f.sigma()
+        assert type(old) is np.ndarray and old.tobytes() == f.sigma.tobytes()
+        # everything else as a plain ndarray: computed from, printed, pickled
+        s = f.sigma
+        for derived in (s * 2, s + s, s @ s, np.sqrt(np.abs(s)), s.T @ s):
+            assert type(derived) is np.ndarray
+        assert type(s.sum()) is gf.dtype.type
+        assert repr(s) == repr(np.array(s)) and str(s) == str(np.array(s))
+        back = pickle.loads(pickle.dumps(s))
+        assert type(back) is np.ndarray and back.tobytes() == s.tobytes()
         before = f.__getstate__()
         bad = {"NotPSD": -np.eye(n), "NonFinite": np.full((n, n), np.nan),
                "BadArgument": [np.eye(n + 1), "abc", None, b"1",
