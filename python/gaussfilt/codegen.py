@@ -626,16 +626,26 @@ def write(model: Model, outdir: Union[str, "os.PathLike[str]"]
 # ---- the model in Python, from the same C -----------------------------------
 
 class _CFunction:
-    """A generated callback called through ctypes: the C computes, so the
-    results are the firmware's bit for bit (in the build's precision)."""
+    """A generated callback: called from Python, through ctypes; given to
+    EKFMotion or EKFMeas, its gf_capsule (the C function's address and the
+    parameters as its ctx) lets the filter call the C directly, with no
+    Python in the step. Either way the C computes, so the results are the
+    firmware's bit for bit (in the build's precision)."""
 
     def __init__(self, built: "Built", cname: str, kind: str,
                  rows: int) -> None:
+        import ctypes
         self.built = built
         self.c_name = cname
         self.kind = kind  # "g" or "h"
         self.rows = rows
         self._fn = getattr(built._lib, cname + built._suffix)
+        params = built.params
+        self.gf_capsule = built._ext._c_function(
+            "motion" if kind == "g" else "meas", cname,
+            ctypes.cast(self._fn, ctypes.c_void_p).value,
+            params.ctypes.data if params.size else 0, built.n,
+            built.nu + 1 if kind == "g" else rows, (built._lib, params))
 
     def __call__(self, mu: Any, u: Any = None) -> Tuple[Any, Any]:
         import ctypes
@@ -668,10 +678,11 @@ class _CFunction:
 
 
 class Built:
-    """A generated model compiled for the host (build()): its callbacks as
-    Python callables for gaussfilt's EKF (g(mu, u) with u the inputs then
-    dt; h[sensor](mu)), R(dt) and Q[sensor] in the build's precision, and
-    the models for a step (motion(dt), meas(sensor))."""
+    """A generated model compiled for the host (build()): its callbacks
+    (g(mu, u) with u the inputs then dt; h[sensor](mu)), callable from
+    Python and, given to gaussfilt's EKF, called by it in C; R(dt) and
+    Q[sensor] in the build's precision, and the models for a step
+    (motion(dt), meas(sensor))."""
 
     def __init__(self, model: Model, lib_path: pathlib.Path, dtype: Any,
                  header: pathlib.Path, source: pathlib.Path) -> None:
@@ -687,7 +698,10 @@ class Built:
             else ctypes.c_double
         self._suffix = ""
         self._lib = ctypes.CDLL(str(lib_path))
-        self.params = np.zeros(len(model.params), dtype=self.dtype)
+        from . import _f32, _f64
+        self._ext = _f32 if self.dtype == np.float32 else _f64
+        # the callbacks' ctx: this array, changed in place, never replaced
+        self._params = np.zeros(len(model.params), dtype=self.dtype)
         self.angles = sum(1 << i for i, s in enumerate(model.states)
                           if s.angle)
         self.g = _CFunction(self, model.name + "_g", "g", self.n)
@@ -696,6 +710,12 @@ class Built:
                   for s in model.sensors}
         self.angle_masks = {s.name: sum(1 << i for i in s.angles)
                             for s in model.sensors}
+
+    @property
+    def params(self) -> Any:
+        """The parameters, in the model's order (the C reads this array:
+        set it in place or with set_params)."""
+        return self._params
 
     def _ctx(self) -> Any:
         import ctypes

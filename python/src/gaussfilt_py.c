@@ -19,6 +19,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "gaussfilt/cov2.h"
@@ -711,16 +712,21 @@ static int prepared(gf_status st, gf_kf_work *w, const char *who)
 typedef struct {
     PyObject_HEAD PyObject *fn;
     PyObject *cur_u;
+    PyObject *capsule; // an EKF model's C function (c_function_of), or NULL
+    const void *cfn;   // what the capsule holds (a CFunction)
 } CallbackObj;
 
 static int Callback_traverse(PyObject *self, visitproc visit, void *arg)
 {
     Py_VISIT(((CallbackObj *)self)->fn);
+    Py_VISIT(((CallbackObj *)self)->capsule);
     return 0;
 }
 static int Callback_clear(PyObject *self)
 {
     Py_CLEAR(((CallbackObj *)self)->fn);
+    ((CallbackObj *)self)->cfn = NULL;
+    Py_CLEAR(((CallbackObj *)self)->capsule);
     return 0;
 }
 static void Callback_dealloc(PyObject *self)
@@ -770,6 +776,156 @@ static int check_callable(PyObject *fn, const char *who, const char *arg)
     }
     bad_arg("%s: %s must be callable", who, arg);
     return -1;
+}
+
+// ---- C functions of gf_ekf, handed over in a capsule ----------------------
+
+// A gf_ekf motion or measurement function in C with its context, as
+// _c_function makes it (gaussfilt.codegen's built models carry one as
+// their callables' gf_capsule): EKFMotion and EKFMeas call it directly, no
+// Python in the step. The capsule's name says the kind and the precision
+// ("gaussfilt.float32.ekf_motion"); it holds what keeps ctx valid.
+typedef struct {
+    gf_ekf_motion_fn g; // a motion's, or NULL
+    gf_ekf_meas_fn h;   // a measurement's, or NULL
+    void *ctx;
+    unsigned n; // states
+    unsigned k; // a motion: u's entries (0: u not read); a measurement: m
+    PyObject *owner;
+    char name[64];
+} CFunction;
+
+static const char c_motion_name[] = "gaussfilt." GF_PREC_NAME ".ekf_motion";
+static const char c_meas_name[] = "gaussfilt." GF_PREC_NAME ".ekf_meas";
+
+static void CFunction_free(PyObject *cap)
+{
+    CFunction *cf = PyCapsule_GetPointer(cap, PyCapsule_GetName(cap));
+    if (cf) {
+        Py_XDECREF(cf->owner);
+        PyMem_Free(cf);
+    }
+}
+
+// _c_function(kind, name, address, ctx, n, k, owner): the capsule of the C
+// function at address (a gf_ekf_motion_fn when kind is "motion", else a
+// gf_ekf_meas_fn) with context ctx (an address, 0: NULL), for n states and
+// k (u's entries of a motion, m of a measurement); owner is kept alive
+// with it. The caller vouches for the address: nothing here can check it.
+static PyObject *py_c_function(PyObject *mod, PyObject *args)
+{
+    const char *kind, *name;
+    unsigned long long fn, ctx;
+    unsigned n, k;
+    PyObject *owner, *cap;
+    (void)mod;
+    if (!PyArg_ParseTuple(args, "ssKKIIO:_c_function", &kind, &name, &fn, &ctx,
+                          &n, &k, &owner)) {
+        return NULL;
+    }
+    const int motion = strcmp(kind, "motion") == 0;
+    if (!motion && strcmp(kind, "meas") != 0) {
+        return bad_arg(
+            "_c_function: kind must be 'motion' or 'meas', not %.40s", kind);
+    }
+    if (!fn || n < 1u || n > NMAX || k > NMAX || (!motion && k < 1u)) {
+        return bad_arg("_c_function: %.40s: no address, or n = %u, k = %u out "
+                       "of range",
+                       name, n, k);
+    }
+    CFunction *cf = PyMem_Calloc(1, sizeof *cf);
+    if (!cf) {
+        return PyErr_NoMemory();
+    }
+    if (motion) {
+        cf->g = (gf_ekf_motion_fn)(uintptr_t)fn;
+    } else {
+        cf->h = (gf_ekf_meas_fn)(uintptr_t)fn;
+    }
+    cf->ctx = (void *)(uintptr_t)ctx;
+    cf->n = n;
+    cf->k = k;
+    PyOS_snprintf(cf->name, sizeof cf->name, "%s", name);
+    cap =
+        PyCapsule_New(cf, motion ? c_motion_name : c_meas_name, CFunction_free);
+    if (!cap) {
+        PyMem_Free(cf);
+        return NULL;
+    }
+    Py_INCREF(owner);
+    cf->owner = owner;
+    return cap;
+}
+
+// The C function of an EKF model's callable fn (who's arg: "EKFMotion",
+// "g"): *cap a new reference to its gf_capsule and *cf what it holds when
+// it carries one made for this module's precision and kind (motion or not);
+// *cap NULL when it carries none (a Python function). 0, or -1 with
+// BadArgument naming it (a capsule of the other precision or kind, or not
+// one of this package's).
+static int c_function_of(PyObject *fn, int motion, const char *who,
+                         const char *arg, PyObject **cap, const CFunction **cf)
+{
+    PyObject *c = PyObject_GetAttrString(fn, "gf_capsule");
+    *cap = NULL;
+    *cf = NULL;
+    if (!c) {
+        if (!PyErr_ExceptionMatches(PyExc_AttributeError)) {
+            return -1;
+        }
+        PyErr_Clear();
+        return 0;
+    }
+    const char *name = PyCapsule_CheckExact(c) ? PyCapsule_GetName(c) : NULL;
+    const char *want = motion ? c_motion_name : c_meas_name;
+    if (!name || strncmp(name, "gaussfilt.float", 15) != 0 ||
+        (strcmp(name + 17, ".ekf_motion") != 0 &&
+         strcmp(name + 17, ".ekf_meas") != 0)) {
+        bad_arg("%s: %s.gf_capsule is not a capsule of gaussfilt's C "
+                "functions (%s)",
+                who, arg, name ? name : Py_TYPE(c)->tp_name);
+        Py_DECREF(c);
+        return -1;
+    }
+    const CFunction *f = PyCapsule_GetPointer(c, name);
+    if (!f) {
+        Py_DECREF(c);
+        return -1;
+    }
+    if (strcmp(name, want) != 0) {
+        if (strncmp(name, want, 17) != 0) {
+            bad_arg("%s: %s's C function %s is in %.7s, this module is %s", who,
+                    arg, f->name, name + 10, GF_PREC_NAME);
+        } else {
+            bad_arg("%s: %s's C function %s is a %s, not a %s", who, arg,
+                    f->name, f->g ? "motion" : "measurement",
+                    motion ? "motion" : "measurement");
+        }
+        Py_DECREF(c);
+        return -1;
+    }
+    *cap = c;
+    *cf = f;
+    return 0;
+}
+
+// The name of the C function an EKF3 or EKF motion calls (a built-in's,
+// or a capsule's).
+static const char *c_function_name(const CallbackObj *cb)
+{
+    if (cb->cfn) {
+        return ((const CFunction *)cb->cfn)->name;
+    }
+    return ((const BuiltinObj *)cb->fn)->name;
+}
+
+// Keeps cap (a new reference, or NULL: none) as the model's C function
+// and cf as what it holds (after a successful prepare).
+static void set_c_function(CallbackObj *self, PyObject *cap,
+                           const CFunction *cf)
+{
+    self->cfn = cf;
+    Py_XSETREF(self->capsule, cap);
 }
 
 // Calls a Python model of an EKF of the family ("EKF3" or "EKF") on x (n
@@ -967,7 +1123,7 @@ static PyObject *predict_entry(const Family *fam, PyObject *self_,
             Py_XDECREF(U);
             return bad_arg("%s: u must have %ld entries for %s",
                            fam->predict_name, (long)nu,
-                           ((BuiltinObj *)((CallbackObj *)a[0])->fn)->name);
+                           c_function_name((CallbackObj *)a[0]));
         }
     } else if (given(a[1])) {
         if (!nu) {
@@ -2577,20 +2733,34 @@ static int EKFMotion_init(PyObject *self_, PyObject *args, PyObject *kw)
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO:EKFMotion", names, &g, &R)) {
         return -1;
     }
+    PyObject *cap;
+    const CFunction *cf;
     if (check_callable(g, "EKFMotion", "g") < 0 ||
         square_size(R, "EKFMotion: R", &n) < 0 ||
-        read_real(R, "EKFMotion: R", n, n, self->R) < 0) {
+        c_function_of(g, 1, "EKFMotion", "g", &cap, &cf) < 0) {
         return -1;
     }
-    mo.g = ekf_g_py;
-    mo.ctx = self;
+    if (cf && cf->n != (unsigned)n) {
+        bad_arg("EKFMotion: g's C function %s is for %u states, R is %ld x %ld",
+                cf->name, cf->n, (long)n, (long)n);
+        Py_DECREF(cap);
+        return -1;
+    }
+    if (read_real(R, "EKFMotion: R", n, n, self->R) < 0) {
+        Py_XDECREF(cap);
+        return -1;
+    }
+    mo.g = cf ? cf->g : ekf_g_py;
+    mo.ctx = cf ? cf->ctx : self;
     mo.R = self->R;
     gf_kf_work *w = new_work();
     if (!w || prepared(gf_ekf_prepare_motion(&self->pm, (unsigned)n, &mo, w), w,
                        "EKFMotion") < 0) {
+        Py_XDECREF(cap);
         return -1;
     }
     set_fn(&self->cb, g);
+    set_c_function(&self->cb, cap, cf);
     return 0;
 }
 
@@ -2608,23 +2778,43 @@ static int EKFMeas_init(PyObject *self_, PyObject *args, PyObject *kw)
         read_unsigned(mask, "EKFMeas: angle_mask", &angle_mask) < 0) {
         return -1;
     }
+    PyObject *cap;
+    const CFunction *cf;
     if (check_callable(h, "EKFMeas", "h") < 0 ||
         square_size(Q, "EKFMeas: Q", &m) < 0 ||
-        read_real(Q, "EKFMeas: Q", m, m, self->Q) < 0 ||
+        c_function_of(h, 0, "EKFMeas", "h", &cap, &cf) < 0) {
+        return -1;
+    }
+    if (cf && (cf->n != n || cf->k != (unsigned)m)) {
+        if (cf->n != n) {
+            bad_arg("EKFMeas: h's C function %s is for %u states, n is %u",
+                    cf->name, cf->n, n);
+        } else {
+            bad_arg("EKFMeas: h's C function %s measures %u quantities, Q is "
+                    "%ld x %ld",
+                    cf->name, cf->k, (long)m, (long)m);
+        }
+        Py_DECREF(cap);
+        return -1;
+    }
+    if (read_real(Q, "EKFMeas: Q", m, m, self->Q) < 0 ||
         read_gate(gate, "EKFMeas", &me.gate) < 0) {
+        Py_XDECREF(cap);
         return -1;
     }
     me.m = (unsigned)m;
-    me.h = ekf_h_py;
-    me.ctx = self;
+    me.h = cf ? cf->h : ekf_h_py;
+    me.ctx = cf ? cf->ctx : self;
     me.Q = self->Q;
     me.angle_mask = angle_mask;
     gf_kf_work *w = new_work();
     if (!w ||
         prepared(gf_ekf_prepare_meas(&self->pq, n, &me, w), w, "EKFMeas") < 0) {
+        Py_XDECREF(cap);
         return -1;
     }
     set_fn(&self->cb, h);
+    set_c_function(&self->cb, cap, cf);
     return 0;
 }
 
@@ -2776,13 +2966,15 @@ static void kf_record(PyObject *f, gf_real *mu, gf_real *sigma)
     gf_kf_cov(kf, sigma);
 }
 
-// g's u as given.
+// g's u as given to a Python g; a C g's (a capsule's) has its entries.
 static void ekf_model_size(PyObject *model, unsigned *n, npy_intp *nu,
                            int *python_g)
 {
+    const CallbackObj *cb = model ? &((EKFMotionObj *)model)->cb : NULL;
+    const CFunction *cf = cb ? cb->cfn : NULL;
     *n = model ? ((EKFMotionObj *)model)->pm.n : 0;
-    *nu = 0;
-    *python_g = 1;
+    *nu = cf ? (npy_intp)cf->k : 0;
+    *python_g = model && !cf;
 }
 
 static void ekf_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
@@ -2834,11 +3026,11 @@ static const Family kf_family = {
     NULL,
 };
 
-// An EKFMeas's h is Python's to call, a built-in's too.
+// An EKFMeas's h is Python's to call unless it is a C function (a
+// capsule's).
 static int ekf_meas_python(PyObject *meas)
 {
-    (void)meas;
-    return 1;
+    return ((EKFMeasObj *)meas)->cb.cfn == NULL;
 }
 
 static const Family ekf_family = {
@@ -3158,6 +3350,13 @@ static PyObject *py_marginal(PyObject *mod, PyObject *args)
 }
 
 static PyMethodDef module_methods[] = {
+    {"_c_function", py_c_function, METH_VARARGS,
+     "_c_function(kind, name, address, ctx, n, k, owner, /)\n--\n\n"
+     "A capsule of a gf_ekf motion ('motion') or measurement ('meas') C\n"
+     "function at address, its ctx an address, for n states and k (u's\n"
+     "entries, or m), keeping owner alive. Given to EKFMotion or EKFMeas\n"
+     "as its callable's gf_capsule, the C function is called directly\n"
+     "(gaussfilt.codegen.build makes them)."},
     {"ellipse", (PyCFunction)(void (*)(void))py_ellipse,
      METH_VARARGS | METH_KEYWORDS,
      "ellipse(sigma, p=0.68)\n--\n\n-> (a, b, angle): "

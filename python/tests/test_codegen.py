@@ -289,7 +289,7 @@ def bicycle_run(b, mod, steps=120, seed=3):
 
 
 @pytest.mark.parametrize("dtype", ["float32", "float64"])
-def test_the_bicycle_run_exports_bit_for_bit(tmp_path, dtype):
+def test_the_bicycle_run_exports_bit_for_bit(tmp_path, dtype, no_python_step):
     b = cg.build(bicycle(), tmp_path, ROOT, dtype=dtype)
     rec = bicycle_run(b, b._module())
     assert {0, gaussfilt.Gated.status} <= {s["status"] for s in rec.steps}
@@ -309,10 +309,176 @@ def test_the_bicycle_run_exports_bit_for_bit(tmp_path, dtype):
         rec.steps), r.stdout
 
 
-def test_the_bicycle_on_the_cortex_m4f_equals_the_python_run(tmp_path):
+def test_the_bicycle_on_the_cortex_m4f_equals_the_python_run(tmp_path,
+                                                           no_python_step):
     from conftest import run_export_on_m4f
     b = cg.build(bicycle(), tmp_path, ROOT, dtype="float32")
     rec = bicycle_run(b, b._module())
     path = gaussfilt.export_c(rec, tmp_path / "bike_run.c")
     assert run_export_on_m4f([path, b.source], "export-codegen") == \
         "bike_run: %d steps bit for bit" % len(rec.steps)
+
+
+# ---- the built model's callbacks in C: no Python in the step --------------
+
+class Wrapped:
+    """A built callback hidden behind a Python function: the filter calls
+    it through Python, and it calls the C through ctypes."""
+
+    def __init__(self, fn):
+        self.fn, self.rows = fn, fn.rows
+        self.c_name, self.built = fn.c_name, fn.built  # for the Recorder
+
+    def __call__(self, *args):
+        return self.fn(*args)
+
+
+@pytest.fixture
+def no_python_step(monkeypatch):
+    """Every call of a built callback through Python fails the test."""
+    def refuse(self, *args):
+        raise AssertionError("%s called through Python" % self.c_name)
+    monkeypatch.setattr(cg._CFunction, "__call__", refuse)
+
+
+@pytest.mark.parametrize("dtype", ["float32", "float64"])
+def test_the_built_model_steps_in_c_to_the_bits_of_the_ctypes_path(
+        tmp_path, dtype, monkeypatch):
+    b = cg.build(bicycle(), tmp_path, ROOT, dtype=dtype)
+    mod = b._module()
+    # the same drive through Python (each g and h a ctypes call)
+    slow = cg.build(bicycle(), tmp_path / "slow", ROOT, dtype=dtype)
+    slow.g = Wrapped(slow.g)
+    slow.h = {k: Wrapped(v) for k, v in slow.h.items()}
+    want = bicycle_run(slow, mod)
+    with monkeypatch.context() as m:
+        m.setattr(cg._CFunction, "__call__", lambda self, *a: pytest.fail(
+            "%s called through Python" % self.c_name))
+        got = bicycle_run(b, mod)
+    assert len(got.steps) == len(want.steps) == 120 * 3 + 24 + 18
+    for s, w in zip(got.steps, want.steps):
+        assert s["status"] == w["status"]
+        assert s["mu"].tobytes() == w["mu"].tobytes()
+        assert s["sigma"].tobytes() == w["sigma"].tobytes()
+        assert s["nis"].tobytes() == w["nis"].tobytes()
+
+
+@pytest.mark.parametrize("dtype", ["float32", "float64"])
+def test_a_run_of_the_built_model_equals_its_steps(tmp_path, dtype,
+                                                   no_python_step):
+    b = cg.build(bicycle(), tmp_path, ROOT, dtype=dtype)
+    b.set_params(L=2.5, lx=10, ly=5)
+    mod = b._module()
+    rng = np.random.default_rng(4)
+    N = 60
+    u = np.column_stack([rng.normal(size=N) * 0.2, rng.normal(size=N) * 0.1,
+                         np.full(N, 0.1)])
+    z = np.cumsum(rng.normal(size=(N, 2)), axis=0) * 0.3
+    z[::4] = np.nan  # no fix at every fourth step
+    motion, gps = b.motion(0.1), b.meas("gps", gate=9.0)
+
+    def ekf():
+        return mod.EKF(mu=[0, 0, 0.3, 2, 0.1], sigma=np.eye(5),
+                       angles=b.angles)
+    mu, sigma, nis, status = ekf().run(motion, gps, u=u, z=z)
+    one = ekf()
+    for t in range(N):
+        one.predict(motion, u[t])
+        if not np.isnan(z[t, 0]):
+            try:
+                one.update(gps, z[t])
+            except gaussfilt.Gated:
+                assert status[t] == gaussfilt.Gated.status
+        assert one.mu.tobytes() == mu[t].tobytes()
+        assert one.sigma.tobytes() == sigma[t].tobytes()
+    assert np.isnan(nis[::4]).all() and np.isfinite(nis[1::4]).all()
+
+
+def test_a_run_of_the_built_model_releases_the_gil(tmp_path, no_python_step):
+    import threading
+    b = cg.build(bicycle(), tmp_path, ROOT)
+    b.set_params(L=2.5, lx=10, ly=5)
+    N = 200_000
+    u = np.tile([0.0, 0.0, 0.01], (N, 1))
+    z = np.column_stack([np.arange(N) * 0.02, np.zeros(N)])
+    motion, gps = b.motion(0.01), b.meas("gps")
+    alone = gaussfilt.float64.EKF(mu=[0, 0, 0, 2, 0], sigma=np.eye(5)).run(
+        motion, gps, u=u, z=z)
+    seen = None
+    # a run takes some 0.3 s: on a busy machine this thread may not be
+    # scheduled within one, so a few are tried
+    for _ in range(10):
+        ekf = gaussfilt.float64.EKF(mu=[0, 0, 0, 2, 0], sigma=np.eye(5))
+        out = {}
+        th = threading.Thread(
+            target=lambda: out.update(r=ekf.run(motion, gps, u=u, z=z)))
+        th.start()
+        # this thread runs Python while the run is on: it has let the GIL go
+        while th.is_alive() and seen is None:
+            if repr(ekf).endswith(" (a run in progress)>"):
+                try:
+                    ekf.mu
+                except RuntimeError as e:
+                    seen = str(e)
+        th.join()
+        for a, w in zip(out["r"], alone):
+            assert a.tobytes() == w.tobytes()
+        if seen:
+            break
+    assert seen is not None and "in progress in another thread" in seen
+
+
+def test_the_built_models_refuse_what_does_not_fit(tmp_path):
+    b64 = cg.build(bicycle(), tmp_path / "f64", ROOT)
+    b32 = cg.build(bicycle(), tmp_path / "f32", ROOT, dtype="float32")
+    f64 = gaussfilt.float64
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="g's C function bicycle_g is in float32, this "
+                             "module is float64"):
+        f64.EKFMotion(b32.g, np.eye(5))
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="h's C function bicycle_h_gps is in float64, "
+                             "this module is float32"):
+        gaussfilt.float32.EKFMeas(b64.h["gps"], np.eye(2), 5)
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="EKFMotion: g's C function bicycle_g is for 5 "
+                             "states, R is 4 x 4"):
+        f64.EKFMotion(b64.g, np.eye(4))
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="EKFMeas: h's C function bicycle_h_gps is for 5 "
+                             "states, n is 6"):
+        f64.EKFMeas(b64.h["gps"], np.eye(2), 6)
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="EKFMeas: h's C function bicycle_h_gps measures "
+                             "2 quantities, Q is 1 x 1"):
+        f64.EKFMeas(b64.h["gps"], np.eye(1), 5)
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="bicycle_h_range is a measurement, not a motion"):
+        f64.EKFMotion(b64.h["range"], np.eye(5))
+
+    class Foreign:
+        gf_capsule = "not a capsule"
+
+        def __call__(self, mu, u):
+            return mu, np.eye(5)
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="g.gf_capsule is not a capsule of gaussfilt's C "
+                             "functions"):
+        f64.EKFMotion(Foreign(), np.eye(5))
+    # u of the wrong length never reaches the C
+    ekf = f64.EKF(mu=[0, 0, 0.3, 2, 0.1], sigma=np.eye(5))
+    before = (ekf.mu.tobytes(), ekf.sigma.tobytes())
+    with pytest.raises(gaussfilt.BadArgument,
+                       match="EKF.predict: u must have 3 entries for "
+                             "bicycle_g"):
+        ekf.predict(b64.motion(0.1), u=[0.0, 0.1])
+    with pytest.raises(gaussfilt.BadArgument,
+                       match=r"EKF.run: u must have shape \(steps, 3\)"):
+        ekf.run(b64.motion(0.1), u=np.zeros((4, 2)))
+    # a NaN from the C at the linearisation point (the range at the
+    # landmark itself: 0 / 0) is a status, the belief unchanged
+    b64.set_params(L=2.5, lx=0, ly=0)
+    ekf = f64.EKF(mu=[0, 0, 0.3, 2, 0.1], sigma=np.eye(5))
+    with pytest.raises(gaussfilt.NonFinite):
+        ekf.update(b64.meas("range"), [1.0])
+    assert (ekf.mu.tobytes(), ekf.sigma.tobytes()) == before
