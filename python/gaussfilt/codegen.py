@@ -22,8 +22,8 @@ derived, and C for gf_ekf written from it (optional: needs SymPy,
 The C (docs/codegen.md has the whole of it): gf_ekf callbacks NAME_g (the
 motion and G) and NAME_h_SENSOR (each sensor's z_hat and H), NAME_R (R at
 a dt) and NAME_Q_SENSOR, straight-line code in gf_real with common
-subexpressions computed once and the entries the filter presets (G's
-identity, H's zeros) not written; only + - * /, GF_SQRT and the library's
+subexpressions computed once and the entries the filter presets (mu_bar's
+equal to mu, G's identity, H's zeros) not written; only + - * /, GF_SQRT and the library's
 gf_sincos, so that the results are the same on every IEEE target. Any
 other function is refused when the C is written, unless `functions` maps
 it to a C function of the caller's. A callback's u holds the inputs, then
@@ -335,8 +335,10 @@ def _body(outputs, names, functions, indent="    "):
             sub[sp.cos(a)] = c
             k += 1
         exprs = [e.xreplace(sub) for e in exprs]
-    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("t_"),
-                            optimizations="basic", order="canonical")
+    temps, reduced = _inline(*sp.cse(exprs,
+                                     symbols=sp.numbered_symbols("t_"),
+                                     optimizations="basic",
+                                     order="canonical"))
     for i, (t, e) in enumerate(temps):
         pr.names[t] = "t%d" % i
         lines.append("%sconst gf_real t%d = %s;" % (indent, i, _strip(pr(e))))
@@ -344,6 +346,22 @@ def _body(outputs, names, functions, indent="    "):
         lines.append("%s// %s" % (indent, comment))
         lines.append("%s%s = %s;" % (indent, lhs, _strip(pr(e))))
     return lines, pr.ops
+
+
+def _inline(temps, reduced):
+    """Puts back where they are used the temporaries that are the negation
+    of a symbol (-a): b + (-a) is written b - a, one operation where the
+    temporary costs two, and a product with it a negated product (one
+    instruction on most FPUs, VNMUL on the M4F)."""
+    kept, sub = [], {}
+    for t, e in temps:
+        e = e.xreplace(sub)
+        if e.is_Mul and len(e.args) == 2 and e.args[0] == -1 and \
+                e.args[1].is_Symbol:
+            sub[t] = e
+        else:
+            kept.append((t, e))
+    return kept, [e.xreplace(sub) for e in reduced]
 
 
 def _strip(s):
@@ -380,9 +398,10 @@ def generate(model: Model) -> Tuple[str, str]:
     origin = model.source or "a Model in Python"
     ops_total = {}
 
-    # motion: mu_bar and G's entries other than the identity's
+    # motion: mu_bar's entries other than the state's own (gf_ekf presets
+    # mu_bar to mu) and G's other than the identity's
     outs = [("mu_bar[%d]" % i, g[i], "%s' = %s" % (xs[i], sp.sstr(g[i])))
-            for i in range(n)]
+            for i in range(n) if g[i] != xs[i]]
     for i in range(n):
         for j in range(n):
             e = G[i, j]
@@ -492,7 +511,8 @@ def _header(model, N, n, nu, npar, angles, sensors, ops, origin):
          "} gf_codegen_model;",
          "#endif",
          "",
-         "// The motion: mu_bar = g(mu, u, dt) and G = dg/dx (gf_ekf_motion_fn).",
+         "// The motion: mu_bar = g(mu, u, dt) and G = dg/dx (gf_ekf_motion_fn;",
+         "// the entries it does not write are gf_ekf's presets, mu and I).",
          "gf_status %s_g(void *ctx, unsigned n, const gf_real *mu, "
          "const gf_real *u," % name,
          " " * len("gf_status %s_g(" % name) + "gf_real *mu_bar, gf_real *G);",
@@ -540,12 +560,16 @@ def _source(model, N, n, nu, npar, angles, sensors, g_lines, r_lines, origin):
         L.append("    const gf_real *p = (const gf_real *)ctx;")
     else:
         L.append("    (void)ctx;")
+    if not uses(g_lines, "mu["):
+        L.append("    (void)mu;")
     if n > 0 and not uses(g_lines, "u["):
         L.append("    (void)u;")
     L.append("    if (n != %du) {" % n)
     L.append("        return GF_ERR_ARG;")
     L.append("    }")
     L += g_lines
+    if not uses(g_lines, "mu_bar["):
+        L.append("    (void)mu_bar;")
     if not uses(g_lines, "G["):
         L.append("    (void)G;")
     L += ["    return GF_OK;", "}", "",

@@ -10,6 +10,7 @@ cannot be C (an unsupported function, a dimension mismatch, a name that
 clashes with C) are refused with a message naming the cause.
 """
 import ctypes
+import os
 import re
 import shutil
 import subprocess
@@ -22,7 +23,7 @@ mpmath = pytest.importorskip("mpmath")
 
 import gaussfilt  # noqa: E402
 from gaussfilt import codegen as cg  # noqa: E402
-from conftest import ROOT  # noqa: E402
+from conftest import BUILD, ROOT  # noqa: E402
 
 STRICT = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic",
           "-Wdouble-promotion", "-Wconversion", "-Werror"]
@@ -482,3 +483,147 @@ def test_the_built_models_refuse_what_does_not_fit(tmp_path):
     with pytest.raises(gaussfilt.NonFinite):
         ekf.update(b64.meas("range"), [1.0])
     assert (ekf.mu.tobytes(), ekf.sigma.tobytes()) == before
+
+
+# ---- the 8-state GPS model, generated beside examples/gps8.c's --------------
+
+def gps8_model():
+    """examples/gps8_model.py's model."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "gps8_model", ROOT / "examples" / "gps8_model.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod.model()
+
+
+def test_the_generated_gps8_matches_its_model_in_50_digits(tmp_path):
+    model = gps8_model()
+    b = cg.build(model, tmp_path, ROOT)
+    rng = np.random.default_rng(8)
+    xs = [s.symbol for s in model.states]
+    worst = 0.0
+    for _ in range(10):
+        sats = rng.normal(size=(4, 3))
+        sats = sats / np.linalg.norm(sats, axis=1, keepdims=True) * 2.66e7
+        b.params[:] = sats.reshape(-1)
+        subs = dict(zip(model.params, b.params.tolist()))
+        mu = np.concatenate([rng.normal(size=3) * 4e6, rng.normal(size=3) * 20,
+                             [3e4, 2.0]])
+        vals, J = reference([sp.sympify(e) for e in model.sensors[0].h], xs,
+                            mu, subs)
+        z, H = b.h["rho"](mu)
+        worst = max(worst, agree(z, vals), agree(H, J))
+        sub = {cg.dt: 1.0}
+        vals, J = reference([sp.sympify(e) for e in model.motion], xs, mu,
+                            sub)
+        got, G = b.g(mu, [1.0])
+        worst = max(worst, agree(got, vals), agree(G, J))
+    print("gps8: worst relative error %.3g" % worst)
+    assert worst <= 1e-7
+
+
+def gps8_runs(tmp_path, prec, cc="gcc"):
+    """examples/gps8.c on its hand-written model and on the generated one,
+    built for the host in prec; each run's --write output as an array
+    (step, x, y, z, b)."""
+    gen = tmp_path / "gen"
+    cg.write(gps8_model(), gen)
+    ex = ROOT / "examples"
+    out = {}
+    for name, model_c in (("hand", ex / "gps8_hand.c"),
+                          ("generated", gen / "gps8_model.c")):
+        exe = tmp_path / ("gps8_%s_%s" % (name, prec))
+        cmd = [cc, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra",
+               "-Werror", "-I", str(ROOT / "include"), "-I", str(ex), "-I",
+               str(gen), str(ex / "gps8.c"), str(model_c)] + [
+            str(p) for p in sorted((ROOT / "src").glob("*.c"))] + [
+            "-lm", "-o", str(exe)]
+        if prec == "float":
+            cmd.insert(1, "-DGF_SINGLE_PRECISION")
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        traj = tmp_path / ("%s_%s.txt" % (name, prec))
+        r = subprocess.run([str(exe), "--write", str(traj)],
+                           capture_output=True, text=True)
+        assert r.returncode == 0 and "gps8 (%s): checks passed" % prec in \
+            r.stdout, r.stdout
+        out[name] = np.loadtxt(traj)
+    return out["hand"], out["generated"]
+
+
+@pytest.mark.parametrize("prec", ["double", "float"])
+def test_the_generated_gps8_gives_the_hand_written_beliefs(tmp_path, prec):
+    hand, gen = gps8_runs(tmp_path, prec)
+    assert hand.shape == gen.shape == (300, 5)
+    assert (hand[:, 0] == gen[:, 0]).all()
+    # the same filter: the callbacks differ in rounding only (H's
+    # quotients through one shared reciprocal where the hand divides)
+    ulp = np.spacing(np.abs(hand[:, 1:]).astype(
+        np.float64 if prec == "double" else np.float32)).astype(np.float64)
+    ulps = np.abs(gen[:, 1:] - hand[:, 1:]) / ulp
+    same = int((gen == hand).all(axis=1).sum())
+    print("gps8 (%s): generated against hand-written over 300 fixes: worst "
+          "%.2f ulp (position, clock bias), %d fixes identical"
+          % (prec, ulps.max(), same))
+    assert ulps.max() <= 4.0
+
+
+def test_the_generated_gps8_compiles_under_the_strict_flags(tmp_path):
+    _, c = cg.write(gps8_model(), tmp_path)
+    for cc in ("gcc", "clang"):
+        if shutil.which(cc) is None:
+            continue
+        for extra in ([], ["-DGF_SINGLE_PRECISION"]):
+            compile_strict(c, tmp_path / "m.o", cc, extra)
+    if shutil.which("arm-none-eabi-gcc"):
+        compile_strict(c, tmp_path / "m.o", "arm-none-eabi-gcc",
+                       ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard",
+                        "-mfpu=fpv4-sp-d16", "-DGF_SINGLE_PRECISION"])
+
+
+def m4f_counts(sources, variant):
+    """Builds examples/gps8_count.c with sources into the Cortex-M4F image
+    gf_fw_export (float, -Os) and runs it under QEMU's insncount plugin
+    (bench/qemu/m4f.sh's gf_m4f_count): {part: instructions per call}."""
+    need = ["arm-none-eabi-gcc", "arm-none-eabi-nm", "qemu-system-arm"]
+    missing = [t for t in need if not shutil.which(t)]
+    if missing:
+        msg = "missing %s (scripts/test python installs them)" % " ".join(
+            missing)
+        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    files = [ROOT / "examples" / "gps8_count.c"] + list(sources)
+    r = subprocess.run(
+        ["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
+         '. bench/qemu/m4f.sh && dir=$(GF_FW_VARIANT="$0" gf_fw_build '
+         'cortex-m4f float -DGF_FW_EXPORT="$1" | tail -1) && '
+         'plugin=$(gf_m4f_plugin) && '
+         'gf_m4f_count "$dir/gf_fw_export.elf" "$plugin"', variant,
+         ";".join(str(f) for f in files)],
+        cwd=ROOT, env=dict(os.environ, GF_BUILD=str(BUILD)),
+        capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stdout + r.stderr
+    counts = {}
+    for line in r.stdout.splitlines():
+        f = line.split()
+        if len(f) == 8 and f[0] == "gps8":
+            counts[f[1]] = (float(f[3]), float(f[4]))  # insns, vdiv
+    assert sorted(counts) == ["g", "h", "step"], r.stdout
+    return counts
+
+
+def test_the_generated_gps8_costs_no_more_on_the_cortex_m4f(tmp_path):
+    gen = tmp_path / "gen"
+    cg.write(gps8_model(), gen)
+    hand = m4f_counts([ROOT / "examples" / "gps8_hand.c"], "gps8-hand")
+    ours = m4f_counts([gen / "gps8_model.c"], "gps8-generated")
+    print("gps8 on the Cortex-M4F (float, -Os), instructions per call "
+          "(VDIV among them):")
+    for part, what in (("g", "motion g and G"), ("h", "pseudoranges h and H"),
+                       ("step", "predict + update")):
+        print("  %-22s hand-written %8.0f (%2.0f)   generated %8.0f (%2.0f)"
+              % ((what,) + hand[part] + ours[part]))
+    for part in ("g", "h", "step"):
+        assert ours[part][0] <= hand[part][0], (part, hand, ours)
