@@ -3658,12 +3658,15 @@ GF_TYPE(KF, "KF",
 GF_GC_TYPE(EKFMotion, "EKFMotion",
            "EKFMotion(g, R)\n--\n\n"
            "gf_ekf's motion of n states (n from R): g(mu, u) -> (mu_bar (n,),\n"
-           "G (n, n)), G = dg/dx at mu; u is predict's u as given.",
+           "G (n, n)), G = dg/dx at mu; u is predict's u as given. A g\n"
+           "carrying a gf_capsule (a model built by gaussfilt.codegen) is\n"
+           "called in C, no Python in the step; u then has its entries.",
            EKFMotion_init, EKFMotion_getset);
 GF_GC_TYPE(EKFMeas, "EKFMeas",
            "EKFMeas(h, Q, n, angle_mask=0, gate=0.0)\n--\n\n"
            "gf_ekf's measurement of m quantities (m from Q) for n states:\n"
-           "h(mu_bar) -> (z_hat (m,), H (m, n)).",
+           "h(mu_bar) -> (z_hat (m,), H (m, n)). An h carrying a gf_capsule\n"
+           "(gaussfilt.codegen) is called in C, no Python in the step.",
            EKFMeas_init, EKFMeas_getset);
 GF_TYPE(EKF, "EKF",
         "EKF(mu, sigma, angles=0)\n--\n\n"
