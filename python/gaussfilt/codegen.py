@@ -23,13 +23,14 @@ The C (docs/codegen.md has the whole of it): gf_ekf callbacks NAME_g (the
 motion and G) and NAME_h_SENSOR (each sensor's z_hat and H), NAME_R (R at
 a dt) and NAME_Q_SENSOR, straight-line code in gf_real with common
 subexpressions computed once and the entries the filter presets (mu_bar's
-equal to mu, G's identity, H's zeros) not written; only + - * /, GF_SQRT and the library's
-gf_sincos, so that the results are the same on every IEEE target. Any
-other function is refused when the C is written, unless `functions` maps
-it to a C function of the caller's. A callback's u holds the inputs, then
-dt; its ctx, the parameters (gf_real, in the order given). NAME_model()
-returns a descriptor: n, the inputs, the parameters, the states' names,
-units and angles, and each sensor's name, m, callback and noise.
+equal to mu, G's identity, H's zeros) not written; only + - * /, GF_SQRT
+and the library's gf_sincos, so that the results are the same on every
+IEEE target. Any other function is refused when the C is written, unless
+`functions` maps it to a C function of the caller's. A callback's u holds
+the inputs, then dt; its ctx, the parameters (gf_real, in the order
+given). NAME_model() returns a descriptor: n, the inputs, the parameters,
+the states' names, units and angles, and each sensor's name, m, callback
+and noise.
 """
 import os
 import pathlib
