@@ -350,8 +350,8 @@ static PyTypeObject *sigma_type;
 static PyObject *new_sigma(npy_intp n, const gf_real *src)
 {
     npy_intp dims[2] = {n, n};
-    PyObject *a = PyArray_New(sigma_type, 2, dims, NPY_GF, NULL, NULL, 0, 0,
-                              NULL);
+    PyObject *a =
+        PyArray_New(sigma_type, 2, dims, NPY_GF, NULL, NULL, 0, 0, NULL);
     if (a && src) {
         memcpy(PyArray_DATA((PyArrayObject *)a), src,
                (size_t)(n * n) * sizeof(gf_real));
