@@ -79,6 +79,7 @@
 #include "book.h"
 #include "gf_channels.h"
 #include "gf_help.h"
+#include "gf_route.h"
 #include "node_model.h"
 
 #define MODEL_CAR GAUSSFILT_LCM_MEASUREMENT_T_MODEL_CAR
@@ -155,7 +156,7 @@ typedef struct sim {
     uint8_t buf[64 + 8 * (NMAX + NMAX * NMAX)];
 } sim;
 
-static void send(sim *s, const char *channel, int len)
+static void publish_bytes(sim *s, const char *channel, int len)
 {
     if (len < 0 || lcm_publish(s->lcm, channel, s->buf, (unsigned)len) != 0) {
         s->failed = 1;
@@ -178,8 +179,9 @@ static void send_ctrl_v(sim *s, long t, int n, const double *u)
     c.model = s->model;
     c.n = (int8_t)n;
     c.u = uu;
-    send(s, s->ch_ctrl,
-         gaussfilt_lcm_control_t_encode(s->buf, 0, (int)sizeof(s->buf), &c));
+    publish_bytes(
+        s, s->ch_ctrl,
+        gaussfilt_lcm_control_t_encode(s->buf, 0, (int)sizeof(s->buf), &c));
     s->sent_ctrl++;
 }
 
@@ -209,9 +211,9 @@ static void send_meas_m(sim *s, long t, int m, const double *z, const double *q)
     msg.m = (int8_t)m;
     msg.z = zz;
     msg.q = rows;
-    send(s, s->ch_meas,
-         gaussfilt_lcm_measurement_t_encode(s->buf, 0, (int)sizeof(s->buf),
-                                            &msg));
+    publish_bytes(s, s->ch_meas,
+                  gaussfilt_lcm_measurement_t_encode(
+                      s->buf, 0, (int)sizeof(s->buf), &msg));
     s->sent_meas++;
 }
 
@@ -244,8 +246,9 @@ static int encode_meas_on(sim *s, int64_t *seq, int64_t u, int m,
 static void send_meas_on(sim *s, const char *channel, int64_t *seq, int64_t u,
                          int m, const double *z, const double *q)
 {
-    send(s, channel,
-         encode_meas_on(s, seq, u, m, z, q, s->buf, (int)sizeof(s->buf)));
+    publish_bytes(
+        s, channel,
+        encode_meas_on(s, seq, u, m, z, q, s->buf, (int)sizeof(s->buf)));
     s->sent_meas++;
 }
 
@@ -277,7 +280,7 @@ static void send_truth_at(sim *s, int64_t u, int n, const double *x)
     g.model = s->model;
     g.n = (int8_t)n;
     g.state = state;
-    send(
+    publish_bytes(
         s, s->ch_truth,
         gaussfilt_lcm_groundtruth_t_encode(s->buf, 0, (int)sizeof(s->buf), &g));
     s->sent_truth++;
@@ -875,7 +878,7 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    s.lcm = lcm_create(url);
+    s.lcm = gf_lcm_open("gf_sim", url);
     if (s.lcm == NULL) {
         fprintf(stderr, "gf_sim: cannot open LCM at %s\n",
                 url ? url : "(default URL)");

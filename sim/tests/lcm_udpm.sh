@@ -392,6 +392,17 @@ strict)
             "$work/noroute.err" || { echo "lcm_udpm: no clear word without a route" >&2; exit 1; }
         ! grep -q '^No route to\|^connect:' "$work/noroute.err" ||
             { echo "lcm_udpm: LCM's own route message came" >&2; exit 1; }
+        # gf_sim opens LCM the same way.
+        if unshare -n sh -c 'ip link set lo up && exec "$0" --url "$1" --exercise 1 --track 1' \
+            "$bin/gf_sim" "$URL" >"$work/noroute-sim.out" 2>"$work/noroute-sim.err"; then
+            echo "lcm_udpm: gf_sim ran without a multicast route" >&2
+            exit 1
+        fi
+        cat "$work/noroute-sim.err"
+        grep -qF "gf_sim: no route to the multicast group $group of $URL (Network is unreachable): udpm needs one; on one machine, as root: ip route add 224.0.0.0/4 dev lo" \
+            "$work/noroute-sim.err" || { echo "lcm_udpm: gf_sim has no clear word without a route" >&2; exit 1; }
+        ! grep -q '^No route to\|^connect:' "$work/noroute-sim.err" ||
+            { echo "lcm_udpm: LCM's own route message came from gf_sim" >&2; exit 1; }
     fi
     # 1 initial belief + 10 of the car100 track; Table 2.1 of the preset
     start check100 "$bin/gf_check" --url "$URL" --count 11 --track 100
