@@ -1202,6 +1202,15 @@ static int sensor_key(const gf_node_model *mdl, gf_node_sensor *sen,
             return fail(err, size, line, "%s takes %u or %u numbers (m = %u)",
                         key, sen->m, sen->m * sen->m, sen->m);
         }
+    } else if (linear &&
+               (strcmp(key, "measure") == 0 || strcmp(key, "landmark") == 0)) {
+        // the built-in nonlinear measures know where a robot's x, y and
+        // theta are; a linear model's states have no such names
+        return fail(err, size, line,
+                    "a sensor of a linear model has no %s: it measures C x "
+                    "(range, bearing and heading are a robot model's "
+                    "sensors)",
+                    key);
     } else if (strcmp(key, "landmark") == 0 && !linear) {
         if (numbers(val, sen->landmark, 2) != 2) {
             return fail(err, size, line, "landmark takes 2 numbers");

@@ -276,7 +276,12 @@ static void sensor_errors(void **state)
          "line 5: Q after C (it gives m)"},
         {"[model v]\ntype = linear\nmotion = cv\n[sensor a]\nlandmark = 1 "
          "2\n",
-         "line 5: a sensor of a linear model has no landmark"},
+         "line 5: a sensor of a linear model has no landmark: it measures C "
+         "x (range, bearing and heading are a robot model's sensors)"},
+        {"[model v]\ntype = linear\nmotion = cv cv\n[sensor a]\nmeasure = "
+         "range\n",
+         "line 5: a sensor of a linear model has no measure: it measures C x "
+         "(range, bearing and heading are a robot model's sensors)"},
         {"[model v]\ntype = linear\nmotion = cv\n[sensor a]\nC = 1 0 0\n",
          "line 5: C takes m*n numbers, one row of n = 2 per measured quantity "
          "(m <= n)"},
