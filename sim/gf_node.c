@@ -312,7 +312,8 @@ static void help(void)
         "file://)\n"
         "  --channels RE   channels to take (default " GF_CHANNEL_NODE_DEFAULT
         ")\n"
-        "  --queue N       messages LCM may hold for the node (default 65536)\n"
+        "  --queue N       the node's input queue, in messages (default\n"
+        "                  65536); one that finds it full is dropped, counted\n"
         "  --filter F      robot filter: ekf (default), ukf or pf\n"
         "  --seed S        PF tracks' generator seed, plus the track id (1)\n"
         "  --cpu N, --rx-cpu M, --rt PRIO   thread placement, SCHED_FIFO\n"
