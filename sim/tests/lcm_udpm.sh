@@ -37,8 +37,9 @@
 #              (no_model, said once) and runs the configured car on 100; a
 #              node without --strict runs exercise 2 on the preset book-car
 #              and says so (gf_check: Table 2.1); without a multicast route
-#              (as root: a namespace of its own) the node names the group
-#              and the fix, and LCM's garbled "No route to" never comes
+#              (as root: a namespace of its own) the node and gf_sim name
+#              the group and the fix, and LCM's garbled "No route to"
+#              never comes
 #   peers      two nodes (--name a, --name b) on the same tracks: each
 #              warns once that the other publishes beliefs of track 1,
 #              and counts them (peer_beliefs)
