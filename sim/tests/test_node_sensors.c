@@ -788,6 +788,79 @@ static void robot_sensors(void **state)
     }
 }
 
+// The same sensors on a UKF3 track (gf_node --filter ukf) against gf_ukf3
+// with the test's callbacks, and on a PF3 track (--filter pf): each
+// applied, its belief the sensor's, the PF's mean pulled to the compass.
+static void robot_sensors_ukf_pf(void **state)
+{
+    static const gf_ukf3_params p = {GF_R(1.0), GF_R(2.0), GF_R(0.0)};
+    static gf_node_pf_pool pool;
+    const gf_vec3 mu0 = {{0, 0, GF_R(0.3)}};
+    const gf_mat3 s0 = {
+        {{GF_R(0.1), 0, 0}, {0, GF_R(0.1), 0}, {0, 0, GF_R(0.05)}}};
+    const gf_real u[2] = {GF_R(1.0), GF_R(0.1)};
+    const double zh = 0.45, qh = 0.0004, zr = 3.9, qr = 0.01, zb = 0.2,
+                 qb = 0.001;
+    gf_ekf3_meas_fn h[3] = {my_heading, my_range, my_bearing};
+    const char *name[3] = {"compass", "ranger", "finder"};
+    const double *z[3] = {&zh, &zr, &zb}, *q[3] = {&qh, &qr, &qb};
+    const unsigned mask[3] = {1u, 0u, 1u};
+    gf_ukf3 ukf;
+    gf_ekf3_motion mot;
+    gf_ekf3_meas mm;
+    const gf_wire_belief *b;
+    unsigned i, j, k;
+    (void)state;
+    assert_int_equal(gf_node_set_filter(&fx.node, GF_NODE_FILTER_UKF, NULL, 1),
+                     0);
+    assert_int_equal(gf_ukf3_init(&ukf, &mu0, &s0, &p), GF_OK);
+    assert_int_equal(feed(gf_msg_ctrl(901, GF_ROBOT, 1, 1, 2, 1.0, 0.1), 0),
+                     GF_NODE_APPLIED);
+    gf_node_model_robot(gf_node_config_find(&fx.cfg, "rover"), ukf.mu.v[2], u,
+                        &mot);
+    assert_int_equal(gf_ukf3_predict(&ukf, &mot, u), GF_OK);
+    for (k = 0; k < 3; k++) {
+        gf_vec3 zz = {{(gf_real)*z[k], 0, 0}};
+        assert_int_equal(
+            feed(sensor_msg(901, GF_ROBOT, name[k], 1, 1, 1, z[k], q[k]), 0),
+            GF_NODE_APPLIED);
+        memset(&mm, 0, sizeof mm);
+        mm.m = 1;
+        mm.h = h[k];
+        mm.Q.m[0][0] = (gf_real)*q[k];
+        mm.angle_mask = mask[k];
+        assert_int_equal(gf_ukf3_update(&ukf, &mm, &zz, NULL), GF_OK);
+        b = last();
+        assert_int_equal(b->filter, GAUSSFILT_LCM_BELIEF_T_FILTER_UKF3);
+        assert_string_equal(b->sensor, name[k]);
+        assert_int_equal(b->status, GF_OK);
+        for (i = 0; i < 3; i++) {
+            check_close(b->mean[i], (double)ukf.mu.v[i]);
+            for (j = 0; j < 3; j++) {
+                check_close(b->cov[i][j], (double)ukf.sigma.m[i][j]);
+            }
+        }
+    }
+    assert_int_equal(gf_node_set_filter(&fx.node, GF_NODE_FILTER_PF, &pool, 1),
+                     0);
+    assert_int_equal(feed(gf_msg_ctrl(902, GF_ROBOT, 1, 1, 2, 1.0, 0.1), 0),
+                     GF_NODE_APPLIED);
+    for (k = 0; k < 3; k++) {
+        double before = last()->cov[2][2];
+        assert_int_equal(
+            feed(sensor_msg(902, GF_ROBOT, name[k], 1, 1, 1, z[k], q[k]), 0),
+            GF_NODE_APPLIED);
+        b = last();
+        assert_int_equal(b->filter, GAUSSFILT_LCM_BELIEF_T_FILTER_PF3);
+        assert_string_equal(b->sensor, name[k]);
+        assert_int_equal(b->status, GF_OK);
+        if (k == 0) { // the compass: theta's spread narrows, towards 0.45
+            assert_true(b->cov[2][2] < 0.1 * before);
+            assert_true(fabs(b->mean[2] - zh) < 0.05);
+        }
+    }
+}
+
 // ---- gf_node_tick ------------------------------------------------------------
 
 static void tick(void **state)
@@ -876,6 +949,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(late_and_old, setup, teardown),
         cmocka_unit_test_setup_teardown(failed_in_time, setup, teardown),
         cmocka_unit_test_setup_teardown(robot_sensors, setup, teardown),
+        cmocka_unit_test_setup_teardown(robot_sensors_ukf_pf, setup, teardown),
         cmocka_unit_test_setup_teardown(tick, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
