@@ -88,7 +88,7 @@ static double median(double *v, unsigned n)
     return v[n / 2];
 }
 
-static void tb_belief(const gr_tb *t, gr_real mu[3], gr_real P[3][3])
+static void tb_belief(const gr_tb *t, gr_real mu[3], gr_mat P)
 {
     for (int i = 0; i < 3; i++) {
         mu[i] = i < t->n ? (gr_real)t->mu[i] : 0;
@@ -129,11 +129,7 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t, fig *b)
             gr_scen_move(&sc);
             gr_filt *f[4] = {&ref, &pa, &pb, &low};
             for (int i = 0; i < 4; i++) {
-                if (kind == GR_EKF3_TURN) {
-                    gr_predict_turn(f[i], sc.u, sc.R);
-                } else {
-                    gr_predict_lin(f[i], sc.A, sc.c, sc.R);
-                }
+                gr_predict_scen(f[i], &sc);
             }
             round_mean(&low, angle);
             if (step >= sc.pre) {
@@ -141,11 +137,10 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t, fig *b)
                 gr_scen_measure(&sc, z);
                 gr_filt nr = ref, na = pa, nb = pb, nl = low;
                 gr_real nis;
-                int ok = gr_update_batch(&nr, sc.m, sc.H, sc.Q, z, &nis) &&
-                         gr_update_batch(&na, sc.m, sc.H, sc.Q, z, &nis) &&
-                         gr_update_batch(&nb, sc.m, sc.H, sc.Q, z, &nis);
-                b_live =
-                    b_live && gr_update_batch(&nl, sc.m, sc.H, sc.Q, z, &nis);
+                int ok = gr_update_scen(&nr, &sc, z, &nis) &&
+                         gr_update_scen(&na, &sc, z, &nis) &&
+                         gr_update_scen(&nb, &sc, z, &nis);
+                b_live = b_live && gr_update_scen(&nl, &sc, z, &nis);
                 gf_innovation info;
                 gf_status st = lib_update(&l, &sc, z, 0, &info);
                 int tok = t_live ? gr_tb_update(&tb, &sc, z) : 0;
@@ -178,24 +173,25 @@ static void run(int kind, unsigned count, double digits, fig *g, fig *t, fig *b)
                 continue;
             }
             double sa, ma, sb, mb;
-            gr_errors(&ref, pa.mu, pa.P, angle, &sa, &ma);
-            gr_errors(&ref, pb.mu, pb.P, angle, &sb, &mb);
+            gr_errors(&ref, NULL, pa.mu, pa.P, angle, &sa, &ma);
+            gr_errors(&ref, NULL, pb.mu, pb.P, angle, &sb, &mb);
             if (!(64.0 * fmax(fmax(sa, sb), fmax(ma, mb)) < digits) ||
                 !t_live) {
                 continue; // no digit to compare, or nothing to compare with
             }
-            gr_real mu[3], P[3][3];
+            gr_real mu[3];
+            gr_mat P;
             double es, em;
             (void)lib_belief(&l, mu, P);
-            gr_errors(&ref, mu, P, angle, &es, &em);
+            gr_errors(&ref, NULL, mu, P, angle, &es, &em);
             gs = fmax(gs, es);
             gm = fmax(gm, em);
             tb_belief(&tb, mu, P);
-            gr_errors(&ref, mu, P, 0, &es, &em);
+            gr_errors(&ref, NULL, mu, P, 0, &es, &em);
             ts = fmax(ts, es);
             tm = fmax(tm, em);
             if (b_live) {
-                gr_errors(&ref, low.mu, low.P, angle, &es, &em);
+                gr_errors(&ref, NULL, low.mu, low.P, angle, &es, &em);
                 bs = fmax(bs, es);
                 bm = fmax(bm, em);
             }
@@ -352,8 +348,7 @@ static int s_class(const cpath *p, const gr_scen *sc)
 // gate). The references follow; then the errors of (mu, P), the filter's
 // belief, where the copies leave a digit.
 static void cpath_update(cpath *p, const gr_scen *sc, const gf_real z[3],
-                         int acc, int gated, const gr_real mu[3],
-                         gr_real P[3][3])
+                         int acc, int gated, const gr_real mu[3], gr_mat P)
 {
     if (!p->live) {
         return;
@@ -368,12 +363,9 @@ static void cpath_update(cpath *p, const gr_scen *sc, const gf_real z[3],
     }
     gr_filt nr = p->ref, na = p->pa, nb = p->pb;
     gr_real nis;
-    if (!(gr_update_batch(&nr, sc->m, (gf_real(*)[3])sc->H,
-                          (gf_real(*)[3])sc->Q, z, &nis) &&
-          gr_update_batch(&na, sc->m, (gf_real(*)[3])sc->H,
-                          (gf_real(*)[3])sc->Q, z, &nis) &&
-          gr_update_batch(&nb, sc->m, (gf_real(*)[3])sc->H,
-                          (gf_real(*)[3])sc->Q, z, &nis))) {
+    if (!(gr_update_scen(&nr, sc, z, &nis) &&
+          gr_update_scen(&na, sc, z, &nis) &&
+          gr_update_scen(&nb, sc, z, &nis))) {
         p->live = 0; // accepted where the exact S is not positive definite
         return;
     }
@@ -381,12 +373,12 @@ static void cpath_update(cpath *p, const gr_scen *sc, const gf_real z[3],
     p->pa = na;
     p->pb = nb;
     double sa, ma, sb, mb, es, em;
-    gr_errors(&p->ref, p->pa.mu, p->pa.P, 0, &sa, &ma);
-    gr_errors(&p->ref, p->pb.mu, p->pb.P, 0, &sb, &mb);
+    gr_errors(&p->ref, NULL, p->pa.mu, p->pa.P, 0, &sa, &ma);
+    gr_errors(&p->ref, NULL, p->pb.mu, p->pb.P, 0, &sb, &mb);
     if (!(64.0 * fmax(fmax(sa, sb), fmax(ma, mb)) < 1.0)) {
         return;
     }
-    gr_errors(&p->ref, mu, P, 0, &es, &em);
+    gr_errors(&p->ref, NULL, mu, P, 0, &es, &em);
     p->ws = fmax(p->ws, es);
     p->wm = fmax(p->wm, em);
     p->any = 1;
@@ -408,8 +400,7 @@ static gf_real gate_at(const cpath *p, const gr_scen *sc, const gf_real z[3])
 {
     gr_filt nr = p->ref;
     gr_real nis = 0;
-    if (!gr_update_batch(&nr, sc->m, (gf_real(*)[3])sc->H, (gf_real(*)[3])sc->Q,
-                         z, &nis)) {
+    if (!gr_update_scen(&nr, sc, z, &nis)) {
         return 0;
     }
     // (a NIS that is not positive, or a gate that overflows: no gate)
@@ -463,7 +454,7 @@ static int kf2_class(unsigned count, double *buf)
             gr_scen_move(&sc);
             gr_filt *f[6] = {&pg.ref, &pg.pa, &pg.pb, &pt.ref, &pt.pa, &pt.pb};
             for (int i = 0; i < 6; i++) {
-                gr_predict_lin(f[i], sc.A, sc.c, sc.R);
+                gr_predict_scen(f[i], &sc);
             }
             gf_real z[3];
             gr_scen_measure(&sc, z);
@@ -475,7 +466,8 @@ static int kf2_class(unsigned count, double *buf)
             int tgated = 0;
             const int tok = gr_tb_update_gated(&tb, &sc, z, gt, &tgated);
             updates++;
-            gr_real mu[3], P[3][3];
+            gr_real mu[3];
+            gr_mat P;
             (void)lib_belief(&l, mu, P);
             cpath_update(&pg, &sc, z, st == GF_OK, st == GF_ERR_GATED, mu, P);
             tb_belief(&tb, mu, P);

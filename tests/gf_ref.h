@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Shared by tests/test_random.c and bench/accuracy.c: seeded random
-// scenarios for KF2 and EKF3, a reference Joseph filter in long double (the
-// batch form; its perturbed copies, which measure a scenario's
-// conditioning; and the sequential form, for comparison), an independent
-// positive-semidefiniteness test, and a textbook Joseph filter in gf_real.
-// Test code: static inline helpers, no state outside the structs the
-// caller owns.
+// The reference of every test and of bench/accuracy.c: a Joseph filter in
+// long double for any n up to GR_N (the batch form; its perturbed copies,
+// which measure a scenario's conditioning; and the sequential form, for
+// comparison) and an independent positive-semidefiniteness test, used by
+// tests/test_random.c, tests/test_kf.c and bench/accuracy.c; then seeded
+// random scenarios for KF2 and EKF3 with the reference on them, and a
+// textbook Joseph filter in gf_real for those. Test code: static inline
+// helpers; no state outside the structs the caller owns but the steps'
+// scratch matrices (gr_ws).
 //
 // The generator works in double, rounds every input to gf_real once, and
 // the reference reads those rounded inputs: the reference and the filter
@@ -129,6 +131,582 @@ static inline double gr_logu(gr_rng *r, double lo, double hi)
 static inline unsigned gr_below(gr_rng *r, unsigned n)
 {
     return (unsigned)(gr_next(r) % n);
+}
+
+// ---- the reference filter (long double, any n up to GR_N) -----------------
+
+// The largest n (and m) the reference takes.
+#define GR_N 12
+typedef gr_real gr_mat[GR_N][GR_N];
+
+// Deliberate bugs of the reference, to show that a bound catches them.
+enum gr_bug {
+    GR_BUG_NONE,
+    GR_BUG_NO_R,  // predictions without R
+    GR_BUG_NO_KQK // Joseph forms without K Q K^T (and no second pass)
+};
+
+// The reference: the textbook steps in long double. With eps > 0 it is a
+// perturbed copy: every input it reads (models, measurement), every
+// intermediate of the batch Joseph update (P H^T, S, y, K, I - K H) and the
+// belief it holds after each step are multiplied by 1 +- eps (signs drawn
+// from its own rng), eps being gf_real's unit roundoff: a model of one
+// rounding of each quantity a textbook Joseph filter in gf_real forms. The
+// spread of such copies around the unperturbed reference is the error that
+// the scenario's conditioning gives that filter at gf_real's precision,
+// measured on the scenario rather than estimated from norms.
+typedef struct gr_filt {
+    int n;
+    int angle_row; // the measurement row whose residual is an angle, or -1
+    int bug;       // enum gr_bug
+    gr_real mu[GR_N];
+    gr_mat P;
+    double eps;
+    gr_rng rng;
+} gr_filt;
+
+// The steps' matrices: file-scope, as the emulated target's stack (16 KiB)
+// is small. One step at a time.
+static struct {
+    gr_mat a, GP, P, H, Q, PH, S, L, Si, K, M, Pn, LQ, Qi, MP, ldl, psd, psdL;
+    gr_filt seq;
+} gr_ws;
+
+// The reference at the prior (mu0, S0), S0 n x n with rows lds apart; a
+// perturbed copy when eps != 0, its signs drawn from seed.
+static inline void gr_ref_init(gr_filt *f, int n, const gf_real *mu0,
+                               const gf_real *S0, int lds, double eps,
+                               uint64_t seed)
+{
+    memset(f, 0, sizeof *f);
+    f->n = n;
+    f->angle_row = -1;
+    f->eps = eps;
+    f->rng.s = seed;
+    for (int i = 0; i < n; i++) {
+        f->mu[i] = (gr_real)mu0[i];
+        for (int j = 0; j < n; j++) {
+            f->P[i][j] = (gr_real)S0[i * lds + j];
+        }
+    }
+}
+
+// a wrapped to [-pi, pi], in long double.
+static inline gr_real gr_wrap(gr_real a)
+{
+    const gr_real two_pi = 6.283185307179586476925L;
+    return a - two_pi * (gr_real)floor((double)(a / two_pi) + 0.5);
+}
+
+static inline gr_real gr_pert(gr_filt *f, gr_real x)
+{
+    if (f->eps == 0) {
+        return x;
+    }
+    double e = (gr_next(&f->rng) & 1) ? f->eps : -f->eps;
+    return x * (1.0L + (gr_real)e);
+}
+
+// An input as this copy reads it.
+static inline gr_real gr_in(gr_filt *f, gf_real x)
+{
+    return gr_pert(f, (gr_real)x);
+}
+
+// A covariance-like matrix as a copy stores it: its variances times 1 -
+// eps and its covariances times 1 + eps in one copy (eps < 0 in the other):
+// the direction in which rounding moves its correlation form most, towards
+// or away from singular, which random signs can miss (a relative
+// perturbation of all entries alike changes no correlation).
+static inline void gr_pert_cov(gr_filt *f, int n, gr_mat P)
+{
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j <= i; j++) {
+            gr_real v = 0.5L * (P[i][j] + P[j][i]);
+            gr_real e = (gr_real)f->eps;
+            v *= i == j ? 1.0L - e : 1.0L + e;
+            P[i][j] = P[j][i] = v;
+        }
+    }
+}
+
+// The belief stored after a step.
+static inline void gr_store(gr_filt *f, const gr_real *mu, gr_mat P)
+{
+    for (int i = 0; i < f->n; i++) {
+        f->mu[i] = gr_pert(f, mu[i]);
+        for (int j = 0; j < f->n; j++) {
+            f->P[i][j] = P[i][j];
+        }
+    }
+    gr_pert_cov(f, f->n, f->P);
+}
+
+// P = G P G^T + R (R n x n, rows ld apart), then the belief (mu, P) stored.
+static inline void gr_predict_cov(gr_filt *f, gr_mat G, const gr_real *mu,
+                                  const gf_real *R, int ld)
+{
+    const int n = f->n;
+    gr_real(*GP)[GR_N] = gr_ws.GP, (*P)[GR_N] = gr_ws.P;
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            GP[i][j] = 0;
+            for (int k = 0; k < n; k++) {
+                GP[i][j] += G[i][k] * f->P[k][j];
+            }
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j <= i; j++) {
+            P[i][j] = f->bug == GR_BUG_NO_R ? 0.0L : gr_in(f, R[i * ld + j]);
+            for (int k = 0; k < n; k++) {
+                P[i][j] += GP[i][k] * G[j][k];
+            }
+            P[j][i] = P[i][j];
+        }
+    }
+    gr_store(f, mu, P);
+}
+
+// Prediction with a linear model: mu = A mu + B u + c, P = A P A^T + R (A
+// and R n x n, rows ld apart; B n x nu, u nu, both unread when nu = 0).
+static inline void gr_predict(gr_filt *f, const gf_real *A, const gf_real *B,
+                              const gf_real *u, int nu, const gf_real *c,
+                              const gf_real *R, int ld)
+{
+    const int n = f->n;
+    gr_real(*a)[GR_N] = gr_ws.a, mu[GR_N];
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            a[i][j] = gr_in(f, A[i * ld + j]);
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        mu[i] = gr_in(f, c[i]);
+        for (int k = 0; k < nu; k++) {
+            mu[i] += gr_in(f, B[i * nu + k]) * (gr_real)u[k];
+        }
+        for (int j = 0; j < n; j++) {
+            mu[i] += a[i][j] * f->mu[j];
+        }
+    }
+    gr_predict_cov(f, a, mu, R, ld);
+}
+
+// LDL^T of the leading m x m block of a symmetric s, no pivoting, in long
+// double: s = L D L^T, L unit lower triangular. A pivot that is not
+// positive stops it (returns 0) unless allow_zero, where a zero pivot
+// with a zero column below it is kept as d_k = 0 (semidefinite s).
+static inline int gr_ldl(int m, gr_mat s, gr_mat L, gr_real *D, int allow_zero)
+{
+    gr_real(*a)[GR_N] = gr_ws.ldl;
+    for (int i = 0; i < m; i++) {
+        for (int j = 0; j < m; j++) {
+            a[i][j] = s[i][j];
+            L[i][j] = i == j ? 1.0L : 0.0L;
+        }
+    }
+    for (int k = 0; k < m; k++) {
+        D[k] = a[k][k];
+        if (!(D[k] > 0)) {
+            if (!allow_zero || D[k] < 0) {
+                return 0;
+            }
+            for (int i = k + 1; i < m; i++) {
+                if (a[i][k] != 0) {
+                    return 0;
+                }
+            }
+            D[k] = 0;
+            continue;
+        }
+        for (int i = k + 1; i < m; i++) {
+            L[i][k] = a[i][k] / D[k];
+        }
+        for (int i = k + 1; i < m; i++) {
+            for (int j = k + 1; j <= i; j++) {
+                a[i][j] -= L[i][k] * D[k] * L[j][k];
+                a[j][i] = a[i][j];
+            }
+        }
+    }
+    return 1;
+}
+
+// inv = (L D L^T)^-1, column by column, D > 0.
+static inline void gr_ldl_inverse(int m, gr_mat L, const gr_real *D, gr_mat inv)
+{
+    for (int j = 0; j < m; j++) {
+        gr_real x[GR_N];
+        for (int i = 0; i < m; i++) {
+            x[i] = i == j ? 1.0L : 0.0L;
+            for (int k = 0; k < i; k++) {
+                x[i] -= L[i][k] * x[k];
+            }
+        }
+        for (int i = 0; i < m; i++) {
+            x[i] /= D[i];
+        }
+        for (int i = m - 1; i >= 0; i--) {
+            for (int k = i + 1; k < m; k++) {
+                x[i] -= L[k][i] * x[k];
+            }
+        }
+        for (int i = 0; i < m; i++) {
+            inv[i][j] = x[i];
+        }
+    }
+}
+
+// Pn = M P M^T + K Q K^T (K Q K^T left out by GR_BUG_NO_KQK).
+static inline void gr_joseph(const gr_filt *f, int m, gr_mat M, gr_mat K,
+                             gr_mat Q, gr_mat Pn)
+{
+    const int n = f->n;
+    gr_real(*MP)[GR_N] = gr_ws.MP;
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            MP[i][j] = 0;
+            for (int k = 0; k < n; k++) {
+                MP[i][j] += M[i][k] * f->P[k][j];
+            }
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            Pn[i][j] = 0;
+            for (int k = 0; k < n; k++) {
+                Pn[i][j] += MP[i][k] * M[j][k];
+            }
+            for (int a = 0; a < m && f->bug != GR_BUG_NO_KQK; a++) {
+                for (int b = 0; b < m; b++) {
+                    Pn[i][j] += K[i][a] * Q[a][b] * K[j][b];
+                }
+            }
+        }
+    }
+}
+
+// Row i of M = I - K H.
+static inline void gr_i_minus_kh(gr_filt *f, int m, int i, gr_mat K, gr_mat H,
+                                 gr_mat M)
+{
+    for (int j = 0; j < f->n; j++) {
+        M[i][j] = i == j ? 1.0L : 0.0L;
+        for (int k = 0; k < m; k++) {
+            M[i][j] -= K[i][k] * H[k][j];
+        }
+        M[i][j] = gr_pert(f, M[i][j]);
+    }
+}
+
+// The batch update (Table 3.1 with the Joseph form), m = 1..n, H m x n with
+// rows ldh apart, Q m x m with rows ldq apart, d (a constant term of the
+// measurement) NULL or m:
+//   y = z - d - H mu,  S = H P H^T + Q,  K = P H^T S^-1,  mu = mu + K y,
+//   P = (I - K H) P (I - K H)^T + K Q K^T,  NIS = y^T S^-1 y.
+// Returns 0 (and leaves f alone) when S is not positive definite.
+static inline int gr_update(gr_filt *f, int m, const gf_real *Hin, int ldh,
+                            const gf_real *Qin, int ldq, const gf_real *zin,
+                            const gf_real *din, gr_real *nis_out)
+{
+    const int n = f->n;
+    gr_real(*H)[GR_N] = gr_ws.H, (*Q)[GR_N] = gr_ws.Q, (*PH)[GR_N] = gr_ws.PH;
+    gr_real(*S)[GR_N] = gr_ws.S, (*L)[GR_N] = gr_ws.L, (*Si)[GR_N] = gr_ws.Si;
+    gr_real(*K)[GR_N] = gr_ws.K, (*M)[GR_N] = gr_ws.M, (*Pn)[GR_N] = gr_ws.Pn;
+    gr_real z[GR_N], D[GR_N], y[GR_N];
+    for (int i = 0; i < m; i++) {
+        z[i] = gr_in(f, zin[i]);
+        if (din) {
+            z[i] -= gr_in(f, din[i]);
+        }
+        for (int j = 0; j < n; j++) {
+            H[i][j] = gr_in(f, Hin[i * ldh + j]);
+        }
+        for (int j = 0; j <= i; j++) {
+            Q[i][j] = Q[j][i] = (gr_real)Qin[i * ldq + j];
+        }
+    }
+    gr_pert_cov(f, m, Q);
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < m; j++) {
+            PH[i][j] = 0;
+            for (int k = 0; k < n; k++) {
+                PH[i][j] += f->P[i][k] * H[j][k];
+            }
+            PH[i][j] = gr_pert(f, PH[i][j]);
+        }
+    }
+    for (int i = 0; i < m; i++) {
+        for (int j = 0; j <= i; j++) {
+            S[i][j] = Q[i][j];
+            for (int k = 0; k < n; k++) {
+                S[i][j] += H[i][k] * PH[k][j];
+            }
+            S[j][i] = S[i][j];
+        }
+    }
+    gr_pert_cov(f, m, S);
+    if (!gr_ldl(m, S, L, D, 0)) {
+        return 0;
+    }
+    gr_ldl_inverse(m, L, D, Si);
+    for (int i = 0; i < m; i++) {
+        y[i] = z[i];
+        for (int k = 0; k < n; k++) {
+            y[i] -= H[i][k] * f->mu[k];
+        }
+        if (i == f->angle_row) {
+            y[i] = gr_wrap(y[i]);
+        }
+        y[i] = gr_pert(f, y[i]);
+    }
+    gr_real nis = 0;
+    for (int i = 0; i < m; i++) {
+        for (int j = 0; j < m; j++) {
+            nis += y[i] * Si[i][j] * y[j];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < m; j++) {
+            K[i][j] = 0;
+            for (int k = 0; k < m; k++) {
+                K[i][j] += PH[i][k] * Si[k][j];
+            }
+            K[i][j] = gr_pert(f, K[i][j]);
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        gr_i_minus_kh(f, m, i, K, H, M);
+    }
+    gr_joseph(f, m, M, K, Q, Pn);
+    // A second pass with the gain in its information form, K = Sigma H^T
+    // Q^-1 (Sigma the posterior just found; Q's LDL^T, Q being far better
+    // conditioned than S when the prior/noise ratio is large): the first
+    // pass's Sigma is only second-order sensitive to the error of K (the
+    // Joseph form), so this K is accurate where S^-1 y was not, and the
+    // mean and the NIS follow from it: mu = mu + K y, NIS = y^T Q^-1 (y - H
+    // K y) (= y^T S^-1 y). Without a positive definite Q, the first pass.
+    gr_real(*LQ)[GR_N] = gr_ws.LQ, (*Qi)[GR_N] = gr_ws.Qi, DQ[GR_N];
+    if (f->bug == GR_BUG_NONE && gr_ldl(m, Q, LQ, DQ, 0)) {
+        gr_ldl_inverse(m, LQ, DQ, Qi);
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < m; j++) {
+                K[i][j] = 0;
+                for (int a = 0; a < n; a++) {
+                    for (int b = 0; b < m; b++) {
+                        K[i][j] += Pn[i][a] * H[b][a] * Qi[b][j];
+                    }
+                }
+                K[i][j] = gr_pert(f, K[i][j]);
+            }
+            gr_i_minus_kh(f, m, i, K, H, M);
+        }
+        gr_joseph(f, m, M, K, Q, Pn);
+        gr_real dm[GR_N], r[GR_N];
+        for (int i = 0; i < n; i++) {
+            dm[i] = 0;
+            for (int k = 0; k < m; k++) {
+                dm[i] += K[i][k] * y[k];
+            }
+        }
+        for (int i = 0; i < m; i++) {
+            r[i] = y[i];
+            for (int k = 0; k < n; k++) {
+                r[i] -= H[i][k] * dm[k];
+            }
+        }
+        nis = 0;
+        for (int i = 0; i < m; i++) {
+            for (int j = 0; j < m; j++) {
+                nis += y[i] * Qi[i][j] * r[j];
+            }
+        }
+    }
+    gr_real mu[GR_N];
+    for (int i = 0; i < n; i++) {
+        mu[i] = f->mu[i];
+        for (int k = 0; k < m; k++) {
+            mu[i] += K[i][k] * y[k];
+        }
+    }
+    gr_store(f, mu, Pn);
+    *nis_out = nis;
+    return 1;
+}
+
+// The sequential form the library uses, in long double, to check the
+// reference's batch form against (H and Q as gr_update's): Q = L D L^T,
+// z - H mu and H transformed by L^-1, then one scalar Joseph update per
+// row. Returns 0 when a row's s is not positive.
+static inline int gr_update_seq(gr_filt *f, int m, const gf_real *H, int ldh,
+                                const gf_real *Q, int ldq, const gf_real *z,
+                                gr_real *nis_out)
+{
+    const int n = f->n;
+    gr_real(*Qs)[GR_N] = gr_ws.Q, (*L)[GR_N] = gr_ws.L, (*h)[GR_N] = gr_ws.H;
+    gr_real(*M)[GR_N] = gr_ws.M, (*MP)[GR_N] = gr_ws.MP, D[GR_N], y[GR_N];
+    for (int i = 0; i < m; i++) {
+        for (int j = 0; j < m; j++) {
+            Qs[i][j] = (gr_real)Q[i * ldq + j];
+        }
+    }
+    if (!gr_ldl(m, Qs, L, D, 1)) {
+        return 0;
+    }
+    for (int i = 0; i < m; i++) { // L h = H, L y = z - H mu
+        y[i] = (gr_real)z[i];
+        for (int k = 0; k < n; k++) {
+            y[i] -= (gr_real)H[i * ldh + k] * f->mu[k];
+        }
+        if (i == f->angle_row) {
+            y[i] = gr_wrap(y[i]);
+        }
+        for (int j = 0; j < n; j++) {
+            h[i][j] = (gr_real)H[i * ldh + j];
+        }
+        for (int k = 0; k < i; k++) {
+            y[i] -= L[i][k] * y[k];
+            for (int j = 0; j < n; j++) {
+                h[i][j] -= L[i][k] * h[k][j];
+            }
+        }
+    }
+    gr_filt *g = &gr_ws.seq;
+    *g = *f;
+    gr_real nis = 0;
+    for (int r = 0; r < m; r++) {
+        // The row's innovation against the current mean: y_r less what the
+        // earlier rows moved, h_r (mu - mu_0).
+        gr_real yr = y[r];
+        for (int k = 0; k < n; k++) {
+            yr -= h[r][k] * (g->mu[k] - f->mu[k]);
+        }
+        gr_real p[GR_N], k[GR_N], s = D[r];
+        for (int i = 0; i < n; i++) {
+            p[i] = 0;
+            for (int j = 0; j < n; j++) {
+                p[i] += g->P[i][j] * h[r][j];
+            }
+        }
+        for (int i = 0; i < n; i++) {
+            s += h[r][i] * p[i];
+        }
+        if (!(s > 0)) {
+            return 0;
+        }
+        for (int i = 0; i < n; i++) {
+            k[i] = p[i] / s;
+            g->mu[i] += k[i] * yr;
+        }
+        nis += yr * yr / s;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) {
+                M[i][j] = (i == j ? 1.0L : 0.0L) - k[i] * h[r][j];
+            }
+        }
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) {
+                MP[i][j] = 0;
+                for (int a = 0; a < n; a++) {
+                    MP[i][j] += M[i][a] * g->P[a][j];
+                }
+            }
+        }
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j <= i; j++) {
+                gr_real v = D[r] * k[i] * k[j];
+                for (int a = 0; a < n; a++) {
+                    v += MP[i][a] * M[j][a];
+                }
+                g->P[i][j] = g->P[j][i] = v;
+            }
+        }
+    }
+    *f = *g;
+    *nis_out = nis;
+    return 1;
+}
+
+// ---- comparisons -----------------------------------------------------------
+
+// The heading difference a - b taken on the circle (EKF3's mean heading is
+// wrapped, the reference's is not).
+static inline gr_real gr_angle_diff(gr_real a, gr_real b)
+{
+    return gr_wrap(a - b);
+}
+
+// Relative errors of (mu, P) against the reference f in its correlation
+// form: Sigma max_ij |P_ij - ref_ij| / sqrt(v_i v_j), mu max_i |mu_i -
+// ref_i| / sqrt(v_i), v the reference's variances, the heading (state 2)
+// taken on the circle when `angle` (EKF3). With dg, v is dg instead (an
+// update with zero-noise quantities: its exact directions' posterior
+// variances are zero, and what is left of them in any filter a rounding
+// residue; measured against the prior's variances, an error is what it
+// costs of the prior's information). A zero v with any difference: +inf.
+static inline void gr_errors(const gr_filt *f, const gr_real *dg,
+                             const gr_real *mu, gr_mat P, int angle, double *es,
+                             double *em)
+{
+    double s = 0, m = 0;
+    for (int i = 0; i < f->n; i++) {
+        const gr_real vi = dg ? dg[i] : f->P[i][i];
+        for (int j = 0; j < f->n; j++) {
+            gr_real dd = P[i][j] - f->P[i][j];
+            gr_real den = vi * (dg ? dg[j] : f->P[j][j]);
+            double e = dd == 0   ? 0.0
+                       : den > 0 ? sqrt((double)(dd * dd / den))
+                                 : (double)INFINITY;
+            s = e > s ? e : s;
+        }
+        gr_real dm = (angle && i == 2) ? gr_angle_diff(mu[i], f->mu[i])
+                                       : mu[i] - f->mu[i];
+        double e = dm == 0  ? 0.0
+                   : vi > 0 ? sqrt((double)(dm * dm / vi))
+                            : (double)INFINITY;
+        m = e > m ? e : m;
+    }
+    *es = s;
+    *em = m;
+}
+
+// Positive semidefinite within `tol` in the correlation form: the
+// correlation form's smallest eigenvalue >= -tol, tested without square
+// roots as: a negative variance fails; a zero variance needs its row and
+// column exactly zero; on the other indices, M + tol diag(M) (congruent to
+// C + tol I, C = D^-1/2 M D^-1/2) must have an LDL^T with positive pivots,
+// and M be symmetric within tol. Long double, independent of the library.
+static inline int gr_psd(int n, gr_mat M, double tol)
+{
+    gr_real(*a)[GR_N] = gr_ws.psd, D[GR_N];
+    int idx[GR_N], k = 0;
+    for (int i = 0; i < n; i++) {
+        if (M[i][i] < 0 || M[i][i] != M[i][i]) {
+            return 0;
+        }
+        if (M[i][i] == 0) {
+            for (int j = 0; j < n; j++) {
+                if (M[i][j] != 0 || M[j][i] != 0) {
+                    return 0;
+                }
+            }
+            continue;
+        }
+        idx[k++] = i;
+    }
+    for (int i = 0; i < k; i++) {
+        for (int j = 0; j < k; j++) {
+            gr_real mij = M[idx[i]][idx[j]], mji = M[idx[j]][idx[i]];
+            if ((mij - mji) * (mij - mji) >
+                (gr_real)(tol * tol) * M[idx[i]][idx[i]] * M[idx[j]][idx[j]]) {
+                return 0;
+            }
+            a[i][j] = 0.5L * (mij + mji);
+        }
+        a[i][i] *= 1.0L + (gr_real)tol;
+    }
+    return k == 0 || gr_ldl(k, a, gr_ws.psdL, D, 0);
 }
 
 // ---- small dense helpers in double (generation only) ---------------------
@@ -518,25 +1096,7 @@ static inline void gr_scen_measure(gr_scen *sc, gf_real z[3])
     }
 }
 
-// ---- the reference filter (long double) -----------------------------------
-
-// The reference: the textbook steps in long double. With eps > 0 it is a
-// perturbed copy: every input it reads (models, measurement), every
-// intermediate of the batch Joseph update (P H^T, S, y, K, I - K H) and the
-// belief it holds after each step are multiplied by 1 +- eps (signs drawn
-// from its own rng), eps being gf_real's unit roundoff: a model of one
-// rounding of each quantity a textbook Joseph filter in gf_real forms. The
-// spread of such copies around the unperturbed reference is the error that
-// the scenario's conditioning gives that filter at gf_real's precision,
-// measured on the scenario rather than estimated from norms.
-typedef struct gr_filt {
-    int n;
-    int angle_row; // the measurement row whose residual is an angle, or -1
-    gr_real mu[3];
-    gr_real P[3][3];
-    double eps;
-    gr_rng rng;
-} gr_filt;
+// ---- the reference on a scenario -------------------------------------------
 
 // The residual row that is a heading: forward_turn's third measured
 // quantity (EKF3 measures it with angle_mask bit 2 set), else -1.
@@ -545,564 +1105,47 @@ static inline int gr_angle_row(const gr_scen *sc)
     return (sc->kind == GR_EKF3_TURN && sc->m == 3) ? 2 : -1;
 }
 
-// a wrapped to [-pi, pi], in long double.
-static inline gr_real gr_wrap(gr_real a)
-{
-    const gr_real two_pi = 6.283185307179586476925L;
-    return a - two_pi * (gr_real)floor((double)(a / two_pi) + 0.5);
-}
-
+// The reference (eps = 0) or a perturbed copy at the scenario's prior.
 static inline void gr_filt_init(gr_filt *f, const gr_scen *sc, double eps,
                                 uint64_t seed)
 {
-    memset(f, 0, sizeof *f);
-    f->n = sc->n;
+    gr_ref_init(f, sc->n, sc->mu0, (const gf_real *)sc->S0, 3, eps, seed);
     f->angle_row = gr_angle_row(sc);
-    f->eps = eps;
-    f->rng.s = seed;
-    for (int i = 0; i < sc->n; i++) {
-        f->mu[i] = (gr_real)sc->mu0[i];
-        for (int j = 0; j < sc->n; j++) {
-            f->P[i][j] = (gr_real)sc->S0[i][j];
-        }
-    }
 }
 
-// An input as this copy reads it.
-static inline gr_real gr_in(gr_filt *f, gf_real x)
+// The scenario's prediction: its linear model's, or forward_turn's, mu =
+// g(u, mu), G = dg/dx at mu, P = G P G^T + R, at the reference's own
+// heading (gr_sincos, in double: its error of a few ulps of double is far
+// below float's, and below the double build's perturbations).
+static inline void gr_predict_scen(gr_filt *f, const gr_scen *sc)
 {
-    if (f->eps == 0) {
-        return (gr_real)x;
+    if (sc->kind != GR_EKF3_TURN) {
+        gr_predict(f, (const gf_real *)sc->A, NULL, NULL, 0, sc->c,
+                   (const gf_real *)sc->R, 3);
+        return;
     }
-    double e = (gr_next(&f->rng) & 1) ? f->eps : -f->eps;
-    return (gr_real)x * (1.0L + (gr_real)e);
-}
-
-static inline gr_real gr_pert(gr_filt *f, gr_real x)
-{
-    if (f->eps == 0) {
-        return x;
-    }
-    double e = (gr_next(&f->rng) & 1) ? f->eps : -f->eps;
-    return x * (1.0L + (gr_real)e);
-}
-
-// A covariance-like matrix as a copy stores it: its variances times 1 -
-// eps and its covariances times 1 + eps in one copy (eps < 0 in the other):
-// the direction in which rounding moves its correlation form most, towards
-// or away from singular, which random signs can miss (a relative
-// perturbation of all entries alike changes no correlation).
-static inline void gr_pert_cov(gr_filt *f, int n, gr_real P[3][3])
-{
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j <= i; j++) {
-            gr_real v = 0.5L * (P[i][j] + P[j][i]);
-            gr_real e = (gr_real)f->eps;
-            v *= i == j ? 1.0L - e : 1.0L + e;
-            P[i][j] = P[j][i] = v;
-        }
-    }
-}
-
-// The belief stored after a step.
-static inline void gr_store(gr_filt *f, const gr_real mu[3], gr_real P[3][3])
-{
-    for (int i = 0; i < f->n; i++) {
-        f->mu[i] = gr_pert(f, mu[i]);
-        for (int j = 0; j < f->n; j++) {
-            f->P[i][j] = P[i][j];
-        }
-    }
-    gr_pert_cov(f, f->n, f->P);
-}
-
-// Prediction with a linear model: mu = A mu + c, P = A P A^T + R.
-static inline void gr_predict_lin(gr_filt *f, gf_real A[3][3],
-                                  const gf_real c[3], gf_real R[3][3])
-{
-    const int n = f->n;
-    gr_real a[3][3], mu[3], AP[3][3], P[3][3];
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            a[i][j] = gr_in(f, A[i][j]);
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        mu[i] = gr_in(f, c[i]);
-        for (int j = 0; j < n; j++) {
-            mu[i] += a[i][j] * f->mu[j];
-        }
-        for (int j = 0; j < n; j++) {
-            AP[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                AP[i][j] += a[i][k] * f->P[k][j];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j <= i; j++) {
-            P[i][j] = gr_in(f, R[i][j]);
-            for (int k = 0; k < n; k++) {
-                P[i][j] += AP[i][k] * a[j][k];
-            }
-            P[j][i] = P[i][j];
-        }
-    }
-    gr_store(f, mu, P);
-}
-
-// Prediction with forward_turn: mu = g(u, mu), G = dg/dx at mu,
-// P = G P G^T + R, at the reference's own heading (gr_sincos, in double:
-// its error of a few ulps of double is far below float's, and below the
-// double build's perturbations).
-static inline void gr_predict_turn(gr_filt *f, const gf_real uu[2],
-                                   gf_real R[3][3])
-{
-    double th = (double)f->mu[2];
-    gr_real dist = gr_in(f, uu[0]), phi = gr_in(f, uu[1]);
+    gr_real dist = gr_in(f, sc->u[0]), phi = gr_in(f, sc->u[1]);
     double sd, cd;
-    gr_sincos(th, &sd, &cd);
+    gr_sincos((double)f->mu[2], &sd, &cd);
     gr_real s = (gr_real)sd, co = (gr_real)cd;
-    gr_real g[3][3] = {{1, 0, -dist * s}, {0, 1, dist * co}, {0, 0, 1}};
+    gr_real(*g)[GR_N] = gr_ws.a;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            g[i][j] = i == j ? 1.0L : 0.0L;
+        }
+    }
+    g[0][2] = -dist * s;
+    g[1][2] = dist * co;
     gr_real mu[3] = {f->mu[0] + dist * co, f->mu[1] + dist * s, f->mu[2] + phi};
-    gr_real GP[3][3], P[3][3];
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) {
-            GP[i][j] = 0;
-            for (int k = 0; k < 3; k++) {
-                GP[i][j] += g[i][k] * f->P[k][j];
-            }
-        }
-    }
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j <= i; j++) {
-            P[i][j] = gr_in(f, R[i][j]);
-            for (int k = 0; k < 3; k++) {
-                P[i][j] += GP[i][k] * g[j][k];
-            }
-            P[j][i] = P[i][j];
-        }
-    }
-    gr_store(f, mu, P);
+    gr_predict_cov(f, g, mu, (const gf_real *)sc->R, 3);
 }
 
-// LDL^T of the leading m x m block of a symmetric s, no pivoting, in long
-// double: s = L D L^T, L unit lower triangular. A pivot that is not
-// positive stops it (returns 0) unless allow_zero, where a zero pivot
-// with a zero column below it is kept as d_k = 0 (semidefinite s).
-static inline int gr_ldl(int m, gr_real s[3][3], gr_real L[3][3], gr_real D[3],
-                         int allow_zero)
+// The scenario's update with the measurement z (gr_update).
+static inline int gr_update_scen(gr_filt *f, const gr_scen *sc,
+                                 const gf_real z[3], gr_real *nis)
 {
-    gr_real a[3][3];
-    memcpy(a, s, sizeof a);
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) {
-            L[i][j] = i == j ? 1.0L : 0.0L;
-        }
-    }
-    for (int k = 0; k < m; k++) {
-        D[k] = a[k][k];
-        if (!(D[k] > 0)) {
-            if (!allow_zero || D[k] < 0) {
-                return 0;
-            }
-            for (int i = k + 1; i < m; i++) {
-                if (a[i][k] != 0) {
-                    return 0;
-                }
-            }
-            D[k] = 0;
-            continue;
-        }
-        for (int i = k + 1; i < m; i++) {
-            L[i][k] = a[i][k] / D[k];
-        }
-        for (int i = k + 1; i < m; i++) {
-            for (int j = k + 1; j <= i; j++) {
-                a[i][j] -= L[i][k] * D[k] * L[j][k];
-                a[j][i] = a[i][j];
-            }
-        }
-    }
-    return 1;
-}
-
-// inv = (L D L^T)^-1, column by column, D > 0.
-static inline void gr_ldl_inverse(int m, gr_real L[3][3], const gr_real D[3],
-                                  gr_real inv[3][3])
-{
-    for (int j = 0; j < m; j++) {
-        gr_real x[3];
-        for (int i = 0; i < m; i++) {
-            x[i] = i == j ? 1.0L : 0.0L;
-            for (int k = 0; k < i; k++) {
-                x[i] -= L[i][k] * x[k];
-            }
-        }
-        for (int i = 0; i < m; i++) {
-            x[i] /= D[i];
-        }
-        for (int i = m - 1; i >= 0; i--) {
-            for (int k = i + 1; k < m; k++) {
-                x[i] -= L[k][i] * x[k];
-            }
-        }
-        for (int i = 0; i < m; i++) {
-            inv[i][j] = x[i];
-        }
-    }
-}
-
-// Pn = M P M^T + K Q K^T.
-static inline void gr_joseph(int n, int m, gr_real P[3][3], gr_real M[3][3],
-                             gr_real K[3][3], gr_real Q[3][3], gr_real Pn[3][3])
-{
-    gr_real MP[3][3];
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            MP[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                MP[i][j] += M[i][k] * P[k][j];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            Pn[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                Pn[i][j] += MP[i][k] * M[j][k];
-            }
-            for (int a = 0; a < m; a++) {
-                for (int b = 0; b < m; b++) {
-                    Pn[i][j] += K[i][a] * Q[a][b] * K[j][b];
-                }
-            }
-        }
-    }
-}
-
-// The batch update (Table 3.1 with the Joseph form), m = 1..3:
-//   S = H P H^T + Q,  K = P H^T S^-1,  mu = mu + K (z - H mu),
-//   P = (I - K H) P (I - K H)^T + K Q K^T,  NIS = y^T S^-1 y.
-// Returns 0 (and leaves f alone) when S is not positive definite.
-static inline int gr_update_batch(gr_filt *f, int m, gf_real Hin[3][3],
-                                  gf_real Qin[3][3], const gf_real zin[3],
-                                  gr_real *nis_out)
-{
-    const int n = f->n;
-    gr_real H[3][3], Q[3][3], z[3];
-    memset(H, 0, sizeof H);
-    memset(Q, 0, sizeof Q);
-    for (int i = 0; i < m; i++) {
-        z[i] = gr_in(f, zin[i]);
-        for (int j = 0; j < n; j++) {
-            H[i][j] = gr_in(f, Hin[i][j]);
-        }
-        for (int j = 0; j <= i; j++) {
-            Q[i][j] = Q[j][i] = (gr_real)Qin[i][j];
-        }
-    }
-    gr_pert_cov(f, m, Q);
-    // (D set: gcc -O3 cannot see gr_ldl write the m entries it reads)
-    gr_real PH[3][3], S[3][3], L[3][3], D[3] = {0, 0, 0}, y[3], Si[3][3];
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < m; j++) {
-            PH[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                PH[i][j] += f->P[i][k] * H[j][k];
-            }
-            PH[i][j] = gr_pert(f, PH[i][j]);
-        }
-    }
-    memset(S, 0, sizeof S);
-    for (int i = 0; i < m; i++) {
-        for (int j = 0; j <= i; j++) {
-            S[i][j] = Q[i][j];
-            for (int k = 0; k < n; k++) {
-                S[i][j] += H[i][k] * PH[k][j];
-            }
-            S[j][i] = S[i][j];
-        }
-    }
-    gr_pert_cov(f, m, S);
-    if (!gr_ldl(m, S, L, D, 0)) {
-        return 0;
-    }
-    gr_ldl_inverse(m, L, D, Si);
-    gr_real K[3][3], M[3][3];
-    for (int i = 0; i < m; i++) {
-        y[i] = z[i];
-        for (int k = 0; k < n; k++) {
-            y[i] -= H[i][k] * f->mu[k];
-        }
-        if (i == f->angle_row) {
-            y[i] = gr_wrap(y[i]);
-        }
-        y[i] = gr_pert(f, y[i]);
-    }
-    gr_real nis = 0;
-    for (int i = 0; i < m; i++) {
-        for (int j = 0; j < m; j++) {
-            nis += y[i] * Si[i][j] * y[j];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < m; j++) {
-            K[i][j] = 0;
-            for (int k = 0; k < m; k++) {
-                K[i][j] += PH[i][k] * Si[k][j];
-            }
-            K[i][j] = gr_pert(f, K[i][j]);
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            M[i][j] = i == j ? 1.0L : 0.0L;
-            for (int k = 0; k < m; k++) {
-                M[i][j] -= K[i][k] * H[k][j];
-            }
-            M[i][j] = gr_pert(f, M[i][j]);
-        }
-    }
-    gr_real Pn[3][3], mu[3];
-    gr_joseph(n, m, f->P, M, K, Q, Pn);
-    // A second pass with the gain in its information form, K = Sigma H^T
-    // Q^-1 (Sigma the posterior just found; Q's LDL^T, Q being far better
-    // conditioned than S when the prior/noise ratio is large): the first
-    // pass's Sigma is only second-order sensitive to the error of K (the
-    // Joseph form), so this K is accurate where S^-1 y was not, and the
-    // mean and the NIS follow from it: mu = mu + K y, NIS = y^T Q^-1 (y - H
-    // K y) (= y^T S^-1 y). Without a positive definite Q, the first pass.
-    gr_real LQ[3][3], DQ[3];
-    if (gr_ldl(m, Q, LQ, DQ, 0)) {
-        gr_real Qi[3][3];
-        gr_ldl_inverse(m, LQ, DQ, Qi);
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < m; j++) {
-                K[i][j] = 0;
-                for (int a = 0; a < n; a++) {
-                    for (int b = 0; b < m; b++) {
-                        K[i][j] += Pn[i][a] * H[b][a] * Qi[b][j];
-                    }
-                }
-                K[i][j] = gr_pert(f, K[i][j]);
-            }
-            for (int j = 0; j < n; j++) {
-                M[i][j] = i == j ? 1.0L : 0.0L;
-                for (int k = 0; k < m; k++) {
-                    M[i][j] -= K[i][k] * H[k][j];
-                }
-                M[i][j] = gr_pert(f, M[i][j]);
-            }
-        }
-        gr_joseph(n, m, f->P, M, K, Q, Pn);
-        gr_real dm[3] = {0, 0, 0}, r[3];
-        for (int i = 0; i < n; i++) {
-            for (int k = 0; k < m; k++) {
-                dm[i] += K[i][k] * y[k];
-            }
-        }
-        for (int i = 0; i < m; i++) {
-            r[i] = y[i];
-            for (int k = 0; k < n; k++) {
-                r[i] -= H[i][k] * dm[k];
-            }
-        }
-        nis = 0;
-        for (int i = 0; i < m; i++) {
-            for (int j = 0; j < m; j++) {
-                nis += y[i] * Qi[i][j] * r[j];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        mu[i] = f->mu[i];
-        for (int k = 0; k < m; k++) {
-            mu[i] += K[i][k] * y[k];
-        }
-    }
-    gr_store(f, mu, Pn);
-    *nis_out = nis;
-    return 1;
-}
-
-// The sequential form the library uses, in long double, to check the
-// reference's batch form against: Q = L D L^T, z - H mu and H transformed
-// by L^-1, then one scalar Joseph update per row. Returns 0 when a row's
-// s is not positive.
-static inline int gr_update_seq(gr_filt *f, int m, gf_real H[3][3],
-                                gf_real Q[3][3], const gf_real z[3],
-                                gr_real *nis_out)
-{
-    const int n = f->n;
-    gr_real Qs[3][3], L[3][3], D[3], h[3][3], y[3];
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) {
-            Qs[i][j] = (i < m && j < m) ? (gr_real)Q[i][j] : 0.0L;
-        }
-    }
-    if (!gr_ldl(m, Qs, L, D, 1)) {
-        return 0;
-    }
-    for (int i = 0; i < m; i++) { // L h = H, L y = z - H mu
-        y[i] = (gr_real)z[i];
-        for (int k = 0; k < n; k++) {
-            y[i] -= (gr_real)H[i][k] * f->mu[k];
-        }
-        if (i == f->angle_row) {
-            y[i] = gr_wrap(y[i]);
-        }
-        for (int j = 0; j < n; j++) {
-            h[i][j] = (gr_real)H[i][j];
-        }
-        for (int k = 0; k < i; k++) {
-            y[i] -= L[i][k] * y[k];
-            for (int j = 0; j < n; j++) {
-                h[i][j] -= L[i][k] * h[k][j];
-            }
-        }
-    }
-    gr_filt g = *f;
-    gr_real nis = 0;
-    for (int r = 0; r < m; r++) {
-        // The row's innovation against the current mean: y_r less what the
-        // earlier rows moved, h_r (mu - mu_0).
-        gr_real yr = y[r];
-        for (int k = 0; k < n; k++) {
-            yr -= h[r][k] * (g.mu[k] - f->mu[k]);
-        }
-        gr_real p[3], s = D[r];
-        for (int i = 0; i < n; i++) {
-            p[i] = 0;
-            for (int k = 0; k < n; k++) {
-                p[i] += g.P[i][k] * h[r][k];
-            }
-        }
-        for (int i = 0; i < n; i++) {
-            s += h[r][i] * p[i];
-        }
-        if (!(s > 0)) {
-            return 0;
-        }
-        gr_real k[3], M[3][3], MP[3][3];
-        for (int i = 0; i < n; i++) {
-            k[i] = p[i] / s;
-            g.mu[i] += k[i] * yr;
-        }
-        nis += yr * yr / s;
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++) {
-                M[i][j] = (i == j ? 1.0L : 0.0L) - k[i] * h[r][j];
-            }
-        }
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++) {
-                MP[i][j] = 0;
-                for (int a = 0; a < n; a++) {
-                    MP[i][j] += M[i][a] * g.P[a][j];
-                }
-            }
-        }
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j <= i; j++) {
-                gr_real v = D[r] * k[i] * k[j];
-                for (int a = 0; a < n; a++) {
-                    v += MP[i][a] * M[j][a];
-                }
-                g.P[i][j] = g.P[j][i] = v;
-            }
-        }
-    }
-    f->mu[0] = g.mu[0];
-    f->mu[1] = g.mu[1];
-    f->mu[2] = g.mu[2];
-    memcpy(f->P, g.P, sizeof g.P);
-    *nis_out = nis;
-    return 1;
-}
-
-// ---- comparisons -----------------------------------------------------------
-
-// The heading difference a - b taken on the circle (EKF3's mean heading is
-// wrapped, the reference's is not).
-static inline gr_real gr_angle_diff(gr_real a, gr_real b)
-{
-    const gr_real two_pi = 6.283185307179586476925L;
-    gr_real d = a - b;
-    gr_real k = (gr_real)floor((double)(d / two_pi) + 0.5);
-    return d - k * two_pi;
-}
-
-// Relative errors of (mu, P) against the reference f:
-// Sigma: max_ij |P_ij - ref_ij| / sqrt(ref_ii ref_jj); mu: max_i |mu_i -
-// ref_i| / sqrt(ref_ii), the heading's difference taken on the circle when
-// `angle` (EKF3). A zero reference variance with any difference: +inf.
-static inline void gr_errors(const gr_filt *f, const gr_real mu[3],
-                             gr_real P[3][3], int angle, double *es, double *em)
-{
-    double s = 0, m = 0;
-    for (int i = 0; i < f->n; i++) {
-        for (int j = 0; j < f->n; j++) {
-            gr_real dd = P[i][j] - f->P[i][j];
-            gr_real den = f->P[i][i] * f->P[j][j];
-            double e = dd == 0   ? 0.0
-                       : den > 0 ? sqrt((double)(dd * dd / den))
-                                 : (double)INFINITY;
-            s = e > s ? e : s;
-        }
-        gr_real dm = (angle && i == 2) ? gr_angle_diff(mu[i], f->mu[i])
-                                       : mu[i] - f->mu[i];
-        double e = dm == 0          ? 0.0
-                   : f->P[i][i] > 0 ? sqrt((double)(dm * dm / f->P[i][i]))
-                                    : (double)INFINITY;
-        m = e > m ? e : m;
-    }
-    *es = s;
-    *em = m;
-}
-
-// Positive semidefinite within `tol` in the correlation form: the
-// correlation form's smallest eigenvalue >= -tol, tested without square
-// roots as: a negative variance fails; a zero variance needs its row and
-// column exactly zero; on the other indices, M + tol diag(M) (congruent to
-// C + tol I, C = D^-1/2 M D^-1/2) must have an LDL^T with positive pivots.
-// Long double, independent of the library.
-static inline int gr_psd(int n, gr_real M[3][3], double tol)
-{
-    int idx[3], k = 0;
-    for (int i = 0; i < n; i++) {
-        if (M[i][i] < 0 || M[i][i] != M[i][i]) {
-            return 0;
-        }
-        if (M[i][i] == 0) {
-            for (int j = 0; j < n; j++) {
-                if (M[i][j] != 0 || M[j][i] != 0) {
-                    return 0;
-                }
-            }
-            continue;
-        }
-        idx[k++] = i;
-    }
-    gr_real a[3][3], L[3][3], D[3];
-    memset(a, 0, sizeof a);
-    for (int i = 0; i < k; i++) {
-        for (int j = 0; j < k; j++) {
-            a[i][j] = 0.5L * (M[idx[i]][idx[j]] + M[idx[j]][idx[i]]);
-        }
-        a[i][i] *= 1.0L + (gr_real)tol;
-    }
-    // Symmetric within the tolerance too, relative to the diagonal.
-    for (int i = 0; i < k; i++) {
-        for (int j = 0; j < k; j++) {
-            gr_real asym = M[idx[i]][idx[j]] - M[idx[j]][idx[i]];
-            if (asym * asym >
-                (gr_real)(tol * tol) * M[idx[i]][idx[i]] * M[idx[j]][idx[j]]) {
-                return 0;
-            }
-        }
-    }
-    return k == 0 || gr_ldl(k, a, L, D, 0);
+    return gr_update(f, sc->m, (const gf_real *)sc->H, 3,
+                     (const gf_real *)sc->Q, 3, z, NULL, nis);
 }
 
 // ---- a textbook Joseph filter in gf_real ----------------------------------

@@ -196,9 +196,9 @@ static inline int same_belief(const lib *a, const lib *b)
 }
 
 // The belief in long double; 1 if it is accepted back by init.
-static inline int lib_belief(const lib *l, gr_real mu[3], gr_real P[3][3])
+static inline int lib_belief(const lib *l, gr_real mu[3], gr_mat P)
 {
-    memset(P, 0, 9 * sizeof(gr_real));
+    memset(P, 0, sizeof(gr_mat));
     mu[2] = 0;
     if (l->kind == GR_KF2) {
         gf_mat2 sigma;

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // gf_kf and gf_ekf, the filters of n states (kf.h, ekf.h).
 //
-// 1. Random scenarios at every n from 1 to TN = 12, against a reference
-//    Joseph filter in long double written here (the batch update: S = H P
-//    H^T + Q factored by LDL^T in long double, K = P H^T S^-1, the Joseph
-//    sandwich), on the recipe of tests/gf_ref.h's gr_scen_make grown to n
+// 1. Random scenarios at every n from 1 to TN = 12, against tests/gf_ref.h's
+//    reference Joseph filter in long double (the batch update: S = H P H^T
+//    + Q factored by LDL^T in long double, K = P H^T S^-1, the Joseph
+//    sandwich), on the recipe of gf_ref.h's gr_scen_make grown to n
 //    states: prior/noise variance ratios up to GR_RATIO_MAX, prior
 //    correlation forms of condition number up to GR_COND_MAX, every unit
 //    scaled by a factor in [1 / GR_UNIT, GR_UNIT], unstable motion, a
@@ -15,7 +15,7 @@
 //    Asserted, step by step:
 //    - every accepted belief is positive semidefinite: the correlation
 //      form's smallest eigenvalue >= -PSD_TOL, tested in long double on
-//      gf_kf_cov's output (psd_ld, independent of the library), and
+//      gf_kf_cov's output (gr_psd, independent of the library), and
 //      gf_kf_init takes it back;
 //    - the errors |Sigma_ij - ref_ij| / sqrt(ref_ii ref_jj), |mu_i - ref_i|
 //      / sqrt(ref_ii) and |NIS - ref NIS| within the bound: BOUND_C(n, m)
@@ -47,7 +47,7 @@
 //    m quantities measured without noise (Q zero on them, or copies of
 //    another quantity's noise: a rank-deficient block), every update
 //    compared, an exact update's errors against the prior's variances
-//    (errors_in); well-posed when S and its exactly measured part have
+//    (gr_errors with dg); well-posed when S and its exactly measured part have
 //    condition numbers below 1e-2 / eps (well_conditioned). Asserted as
 //    above, with the tolerances of check_tally_exact.
 // 2. At n = 2 and 3, gf_kf and gf_ekf equal gf_kf2 and gf_ekf3 bit for bit
@@ -517,376 +517,31 @@ static void scen_measure(scen *sc, gf_real z[TN])
     }
 }
 
-// ---- the reference (long double) --------------------------------------
+// ---- the reference (gf_ref.h's, long double) ---------------------------
 
-typedef long double lmat[TN][TN];
+#if GR_N != TN
+#error "test_kf needs gf_ref.h's GR_N = TN"
+#endif
 
-// LDL^T of the leading m x m block of a symmetric a, no pivoting: 0 when a
-// pivot is not positive.
-static int ldl_ld(int m, lmat a, lmat L, gr_real D[TN])
+// The reference (eps = 0) or a perturbed copy at the scenario's prior, with
+// a deliberate bug or none (enum gr_bug).
+static void ref_init(gr_filt *f, const scen *sc, double eps, uint64_t seed,
+                     int bug)
 {
-    lmat w;
-    memcpy(w, a, sizeof w);
-    for (int i = 0; i < m; i++) {
-        for (int j = 0; j < m; j++) {
-            L[i][j] = i == j ? 1.0L : 0.0L;
-        }
-    }
-    for (int k = 0; k < m; k++) {
-        D[k] = w[k][k];
-        if (!(D[k] > 0)) {
-            return 0;
-        }
-        for (int i = k + 1; i < m; i++) {
-            L[i][k] = w[i][k] / D[k];
-        }
-        for (int i = k + 1; i < m; i++) {
-            for (int j = k + 1; j <= i; j++) {
-                w[i][j] -= L[i][k] * D[k] * L[j][k];
-                w[j][i] = w[i][j];
-            }
-        }
-    }
-    return 1;
-}
-
-// inv = (L D L^T)^-1.
-static void ldl_inverse(int m, lmat L, const gr_real D[TN], lmat inv)
-{
-    for (int j = 0; j < m; j++) {
-        gr_real x[TN];
-        for (int i = 0; i < m; i++) {
-            x[i] = i == j ? 1.0L : 0.0L;
-            for (int k = 0; k < i; k++) {
-                x[i] -= L[i][k] * x[k];
-            }
-        }
-        for (int i = 0; i < m; i++) {
-            x[i] /= D[i];
-        }
-        for (int i = m - 1; i >= 0; i--) {
-            for (int k = i + 1; k < m; k++) {
-                x[i] -= L[k][i] * x[k];
-            }
-        }
-        for (int i = 0; i < m; i++) {
-            inv[i][j] = x[i];
-        }
-    }
-}
-
-// Deliberate bugs of the reference, to show the bound catches them.
-enum bug { BUG_NONE, BUG_NO_R, BUG_NO_KQK };
-
-// The reference: the textbook steps in long double. With eps > 0 a
-// perturbed copy (as gf_ref.h's gr_filt): every input it reads, every
-// intermediate of the update (P H^T, S, y, K, I - K H) and the belief it
-// stores multiplied by 1 +- eps, eps = gf_real's unit roundoff.
-typedef struct ref {
-    int n, bug;
-    gr_real mu[TN];
-    lmat P;
-    double eps;
-    gr_rng rng;
-} ref;
-
-static void ref_init(ref *f, const scen *sc, double eps, uint64_t seed, int bug)
-{
-    memset(f, 0, sizeof *f);
-    f->n = sc->n;
+    gr_ref_init(f, sc->n, sc->mu0, sc->S0, sc->n, eps, seed);
     f->bug = bug;
-    f->eps = eps;
-    f->rng.s = seed;
-    for (int i = 0; i < sc->n; i++) {
-        f->mu[i] = (gr_real)sc->mu0[i];
-        for (int j = 0; j < sc->n; j++) {
-            f->P[i][j] = (gr_real)AT(sc->S0, sc->n, i, j);
-        }
-    }
 }
 
-static gr_real pert(ref *f, gr_real x)
+static void ref_predict(gr_filt *f, const scen *sc)
 {
-    if (f->eps == 0) {
-        return x;
-    }
-    double e = (gr_next(&f->rng) & 1) ? f->eps : -f->eps;
-    return x * (1.0L + (gr_real)e);
+    gr_predict(f, sc->A, sc->B, sc->u, sc->nu, sc->c, sc->R, sc->n);
 }
 
-// The belief stored after a step: the mean perturbed, the covariance's
-// variances times 1 - eps and covariances times 1 + eps (the direction in
-// which rounding moves its correlation form most).
-static void ref_store(ref *f, const gr_real mu[TN], lmat P)
+static int ref_update(gr_filt *f, const scen *sc, const gf_real z[TN],
+                      gr_real *nis)
 {
-    const int n = f->n;
-    for (int i = 0; i < n; i++) {
-        f->mu[i] = pert(f, mu[i]);
-        for (int j = 0; j <= i; j++) {
-            gr_real v = 0.5L * (P[i][j] + P[j][i]);
-            gr_real e = (gr_real)f->eps;
-            v *= i == j ? 1.0L - e : 1.0L + e;
-            f->P[i][j] = f->P[j][i] = v;
-        }
-    }
-}
-
-// mu = A mu + B u + c, P = A P A^T + R.
-static void ref_predict(ref *f, const scen *sc)
-{
-    const int n = f->n;
-    lmat a, AP, P;
-    gr_real mu[TN];
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            a[i][j] = pert(f, (gr_real)AT(sc->A, n, i, j));
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        mu[i] = pert(f, (gr_real)sc->c[i]);
-        for (int k = 0; k < sc->nu; k++) {
-            mu[i] +=
-                pert(f, (gr_real)AT(sc->B, sc->nu, i, k)) * (gr_real)sc->u[k];
-        }
-        for (int j = 0; j < n; j++) {
-            mu[i] += a[i][j] * f->mu[j];
-            AP[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                AP[i][j] += a[i][k] * f->P[k][j];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j <= i; j++) {
-            P[i][j] = f->bug == BUG_NO_R ? 0.0L
-                                         : pert(f, (gr_real)AT(sc->R, n, i, j));
-            for (int k = 0; k < n; k++) {
-                P[i][j] += AP[i][k] * a[j][k];
-            }
-            P[j][i] = P[i][j];
-        }
-    }
-    ref_store(f, mu, P);
-}
-
-// The update's matrices: file-scope, as the emulated target's stack
-// (16 KiB) is small.
-static struct {
-    lmat H, Q, PH, S, L, Si, K, M, Pn, LQ, Qi, PnH, MP, KQ;
-} rs;
-
-// Pn = M P M^T + K Q K^T (K Q K^T left out by BUG_NO_KQK).
-static void joseph(const ref *f, int m, lmat M, lmat K, lmat Q, lmat Pn)
-{
-    const int n = f->n;
-    gr_real(*MP)[TN] = rs.MP, (*KQ)[TN] = rs.KQ;
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            MP[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                MP[i][j] += M[i][k] * f->P[k][j];
-            }
-        }
-        for (int b = 0; b < m; b++) {
-            KQ[i][b] = 0;
-            for (int a = 0; a < m; a++) {
-                KQ[i][b] += K[i][a] * Q[a][b];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            Pn[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                Pn[i][j] += MP[i][k] * M[j][k];
-            }
-            for (int b = 0; b < m && f->bug != BUG_NO_KQK; b++) {
-                Pn[i][j] += KQ[i][b] * K[j][b];
-            }
-        }
-    }
-}
-
-// M = I - K H.
-static void i_minus_kh(ref *f, int m, lmat K, lmat H, lmat M)
-{
-    for (int i = 0; i < f->n; i++) {
-        for (int j = 0; j < f->n; j++) {
-            M[i][j] = i == j ? 1.0L : 0.0L;
-            for (int k = 0; k < m; k++) {
-                M[i][j] -= K[i][k] * H[k][j];
-            }
-            M[i][j] = pert(f, M[i][j]);
-        }
-    }
-}
-
-// The batch update: S = H P H^T + Q, K = P H^T S^-1, mu = mu + K (z - d -
-// H mu), P = (I - K H) P (I - K H)^T + K Q K^T, NIS = y^T S^-1 y; then, Q
-// being positive definite, a second pass with the gain in its information
-// form K = P+ H^T Q^-1 (P+ the first pass's posterior), accurate where S
-// is far worse conditioned than Q (large prior/noise ratios; see gf_ref.h's
-// gr_update_batch). Returns 0 (f untouched) when S is not positive
-// definite.
-static int ref_update(ref *f, const scen *sc, const gf_real z[TN],
-                      gr_real *nis_out)
-{
-    const int n = f->n, m = sc->m;
-    gr_real(*H)[TN] = rs.H, (*Q)[TN] = rs.Q, (*PH)[TN] = rs.PH;
-    gr_real(*S)[TN] = rs.S, (*L)[TN] = rs.L, (*Si)[TN] = rs.Si;
-    gr_real(*K)[TN] = rs.K, (*M)[TN] = rs.M, (*Pn)[TN] = rs.Pn;
-    gr_real(*LQ)[TN] = rs.LQ, (*Qi)[TN] = rs.Qi, (*PnH)[TN] = rs.PnH;
-    gr_real D[TN], y[TN];
-    for (int i = 0; i < m; i++) {
-        for (int j = 0; j < n; j++) {
-            H[i][j] = pert(f, (gr_real)AT(sc->H, n, i, j));
-        }
-        for (int j = 0; j < m; j++) {
-            Q[i][j] = pert(f, (gr_real)AT(sc->Q, m, i, j));
-        }
-    }
-    for (int i = 0; i < m; i++) { // Q as read: symmetric
-        for (int j = 0; j < i; j++) {
-            Q[i][j] = Q[j][i];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < m; j++) {
-            PH[i][j] = 0;
-            for (int k = 0; k < n; k++) {
-                PH[i][j] += f->P[i][k] * H[j][k];
-            }
-            PH[i][j] = pert(f, PH[i][j]);
-        }
-    }
-    for (int i = 0; i < m; i++) {
-        for (int j = 0; j <= i; j++) {
-            S[i][j] = Q[i][j];
-            for (int k = 0; k < n; k++) {
-                S[i][j] += H[i][k] * PH[k][j];
-            }
-            S[i][j] = S[j][i] = pert(f, S[i][j]);
-        }
-    }
-    if (!ldl_ld(m, S, L, D)) {
-        return 0;
-    }
-    ldl_inverse(m, L, D, Si);
-    for (int i = 0; i < m; i++) {
-        y[i] = (gr_real)z[i] - (gr_real)sc->d[i];
-        for (int k = 0; k < n; k++) {
-            y[i] -= H[i][k] * f->mu[k];
-        }
-        y[i] = pert(f, y[i]);
-    }
-    gr_real nis = 0;
-    for (int i = 0; i < m; i++) {
-        for (int j = 0; j < m; j++) {
-            nis += y[i] * Si[i][j] * y[j];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < m; j++) {
-            K[i][j] = 0;
-            for (int k = 0; k < m; k++) {
-                K[i][j] += PH[i][k] * Si[k][j];
-            }
-            K[i][j] = pert(f, K[i][j]);
-        }
-    }
-    i_minus_kh(f, m, K, H, M);
-    joseph(f, m, M, K, Q, Pn);
-    gr_real DQ[TN];
-    if (f->bug == BUG_NONE && ldl_ld(m, Q, LQ, DQ)) {
-        ldl_inverse(m, LQ, DQ, Qi);
-        for (int i = 0; i < n; i++) {
-            for (int b = 0; b < m; b++) {
-                PnH[i][b] = 0;
-                for (int a = 0; a < n; a++) {
-                    PnH[i][b] += Pn[i][a] * H[b][a];
-                }
-            }
-        }
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < m; j++) {
-                K[i][j] = 0;
-                for (int b = 0; b < m; b++) {
-                    K[i][j] += PnH[i][b] * Qi[b][j];
-                }
-                K[i][j] = pert(f, K[i][j]);
-            }
-        }
-        i_minus_kh(f, m, K, H, M);
-        joseph(f, m, M, K, Q, Pn);
-        // NIS = y^T Q^-1 (y - H K y) (= y^T S^-1 y).
-        gr_real dm[TN], rr[TN];
-        for (int i = 0; i < n; i++) {
-            dm[i] = 0;
-            for (int k = 0; k < m; k++) {
-                dm[i] += K[i][k] * y[k];
-            }
-        }
-        for (int i = 0; i < m; i++) {
-            rr[i] = y[i];
-            for (int k = 0; k < n; k++) {
-                rr[i] -= H[i][k] * dm[k];
-            }
-        }
-        nis = 0;
-        for (int i = 0; i < m; i++) {
-            for (int j = 0; j < m; j++) {
-                nis += y[i] * Qi[i][j] * rr[j];
-            }
-        }
-    }
-    gr_real mu[TN];
-    for (int i = 0; i < n; i++) {
-        mu[i] = f->mu[i];
-        for (int k = 0; k < m; k++) {
-            mu[i] += K[i][k] * y[k];
-        }
-    }
-    ref_store(f, mu, Pn);
-    *nis_out = nis;
-    return 1;
-}
-
-// Errors of (mu, P) against the reference f in its correlation form:
-// Sigma max_ij |P_ij - ref_ij| / sqrt(ref_ii ref_jj), mu max_i |mu_i -
-// ref_i| / sqrt(ref_ii); a zero reference variance with any difference:
-// +inf. With dg, the variances are dg's instead of the reference's (an
-// update with zero-noise quantities: its exact directions' posterior
-// variances are zero, and what is left of them in any filter a rounding
-// residue; measured against the prior's variances, an error is what it
-// costs of the prior's information).
-static void errors_in(const ref *f, const gr_real *dg, const gr_real mu[TN],
-                      lmat P, double *es, double *em)
-{
-    double s = 0, m = 0;
-    for (int i = 0; i < f->n; i++) {
-        const gr_real vi = dg ? dg[i] : f->P[i][i];
-        for (int j = 0; j < f->n; j++) {
-            gr_real dd = P[i][j] - f->P[i][j];
-            gr_real den = vi * (dg ? dg[j] : f->P[j][j]);
-            double e = dd == 0   ? 0.0
-                       : den > 0 ? sqrt((double)(dd * dd / den))
-                                 : (double)INFINITY;
-            s = e > s ? e : s;
-        }
-        gr_real dm = mu[i] - f->mu[i];
-        double e = dm == 0  ? 0.0
-                   : vi > 0 ? sqrt((double)(dm * dm / vi))
-                            : (double)INFINITY;
-        m = e > m ? e : m;
-    }
-    *es = s;
-    *em = m;
-}
-
-static void errors(const ref *f, const gr_real mu[TN], lmat P, double *es,
-                   double *em)
-{
-    errors_in(f, NULL, mu, P, es, em);
+    return gr_update(f, sc->m, sc->H, sc->n, sc->Q, sc->m, z,
+                     sc->has_d ? sc->d : NULL, nis);
 }
 
 // Whether the update's S = H P H^T + Q (P the reference's prior), and
@@ -895,9 +550,9 @@ static void errors(const ref *f, const gr_real mu[TN], lmat P, double *es,
 // definite: condition numbers below 1 / t, however the filter orders and
 // combines the quantities (each pivot d_k / C_kk of an LDL^T of C in any
 // order is at least C's smallest eigenvalue). In long double.
-static int corr_above(int k, lmat a, gr_real t)
+static int corr_above(int k, gr_mat a, gr_real t)
 {
-    static lmat c, L;
+    static gr_mat c, L;
     gr_real D[TN];
     for (int i = 0; i < k; i++) {
         if (!(a[i][i] > 0)) {
@@ -909,12 +564,12 @@ static int corr_above(int k, lmat a, gr_real t)
             c[i][j] = a[i][j] / sqrtl(a[i][i] * a[j][j]) - (i == j ? t : 0);
         }
     }
-    return ldl_ld(k, c, L, D);
+    return gr_ldl(k, c, L, D, 0);
 }
 
-static int well_conditioned(const ref *f, const scen *sc, gr_real t)
+static int well_conditioned(const gr_filt *f, const scen *sc, gr_real t)
 {
-    static lmat hp, sn, ns, nsn;
+    static gr_mat hp, sn, ns, nsn;
     const int n = sc->n, m = sc->m, k = sc->exact ? sc->nz : 0;
     for (int i = 0; i < m; i++) { // hp = H P
         for (int j = 0; j < n; j++) {
@@ -949,43 +604,6 @@ static int well_conditioned(const ref *f, const scen *sc, gr_real t)
         }
     }
     return corr_above(m, sn, t) && (k == 0 || corr_above(k, nsn, t));
-}
-
-// Positive semidefinite within tol in the correlation form (as gf_ref.h's
-// gr_psd, n x n): a negative variance fails; a zero variance needs its row
-// and column exactly zero; on the other indices M + tol diag(M) must have
-// an LDL^T with positive pivots; symmetric within tol.
-static int psd_ld(int n, lmat M, double tol)
-{
-    int idx[TN], k = 0;
-    for (int i = 0; i < n; i++) {
-        if (M[i][i] < 0 || M[i][i] != M[i][i]) {
-            return 0;
-        }
-        if (M[i][i] == 0) {
-            for (int j = 0; j < n; j++) {
-                if (M[i][j] != 0 || M[j][i] != 0) {
-                    return 0;
-                }
-            }
-            continue;
-        }
-        idx[k++] = i;
-    }
-    lmat a, L;
-    gr_real D[TN];
-    for (int i = 0; i < k; i++) {
-        for (int j = 0; j < k; j++) {
-            gr_real mij = M[idx[i]][idx[j]], mji = M[idx[j]][idx[i]];
-            if ((mij - mji) * (mij - mji) >
-                (gr_real)(tol * tol) * M[idx[i]][idx[i]] * M[idx[j]][idx[j]]) {
-                return 0;
-            }
-            a[i][j] = 0.5L * (mij + mji);
-        }
-        a[i][i] *= 1.0L + (gr_real)tol;
-    }
-    return k == 0 || ldl_ld(k, a, L, D);
 }
 
 // ---- a textbook Joseph filter in gf_real ------------------------------
@@ -1324,11 +942,11 @@ static int same_belief(const lib *a, const lib *b)
 static gf_kf kf_back;
 
 // The belief in long double; 1 if gf_kf_init takes it back (into kf_back).
-static int lib_belief(const lib *l, gr_real mu[TN], lmat P)
+static int lib_belief(const lib *l, gr_real mu[TN], gr_mat P)
 {
     gf_real sigma[TN * TN];
     const int n = (int)l->kf.n;
-    memset(P, 0, sizeof(lmat));
+    memset(P, 0, sizeof(gr_mat));
     if (gf_kf_cov(&l->kf, sigma) != GF_OK) {
         return 0;
     }
@@ -1370,7 +988,7 @@ static void fail_note(unsigned *counter, const char *what, const scen *sc,
 
 // The reference, its two perturbed copies.
 typedef struct refs {
-    ref ref, pa, pb;
+    gr_filt ref, pa, pb;
 } refs;
 
 typedef struct bounds {
@@ -1380,8 +998,8 @@ typedef struct bounds {
 static bounds bounds_of(refs *r, const gr_real *dg, double c)
 {
     double sa, ma, sb, mb;
-    errors_in(&r->ref, dg, r->pa.mu, r->pa.P, &sa, &ma);
-    errors_in(&r->ref, dg, r->pb.mu, r->pb.P, &sb, &mb);
+    gr_errors(&r->ref, dg, r->pa.mu, r->pa.P, 0, &sa, &ma);
+    gr_errors(&r->ref, dg, r->pb.mu, r->pb.P, 0, &sb, &mb);
     bounds b;
     b.s = c * fmax(fmax(sa, sb), GR_U);
     b.m = c * fmax(fmax(ma, mb), GR_U);
@@ -1389,9 +1007,9 @@ static bounds bounds_of(refs *r, const gr_real *dg, double c)
 }
 
 // The references (all three) set to the belief (mu, P).
-static void resync(refs *r, const gr_real mu[TN], lmat P)
+static void resync(refs *r, const gr_real mu[TN], gr_mat P)
 {
-    ref *f[3] = {&r->ref, &r->pa, &r->pb};
+    gr_filt *f[3] = {&r->ref, &r->pa, &r->pb};
     for (int k = 0; k < 3; k++) {
         memcpy(f[k]->mu, mu, sizeof f[k]->mu);
         memcpy(f[k]->P, P, sizeof f[k]->P);
@@ -1422,9 +1040,9 @@ static void run_n(int n, int ekf, int kind, tally *t)
         scen *sc = &sc_run;
         scen_make(sc, kind, n, index);
         refs *r = &r_run;
-        ref_init(&r->ref, sc, 0, 0, BUG_NONE);
-        ref_init(&r->pa, sc, GR_U, 0x5eed0001ull + index, BUG_NONE);
-        ref_init(&r->pb, sc, -GR_U, 0x5eed8001ull + index, BUG_NONE);
+        ref_init(&r->ref, sc, 0, 0, GR_BUG_NONE);
+        ref_init(&r->pa, sc, GR_U, 0x5eed0001ull + index, GR_BUG_NONE);
+        ref_init(&r->pb, sc, -GR_U, 0x5eed8001ull + index, GR_BUG_NONE);
         lib *l = &l_run;
         assert_int_equal(lib_init(l, sc, ekf, 0), GF_OK);
         tb_init(&tb_run, sc);
@@ -1470,7 +1088,7 @@ static void run_n(int n, int ekf, int kind, tally *t)
                 (sc->r_pd && ref_ok &&
                  well_conditioned(&r->ref, sc, (gr_real)(200.0 * GR_U)));
             // An update with zero-noise quantities: errors against the
-            // prior's variances (errors_in).
+            // prior's variances (gr_errors with dg).
             gr_real prior[TN];
             const gr_real *dg = NULL;
             if (sc->exact) {
@@ -1563,9 +1181,9 @@ static void run_n(int n, int ekf, int kind, tally *t)
             }
 
             gr_real mu[TN];
-            lmat P;
+            gr_mat P;
             int back = lib_belief(l, mu, P);
-            if (!psd_ld(n, P, PSD_TOL)) {
+            if (!gr_psd(n, P, PSD_TOL)) {
                 fail_note(&t->not_psd, "belief not PSD", sc, ekf, index, step,
                           0, 0);
             }
@@ -1603,7 +1221,7 @@ static void run_n(int n, int ekf, int kind, tally *t)
             }
             if (tb_live && tb_cmp) {
                 gr_real tmu[TN];
-                lmat tP;
+                gr_mat tP;
                 for (int i = 0; i < n; i++) {
                     tmu[i] = (gr_real)tb_run.mu[i];
                     for (int j = 0; j < n; j++) {
@@ -1611,8 +1229,8 @@ static void run_n(int n, int ekf, int kind, tally *t)
                     }
                 }
                 double tes, tem;
-                errors_in(&r->ref, dg, tmu, tP, &tes, &tem);
-                t->tb_not_psd += !psd_ld(n, tP, PSD_TOL);
+                gr_errors(&r->ref, dg, tmu, tP, 0, &tes, &tem);
+                t->tb_not_psd += !gr_psd(n, tP, PSD_TOL);
                 t->tb_worst_s = fmax(tes, t->tb_worst_s);
                 t->tb_worst_m = fmax(tem, t->tb_worst_m);
                 t->tb_over += tes > b.s || tem > b.m;
@@ -1625,7 +1243,7 @@ static void run_n(int n, int ekf, int kind, tally *t)
                 b.m = fmax(b.m, TB_C * tem);
             }
             double es, em;
-            errors_in(&r->ref, dg, mu, P, &es, &em);
+            gr_errors(&r->ref, dg, mu, P, 0, &es, &em);
             if (trace) {
                 print_message("  trace: errors Sigma %.3g mu %.3g, bound "
                               "%.3g %.3g\n",
@@ -1788,8 +1406,8 @@ static void reference_itself(void **state)
     sc->S0[3] = 9;
     sc->H[0] = 1;
     sc->Q[0] = 1;
-    ref f;
-    ref_init(&f, sc, 0, 0, BUG_NONE);
+    gr_filt f;
+    ref_init(&f, sc, 0, 0, GR_BUG_NONE);
     gf_real z[TN] = {2};
     gr_real nis = 0;
     assert_true(ref_update(&f, sc, z, &nis));
@@ -1798,15 +1416,15 @@ static void reference_itself(void **state)
     assert_true(fabs((double)(f.mu[0] - 1.6L)) < tiny);
     assert_true(fabs((double)(nis - 0.8L)) < tiny);
     assert_true(f.P[1][1] == 9 && f.P[0][1] == 0);
-    lmat a;
+    gr_mat a;
     memset(a, 0, sizeof a);
     a[0][0] = a[0][1] = a[1][0] = a[1][1] = 1;
-    assert_true(psd_ld(3, a, PSD_TOL));
+    assert_true(gr_psd(3, a, PSD_TOL));
     a[0][1] = a[1][0] = 1.001L;
-    assert_false(psd_ld(2, a, PSD_TOL));
+    assert_false(gr_psd(2, a, PSD_TOL));
     a[0][1] = a[1][0] = 0;
     a[2][0] = a[0][2] = 1e-30L;
-    assert_false(psd_ld(3, a, PSD_TOL));
+    assert_false(gr_psd(3, a, PSD_TOL));
 }
 
 // The bound catches real bugs: a reference that drops R from its
@@ -1819,7 +1437,7 @@ static void reference_itself(void **state)
 static void bound_catches_bugs(void **state)
 {
     (void)state;
-    static ref bug_r, bug_kqk;
+    static gr_filt bug_r, bug_kqk;
     unsigned steps[2] = {0, 0}, caught[2] = {0, 0};
     for (int n = 1; n <= TN; n++) {
         for (unsigned index = 0; index < SCENARIOS / 4u + 2u; index++) {
@@ -1831,11 +1449,11 @@ static void bound_catches_bugs(void **state)
                                       (double)AT(sc->S0, n, i, i));
             }
             refs *r = &r_run;
-            ref_init(&r->ref, sc, 0, 0, BUG_NONE);
-            ref_init(&r->pa, sc, GR_U, 0x5eed0001ull + index, BUG_NONE);
-            ref_init(&r->pb, sc, -GR_U, 0x5eed8001ull + index, BUG_NONE);
-            ref_init(&bug_r, sc, 0, 0, BUG_NO_R);
-            ref_init(&bug_kqk, sc, 0, 0, BUG_NO_KQK);
+            ref_init(&r->ref, sc, 0, 0, GR_BUG_NONE);
+            ref_init(&r->pa, sc, GR_U, 0x5eed0001ull + index, GR_BUG_NONE);
+            ref_init(&r->pb, sc, -GR_U, 0x5eed8001ull + index, GR_BUG_NONE);
+            ref_init(&bug_r, sc, 0, 0, GR_BUG_NO_R);
+            ref_init(&bug_kqk, sc, 0, 0, GR_BUG_NO_KQK);
             for (int step = 0; step < sc->steps; step++) {
                 scen_move(sc);
                 ref_predict(&r->ref, sc);
@@ -1858,16 +1476,16 @@ static void bound_catches_bugs(void **state)
                 if (!(b.s < 1.0 && b.m < 1.0)) {
                     continue;
                 }
-                const ref *bugs[2] = {&bug_r, &bug_kqk};
+                const gr_filt *bugs[2] = {&bug_r, &bug_kqk};
                 const int counts[2] = {rmax > 1e-4, sc->q_pd};
                 for (int k = 0; k < 2; k++) {
                     if (!counts[k]) {
                         continue;
                     }
                     double es, em;
-                    lmat P;
+                    gr_mat P;
                     memcpy(P, bugs[k]->P, sizeof P);
-                    errors(&r->ref, bugs[k]->mu, P, &es, &em);
+                    gr_errors(&r->ref, NULL, bugs[k]->mu, P, 0, &es, &em);
                     steps[k]++;
                     caught[k] += es > b.s || em > b.m;
                 }

@@ -109,11 +109,7 @@ static void refs_predict(refs *r, gr_scen *sc)
 {
     gr_filt *f[4] = {&r->ref, &r->pa, &r->pb, &r->seq};
     for (int i = 0; i < 4; i++) {
-        if (sc->kind == GR_EKF3_TURN) {
-            gr_predict_turn(f[i], sc->u, sc->R);
-        } else {
-            gr_predict_lin(f[i], sc->A, sc->c, sc->R);
-        }
+        gr_predict_scen(f[i], sc);
     }
 }
 
@@ -125,8 +121,8 @@ typedef struct bounds {
 static bounds bounds_of(refs *r, int angle)
 {
     double sa, ma, sb, mb;
-    gr_errors(&r->ref, r->pa.mu, r->pa.P, angle, &sa, &ma);
-    gr_errors(&r->ref, r->pb.mu, r->pb.P, angle, &sb, &mb);
+    gr_errors(&r->ref, NULL, r->pa.mu, r->pa.P, angle, &sa, &ma);
+    gr_errors(&r->ref, NULL, r->pb.mu, r->pb.P, angle, &sb, &mb);
     bounds b;
     b.s = BOUND_C * fmax(fmax(sa, sb), GR_U);
     b.m = BOUND_C * fmax(fmax(ma, mb), GR_U);
@@ -162,7 +158,7 @@ static void fail_note(unsigned *counter, const char *what, const gr_scen *sc,
 
 // GR_TRACE=index in the environment prints the steps of scenario `index`
 // of every family, and the matrices behind its failures in hex.
-static void trace_matrix(const char *what, int n, gr_real M[3][3])
+static void trace_matrix(const char *what, int n, gr_mat M)
 {
     for (int i = 0; i < n; i++) {
         print_message("  %s %a %a %a\n", what, (double)M[i][0], (double)M[i][1],
@@ -186,6 +182,11 @@ static double median(double *v, unsigned n)
 }
 
 static double per_s[SCENARIOS], per_m[SCENARIOS];
+
+// The references and the matrices of a step: file-scope, as the emulated
+// target's stack (16 KiB) is small.
+static refs r_run, r_next;
+static gr_mat m_lib, m_tb, m_aux;
 
 // FNV-1a over the bytes of the scenarios' inputs (the models and the prior,
 // before the truth): the same hash on two machines means the same
@@ -213,8 +214,7 @@ static void run_family(int kind, tally *t)
         if (index < 150) { // the count both host and target run
             inputs = fnv(inputs, &sc, offsetof(gr_scen, x));
         }
-        refs r;
-        refs_init(&r, &sc, index);
+        refs_init(&r_run, &sc, index);
         lib l;
         assert_int_equal(lib_init(&l, &sc), GF_OK);
         gr_tb tb;
@@ -230,22 +230,22 @@ static void run_family(int kind, tally *t)
                 fail_note(&t->pred_refused, "prediction refused", &sc, index,
                           step, (double)st, 0);
                 if (trace == (int)index) {
-                    gr_real bm[3], bP[3][3], R[3][3];
-                    (void)lib_belief(&before, bm, bP);
+                    gr_real bm[GR_N];
+                    (void)lib_belief(&before, bm, m_lib);
                     for (int i = 0; i < 3; i++) {
                         for (int j = 0; j < 3; j++) {
-                            R[i][j] = (gr_real)sc.R[i][j];
+                            m_aux[i][j] = (gr_real)sc.R[i][j];
                         }
                     }
-                    trace_matrix("prior", sc.n, bP);
-                    trace_matrix("R", sc.n, R);
+                    trace_matrix("prior", sc.n, m_lib);
+                    trace_matrix("R", sc.n, m_aux);
                 }
                 assert_true(same_belief(&before, &l));
                 break;
             }
             gr_tb_predict(&tb, &sc);
             gr_scen_move(&sc);
-            refs_predict(&r, &sc);
+            refs_predict(&r_run, &sc);
             int upd = step >= sc.pre;
             gf_innovation info;
             gr_real ref_nis = 0;
@@ -253,12 +253,11 @@ static void run_family(int kind, tally *t)
             if (upd) {
                 gf_real z[3] = {0, 0, 0};
                 gr_scen_measure(&sc, z);
-                refs next = r;
+                r_next = r_run;
                 gr_real na = 0, nb = 0;
-                int ref_ok =
-                    gr_update_batch(&next.ref, sc.m, sc.H, sc.Q, z, &ref_nis);
-                int pa_ok = gr_update_batch(&next.pa, sc.m, sc.H, sc.Q, z, &na);
-                int pb_ok = gr_update_batch(&next.pb, sc.m, sc.H, sc.Q, z, &nb);
+                int ref_ok = gr_update_scen(&r_next.ref, &sc, z, &ref_nis);
+                int pa_ok = gr_update_scen(&r_next.pa, &sc, z, &na);
+                int pb_ok = gr_update_scen(&r_next.pb, &sc, z, &nb);
                 nis_bound = BOUND_C * fmax(fmax(fabs((double)(na - ref_nis)),
                                                 fabs((double)(nb - ref_nis))),
                                            GR_U * (double)ref_nis);
@@ -302,7 +301,7 @@ static void run_family(int kind, tally *t)
                     continue; // both keep the prior
                 }
                 {
-                    gr_real dth = next.ref.mu[2] - r.ref.mu[2];
+                    gr_real dth = r_next.ref.mu[2] - r_run.ref.mu[2];
                     if (!ref_ok || !(dth > -1e9L && dth < 1e9L)) {
                         dth = 0;
                     }
@@ -321,33 +320,34 @@ static void run_family(int kind, tally *t)
                     // against the batch form: not asserted, reported (how
                     // much the sequential form itself loses).
                     gr_real nis_seq = 0;
-                    next.seq = r.ref;
-                    if (gr_update_seq(&next.seq, sc.m, sc.H, sc.Q, z,
+                    r_next.seq = r_run.ref;
+                    if (gr_update_seq(&r_next.seq, sc.m, (const gf_real *)sc.H,
+                                      3, (const gf_real *)sc.Q, 3, z,
                                       &nis_seq)) {
                         double es, em;
-                        gr_errors(&next.ref, next.seq.mu, next.seq.P, angle,
-                                  &es, &em);
-                        bounds bq = bounds_of(&next, angle);
+                        gr_errors(&r_next.ref, NULL, r_next.seq.mu,
+                                  r_next.seq.P, angle, &es, &em);
+                        bounds bq = bounds_of(&r_next, angle);
                         double scale = GR_U_REF / GR_U;
                         if (es > bq.s * scale || em > bq.m * scale) {
                             t->seq_over++;
                         }
                     }
-                    r = next;
+                    r_run = r_next;
                 }
                 if (!pa_ok || !pb_ok) {
                     sc.compare = 0;
                 }
             }
-            gr_real mu[3], P[3][3];
+            gr_real mu[GR_N], (*P)[GR_N] = m_lib;
             int back = lib_belief(&l, mu, P);
             if (trace == (int)index) {
                 print_message("trace %d/%u step %d (heading track %g): "
                               "status %d, mu %g %g %g, reference %g %g %g\n",
                               kind, index, step, (double)l.ctx.theta, (int)st,
                               (double)mu[0], (double)mu[1], (double)mu[2],
-                              (double)r.ref.mu[0], (double)r.ref.mu[1],
-                              (double)r.ref.mu[2]);
+                              (double)r_run.ref.mu[0], (double)r_run.ref.mu[1],
+                              (double)r_run.ref.mu[2]);
             }
             if (!gr_psd(sc.n, P, PSD_TOL)) {
                 fail_note(&t->not_psd, "belief not PSD", &sc, index, step, 0,
@@ -366,7 +366,7 @@ static void run_family(int kind, tally *t)
             if (!sc.compare) {
                 continue;
             }
-            bounds b = bounds_of(&r, angle);
+            bounds b = bounds_of(&r_run, angle);
             if (!(b.s < 1.0 && b.m < 1.0)) {
                 t->vacuous++; // the conditioning leaves no digit to check
                 continue;
@@ -374,15 +374,14 @@ static void run_family(int kind, tally *t)
             double es, em;
             double tes = -1, tem = -1;
             if (tb_live) {
-                gr_real tmu[3] = {0, 0, 0}, tP[3][3];
-                memset(tP, 0, sizeof tP);
+                gr_real tmu[GR_N], (*tP)[GR_N] = m_tb;
                 for (int i = 0; i < sc.n; i++) {
                     tmu[i] = (gr_real)tb.mu[i];
                     for (int j = 0; j < sc.n; j++) {
                         tP[i][j] = (gr_real)tb.P[i][j];
                     }
                 }
-                gr_errors(&r.ref, tmu, tP, 0, &tes, &tem);
+                gr_errors(&r_run.ref, NULL, tmu, tP, 0, &tes, &tem);
                 if (!gr_psd(sc.n, tP, PSD_TOL)) {
                     t->tb_not_psd++;
                 }
@@ -396,7 +395,7 @@ static void run_family(int kind, tally *t)
                 b.s = fmax(b.s, TB_C * tes);
                 b.m = fmax(b.m, TB_C * tem);
             }
-            gr_errors(&r.ref, mu, P, angle, &es, &em);
+            gr_errors(&r_run.ref, NULL, mu, P, angle, &es, &em);
             if (trace == (int)index) {
                 print_message("trace %d/%u step %d: errors Sigma %.3g mu %.3g, "
                               "textbook %.3g %.3g, bound %.3g %.3g\n",
@@ -644,7 +643,7 @@ static void reference_itself(void **state)
     gr_filt_init(&f, &sc, 0, 0);
     gf_real z[3] = {2, 0, 0};
     gr_real nis = 0;
-    assert_true(gr_update_batch(&f, 1, sc.H, sc.Q, z, &nis));
+    assert_true(gr_update_scen(&f, &sc, z, &nis));
     const double tiny = 16 * (double)LDBL_EPSILON;
     assert_true(fabs((double)(f.P[0][0] - 0.8L)) < tiny);
     assert_true(fabs((double)(f.mu[0] - 1.6L)) < tiny);
@@ -665,19 +664,22 @@ static void reference_itself(void **state)
     memcpy(s3.S0, p0, sizeof p0);
     memcpy(s3.H, h, sizeof h);
     memcpy(s3.Q, q, sizeof q);
-    gr_filt fb, fs;
-    gr_filt_init(&fb, &s3, 0, 0);
-    fs = fb;
+    gr_filt *fb = &r_run.ref, *fs = &r_run.seq;
+    gr_filt_init(fb, &s3, 0, 0);
+    *fs = *fb;
     gf_real z3[3] = {1, -2, GF_R(0.5)};
     gr_real nb = 0, ns = 0;
-    assert_true(gr_update_batch(&fb, 3, s3.H, s3.Q, z3, &nb));
-    assert_true(gr_update_seq(&fs, 3, s3.H, s3.Q, z3, &ns));
+    assert_true(gr_update_scen(fb, &s3, z3, &nb));
+    assert_true(gr_update_seq(fs, 3, (const gf_real *)s3.H, 3,
+                              (const gf_real *)s3.Q, 3, z3, &ns));
     double es, em;
-    gr_errors(&fb, fs.mu, fs.P, 0, &es, &em);
+    gr_errors(fb, NULL, fs->mu, fs->P, 0, &es, &em);
     assert_true(es < 1e-15 && em < 1e-15);
     assert_true(fabs((double)(nb - ns)) < 1e-15 * (double)nb);
     // The PSD test: semidefinite passes, a correlation of 1 + 1e-3 fails.
-    gr_real a[3][3] = {{1, 1, 0}, {1, 1, 0}, {0, 0, 0}};
+    gr_real(*a)[GR_N] = m_aux;
+    memset(m_aux, 0, sizeof m_aux);
+    a[0][0] = a[0][1] = a[1][0] = a[1][1] = 1;
     assert_true(gr_psd(3, a, PSD_TOL));
     a[0][1] = a[1][0] = 1.001L;
     assert_false(gr_psd(2, a, PSD_TOL));
