@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Defects the core must not have, each as the smallest call sequence that
-// would show it, against long-double values computed here or exact ones:
-// the scalar update collapsing the covariance, verdicts that depend on
-// units, float refusing a valid update, NULL pointers that crash, and
+// would show it, against tests/gf_ref.h's long-double reference or exact
+// values: the scalar update collapsing the covariance, verdicts that depend
+// on units, float refusing a valid update, NULL pointers that crash, and
 // statuses that depend on how the library is built.
+#include "gf_ref.h"
 #include "gf_test.h"
 
 // Each update is checked against the long-double update of the prior the
@@ -30,16 +31,10 @@ typedef long double ld;
 // inverts it has u kappa of uncertainty; set by prior_held).
 static double tol_now = REL_TOL;
 
-#ifdef GF_SINGLE_PRECISION
-#define U_REAL (0.5 * (double)FLT_EPSILON)
-#else
-#define U_REAL (0.5 * DBL_EPSILON)
-#endif
-
 // kappa estimated as the product of the diagonal over the determinant
 // (the reciprocal of the product of the correlation form's eigenvalues,
 // >= 1 / lambda_min).
-static void prior_held(ld P[3][3], int n)
+static void prior_held(gr_mat P, int n)
 {
     ld det, prod;
     if (n == 2) {
@@ -52,7 +47,7 @@ static void prior_held(ld P[3][3], int n)
         prod = P[0][0] * P[1][1] * P[2][2];
     }
     double kappa = det > 0 ? (double)(prod / det) : 1e300;
-    tol_now = fmax(REL_TOL, 16.0 * U_REAL * kappa);
+    tol_now = fmax(REL_TOL, 16.0 * GR_U * kappa);
 }
 
 static void check_rel(double got, ld want, const char *what, int line)
@@ -69,7 +64,7 @@ static void check_rel(double got, ld want, const char *what, int line)
 
 // Each covariance entry (n x n, rows of n) relative to sqrt(want_ii
 // want_jj).
-static void check_cov(const gf_real *got, int n, ld want[3][3], int line)
+static void check_cov(const gf_real *got, int n, gr_mat want, int line)
 {
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < n; j++) {
@@ -84,100 +79,24 @@ static void check_cov(const gf_real *got, int n, ld want[3][3], int line)
     }
 }
 
-// The long-double scalar Joseph update of an n-state covariance P with the
-// row c and noise q (n = 2 or 3), and the mean.
-static void ld_update(int n, ld P[3][3], ld mu[3], const ld c[3], ld q, ld z)
+// The long-double reference (gf_ref.h) at the belief a filter holds.
+static void ref_from_kf2(gr_filt *f, const gf_kf2 *kf)
 {
-    ld p[3] = {0, 0, 0}, s = q, y = z, k[3], N[3][3];
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            p[i] += P[i][j] * c[j];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        s += c[i] * p[i];
-        y -= c[i] * mu[i];
-    }
-    for (int i = 0; i < n; i++) {
-        k[i] = p[i] / s;
-    }
-    ld M[3][3], MP[3][3];
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            M[i][j] = (i == j ? 1.0L : 0.0L) - k[i] * c[j];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            MP[i][j] = 0;
-            for (int a = 0; a < n; a++) {
-                MP[i][j] += M[i][a] * P[a][j];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            N[i][j] = q * k[i] * k[j];
-            for (int a = 0; a < n; a++) {
-                N[i][j] += MP[i][a] * M[j][a];
-            }
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        mu[i] += k[i] * y;
-        for (int j = 0; j < n; j++) {
-            P[i][j] = N[i][j];
-        }
-    }
-}
-
-static void ld_from_kf2(const gf_kf2 *kf, ld P[3][3], ld mu[3])
-{
-    memset(P, 0, 9 * sizeof(ld));
-    mu[2] = 0;
     const gf_mat2 sigma = gf_test_kf2_sigma(kf);
-    for (int i = 0; i < 2; i++) {
-        mu[i] = (ld)kf->mu.v[i];
-        for (int j = 0; j < 2; j++) {
-            P[i][j] = (ld)sigma.m[i][j];
-        }
-    }
+    gr_ref_init(f, 2, kf->mu.v, (const gf_real *)sigma.m, 2, 0, 0);
 }
 
-static void ld_from_ekf3(const gf_ekf3 *e, ld P[3][3], ld mu[3])
+static void ref_from_ekf3(gr_filt *f, const gf_ekf3 *e)
 {
     const gf_mat3 sigma = gf_test_ekf3_sigma(e);
-    for (int i = 0; i < 3; i++) {
-        mu[i] = (ld)e->mu.v[i];
-        for (int j = 0; j < 3; j++) {
-            P[i][j] = (ld)sigma.m[i][j];
-        }
-    }
+    gr_ref_init(f, 3, e->mu.v, (const gf_real *)sigma.m, 3, 0, 0);
 }
 
-// P = A P A^T (no process noise).
-static void ld_predict(int n, ld P[3][3], ld mu[3], ld A[3][3])
+// The reference's update with one quantity: the row c, noise q, reading z.
+static void ref_update1(gr_filt *f, const gf_real c[3], gf_real q, gf_real z)
 {
-    ld AP[3][3], N[3][3], m[3] = {0, 0, 0};
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            AP[i][j] = 0;
-            for (int a = 0; a < n; a++) {
-                AP[i][j] += A[i][a] * P[a][j];
-            }
-            m[i] += A[i][j] * mu[j];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            N[i][j] = 0;
-            for (int a = 0; a < n; a++) {
-                N[i][j] += AP[i][a] * A[j][a];
-            }
-        }
-    }
-    memcpy(P, N, sizeof N);
-    memcpy(mu, m, sizeof m);
+    gr_real nis;
+    assert_true(gr_update(f, 1, c, 3, &q, 1, &z, NULL, &nis));
 }
 
 // Item 1, KF2: mu0 = 0, Sigma0 = diag(1e6, 1e6), A = ((1, 10), (0, 1)),
@@ -212,11 +131,11 @@ static void kf2_scalar_update_keeps_the_noise(void **state)
     gf_kf2 kf;
     assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
 
-    ld P[3][3], mu[3];
-    ld Pr[3][3] = {{1e6L, 0, 0}, {0, 1e6L, 0}, {0, 0, 0}}, mr[3] = {0, 0, 0};
-    ld A[3][3] = {{1, 10, 0}, {0, 1, 0}, {0, 0, 0}};
-    const ld c[3] = {1, 0, 0};
-    const ld q = (ld)GF_R(0.01);
+    // f from the prior held; fr the whole run in long double.
+    gr_filt f, fr;
+    const gf_real A[4] = {1, 10, 0, 1}, zero[4] = {0, 0, 0, 0};
+    const gf_real c[3] = {1, 0, 0}, q = GF_R(0.01);
+    gr_ref_init(&fr, 2, mu0.v, (const gf_real *)s0.m, 2, 0, 0);
 #ifdef GF_SINGLE_PRECISION
     const double run_tol = 0.05;
 #else
@@ -225,17 +144,17 @@ static void kf2_scalar_update_keeps_the_noise(void **state)
     for (int t = 0; t < 3; t++) {
         if (t > 0) {
             assert_int_equal(gf_kf2_predict(&kf, &car, NULL), GF_OK);
-            ld_predict(2, Pr, mr, A);
+            gr_predict(&fr, A, NULL, NULL, 0, zero, zero, 2);
         }
-        ld_from_kf2(&kf, P, mu);
-        prior_held(P, 2);
+        ref_from_kf2(&f, &kf);
+        prior_held(f.P, 2);
         assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
-        ld_update(2, P, mu, c, q, 0);
+        ref_update1(&f, c, q, 0);
         const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
-        check_cov(sigma.m[0], 2, P, __LINE__);
+        check_cov(sigma.m[0], 2, f.P, __LINE__);
         // The whole run in long double: 0.01, 0.01, 0.00833.
-        ld_update(2, Pr, mr, c, q, 0);
-        double want = (double)Pr[0][0];
+        ref_update1(&fr, c, q, 0);
+        double want = (double)fr.P[0][0];
         assert_true(fabs(want - (t < 2 ? 0.01 : 0.00833)) < 5e-6);
         assert_true(fabs((double)sigma.m[0][0] - want) <= run_tol * want);
         assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
@@ -245,9 +164,9 @@ static void kf2_scalar_update_keeps_the_noise(void **state)
     gf_kf2 after = kf;
     const gf_vec2 one = {{1, 0}};
     assert_int_equal(gf_kf2_update(&after, &pos, &one, NULL), GF_OK);
-    ld_from_kf2(&kf, P, mu);
-    prior_held(P, 2);
-    ld k = P[0][0] / (P[0][0] + q);
+    ref_from_kf2(&f, &kf);
+    prior_held(f.P, 2);
+    ld k = f.P[0][0] / (f.P[0][0] + (ld)q);
     CHECK_REL(after.mu.v[0] - kf.mu.v[0], k);
     tol_now = REL_TOL;
 }
@@ -271,8 +190,7 @@ static void kf2_correlated_prior(void **state)
     assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
     assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
     const ld s = 1e8L + 1;
-    ld w[3][3] = {
-        {1e8L / s, 3e7L / s, 0}, {3e7L / s, 1e8L - 9e14L / s, 0}, {0, 0, 0}};
+    gr_mat w = {{1e8L / s, 3e7L / s}, {3e7L / s, 1e8L - 9e14L / s}};
     const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
     check_cov(sigma.m[0], 2, w, __LINE__);
     assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
@@ -307,20 +225,20 @@ static void kf2_large_ratio(void **state)
     };
     gf_kf2 kf;
     assert_int_equal(gf_kf2_init(&kf, &mu0, &s0), GF_OK);
-    ld P[3][3], mu[3];
-    const ld c[3] = {1, 0, 0};
+    gr_filt f;
+    const gf_real c[3] = {1, 0, 0};
     (void)v;
     for (int t = 0; t < 3; t++) {
         if (t > 0) {
             assert_int_equal(gf_kf2_predict(&kf, &car, NULL), GF_OK);
         }
-        ld_from_kf2(&kf, P, mu);
-        prior_held(P, 2);
+        ref_from_kf2(&f, &kf);
+        prior_held(f.P, 2);
         assert_int_equal(gf_kf2_update(&kf, &pos, &z, NULL), GF_OK);
-        ld_update(2, P, mu, c, 1, 3);
+        ref_update1(&f, c, 1, 3);
         const gf_mat2 sigma = gf_test_kf2_sigma(&kf);
-        check_cov(sigma.m[0], 2, P, __LINE__);
-        CHECK_REL(kf.mu.v[0], mu[0]);
+        check_cov(sigma.m[0], 2, f.P, __LINE__);
+        CHECK_REL(kf.mu.v[0], f.mu[0]);
         assert_true(sigma.m[0][0] > 0 && sigma.m[1][1] > 0);
     }
     tol_now = REL_TOL;
@@ -347,19 +265,19 @@ static void ekf3_scalar_update_keeps_the_noise(void **state)
     const gf_real u[2] = {10, 0};
     gf_ekf3 ekf;
     assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
-    ld P[3][3], mu[3];
-    const ld c[3] = {1, 0, 0};
+    gr_filt f;
+    const gf_real c[3] = {1, 0, 0};
     for (int t = 0; t < 3; t++) {
         if (t > 0) {
             assert_int_equal(gf_ekf3_predict(&ekf, &mo, u), GF_OK);
             assert_true(ekf.mu.v[2] == 0);
         }
-        ld_from_ekf3(&ekf, P, mu);
-        prior_held(P, 3);
+        ref_from_ekf3(&f, &ekf);
+        prior_held(f.P, 3);
         assert_int_equal(gf_ekf3_update(&ekf, &mx, &z, NULL), GF_OK);
-        ld_update(3, P, mu, c, (ld)GF_R(0.01), 0);
+        ref_update1(&f, c, GF_R(0.01), 0);
         const gf_mat3 sigma = gf_test_ekf3_sigma(&ekf);
-        check_cov(sigma.m[0], 3, P, __LINE__);
+        check_cov(sigma.m[0], 3, f.P, __LINE__);
         assert_true(sigma.m[0][0] > 0);
     }
     tol_now = REL_TOL;
@@ -443,9 +361,9 @@ static void ekf3_diffuse_heading_accepted(void **state)
     gf_ekf3 ekf;
     assert_int_equal(gf_ekf3_init(&ekf, &mu0, &s0), GF_OK);
     assert_int_equal(gf_ekf3_predict(&ekf, &mo, u), GF_OK);
-    ld P[3][3], mu[3];
-    ld_from_ekf3(&ekf, P, mu);
-    prior_held(P, 3);
+    gr_filt f;
+    ref_from_ekf3(&f, &ekf);
+    prior_held(f.P, 3);
     // The reading the filter expects: z = h(mu_bar), y = 0.
     const gf_vec3 z = {{ekf.mu.v[0], ekf.mu.v[1], 0}};
     gf_innovation info;
@@ -454,11 +372,11 @@ static void ekf3_diffuse_heading_accepted(void **state)
 
     // Long double from the prior held, the two rows one after another (Q
     // is diagonal: the sequential and batch forms are the same).
-    const ld cx[3] = {1, 0, 0}, cy[3] = {0, 1, 0};
-    ld_update(3, P, mu, cx, (ld)GF_R(0.01), mu[0]);
-    ld_update(3, P, mu, cy, (ld)GF_R(0.01), mu[1]);
+    const gf_real cx[3] = {1, 0, 0}, cy[3] = {0, 1, 0};
+    ref_update1(&f, cx, GF_R(0.01), z.v[0]);
+    ref_update1(&f, cy, GF_R(0.01), z.v[1]);
     const gf_mat3 sigma = gf_test_ekf3_sigma(&ekf);
-    check_cov(sigma.m[0], 3, P, __LINE__);
+    check_cov(sigma.m[0], 3, f.P, __LINE__);
     tol_now = REL_TOL;
     // Whatever the float prior can hold of it: the x variance after
     // measuring x with noise 0.01 lies in (0, 0.01], y's likewise, and the
