@@ -976,11 +976,54 @@ static gf_status call_model(PyObject *fn, int motion, PyObject *u,
 // idle (check_idle) and marks it busy with nothing between that could run
 // Python or release the GIL: its arguments are converted before.
 enum { BUSY_STEP = 1, BUSY_NOGIL = 2 };
+
+// What S, K and the log-likelihood of an accepted update are computed from
+// when they are read (nothing of them is computed in the step): the belief
+// before the update, as the library's struct, and the update's H (a KF's
+// C; m rows of n) and Q (m x m). m = 0: no record.
+typedef struct {
+    unsigned m, n;
+    gf_real H[NMAX * NMAX];
+    gf_real Q[NMAX * NMAX];
+    union {
+        gf_kf2 kf2;
+        gf_ekf3 ekf3;
+        gf_kf kf;
+    } prior;
+} UpdateRec;
+
 typedef struct {
     PyObject_HEAD gf_kf_innovation last;
     int has_last;
     int busy;
+    // the last accepted update's record, rec[cur], when has_last; an
+    // update fills rec[!cur] (the prior first) and an accepted one flips
+    // cur: nothing is copied twice
+    UpdateRec rec[2];
+    int cur;
 } FilterObj;
+
+// Copies the record src of a belief of belief_size bytes into dst: its
+// used entries only (the rest of dst is not read).
+static void rec_copy(UpdateRec *dst, const UpdateRec *src, size_t belief_size)
+{
+    dst->m = src->m;
+    dst->n = src->n;
+    memcpy(dst->H, src->H, (size_t)src->m * src->n * sizeof(gf_real));
+    memcpy(dst->Q, src->Q, (size_t)src->m * src->m * sizeof(gf_real));
+    memcpy(&dst->prior, &src->prior, belief_size);
+}
+
+// The rows x cols block at the top left of src (rows of src_cols) into dst,
+// packed (rows of cols).
+static void block_copy(gf_real *dst, const gf_real *src, unsigned src_cols,
+                       unsigned rows, unsigned cols)
+{
+    for (unsigned i = 0; i < rows; i++) {
+        memcpy(dst + (size_t)cols * i, src + (size_t)src_cols * i,
+               cols * sizeof(gf_real));
+    }
+}
 
 // RuntimeError's messages for a filter stepped or initialised from its own
 // callback (check_idle's fmt).
@@ -1046,6 +1089,187 @@ static PyObject *Filter_innovation(PyObject *self_, void *unused)
     return new_array(self->last.m, 0, self->last.y);
 }
 
+// ---- the last update's S, K and log-likelihood ---------------------------
+
+// Which library belief a record's prior is (the getters' closure).
+enum { REC_KF2 = 1, REC_EKF3 = 2, REC_KF = 3 };
+
+// S, K and log det S of a record, in double.
+typedef struct {
+    unsigned m, n;
+    double S[NMAX * NMAX]; // m x m
+    double K[NMAX * NMAX]; // n x m
+    double logdet;         // NaN when S is not positive definite as computed
+} LastUpdate;
+
+// Computes out from f's record, from the prior's covariance (the library's
+// accessor, then in double):
+//   S = H Sigma_bar H^T + Q,   K = Sigma_bar H^T S^-1 = (S^-1 H Sigma_bar)^T,
+// S^-1 applied and det S taken by Gaussian elimination with partial
+// pivoting. 1 when done, 0 when there is no accepted update to read, -1
+// with RuntimeError during another thread's run (who named).
+static int last_update(PyObject *self_, void *kind, const char *who,
+                       LastUpdate *out)
+{
+    const FilterObj *f = (const FilterObj *)self_;
+    const UpdateRec *r = &f->rec[f->cur];
+    gf_real sg[NMAX * NMAX];
+    double P[NMAX * NMAX], HP[NMAX * NMAX], LU[NMAX * NMAX];
+    if (check_readable(f, who) < 0) {
+        return -1;
+    }
+    if (!f->has_last || r->m < 1u || r->m > r->n || r->n > NMAX) {
+        return 0;
+    }
+    const unsigned m = r->m, n = r->n;
+    switch ((int)(size_t)kind) {
+    case REC_KF2:
+        gf_kf2_cov(&r->prior.kf2, (gf_mat2 *)sg);
+        break;
+    case REC_EKF3:
+        gf_ekf3_cov(&r->prior.ekf3, (gf_mat3 *)sg);
+        break;
+    default:
+        gf_kf_cov(&r->prior.kf, sg);
+    }
+    for (unsigned i = 0; i < n * n; i++) {
+        P[i] = (double)sg[i];
+    }
+    // HP = H Sigma_bar (m x n), S = HP H^T + Q
+    for (unsigned i = 0; i < m; i++) {
+        for (unsigned j = 0; j < n; j++) {
+            double a = 0.0;
+            for (unsigned k = 0; k < n; k++) {
+                a += (double)r->H[n * i + k] * P[n * k + j];
+            }
+            HP[n * i + j] = a;
+        }
+    }
+    for (unsigned i = 0; i < m; i++) {
+        for (unsigned j = 0; j < m; j++) {
+            double a = 0.0;
+            for (unsigned k = 0; k < n; k++) {
+                a += HP[n * i + k] * (double)r->H[n * j + k];
+            }
+            out->S[m * i + j] = a + (double)r->Q[m * i + j];
+        }
+    }
+    // LU = S with partial pivoting (rows swapped in piv); HP overwritten
+    // by S^-1 HP, row swaps applied to it alongside
+    memcpy(LU, out->S, (size_t)m * m * sizeof(double));
+    double logdet = 0.0;
+    int sign = 1;
+    for (unsigned c = 0; c < m; c++) {
+        unsigned p = c;
+        for (unsigned i = c + 1; i < m; i++) {
+            if (fabs(LU[m * i + c]) > fabs(LU[m * p + c])) {
+                p = i;
+            }
+        }
+        if (p != c) {
+            sign = -sign;
+            for (unsigned j = 0; j < m; j++) {
+                double t = LU[m * c + j];
+                LU[m * c + j] = LU[m * p + j];
+                LU[m * p + j] = t;
+            }
+            for (unsigned j = 0; j < n; j++) {
+                double t = HP[n * c + j];
+                HP[n * c + j] = HP[n * p + j];
+                HP[n * p + j] = t;
+            }
+        }
+        const double d = LU[m * c + c];
+        if (d < 0.0) {
+            sign = -sign;
+        }
+        logdet += log(fabs(d));
+        for (unsigned i = c + 1; i < m; i++) {
+            const double l = d != 0.0 ? LU[m * i + c] / d : 0.0;
+            for (unsigned j = c; j < m; j++) {
+                LU[m * i + j] -= l * LU[m * c + j];
+            }
+            for (unsigned j = 0; j < n; j++) {
+                HP[n * i + j] -= l * HP[n * c + j];
+            }
+        }
+    }
+    for (unsigned c = m; c-- > 0;) {
+        const double d = LU[m * c + c];
+        for (unsigned j = 0; j < n; j++) {
+            double a = HP[n * c + j];
+            for (unsigned k = c + 1; k < m; k++) {
+                a -= LU[m * c + k] * HP[n * k + j];
+            }
+            HP[n * c + j] = a / d;
+        }
+    }
+    for (unsigned i = 0; i < n; i++) {
+        for (unsigned j = 0; j < m; j++) {
+            out->K[m * i + j] = HP[n * j + i];
+        }
+    }
+    out->m = m;
+    out->n = n;
+    out->logdet = sign > 0 && isfinite(logdet) ? logdet : (double)NAN;
+    return 1;
+}
+
+// A new gf_real array of shape (d0, d1) from the doubles src, each rounded
+// once.
+static PyObject *new_array_of(npy_intp d0, npy_intp d1, const double *src)
+{
+    PyObject *a = new_array(d0, d1, NULL);
+    if (a) {
+        gf_real *d = (gf_real *)PyArray_DATA((PyArrayObject *)a);
+        for (npy_intp i = 0; i < d0 * d1; i++) {
+            d[i] = (gf_real)src[i];
+        }
+    }
+    return a;
+}
+
+// The getters of S, K and loglik (closure: the belief's REC_ kind).
+static PyObject *Filter_S(PyObject *self, void *kind)
+{
+    LastUpdate u;
+    int got = last_update(self, kind, "S", &u);
+    if (got <= 0) {
+        if (got < 0) {
+            return NULL;
+        }
+        Py_RETURN_NONE;
+    }
+    return new_array_of(u.m, u.m, u.S);
+}
+
+static PyObject *Filter_K(PyObject *self, void *kind)
+{
+    LastUpdate u;
+    int got = last_update(self, kind, "K", &u);
+    if (got <= 0) {
+        if (got < 0) {
+            return NULL;
+        }
+        Py_RETURN_NONE;
+    }
+    return new_array_of(u.n, u.m, u.K);
+}
+
+// loglik = log N(y; 0, S) = -(NIS + log det S + m log 2 pi) / 2, the NIS
+// the library's.
+static PyObject *Filter_loglik(PyObject *self, void *kind)
+{
+    LastUpdate u;
+    int got = last_update(self, kind, "loglik", &u);
+    if (got <= 0) {
+        return got < 0 ? NULL : PyFloat_FromDouble((double)NAN);
+    }
+    const double nis = (double)((FilterObj *)self)->last.nis;
+    return PyFloat_FromDouble(
+        -0.5 * (nis + u.logdet + u.m * log(2.0 * 3.14159265358979323846)));
+}
+
 // One family of filters (KF2, EKF3, KF or EKF) as the shared entries
 // predict_entry, update_entry and run_entry step it.
 typedef struct {
@@ -1069,9 +1293,10 @@ typedef struct {
     gf_status (*predict)(PyObject *f, PyObject *model, const gf_real *u,
                          PyObject *u_obj);
     // an update with z (meas's m entries); info: its innovation when
-    // accepted or gated
+    // accepted or gated; rec: the belief before it, and its m, n, H and Q
+    // when accepted
     gf_status (*update)(PyObject *f, PyObject *meas, const gf_real *z,
-                        gf_kf_innovation *info);
+                        gf_kf_innovation *info, UpdateRec *rec);
     // mu (n,) and Sigma (n, n) into mu and sigma
     void (*record)(PyObject *f, gf_real *mu, gf_real *sigma);
     // whether meas's update calls Python (NULL: never)
@@ -1175,7 +1400,7 @@ static PyObject *update_entry(const Family *fam, PyObject *self_,
         return NULL;
     }
     self->busy = BUSY_STEP;
-    gf_status st = fam->update(self_, a[0], z, &info);
+    gf_status st = fam->update(self_, a[0], z, &info, &self->rec[!self->cur]);
     self->busy = 0;
     if (st != GF_OK) {
         if (PyErr_Occurred()) {
@@ -1187,6 +1412,7 @@ static PyObject *update_entry(const Family *fam, PyObject *self_,
     }
     self->last = info;
     self->has_last = 1;
+    self->cur = !self->cur;
     Py_RETURN_NONE;
 }
 
@@ -1367,6 +1593,9 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
     }
     const gf_kf_innovation saved_last = self->last;
     const int saved_has = self->has_last;
+    const int saved_cur = self->cur;
+    UpdateRec saved_rec;
+    rec_copy(&saved_rec, &self->rec[saved_cur], fam->belief_size);
     memcpy(saved, belief, fam->belief_size);
     self->busy = nogil ? BUSY_NOGIL : BUSY_STEP;
     if (nogil) {
@@ -1386,13 +1615,15 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
             }
         }
         if (st == GF_OK && z && z_present(z + m * t, m)) {
-            st = fam->update(self_, meas, z + m * t, &info);
+            st = fam->update(self_, meas, z + m * t, &info,
+                             &self->rec[!self->cur]);
             if (st == GF_OK || st == GF_ERR_GATED) {
                 nis_o[t] = info.nis;
             }
             if (st == GF_OK) {
                 self->last = info;
                 self->has_last = 1;
+                self->cur = !self->cur;
             }
         }
         if (st != GF_OK && st != GF_ERR_GATED) {
@@ -1409,6 +1640,8 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
         memcpy(belief, saved, fam->belief_size);
         self->last = saved_last;
         self->has_last = saved_has;
+        self->cur = saved_cur;
+        rec_copy(&self->rec[saved_cur], &saved_rec, fam->belief_size);
         if (!PyErr_Occurred()) {
             raise_status(st, fam->run_name, NULL, NULL, 0, 0);
         }
@@ -1548,11 +1781,19 @@ static unsigned belief_sound(const Family *fam, const char *belief)
     return state_sound(perm, n) ? n : 0u;
 }
 
+// The record of the last accepted update as a state keeps it, after the
+// innovation: the prior belief (belief_size bytes), H (m x n), Q (m x m).
+static size_t rec_bytes(size_t belief_size, unsigned m, unsigned n)
+{
+    return belief_size + ((size_t)m * n + (size_t)m * m) * sizeof(gf_real);
+}
+
 // __getstate__ of a belief: (1, precision, the library's belief as bytes,
-// the last accepted update's innovation as bytes, whether there is one),
-// and the instance dictionary as a sixth item when a subclass's object
-// has anything in it. A copy restores every bit: the factors, not Sigma
-// recomputed. A filter never initialised has no state (BadArgument).
+// the last accepted update as bytes (its innovation, then what S and K
+// are computed from: rec_bytes), whether there is one), and the instance
+// dictionary as a sixth item when a subclass's object has anything in it.
+// A copy restores every bit: the factors, not Sigma recomputed. A filter
+// never initialised has no state (BadArgument).
 static PyObject *state_get(const Family *fam, PyObject *self_)
 {
     FilterObj *f = (FilterObj *)self_;
@@ -1566,24 +1807,35 @@ static PyObject *state_get(const Family *fam, PyObject *self_)
     }
     // the innovation's entries beyond m, and its padding, as zeros: equal
     // filters give equal states
+    char buf[sizeof(gf_kf_innovation) + sizeof(UpdateRec)];
     gf_kf_innovation last;
+    size_t len = sizeof last;
     memset(&last, 0, sizeof last);
     if (f->has_last && f->last.m <= NMAX) {
         last.m = f->last.m;
         memcpy(last.y, f->last.y, f->last.m * sizeof(gf_real));
         last.nis = f->last.nis;
     }
+    memcpy(buf, &last, sizeof last);
+    const UpdateRec *r = &f->rec[f->cur];
+    if (f->has_last && r->m == f->last.m && r->n == fam->states(self_)) {
+        const size_t mn = (size_t)r->m * r->n * sizeof(gf_real);
+        memcpy(buf + len, &r->prior, fam->belief_size);
+        memcpy(buf + len + fam->belief_size, r->H, mn);
+        memcpy(buf + len + fam->belief_size + mn, r->Q,
+               (size_t)r->m * r->m * sizeof(gf_real));
+        len += rec_bytes(fam->belief_size, r->m, r->n);
+    }
     PyObject *d = instance_dict(self_);
     if (!d && PyErr_Occurred()) {
         return NULL;
     }
-    PyObject *st =
-        d ? Py_BuildValue("(isy#y#iN)", 1, GF_PREC_NAME, belief,
-                          (Py_ssize_t)fam->belief_size, (const char *)&last,
-                          (Py_ssize_t)sizeof last, f->has_last, d)
-          : Py_BuildValue("(isy#y#i)", 1, GF_PREC_NAME, belief,
-                          (Py_ssize_t)fam->belief_size, (const char *)&last,
-                          (Py_ssize_t)sizeof last, f->has_last);
+    PyObject *st = d ? Py_BuildValue("(isy#y#iN)", 1, GF_PREC_NAME, belief,
+                                     (Py_ssize_t)fam->belief_size, buf,
+                                     (Py_ssize_t)len, f->has_last, d)
+                     : Py_BuildValue("(isy#y#i)", 1, GF_PREC_NAME, belief,
+                                     (Py_ssize_t)fam->belief_size, buf,
+                                     (Py_ssize_t)len, f->has_last);
     return st;
 }
 
@@ -1607,7 +1859,7 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
         return bad_arg("%s: not a state of this package", what);
     }
     if (version != 1 || strcmp(prec, GF_PREC_NAME) != 0 ||
-        (size_t)nb != fam->belief_size || (size_t)nl != sizeof f->last) {
+        (size_t)nb != fam->belief_size || (size_t)nl < sizeof f->last) {
         return bad_arg("%s: a state of version %d in %s, %zd bytes; this "
                        "filter's is version 1 in %s, %zu bytes",
                        what, version, prec, nb, GF_PREC_NAME, fam->belief_size);
@@ -1624,6 +1876,28 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
         return bad_arg("%s: the state's belief is not one the library made",
                        what);
     }
+    // the update's record, when the state has one: its prior a belief of
+    // the same n
+    UpdateRec rec;
+    rec.m = rec.n = 0;
+    memset(&rec.prior, 0, sizeof rec.prior);
+    if ((size_t)nl > sizeof in) {
+        const char *p = last + sizeof in;
+        if (!has_last ||
+            (size_t)nl != sizeof in + rec_bytes(fam->belief_size, in.m, n) ||
+            belief_sound(fam, p) != n) {
+            return bad_arg("%s: the state's last update is not one the "
+                           "library made",
+                           what);
+        }
+        const size_t mn = (size_t)in.m * n * sizeof(gf_real);
+        rec.m = in.m;
+        rec.n = n;
+        memcpy(&rec.prior, p, fam->belief_size);
+        memcpy(rec.H, p + fam->belief_size, mn);
+        memcpy(rec.Q, p + fam->belief_size + mn,
+               (size_t)in.m * in.m * sizeof(gf_real));
+    }
     if (check_idle(f, reinit_back, what) < 0) {
         return NULL;
     }
@@ -1634,6 +1908,9 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
     memcpy((char *)self_ + fam->belief_offset, belief, fam->belief_size);
     f->last = in;
     f->has_last = has_last != 0;
+    memset(f->rec, 0, sizeof f->rec); // n may have changed
+    f->cur = 0;
+    rec_copy(&f->rec[0], &rec, fam->belief_size);
     Py_RETURN_NONE;
 }
 
@@ -1701,7 +1978,10 @@ static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
 
 typedef struct {
     PyObject_HEAD gf_kf2_pmodel pm;
-    int has_B; // B was given: a prediction takes u (else B is zero, u refused)
+    // B's columns given, u's entries: 0 (no B: B is zero, u refused), 1 (B
+    // (2, 1) in the first column of the library's 2x2 B, the second zero,
+    // and u's second entry 0) or 2
+    int nu;
     PyObject *weakrefs; // weakref support
 } KF2ModelObj;
 
@@ -1723,22 +2003,44 @@ static int KF2Model_init(PyObject *self_, PyObject *args, PyObject *kw)
     static char *names[] = {"A", "R", "B", "c", NULL};
     PyObject *A, *R, *B = Py_None, *c = Py_None;
     gf_kf2_model m;
+    npy_intp br = 0, nu = 0;
+    gf_real b[4];
+    char got[GOT_LEN];
     if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OO:KF2Model", names, &A, &R,
                                      &B, &c)) {
         return -1;
     }
     memset(&m, 0, sizeof m);
     if (read_real(A, "KF2Model: A", 2, 2, &m.A.m[0][0]) < 0 ||
-        read_real(R, "KF2Model: R", 2, 2, &m.R.m[0][0]) < 0 ||
-        (B != Py_None && read_real(B, "KF2Model: B", 2, 2, &m.B.m[0][0]) < 0) ||
-        (c != Py_None && read_real(c, "KF2Model: c", 0, 2, m.c.v) < 0)) {
+        read_real(R, "KF2Model: R", 2, 2, &m.R.m[0][0]) < 0) {
+        return -1;
+    }
+    if (B != Py_None) {
+        if (shape_of(B, "KF2Model: B", 0, &br, &nu, got) < 0) {
+            return -1;
+        }
+        if (br != 2 || nu < 1 || nu > 2) {
+            bad_arg("KF2Model: B must have shape (2, 1) or (2, 2), got %s",
+                    got);
+            return -1;
+        }
+        if (read_real(B, "KF2Model: B", 2, nu, b) < 0) {
+            return -1;
+        }
+        for (npy_intp i = 0; i < 2; i++) {
+            for (npy_intp j = 0; j < nu; j++) {
+                m.B.m[i][j] = b[nu * i + j];
+            }
+        }
+    }
+    if (c != Py_None && read_real(c, "KF2Model: c", 0, 2, m.c.v) < 0) {
         return -1;
     }
     if (check(gf_kf2_prepare_model(&((KF2ModelObj *)self_)->pm, &m),
               "KF2Model") < 0) {
         return -1;
     }
-    ((KF2ModelObj *)self_)->has_B = B != Py_None;
+    ((KF2ModelObj *)self_)->nu = (int)nu;
     return 0;
 }
 
@@ -1750,11 +2052,17 @@ static PyObject *KF2Model_get(PyObject *self_, void *which)
         return new_array(2, 2, &m->A.m[0][0]);
     case 1:
         return new_array(2, 2, &m->R.m[0][0]);
-    case 2:
-        if (!((KF2ModelObj *)self_)->has_B) {
+    case 2: {
+        const int nu = ((KF2ModelObj *)self_)->nu;
+        gf_real b[4];
+        if (!nu) {
             Py_RETURN_NONE;
         }
-        return new_array(2, 2, &m->B.m[0][0]);
+        block_copy(b, &m->B.m[0][0], 2, 2, (unsigned)nu);
+        return new_array(2, nu, b);
+    }
+    case 4:
+        return PyLong_FromLong(((KF2ModelObj *)self_)->nu);
     default:
         return new_array(2, 0, m->c.v);
     }
@@ -1763,8 +2071,9 @@ static PyObject *KF2Model_get(PyObject *self_, void *which)
 static PyGetSetDef KF2Model_getset[] = {
     {"A", KF2Model_get, NULL, "state transition (2, 2)", (void *)0},
     {"R", KF2Model_get, NULL, "process noise covariance (2, 2)", (void *)1},
-    {"B", KF2Model_get, NULL, "control matrix (2, 2), or None", (void *)2},
+    {"B", KF2Model_get, NULL, "control matrix (2, nu), or None", (void *)2},
     {"c", KF2Model_get, NULL, "constant motion term (2,)", (void *)3},
+    {"nu", KF2Model_get, NULL, "controls: B's columns (0: no B)", (void *)4},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
@@ -1860,7 +2169,7 @@ static void kf2_model_size(PyObject *model, unsigned *n, npy_intp *nu,
                            int *python_g)
 {
     *n = 2;
-    *nu = model && ((KF2ModelObj *)model)->has_B ? 2 : 0;
+    *nu = model ? ((KF2ModelObj *)model)->nu : 0;
     *python_g = 0;
 }
 
@@ -1870,23 +2179,38 @@ static void kf2_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
     *m = ((KF2MeasObj *)meas)->pq.meas.m;
 }
 
+// u: the model's nu entries (NULL: none); one entry is (u, 0) to the
+// library, for B's zero second column.
 static gf_status kf2_predict(PyObject *f, PyObject *model, const gf_real *u,
                              PyObject *u_obj)
 {
+    const KF2ModelObj *mo = (const KF2ModelObj *)model;
+    gf_vec2 uv;
     (void)u_obj;
-    return gf_kf2_predict_prepared(
-        &((KF2Obj *)f)->kf, &((KF2ModelObj *)model)->pm, (const gf_vec2 *)u);
+    if (u) {
+        uv.v[0] = u[0];
+        uv.v[1] = mo->nu > 1 ? u[1] : GF_R(0.0);
+    }
+    return gf_kf2_predict_prepared(&((KF2Obj *)f)->kf, &mo->pm, u ? &uv : NULL);
 }
 
 static gf_status kf2_update(PyObject *f, PyObject *meas, const gf_real *z,
-                            gf_kf_innovation *info)
+                            gf_kf_innovation *info, UpdateRec *rec)
 {
     const gf_kf2_pmeas *pq = &((KF2MeasObj *)meas)->pq;
-    gf_vec2 zv = {{z[0], pq->meas.m > 1 ? z[1] : GF_R(0.0)}};
+    const unsigned m = pq->meas.m;
+    gf_vec2 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0)}};
     gf_innovation in;
+    rec->prior.kf2 = ((KF2Obj *)f)->kf;
     gf_status st = gf_kf2_update_prepared(&((KF2Obj *)f)->kf, pq, &zv, &in);
     if (st == GF_OK || st == GF_ERR_GATED) {
         innovation_of(&in, info);
+    }
+    if (st == GF_OK) {
+        rec->m = m;
+        rec->n = 2;
+        block_copy(rec->H, &pq->meas.C.m[0][0], 2, m, 2);
+        block_copy(rec->Q, &pq->meas.Q.m[0][0], 2, m, m);
     }
     return st;
 }
@@ -1908,8 +2232,8 @@ static const Family kf2_family = {
     &KF2Model_Type,
     &KF2Meas_Type,
     0,
-    2,
-    "(N, 2)",
+    1,
+    "(N, nu)",
     offsetof(KF2Obj, kf),
     sizeof(gf_kf2),
     kf2_states,
@@ -2059,6 +2383,18 @@ static PyGetSetDef KF2_getset[] = {
     {"innovation", Filter_innovation, NULL,
      "y = z - c - C mu_bar of the last accepted update (None before any)",
      NULL},
+    {"S", Filter_S, NULL,
+     "S = C Sigma_bar C^T + Q of the last accepted update, (m, m), computed\n"
+     "in double from the prior's covariance when read (None before any)",
+     (void *)REC_KF2},
+    {"K", Filter_K, NULL,
+     "the gain K = Sigma_bar C^T S^-1 of the last accepted update, (2, m)\n"
+     "(None before any)",
+     (void *)REC_KF2},
+    {"loglik", Filter_loglik, NULL,
+     "log N(y; 0, S) = -(NIS + log det S + m log 2 pi) / 2 of the last\n"
+     "accepted update (nan before any)",
+     (void *)REC_KF2},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
@@ -2304,16 +2640,45 @@ static gf_status ekf3_predict(PyObject *f, PyObject *model, const gf_real *u,
     return st;
 }
 
-static gf_status ekf3_update(PyObject *f, PyObject *meas, const gf_real *z,
-                             gf_kf_innovation *info)
+// EKF3's h as an update calls it, its H kept in rec: the model's own h
+// and ctx called through a copy of the prepared model (the model itself,
+// which other filters and threads may be using, is not written).
+typedef struct {
+    gf_ekf3_meas_fn h;
+    void *ctx;
+    UpdateRec *rec;
+} Ekf3KeptH;
+
+static gf_status ekf3_h_kept(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
+                             gf_mat3 *H)
 {
-    const gf_ekf3_pmeas *pq = &((EKF3MeasObj *)meas)->pq;
-    unsigned m = pq->meas.m;
+    const Ekf3KeptH *k = (const Ekf3KeptH *)ctx;
+    gf_status st = k->h(k->ctx, mu_bar, z_hat, H);
+    if (st == GF_OK) {
+        memcpy(k->rec->H, &H->m[0][0], 3 * k->rec->m * sizeof(gf_real));
+    }
+    return st;
+}
+
+static gf_status ekf3_update(PyObject *f, PyObject *meas, const gf_real *z,
+                             gf_kf_innovation *info, UpdateRec *rec)
+{
+    gf_ekf3_pmeas pq = ((EKF3MeasObj *)meas)->pq;
+    const unsigned m = pq.meas.m;
     gf_vec3 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0), m > 2 ? z[2] : GF_R(0.0)}};
     gf_innovation in;
-    gf_status st = gf_ekf3_update_prepared(&((EKF3Obj *)f)->ekf, pq, &zv, &in);
+    Ekf3KeptH kept = {pq.meas.h, pq.meas.ctx, rec};
+    rec->m = m;
+    rec->prior.ekf3 = ((EKF3Obj *)f)->ekf;
+    pq.meas.h = ekf3_h_kept;
+    pq.meas.ctx = &kept;
+    gf_status st = gf_ekf3_update_prepared(&((EKF3Obj *)f)->ekf, &pq, &zv, &in);
     if (st == GF_OK || st == GF_ERR_GATED) {
         innovation_of(&in, info);
+    }
+    if (st == GF_OK) {
+        rec->n = 3;
+        block_copy(rec->Q, &pq.meas.Q.m[0][0], 3, m, m);
     }
     return st;
 }
@@ -2492,6 +2857,18 @@ static PyGetSetDef EKF3_getset[] = {
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
      "y = z - h(mu_bar) of the last accepted update (None before any)", NULL},
+    {"S", Filter_S, NULL,
+     "S = H Sigma_bar H^T + Q of the last accepted update, (m, m), computed\n"
+     "in double from the prior's covariance when read (None before any)",
+     (void *)REC_EKF3},
+    {"K", Filter_K, NULL,
+     "the gain K = Sigma_bar H^T S^-1 of the last accepted update, (3, m)\n"
+     "(None before any)",
+     (void *)REC_EKF3},
+    {"loglik", Filter_loglik, NULL,
+     "log N(y; 0, S) = -(NIS + log det S + m log 2 pi) / 2 of the last\n"
+     "accepted update (nan before any)",
+     (void *)REC_EKF3},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
@@ -2894,6 +3271,8 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
         return -1;
     }
     self->f.has_last = 0;
+    memset(self->f.rec, 0, sizeof self->f.rec); // n may have changed
+    self->f.cur = 0;
     return 0;
 }
 
@@ -2951,12 +3330,35 @@ static gf_status kf_predict(PyObject *f, PyObject *model, const gf_real *u,
                                   &self->work);
 }
 
+// The parts of the belief src an n-state belief uses (n, angles, the
+// mean's n entries, the factors' n (n + 1) / 2, the order) into dst, a
+// record's prior: a copy of what the filter has, not of NMAX states. The
+// rest of dst stays zero (as the library keeps a belief's), the records
+// being cleared whenever n may change (init, __setstate__).
+static void kf_prior_copy(gf_kf *dst, const gf_kf *src)
+{
+    const unsigned n = src->n;
+    dst->n = n;
+    dst->angles = src->angles;
+    memcpy(dst->mu, src->mu, n * sizeof(gf_real));
+    memcpy(dst->ud, src->ud, GF_KF_TRI(n) * sizeof(gf_real));
+    memcpy(dst->perm, src->perm, sizeof dst->perm);
+}
+
 static gf_status kf_update(PyObject *f, PyObject *meas, const gf_real *z,
-                           gf_kf_innovation *info)
+                           gf_kf_innovation *info, UpdateRec *rec)
 {
     KFObj *self = (KFObj *)f;
-    return gf_kf_update_prepared(&self->kf, &((KFMeasObj *)meas)->pq, z, info,
-                                 &self->work);
+    const gf_kf_pmeas *pq = &((KFMeasObj *)meas)->pq;
+    kf_prior_copy(&rec->prior.kf, &self->kf);
+    gf_status st = gf_kf_update_prepared(&self->kf, pq, z, info, &self->work);
+    if (st == GF_OK) {
+        rec->m = pq->meas.m;
+        rec->n = pq->n;
+        memcpy(rec->H, pq->meas.C, (size_t)rec->m * rec->n * sizeof(gf_real));
+        memcpy(rec->Q, pq->meas.Q, (size_t)rec->m * rec->m * sizeof(gf_real));
+    }
+    return st;
 }
 
 static void kf_record(PyObject *f, gf_real *mu, gf_real *sigma)
@@ -2995,12 +3397,40 @@ static gf_status ekf_predict(PyObject *f, PyObject *model, const gf_real *u,
     return st;
 }
 
+// EKF's h as an update calls it, its H kept in rec, as EKF3's.
+typedef struct {
+    gf_ekf_meas_fn h;
+    void *ctx;
+    UpdateRec *rec;
+} EkfKeptH;
+
+static gf_status ekf_h_kept(void *ctx, unsigned n, unsigned m,
+                            const gf_real *mu_bar, gf_real *z_hat, gf_real *H)
+{
+    const EkfKeptH *k = (const EkfKeptH *)ctx;
+    gf_status st = k->h(k->ctx, n, m, mu_bar, z_hat, H);
+    if (st == GF_OK) {
+        memcpy(k->rec->H, H, (size_t)m * n * sizeof(gf_real));
+    }
+    return st;
+}
+
 static gf_status ekf_update(PyObject *f, PyObject *meas, const gf_real *z,
-                            gf_kf_innovation *info)
+                            gf_kf_innovation *info, UpdateRec *rec)
 {
     KFObj *self = (KFObj *)f;
-    return gf_ekf_update_prepared(&self->kf, &((EKFMeasObj *)meas)->pq, z, info,
-                                  &self->work);
+    gf_ekf_pmeas pq = ((EKFMeasObj *)meas)->pq;
+    EkfKeptH kept = {pq.meas.h, pq.meas.ctx, rec};
+    pq.meas.h = ekf_h_kept;
+    pq.meas.ctx = &kept;
+    kf_prior_copy(&rec->prior.kf, &self->kf);
+    gf_status st = gf_ekf_update_prepared(&self->kf, &pq, z, info, &self->work);
+    if (st == GF_OK) {
+        rec->m = pq.meas.m;
+        rec->n = pq.n;
+        memcpy(rec->Q, pq.meas.Q, (size_t)rec->m * rec->m * sizeof(gf_real));
+    }
+    return st;
 }
 
 static const Family kf_family = {
@@ -3286,6 +3716,18 @@ static PyGetSetDef KF_getset[] = {
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
      "the innovation y of the last accepted update (None before any)", NULL},
+    {"S", Filter_S, NULL,
+     "S = H Sigma_bar H^T + Q of the last accepted update, (m, m), computed\n"
+     "in double from the prior's covariance when read (None before any)",
+     (void *)REC_KF},
+    {"K", Filter_K, NULL,
+     "the gain K = Sigma_bar H^T S^-1 of the last accepted update, (n, m)\n"
+     "(None before any)",
+     (void *)REC_KF},
+    {"loglik", Filter_loglik, NULL,
+     "log N(y; 0, S) = -(NIS + log det S + m log 2 pi) / 2 of the last\n"
+     "accepted update (nan before any)",
+     (void *)REC_KF},
     {"n", KF_get, NULL, "states", (void *)3},
     {"angles", KF_get, NULL, "bit i: state i is an angle (EKF)", (void *)4},
     {NULL, NULL, NULL, NULL, NULL},
@@ -3602,9 +4044,10 @@ static PyMethodDef Model_methods[] = {
 GF_TYPE(KF2Model, "KF2Model",
         "KF2Model(A, R, B=None, c=None)\n--\n\n"
         "KF2's motion x_t = A x_{t-1} + B u_t + c + eps, eps ~ N(0, R)\n"
-        "(book names: R is the process noise; FilterPy's F and Q). A, B, R\n"
-        "2x2, c (2,). B None: no control (a prediction given u raises\n"
-        "BadArgument); c defaults to zero. Checked and factored once\n"
+        "(book names: R is the process noise; FilterPy's F and Q). A, R\n"
+        "2x2, B (2, 1) or (2, 2) (u of 1 or 2 entries), c (2,). B None: no\n"
+        "control (a prediction given u raises BadArgument); c defaults to\n"
+        "zero. Checked and factored once\n"
         "(gf_kf2_prepare_model): NonFinite, NotPSD (R) raise here.",
         KF2Model_init, Model_methods, KF2Model_getset);
 GF_TYPE(KF2Meas, "KF2Meas",

@@ -11,6 +11,12 @@ and not applied. TOL: |ours - FilterPy's| <= TOL max(1, max |FilterPy's|)
 per belief. The largest seen (printed with pytest -s): below 1e-14 for
 KF2, KF and EKF, 4e-11 for EKF3, whose g uses the library's gf_sincos here
 and libm's sin and cos in FilterPy's run.
+
+After every accepted update the last update's S, gain K and loglik agree
+with FilterPy's S, K and log_likelihood to TOL the same way (loglik:
+|ours - FilterPy's| <= TOL max(1, |FilterPy's|)); a gated update leaves
+all three as they were. Largest seen: below 2e-14 for KF2, KF and EKF,
+1.1e-10 for EKF3 (its g, as above).
 """
 import math
 
@@ -34,6 +40,16 @@ def agree(name, ours_mu, ours_sigma, x, P, angle=None):
     err = max(np.abs(d_mu).max(), np.abs(ours_sigma - P).max()) / scale
     worst[name] = max(worst.get(name, 0.0), err)
     assert err <= TOL, "%s: relative difference %.3g" % (name, err)
+
+
+def agree_update(name, ours, fp):
+    """The last update's S, K and loglik beside FilterPy's."""
+    err = max(np.abs(ours.S - fp.S).max() / max(1.0, np.abs(fp.S).max()),
+              np.abs(ours.K - fp.K).max() / max(1.0, np.abs(fp.K).max()),
+              abs(ours.loglik - fp.log_likelihood)
+              / max(1.0, abs(fp.log_likelihood)))
+    worst[name + " update"] = max(worst.get(name + " update", 0.0), err)
+    assert err <= TOL, "%s: S, K or loglik differ by %.3g" % (name, err)
 
 
 def forward_turn(x, u):
@@ -103,12 +119,20 @@ def test_filterpy_agrees(family, n, seed):
             y = z - hx(fp.x)
             Sm = H @ fp.P @ H.T + f["Q"]
             nis = float(y @ np.linalg.solve(Sm, y))
+            kept = ours.S, ours.K, ours.loglik
             try:
                 ours.update(meas, f["z"])
             except gaussfilt.Gated as e:
                 gated += 1
                 assert nis > f["gate"] > 0
                 assert e.nis == pytest.approx(nis, rel=1e-6)
+                # the last accepted update's S, K and loglik are kept
+                assert (kept[0] is None and ours.S is None
+                        or np.array_equal(kept[0], ours.S))
+                assert (kept[1] is None and ours.K is None
+                        or np.array_equal(kept[1], ours.K))
+                assert (math.isnan(kept[2]) and math.isnan(ours.loglik)
+                        or kept[2] == ours.loglik)
                 continue
             assert not (f["gate"] and nis > f["gate"] * (1 + 1e-9))
             if family in ("kf2", "kf"):
@@ -116,7 +140,10 @@ def test_filterpy_agrees(family, n, seed):
             else:
                 fp.update(z, lambda x, h=h: h(x)[1], hx, R=f["Q"])
             assert ours.nis == pytest.approx(nis, rel=1e-6, abs=1e-9)
+            agree_update("%s n=%d" % (family, n), ours, fp)
         agree("%s n=%d" % (family, n), ours.mu, ours.sigma, fp.x, fp.P,
               angle=2 if family == "ekf3" else None)
-    print("%s n=%d seed %d: worst relative difference %.2g, %d gated" % (
-        family, n, seed, worst["%s n=%d" % (family, n)], gated))
+    print("%s n=%d seed %d: worst relative difference %.2g (S, K, loglik: "
+          "%.2g), %d gated" % (family, n, seed, worst["%s n=%d" % (family, n)],
+                               worst.get("%s n=%d update" % (family, n), 0.0),
+                               gated))
