@@ -6,10 +6,10 @@ Two builds of the same C sources, one per precision::
     from gaussfilt import float64 as gf     # gf_real = double
     from gaussfilt import float32 as gf32   # gf_real = float, as on an MCU
 
-Each has KF2, EKF3, KF and EKF (beliefs), their models (KF2Model,
-KF2Meas, EKF3Motion, EKF3Meas, KFModel, KFMeas, EKFMotion, EKFMeas), the
-built-in EKF3 models forward_turn, meas_x and meas_xy, and the 2x2 helpers
-ellipse, correlation and marginal. The book's names: R is the process
+Each has KF2, EKF3, KF, EKF and UKF3 (beliefs; UKF3 takes EKF3's
+models), their models (KF2Model, KF2Meas, EKF3Motion, EKF3Meas, KFModel,
+KFMeas, EKFMotion, EKFMeas), the built-in EKF3 models forward_turn, meas_x
+and meas_xy, and the 2x2 helpers ellipse, correlation and marginal. The book's names: R is the process
 noise, Q the measurement noise (FilterPy's Q and R). Every status other
 than GF_OK raises a GaussfiltError subclass (BadArgument, NonFinite,
 NotPSD, Singular, Gated, Undefined, ModelError); the belief is unchanged

@@ -27,6 +27,7 @@
 #include "gaussfilt/ekf3.h"
 #include "gaussfilt/kf.h"
 #include "gaussfilt/kf2.h"
+#include "gaussfilt/ukf3.h"
 
 #ifdef GF_SINGLE_PRECISION
 #define NPY_GF NPY_FLOAT32
@@ -1765,6 +1766,26 @@ static int state_sound(const unsigned char *perm, unsigned n)
 // factors' order); else 0.
 static unsigned belief_sound(const Family *fam, const char *belief)
 {
+    if (fam->belief_size == sizeof(gf_ukf3)) {
+        // no factors: finite moments, a symmetric Sigma with its variances
+        // >= 0, weights init could have made
+        gf_ukf3 u;
+        memcpy(&u, belief, sizeof u);
+        for (size_t i = 0; i < sizeof u / sizeof(gf_real); i++) {
+            if (!isfinite((double)((const gf_real *)&u)[i])) {
+                return 0u;
+            }
+        }
+        for (unsigned i = 0; i < 3u; i++) {
+            for (unsigned j = 0; j < 3u; j++) {
+                if (u.sigma.m[i][j] != u.sigma.m[j][i] ||
+                    (i == j && u.sigma.m[i][i] < 0)) {
+                    return 0u;
+                }
+            }
+        }
+        return u.gamma > 0 && u.wi > 0 ? 3u : 0u;
+    }
     unsigned n = fam->belief_size == sizeof(gf_kf2)    ? 2u
                  : fam->belief_size == sizeof(gf_ekf3) ? 3u
                                                        : 0u;
@@ -2872,6 +2893,251 @@ static PyGetSetDef EKF3_getset[] = {
     {NULL, NULL, NULL, NULL, NULL},
 };
 
+// ---- UKF3 -----------------------------------------------------------------
+
+// The unscented filter over (x, y, theta), with EKF3's models (their
+// Jacobians unread: a Python g or h still returns one, of any values).
+typedef struct {
+    FilterObj f;
+    gf_ukf3 ukf;
+    PyObject *weakrefs; // weakref support
+} UKF3Obj;
+
+static PyTypeObject UKF3_Type;
+
+// The parameters of Table 3.4 from the constructor's or reset's alpha,
+// beta and kappa (NULL: 1, 2, 0).
+static int ukf3_params(PyObject *a, PyObject *b, PyObject *k, gf_ukf3_params *p)
+{
+    double v[3] = {1.0, 2.0, 0.0};
+    if ((a && read_number(a, "UKF3: alpha", &v[0]) < 0) ||
+        (b && read_number(b, "UKF3: beta", &v[1]) < 0) ||
+        (k && read_number(k, "UKF3: kappa", &v[2]) < 0)) {
+        return -1;
+    }
+    p->alpha = (gf_real)v[0];
+    p->beta = (gf_real)v[1];
+    p->kappa = (gf_real)v[2];
+    return 0;
+}
+
+static int UKF3_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"mu", "sigma", "alpha", "beta", "kappa", NULL};
+    PyObject *mu, *sigma, *a = NULL, *b = NULL, *k = NULL;
+    gf_vec3 m;
+    gf_mat3 s;
+    gf_ukf3_params p;
+    UKF3Obj *self = (UKF3Obj *)self_;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OOO:UKF3", names, &mu,
+                                     &sigma, &a, &b, &k)) {
+        return -1;
+    }
+    if (read_real(mu, "UKF3: mu", 0, 3, m.v) < 0 ||
+        read_real(sigma, "UKF3: sigma", 3, 3, &s.m[0][0]) < 0 ||
+        ukf3_params(a, b, k, &p) < 0 ||
+        check_idle(&self->f, reinit_back, "UKF3") < 0 ||
+        check(gf_ukf3_init(&self->ukf, &m, &s, &p), "UKF3") < 0) {
+        return -1;
+    }
+    self->f.has_last = 0;
+    return 0;
+}
+
+static gf_status ukf3_predict(PyObject *f, PyObject *model, const gf_real *u,
+                              PyObject *u_obj)
+{
+    EKF3MotionObj *mo = (EKF3MotionObj *)model;
+    if (mo->pm.motion.g != ekf3_g_py) {
+        return gf_ukf3_predict(&((UKF3Obj *)f)->ukf, &mo->pm.motion, u);
+    }
+    PyObject *prev_u = mo->cb.cur_u;
+    mo->cb.cur_u = u_obj;
+    gf_status st = gf_ukf3_predict(&((UKF3Obj *)f)->ukf, &mo->pm.motion, u);
+    mo->cb.cur_u = prev_u;
+    return st;
+}
+
+// The library's UKF update forms S from the sigma points and gives only
+// the innovation and NIS: no record (rec->m = 0), so UKF3 has no S, K or
+// loglik to read.
+static gf_status ukf3_update(PyObject *f, PyObject *meas, const gf_real *z,
+                             gf_kf_innovation *info, UpdateRec *rec)
+{
+    const gf_ekf3_meas *me = &((EKF3MeasObj *)meas)->pq.meas;
+    const unsigned m = me->m;
+    gf_vec3 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0), m > 2 ? z[2] : GF_R(0.0)}};
+    gf_innovation in;
+    rec->m = 0;
+    gf_status st = gf_ukf3_update(&((UKF3Obj *)f)->ukf, me, &zv, &in);
+    if (st == GF_OK || st == GF_ERR_GATED) {
+        innovation_of(&in, info);
+    }
+    return st;
+}
+
+static void ukf3_record(PyObject *f, gf_real *mu, gf_real *sigma)
+{
+    const gf_ukf3 *u = &((UKF3Obj *)f)->ukf;
+    memcpy(mu, u->mu.v, 3 * sizeof(gf_real));
+    memcpy(sigma, &u->sigma.m[0][0], 9 * sizeof(gf_real));
+}
+
+static const Family ukf3_family = {
+    "UKF3",
+    "UKF3.predict",
+    "UKF3.predict: u",
+    "UKF3.update",
+    "UKF3.update: z",
+    "UKF3.run",
+    &EKF3Motion_Type,
+    &EKF3Meas_Type,
+    1,
+    1,
+    "(N, k)",
+    offsetof(UKF3Obj, ukf),
+    sizeof(gf_ukf3),
+    ekf3_states,
+    ekf3_model_size,
+    ekf3_meas_size,
+    ukf3_predict,
+    ukf3_update,
+    ukf3_record,
+    ekf3_meas_python,
+};
+
+static PyObject *UKF3_predict(PyObject *self, PyObject *const *args,
+                              Py_ssize_t nargs, PyObject *kwnames)
+{
+    return predict_entry(&ukf3_family, self, args, nargs, kwnames);
+}
+
+static PyObject *UKF3_update(PyObject *self, PyObject *const *args,
+                             Py_ssize_t nargs, PyObject *kwnames)
+{
+    return update_entry(&ukf3_family, self, args, nargs, kwnames);
+}
+
+static PyObject *UKF3_run(PyObject *self, PyObject *const *args,
+                          Py_ssize_t nargs, PyObject *kwnames)
+{
+    return run_entry(&ukf3_family, self, args, nargs, kwnames);
+}
+
+static PyObject *UKF3_getstate(PyObject *self, PyObject *unused)
+{
+    (void)unused;
+    return state_get(&ukf3_family, self);
+}
+
+static PyObject *UKF3_setstate(PyObject *self, PyObject *st)
+{
+    return state_set(&ukf3_family, self, st);
+}
+
+static PyObject *UKF3_mu(PyObject *self, void *unused)
+{
+    (void)unused;
+    if (check_readable((FilterObj *)self, "UKF3.mu") < 0) {
+        return NULL;
+    }
+    return new_array(3, 0, ((UKF3Obj *)self)->ukf.mu.v);
+}
+
+static int UKF3_set_mu(PyObject *self_, PyObject *value, void *unused)
+{
+    UKF3Obj *self = (UKF3Obj *)self_;
+    (void)unused;
+    return set_mean(&self->f, self->ukf.mu.v, 3, 4u, value, "UKF3.mu");
+}
+
+// UKF3 keeps Sigma itself (no factors): the getter's copy of it.
+static PyObject *UKF3_sigma(PyObject *self, void *unused)
+{
+    (void)unused;
+    if (check_readable((FilterObj *)self, "UKF3.sigma") < 0) {
+        return NULL;
+    }
+    return new_sigma(3, &((UKF3Obj *)self)->ukf.sigma.m[0][0]);
+}
+
+// The setter of sigma: judged and symmetrised by gf_ukf3_init (with the
+// mean, into a copy; its weights discarded), the filter's weights kept.
+static int UKF3_set_sigma(PyObject *self_, PyObject *value, void *unused)
+{
+    UKF3Obj *self = (UKF3Obj *)self_;
+    const gf_ukf3_params p = {GF_R(1.0), GF_R(2.0), GF_R(0.0)};
+    gf_mat3 s;
+    gf_ukf3 fresh;
+    (void)unused;
+    if (set_sigma_value(value, "UKF3.sigma") < 0 ||
+        read_real(value, "UKF3.sigma", 3, 3, &s.m[0][0]) < 0) {
+        return -1;
+    }
+    const gf_vec3 m = self->ukf.mu;
+    if (check_idle(&self->f, reinit_back, "UKF3.sigma") < 0 ||
+        check(gf_ukf3_init(&fresh, &m, &s, &p), "UKF3.sigma") < 0) {
+        return -1;
+    }
+    self->ukf.sigma = fresh.sigma;
+    return 0;
+}
+
+static PyMethodDef UKF3_methods[] = {
+    {"predict", (PyCFunction)(void (*)(void))UKF3_predict,
+     METH_FASTCALL | METH_KEYWORDS,
+     "predict($self, /, motion, u=None)\n--\n\n"
+     "Prediction (Table 3.4, lines 2-5): the 7 sigma points\n"
+     "    chi = (mu, mu +- gamma sqrt(Sigma)_i)\n"
+     "through g, mu_bar and Sigma_bar their weighted moments plus R; the\n"
+     "heading kept in (-pi, pi]. motion: an EKF3Motion (its G unread).\n"
+     "GF_ERR_UNDEFINED (Undefined) when the points are too close for the\n"
+     "precision (a larger alpha resolves them). A callback's exception\n"
+     "propagates; every failure leaves the belief unchanged."},
+    {"update", (PyCFunction)(void (*)(void))UKF3_update,
+     METH_FASTCALL | METH_KEYWORDS,
+     "update($self, /, meas, z)\n--\n\n"
+     "Correction (Table 3.4, lines 6-13): Z_i = h(chi_bar_i),\n"
+     "    z_hat, S, Sigma^xz their weighted moments (+ Q in S),\n"
+     "    K = Sigma^xz S^-1,  mu = mu_bar + K (z - z_hat),\n"
+     "    Sigma = Sigma_bar - K S K^T,  NIS = y^T S^-1 y.\n"
+     "meas: an EKF3Meas (its H unread). Gated carries the innovation and\n"
+     "NIS; every failure leaves the belief unchanged."},
+    {"run", (PyCFunction)(void (*)(void))UKF3_run,
+     METH_FASTCALL | METH_KEYWORDS,
+     "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
+     "-> (mu (N, 3), sigma (N, 3, 3), nis (N,), status (N,))\n\n"
+     "N steps in one call, as EKF3.run."},
+    {"__getstate__", UKF3_getstate, METH_NOARGS,
+     "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
+     "every bit of its mean, Sigma and weights."},
+    {"__setstate__", UKF3_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
+     "belief (checked first)."},
+    {"reset", (PyCFunction)(void (*)(void))Filter_reset,
+     METH_VARARGS | METH_KEYWORDS,
+     "reset($self, /, mu, sigma, alpha=1.0, beta=2.0, kappa=0.0)\n--\n\n"
+     "A new belief N(mu, sigma), judged as the constructor does; raises\n"
+     "as it does, the belief unchanged then."},
+    {NULL, NULL, 0, NULL},
+};
+
+static PyGetSetDef UKF3_getset[] = {
+    {"mu", UKF3_mu, UKF3_set_mu,
+     "the mean (x, y, theta), a (3,) copy; set: a new mean (theta\n"
+     "wrapped), the covariance kept",
+     NULL},
+    {"sigma", UKF3_sigma, UKF3_set_sigma,
+     "the covariance, a (3, 3) copy; set: judged and symmetrised as the\n"
+     "constructor does, the weights kept",
+     NULL},
+    {"nis", Filter_nis, NULL,
+     "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
+    {"innovation", Filter_innovation, NULL,
+     "y = z - z_hat of the last accepted update (None before any)", NULL},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
 // ---- KF and EKF: n states -------------------------------------------------
 
 typedef struct {
@@ -3851,6 +4117,7 @@ static PyObject *Obj_repr(PyObject *self)
     Py_XDECREF(head);
     const int belief = PyObject_TypeCheck(self, &KF2_Type) ||
                        PyObject_TypeCheck(self, &EKF3_Type) ||
+                       PyObject_TypeCheck(self, &UKF3_Type) ||
                        PyObject_TypeCheck(self, &KF_Type) ||
                        PyObject_TypeCheck(self, &EKF_Type);
     const int running = belief && ((FilterObj *)self)->busy == BUSY_NOGIL;
@@ -4083,6 +4350,14 @@ GF_TYPE(EKF3, "EKF3",
         "The EKF's belief over (x, y, theta) (gf_ekf3), the heading kept in\n"
         "(-pi, pi]. sigma 3x3 symmetric PSD.",
         EKF3_init, EKF3_methods, EKF3_getset);
+GF_TYPE(UKF3, "UKF3",
+        "UKF3(mu, sigma, alpha=1.0, beta=2.0, kappa=0.0)\n--\n\n"
+        "The unscented Kalman filter's belief over (x, y, theta) (gf_ukf3,\n"
+        "Table 3.4), stepped with EKF3's models: 7 sigma points through g\n"
+        "and h, no Jacobians. alpha in [ALPHA_MIN, 1], beta >= 0, kappa >= 0\n"
+        "(Julier and Uhlmann's scaling; the defaults put the points at\n"
+        "sqrt(3) sigma). sigma 3x3 symmetric PSD.",
+        UKF3_init, UKF3_methods, UKF3_getset);
 GF_TYPE(KFModel, "KFModel",
         "KFModel(A, R, B=None, c=None)\n--\n\n"
         "gf_kf's motion of n states: x_t = A x_{t-1} + B u_t + c + eps,\n"
@@ -4137,7 +4412,7 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
                              &KF2_Type,     &EKF3Motion_Type, &EKF3Meas_Type,
                              &EKF3_Type,    &KFModel_Type,    &KFMeas_Type,
                              &KF_Type,      &EKFMotion_Type,  &EKFMeas_Type,
-                             &EKF_Type};
+                             &EKF_Type,     &UKF3_Type};
     import_array();
     errors = PyImport_ImportModule("gaussfilt._errors");
     if (!errors) {
@@ -4184,6 +4459,8 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
                            new_builtin(NULL, gf_ekf3_meas_xy, 2, "meas_xy")) <
             0 ||
         PyModule_AddIntConstant(m, "NMAX", NMAX) < 0 ||
+        PyModule_AddObject(m, "UKF3_ALPHA_MIN",
+                           PyFloat_FromDouble((double)GF_UKF3_ALPHA_MIN)) < 0 ||
         PyModule_AddIntConstant(m, "REAL_SIZE", (long)sizeof(gf_real)) < 0 ||
         PyModule_AddObject(m, "PD_RTOL",
                            PyFloat_FromDouble((double)GF_PD_RTOL)) < 0) {
