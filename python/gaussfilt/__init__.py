@@ -6,8 +6,8 @@ Two builds of the same C sources, one per precision::
     from gaussfilt import float64 as gf     # gf_real = double
     from gaussfilt import float32 as gf32   # gf_real = float, as on an MCU
 
-Each has KF2, EKF3, KF, EKF and UKF3 (beliefs; UKF3 takes EKF3's
-models), their models (KF2Model, KF2Meas, EKF3Motion, EKF3Meas, KFModel,
+Each has KF2, EKF3, KF, EKF, UKF3 and PF3 (beliefs; UKF3 and PF3 take
+EKF3's models), their models (KF2Model, KF2Meas, EKF3Motion, EKF3Meas, KFModel,
 KFMeas, EKFMotion, EKFMeas), the built-in EKF3 models forward_turn, meas_x
 and meas_xy, and the 2x2 helpers ellipse, correlation and marginal. The book's names: R is the process
 noise, Q the measurement noise (FilterPy's Q and R). Every status other

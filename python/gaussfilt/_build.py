@@ -10,7 +10,7 @@ from . import _errors
 #: the extension module's names, in each precision module's __all__ order
 _EXT_NAMES = ("KF2", "KF2Model", "KF2Meas", "EKF3", "EKF3Motion", "EKF3Meas",
               "KF", "KFModel", "KFMeas", "EKF", "EKFMotion", "EKFMeas",
-              "UKF3", "forward_turn", "meas_x", "meas_xy", "ellipse",
+              "UKF3", "PF3", "forward_turn", "meas_x", "meas_xy", "ellipse",
               "correlation", "marginal")
 _CONSTANTS = ("NMAX", "PD_RTOL", "REAL_SIZE", "UKF3_ALPHA_MIN")
 _ERRORS = ("GaussfiltError", "BadArgument", "NonFinite", "NotPSD",

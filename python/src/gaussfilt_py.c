@@ -27,6 +27,7 @@
 #include "gaussfilt/ekf3.h"
 #include "gaussfilt/kf.h"
 #include "gaussfilt/kf2.h"
+#include "gaussfilt/pf3.h"
 #include "gaussfilt/ukf3.h"
 
 #ifdef GF_SINGLE_PRECISION
@@ -1408,8 +1409,8 @@ static PyObject *update_entry(const Family *fam, PyObject *self_,
             return NULL;
         }
         return raise_status(st, fam->update_name, NULL,
-                            st == GF_ERR_GATED ? info.y : NULL, info.m,
-                            info.nis);
+                            st == GF_ERR_GATED && info.m ? info.y : NULL,
+                            info.m, info.nis);
     }
     self->last = info;
     self->has_last = 1;
@@ -3138,6 +3139,498 @@ static PyGetSetDef UKF3_getset[] = {
     {NULL, NULL, NULL, NULL, NULL},
 };
 
+// ---- PF3 ------------------------------------------------------------------
+
+// The particle filter over (x, y, theta), with EKF3's models (Jacobians
+// unread). The particles are the object's (PyMem), the generator the
+// library's gf_rng in the belief.
+typedef struct {
+    FilterObj f;
+    gf_pf3 pf;
+    PyObject *weakrefs; // weakref support
+} PF3Obj;
+
+static PyTypeObject PF3_Type;
+
+static void PF3_dealloc(PyObject *self)
+{
+    PyMem_Free(((PF3Obj *)self)->pf.p);
+    Obj_dealloc(self);
+}
+
+// PF3's belief is its particles: a filter made with __new__ and never
+// initialised has none. 0, or BadArgument naming who and -1.
+static int pf3_ready(const PF3Obj *self, const char *who)
+{
+    if (self->pf.p && self->pf.n) {
+        return 0;
+    }
+    bad_arg("%s: the filter was never initialised", who);
+    return -1;
+}
+
+static int PF3_init(PyObject *self_, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"mu", "sigma", "n", "seed", NULL};
+    PyObject *mu, *sigma, *n_o, *seed_o = NULL;
+    unsigned long n = 0, seed = 0;
+    gf_vec3 m;
+    gf_mat3 s;
+    gf_pf3 fresh;
+    PF3Obj *self = (PF3Obj *)self_;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOO|O:PF3", names, &mu, &sigma,
+                                     &n_o, &seed_o)) {
+        return -1;
+    }
+    if (read_real(mu, "PF3: mu", 0, 3, m.v) < 0 ||
+        read_real(sigma, "PF3: sigma", 3, 3, &s.m[0][0]) < 0 ||
+        read_count(n_o, "PF3: n", GF_PF3_MAX_N, &n) < 0 ||
+        (seed_o && read_count(seed_o, "PF3: seed", 0xFFFFFFFFul, &seed) < 0)) {
+        return -1;
+    }
+    if (n < 1) {
+        bad_arg("PF3: n must be in 1..%lu", (unsigned long)GF_PF3_MAX_N);
+        return -1;
+    }
+    gf_pf3_particle *p = PyMem_Calloc(n, sizeof *p);
+    if (!p) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    if (check_idle(&self->f, reinit_back, "PF3") < 0 ||
+        check(gf_pf3_init(&fresh, p, (unsigned)n, (uint32_t)seed, &m, &s),
+              "PF3") < 0) {
+        PyMem_Free(p);
+        return -1;
+    }
+    PyMem_Free(self->pf.p);
+    self->pf = fresh;
+    self->f.has_last = 0;
+    return 0;
+}
+
+static gf_status pf3_predict(PyObject *f, PyObject *model, const gf_real *u,
+                             PyObject *u_obj)
+{
+    EKF3MotionObj *mo = (EKF3MotionObj *)model;
+    PyObject *prev_u = mo->cb.cur_u;
+    mo->cb.cur_u = u_obj;
+    gf_status st = gf_pf3_predict(&((PF3Obj *)f)->pf, &mo->pm.motion, u);
+    mo->cb.cur_u = prev_u;
+    return st;
+}
+
+// The library's PF update gives no innovation: info holds none (m = 0,
+// NIS nan), rec no record.
+static gf_status pf3_update(PyObject *f, PyObject *meas, const gf_real *z,
+                            gf_kf_innovation *info, UpdateRec *rec)
+{
+    const gf_ekf3_meas *me = &((EKF3MeasObj *)meas)->pq.meas;
+    const unsigned m = me->m;
+    gf_vec3 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0), m > 2 ? z[2] : GF_R(0.0)}};
+    info->m = 0;
+    info->nis = (gf_real)NAN;
+    rec->m = 0;
+    return gf_pf3_update(&((PF3Obj *)f)->pf, me, &zv);
+}
+
+// The steps as predict_entry and update_entry take them (PF3 has no run:
+// its belief is not one block to put back).
+static const Family pf3_family = {
+    "PF3",
+    "PF3.predict",
+    "PF3.predict: u",
+    "PF3.update",
+    "PF3.update: z",
+    "PF3.run",
+    &EKF3Motion_Type,
+    &EKF3Meas_Type,
+    1,
+    1,
+    "(N, k)",
+    offsetof(PF3Obj, pf),
+    sizeof(gf_pf3),
+    ekf3_states,
+    ekf3_model_size,
+    ekf3_meas_size,
+    pf3_predict,
+    pf3_update,
+    NULL,
+    ekf3_meas_python,
+};
+
+static PyObject *PF3_predict(PyObject *self, PyObject *const *args,
+                             Py_ssize_t nargs, PyObject *kwnames)
+{
+    if (pf3_ready((PF3Obj *)self, "PF3.predict") < 0) {
+        return NULL;
+    }
+    return predict_entry(&pf3_family, self, args, nargs, kwnames);
+}
+
+static PyObject *PF3_update(PyObject *self, PyObject *const *args,
+                            Py_ssize_t nargs, PyObject *kwnames)
+{
+    if (pf3_ready((PF3Obj *)self, "PF3.update") < 0) {
+        return NULL;
+    }
+    return update_entry(&pf3_family, self, args, nargs, kwnames);
+}
+
+static PyObject *PF3_resample(PyObject *self_, PyObject *unused)
+{
+    PF3Obj *self = (PF3Obj *)self_;
+    (void)unused;
+    if (pf3_ready(self, "PF3.resample") < 0 ||
+        check_idle(&self->f, called_back, "PF3.resample") < 0 ||
+        check(gf_pf3_resample(&self->pf), "PF3.resample") < 0) {
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
+// run(motion=None, meas=None, u=None, z=None, steps=None, resample=True):
+// N steps, each predict(motion, u[k]) (when motion is given), then
+// update(meas, z[k]) unless z[k] has a NaN, then resample() after an
+// accepted update when resample is true (Table 4.3's loop). Returns the
+// estimate after each step, mu (N, 3) and sigma (N, 3, 3) (NaN where the
+// headings cancel out), neff (N,) and status (N,); a gated update is
+// recorded (-5) and the run goes on; any other failure raises with
+// exc.step and puts the particles and the generator back as they were.
+static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
+                         Py_ssize_t nargs, PyObject *kwnames)
+{
+    static const char *const names[] = {"motion", "meas",  "u",
+                                        "z",      "steps", "resample"};
+    PF3Obj *self = (PF3Obj *)self_;
+    PyObject *a[6], *U = NULL, *Z = NULL, *o[4] = {NULL, NULL, NULL, NULL};
+    PyObject *model = NULL, *meas = NULL, *out = NULL;
+    unsigned got;
+    npy_intp N, k, nu = 0, m = 0, t = 0;
+    int python_g = 0, resample = 1;
+    gf_status st = GF_OK;
+    if (pf3_ready(self, "PF3.run") < 0 ||
+        get_args("run", args, nargs, kwnames, names, 0, 6, a) < 0) {
+        return NULL;
+    }
+    if (given(a[0])) {
+        if (check_type(a[0], &EKF3Motion_Type, "PF3.run", "motion", 1) < 0) {
+            return NULL;
+        }
+        model = a[0];
+        ekf3_model_size(model, &got, &nu, &python_g);
+    }
+    if (given(a[1])) {
+        if (check_type(a[1], &EKF3Meas_Type, "PF3.run", "meas", 1) < 0) {
+            return NULL;
+        }
+        meas = a[1];
+        ekf3_meas_size(meas, &got, &m);
+    }
+    if (a[5] && (resample = PyObject_IsTrue(a[5])) < 0) {
+        return NULL;
+    }
+    if (!model && given(a[2])) {
+        return bad_arg("PF3.run: u without motion");
+    }
+    if (check_idle(&self->f, called_back, "PF3.run") < 0 ||
+        run_arrays(&pf3_family, a[2], a[3], a[4], nu, nu != 0, NULL, m, &U, &Z,
+                   &N, &k) < 0) {
+        return NULL;
+    }
+    const size_t bytes = self->pf.n * sizeof *self->pf.p;
+    gf_pf3_particle *saved = PyMem_Malloc(bytes ? bytes : 1);
+    if (!saved || run_outputs(N, 3, o) < 0) {
+        PyMem_Free(saved);
+        Py_XDECREF(U);
+        Py_XDECREF(Z);
+        return saved ? NULL : PyErr_NoMemory();
+    }
+    memcpy(saved, self->pf.p, bytes);
+    const gf_rng saved_rng = self->pf.rng;
+    const gf_real *u =
+        U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
+    const gf_real *z =
+        Z ? (const gf_real *)PyArray_DATA((PyArrayObject *)Z) : NULL;
+    gf_real *mu_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[0]);
+    gf_real *sg_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
+    gf_real *neff_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
+    signed char *st_o = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
+    self->f.busy = BUSY_STEP;
+    for (t = 0; t < N; t++) {
+        gf_kf_innovation info;
+        UpdateRec *rec = &self->f.rec[!self->f.cur];
+        st = GF_OK;
+        if (model) {
+            PyObject *ut = NULL;
+            if (U && python_g && !(ut = u_row(U, t, k))) {
+                st = GF_ERR_MODEL;
+            } else {
+                st = pf3_predict(self_, model, u ? u + k * t : NULL, ut);
+                Py_XDECREF(ut);
+            }
+        }
+        if (st == GF_OK && z && z_present(z + m * t, m)) {
+            st = pf3_update(self_, meas, z + m * t, &info, rec);
+            if (st == GF_OK && resample) {
+                st = gf_pf3_resample(&self->pf);
+            }
+        }
+        if (st != GF_OK && st != GF_ERR_GATED) {
+            break;
+        }
+        st_o[t] = (signed char)st;
+        gf_vec3 em;
+        gf_mat3 es;
+        if (gf_pf3_estimate(&self->pf, &em, &es) != GF_OK) {
+            for (int i = 0; i < 3; i++) {
+                em.v[i] = (gf_real)NAN;
+            }
+            for (int i = 0; i < 9; i++) {
+                (&es.m[0][0])[i] = (gf_real)NAN;
+            }
+        }
+        memcpy(mu_o + 3 * t, em.v, 3 * sizeof(gf_real));
+        memcpy(sg_o + 9 * t, &es.m[0][0], 9 * sizeof(gf_real));
+        if (gf_pf3_neff(&self->pf, &neff_o[t]) != GF_OK) {
+            neff_o[t] = (gf_real)NAN;
+        }
+    }
+    self->f.busy = 0;
+    if (t < N) {
+        memcpy(self->pf.p, saved, bytes);
+        self->pf.rng = saved_rng;
+        if (!PyErr_Occurred()) {
+            raise_status(st, "PF3.run", NULL, NULL, 0, 0);
+        }
+        set_step(t);
+    } else {
+        out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
+    }
+    PyMem_Free(saved);
+    Py_XDECREF(U);
+    Py_XDECREF(Z);
+    for (int i = 0; i < 4; i++) {
+        Py_XDECREF(o[i]);
+    }
+    return out;
+}
+
+// The getters of the estimate: mu (which 0) and sigma (1), from
+// gf_pf3_estimate (Undefined when the weights or headings allow none).
+static PyObject *PF3_estimate(PyObject *self_, void *which)
+{
+    PF3Obj *self = (PF3Obj *)self_;
+    const int sg = which != NULL;
+    const char *who = sg ? "PF3.sigma" : "PF3.mu";
+    gf_vec3 m;
+    gf_mat3 s;
+    if (check_readable(&self->f, who) < 0 || pf3_ready(self, who) < 0) {
+        return NULL;
+    }
+    gf_status st = gf_pf3_estimate(&self->pf, &m, &s);
+    if (st != GF_OK) {
+        return raise_status(st, who, NULL, NULL, 0, 0);
+    }
+    return sg ? new_sigma(3, &s.m[0][0]) : new_array(3, 0, m.v);
+}
+
+// The getters of particles (n, 3), weights (n,), n and neff.
+static PyObject *PF3_get(PyObject *self_, void *which)
+{
+    PF3Obj *self = (PF3Obj *)self_;
+    const gf_pf3 *pf = &self->pf;
+    const int w = (int)(size_t)which;
+    if (w == 2) {
+        return PyLong_FromUnsignedLong(pf->p ? pf->n : 0u);
+    }
+    if (check_readable(&self->f, "PF3") < 0 || pf3_ready(self, "PF3") < 0) {
+        return NULL;
+    }
+    if (w == 3) {
+        gf_real neff;
+        gf_status st = gf_pf3_neff(pf, &neff);
+        if (st != GF_OK) {
+            return raise_status(st, "PF3.neff", NULL, NULL, 0, 0);
+        }
+        return PyFloat_FromDouble((double)neff);
+    }
+    PyObject *a = new_array(pf->n, w == 0 ? 3 : 0, NULL);
+    if (a) {
+        gf_real *d = (gf_real *)PyArray_DATA((PyArrayObject *)a);
+        for (unsigned k = 0; k < pf->n; k++) {
+            if (w == 0) {
+                memcpy(d + 3 * k, pf->p[k].x.v, 3 * sizeof(gf_real));
+            } else {
+                d[k] = pf->p[k].w;
+            }
+        }
+    }
+    return a;
+}
+
+// __getstate__: (1, precision, the particles as bytes, the generator as
+// bytes), and a subclass object's attributes as a fifth item.
+static PyObject *PF3_getstate(PyObject *self_, PyObject *unused)
+{
+    PF3Obj *self = (PF3Obj *)self_;
+    gf_rng rng;
+    (void)unused;
+    if (check_readable(&self->f, "PF3") < 0 ||
+        pf3_ready(self, "PF3.__getstate__") < 0) {
+        return NULL;
+    }
+    // the generator's padding as zeros: equal filters give equal states
+    memset(&rng, 0, sizeof rng);
+    memcpy(rng.s, self->pf.rng.s, sizeof rng.s);
+    rng.spare = self->pf.rng.spare;
+    rng.has_spare = self->pf.rng.has_spare;
+    PyObject *d = instance_dict(self_);
+    if (!d && PyErr_Occurred()) {
+        return NULL;
+    }
+    const char *p = (const char *)self->pf.p;
+    const Py_ssize_t np = (Py_ssize_t)(self->pf.n * sizeof *self->pf.p);
+    return d ? Py_BuildValue("(isy#y#N)", 1, GF_PREC_NAME, p, np,
+                             (const char *)&rng, (Py_ssize_t)sizeof rng, d)
+             : Py_BuildValue("(isy#y#)", 1, GF_PREC_NAME, p, np,
+                             (const char *)&rng, (Py_ssize_t)sizeof rng);
+}
+
+// __setstate__: __getstate__'s particles and generator, checked first (the
+// sizes; every particle finite, its heading in (-pi, pi], its weight >= 0,
+// the weights' sum positive; the generator's state not all zero, its spare
+// finite); BadArgument otherwise, the filter unchanged.
+static PyObject *PF3_setstate(PyObject *self_, PyObject *st)
+{
+    PF3Obj *self = (PF3Obj *)self_;
+    int version;
+    const char *prec, *parts, *rng_b;
+    Py_ssize_t np, nr;
+    PyObject *d = Py_None;
+    gf_rng rng;
+    const char *what = "PF3.__setstate__";
+    if (!PyTuple_Check(st) || !PyArg_ParseTuple(st, "isy#y#|O", &version, &prec,
+                                                &parts, &np, &rng_b, &nr, &d)) {
+        PyErr_Clear();
+        return bad_arg("%s: not a state of this package", what);
+    }
+    const size_t ps = sizeof(gf_pf3_particle);
+    if (version != 1 || strcmp(prec, GF_PREC_NAME) != 0 || np <= 0 ||
+        (size_t)np % ps != 0 || (size_t)np / ps > GF_PF3_MAX_N ||
+        (size_t)nr != sizeof rng) {
+        return bad_arg("%s: a state of version %d in %s with %zd and %zd "
+                       "bytes, not one of this filter's (version 1 in %s)",
+                       what, version, prec, np, nr, GF_PREC_NAME);
+    }
+    if (d != Py_None && (!PyDict_Check(d) || !Py_TYPE(self_)->tp_dictoffset)) {
+        return bad_arg("%s: the state's attributes are not a dict for an "
+                       "object with a __dict__",
+                       what);
+    }
+    const unsigned n = (unsigned)((size_t)np / ps);
+    memcpy(&rng, rng_b, sizeof rng);
+    gf_pf3_particle *p = PyMem_Malloc((size_t)np);
+    if (!p) {
+        return PyErr_NoMemory();
+    }
+    memcpy(p, parts, (size_t)np);
+    double total = 0.0;
+    int sound = (rng.s[0] | rng.s[1] | rng.s[2] | rng.s[3]) != 0 &&
+                isfinite((double)rng.spare) &&
+                (rng.has_spare == 0 || rng.has_spare == 1);
+    for (unsigned k = 0; sound && k < n; k++) {
+        const gf_real *x = p[k].x.v;
+        sound = isfinite((double)x[0]) && isfinite((double)x[1]) &&
+                x[2] > -GF_PI && x[2] <= GF_PI && p[k].w >= 0 &&
+                isfinite((double)p[k].w);
+        total += (double)p[k].w;
+    }
+    if (!sound || !(total > 0.0)) {
+        PyMem_Free(p);
+        return bad_arg("%s: the state's particles are not ones the library "
+                       "made",
+                       what);
+    }
+    if (check_idle(&self->f, reinit_back, what) < 0 ||
+        update_instance_dict(self_, d) < 0) {
+        PyMem_Free(p);
+        return NULL;
+    }
+    PyMem_Free(self->pf.p);
+    self->pf.p = p;
+    self->pf.n = n;
+    self->pf.rng = rng;
+    self->f.has_last = 0;
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef PF3_methods[] = {
+    {"predict", (PyCFunction)(void (*)(void))PF3_predict,
+     METH_FASTCALL | METH_KEYWORDS,
+     "predict($self, /, motion, u=None)\n--\n\n"
+     "Prediction by sampling (Table 4.3, line 4): each particle\n"
+     "    x^[k] = g(u, x^[k]) + eps^[k],  eps^[k] ~ N(0, R)\n"
+     "(the filter's own generator), heading wrapped, weights kept.\n"
+     "motion: an EKF3Motion (its G unread); g is called twice a particle\n"
+     "(a dry run first) and must be a pure function. Every failure\n"
+     "leaves the particles and the generator unchanged."},
+    {"update", (PyCFunction)(void (*)(void))PF3_update,
+     METH_FASTCALL | METH_KEYWORDS,
+     "update($self, /, meas, z)\n--\n\n"
+     "Correction by importance weights (Table 4.3, line 5):\n"
+     "    w^[k] <- w^[k] exp(-r_k^T Q^-1 r_k / 2),  r_k = z - h(x^[k]),\n"
+     "then normalised. Gated when even the closest particle's r^T Q^-1 r\n"
+     "exceeds meas.gate; Singular when Q is not positive definite. Every\n"
+     "failure leaves the particles unchanged."},
+    {"run", (PyCFunction)(void (*)(void))PF3_run, METH_FASTCALL | METH_KEYWORDS,
+     "run($self, /, motion=None, meas=None, u=None, z=None, steps=None, "
+     "resample=True)\n--\n\n"
+     "-> (mu (N, 3), sigma (N, 3, 3), neff (N,), status (N,))\n\n"
+     "N steps in one call: predict(motion, u[k]) (when motion is given),\n"
+     "update(meas, z[k]) unless z[k] has a NaN, then resample() after an\n"
+     "accepted update when resample is true (Table 4.3's loop). mu and\n"
+     "sigma are the estimate after each step (NaN where the headings\n"
+     "cancel out). A gated update is recorded (status -5) and the run\n"
+     "goes on; any other failure raises with exc.step = k and puts the\n"
+     "particles and the generator back as they were."},
+    {"resample", PF3_resample, METH_NOARGS,
+     "resample($self, /)\n--\n\n"
+     "Low-variance resampling (Table 4.4), in place; the weights become\n"
+     "1/n. Undefined when the weights' total is not positive."},
+    {"__getstate__", PF3_getstate, METH_NOARGS,
+     "__getstate__($self, /)\n--\n\nThe particles and the generator, every "
+     "bit, as pickle and copy keep them."},
+    {"__setstate__", PF3_setstate, METH_O,
+     "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
+     "particles and generator (checked first)."},
+    {"reset", (PyCFunction)(void (*)(void))Filter_reset,
+     METH_VARARGS | METH_KEYWORDS,
+     "reset($self, /, mu, sigma, n, seed=0)\n--\n\n"
+     "New particles drawn as the constructor draws them; raises as it\n"
+     "does, the filter unchanged then."},
+    {NULL, NULL, 0, NULL},
+};
+
+static PyGetSetDef PF3_getset[] = {
+    {"mu", PF3_estimate, NULL,
+     "the particles' weighted mean (x, y, theta), the heading averaged on\n"
+     "the circle (a summary: a multimodal belief's mean may lie where no\n"
+     "particle is); Undefined when the headings cancel out",
+     NULL},
+    {"sigma", PF3_estimate, NULL,
+     "the particles' weighted covariance (3, 3), heading residuals wrapped",
+     (void *)1},
+    {"particles", PF3_get, NULL, "the particles' states, an (n, 3) copy",
+     (void *)0},
+    {"weights", PF3_get, NULL, "the particles' weights, an (n,) copy (sum 1)",
+     (void *)1},
+    {"n", PF3_get, NULL, "particles", (void *)2},
+    {"neff", PF3_get, NULL, "effective sample size 1 / sum (w_k / W)^2, 1..n",
+     (void *)3},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
 // ---- KF and EKF: n states -------------------------------------------------
 
 typedef struct {
@@ -4118,6 +4611,7 @@ static PyObject *Obj_repr(PyObject *self)
     const int belief = PyObject_TypeCheck(self, &KF2_Type) ||
                        PyObject_TypeCheck(self, &EKF3_Type) ||
                        PyObject_TypeCheck(self, &UKF3_Type) ||
+                       PyObject_TypeCheck(self, &PF3_Type) ||
                        PyObject_TypeCheck(self, &KF_Type) ||
                        PyObject_TypeCheck(self, &EKF_Type);
     const int running = belief && ((FilterObj *)self)->busy == BUSY_NOGIL;
@@ -4126,11 +4620,24 @@ static PyObject *Obj_repr(PyObject *self)
         ok = t && PyList_Append(parts, t) == 0;
         Py_XDECREF(t);
     }
+    // PF3: its particles' count, then its estimate when it has one (none
+    // never initialised, Undefined when the headings cancel out)
+    const int pf3 = PyObject_TypeCheck(self, &PF3_Type);
+    if (ok && pf3 && !running) {
+        const gf_pf3 *pf = &((PF3Obj *)self)->pf;
+        PyObject *t = PyUnicode_FromFormat("particles=%u", pf->p ? pf->n : 0u);
+        ok = t && PyList_Append(parts, t) == 0;
+        Py_XDECREF(t);
+    }
     mu = ok && belief && !running ? PyObject_GetAttrString(self, "mu") : NULL;
     if (!mu && PyErr_Occurred()) {
-        ok = 0;
+        if (pf3 && PyErr_ExceptionMatches(PyExc_ValueError)) {
+            PyErr_Clear();
+        } else {
+            ok = 0;
+        }
     }
-    if (mu) {
+    if (mu && !pf3) {
         PyObject *t = PyUnicode_FromFormat(
             "n=%zd", PyArray_Check(mu) ? PyArray_SIZE((PyArrayObject *)mu)
                                        : (Py_ssize_t)0);
@@ -4358,6 +4865,23 @@ GF_TYPE(UKF3, "UKF3",
         "(Julier and Uhlmann's scaling; the defaults put the points at\n"
         "sqrt(3) sigma). sigma 3x3 symmetric PSD.",
         UKF3_init, UKF3_methods, UKF3_getset);
+static PyTypeObject PF3_Type = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "gaussfilt." GF_PREC_NAME ".PF3",
+    .tp_basicsize = sizeof(PF3Obj),
+    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE,
+    .tp_doc = "PF3(mu, sigma, n, seed=0)\n--\n\n"
+              "The particle filter over (x, y, theta) (gf_pf3, Tables 4.3 and\n"
+              "4.4), stepped with EKF3's models: n particles drawn from N(mu,\n"
+              "sigma) by the filter's own generator, seeded with seed (0 to\n"
+              "2^32 - 1): the same seed, the same run, bit for bit.",
+    .tp_new = PyType_GenericNew,
+    .tp_init = PF3_init,
+    .tp_methods = PF3_methods,
+    .tp_getset = PF3_getset,
+    .tp_repr = Obj_repr,
+    .tp_dealloc = PF3_dealloc,
+    .tp_weaklistoffset = offsetof(PF3Obj, weakrefs),
+};
 GF_TYPE(KFModel, "KFModel",
         "KFModel(A, R, B=None, c=None)\n--\n\n"
         "gf_kf's motion of n states: x_t = A x_{t-1} + B u_t + c + eps,\n"
@@ -4412,7 +4936,7 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
                              &KF2_Type,     &EKF3Motion_Type, &EKF3Meas_Type,
                              &EKF3_Type,    &KFModel_Type,    &KFMeas_Type,
                              &KF_Type,      &EKFMotion_Type,  &EKFMeas_Type,
-                             &EKF_Type,     &UKF3_Type};
+                             &EKF_Type,     &UKF3_Type,       &PF3_Type};
     import_array();
     errors = PyImport_ImportModule("gaussfilt._errors");
     if (!errors) {
