@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Pickle and copy for the built-in EKF3 models (copyreg).
 
-A belief (KF2, EKF3, KF, EKF) pickles through its own __getstate__ and
+A belief (KF2, EKF3, KF, EKF, UKF3, PF3) pickles through its own __getstate__ and
 __setstate__ (every bit of its factors), a model through its own
 __reduce__ and __setstate__ (rebuilt from its arguments, which factors it
 again to the same bits; an EKF model's g or h pickles as pickle can: a

@@ -2,8 +2,10 @@
 // The Python extension over gaussfilt's C library: compiled once per
 // precision (GF_SINGLE_PRECISION or not) into gaussfilt._f32 and
 // gaussfilt._f64 (python/CMakeLists.txt), each linked to the library built
-// in that precision. Every step is one call of the library's prepared step
-// on the object's own belief; nothing here computes a filter quantity.
+// in that precision. Every step is one call of the library's step on the
+// object's own belief; nothing here computes a step. The last update's S,
+// K and log-likelihood, which the library never forms, are computed here
+// when read (last_update), from what the update kept.
 //
 // Conventions: arrays come in as anything numpy converts (rounded to
 // gf_real: float32 in _f32) and go out as fresh arrays of gf_real. A status
