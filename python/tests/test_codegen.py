@@ -10,6 +10,7 @@ cannot be C (an unsupported function, a dimension mismatch, a name that
 clashes with C) are refused with a message naming the cause.
 """
 import ctypes
+import math
 import os
 import re
 import shutil
@@ -362,6 +363,10 @@ def test_the_built_model_steps_in_c_to_the_bits_of_the_ctypes_path(
         assert s["mu"].tobytes() == w["mu"].tobytes()
         assert s["sigma"].tobytes() == w["sigma"].tobytes()
         assert s["nis"].tobytes() == w["nis"].tobytes()
+    # the last update's S, K and loglik: H as the C h gave it in the step
+    f, g = got.filter, want.filter
+    assert f.S.tobytes() == g.S.tobytes() and f.K.tobytes() == g.K.tobytes()
+    assert f.loglik == g.loglik and not math.isnan(f.loglik)
 
 
 @pytest.mark.parametrize("dtype", ["float32", "float64"])
