@@ -37,12 +37,12 @@ def _steps(rec, rng, steps, predict, updates):
                 pass
 
 
-def kf2_run(gf, seed):
+def kf2_run(gf, seed, nu=2):
     rng = np.random.default_rng(seed)
     dt = 0.1 + rng.random()
     G = np.array([[dt * dt / 2], [dt]])
     car = gf.KF2Model(A=[[1, dt], [0, 1]], R=0.3 * G @ G.T,
-                      B=rng.normal(size=(2, 2)), c=rng.normal(size=2) * 0.01)
+                      B=rng.normal(size=(2, nu)), c=rng.normal(size=2) * 0.01)
     L = np.tril(rng.normal(size=(2, 2)))
     pos = gf.KF2Meas(C=[[1, 0]], Q=[[rng.random() + 0.1]], gate=6.0)
     both = gf.KF2Meas(C=rng.normal(size=(2, 2)), Q=L @ L.T + 0.01 * np.eye(2),
@@ -54,7 +54,7 @@ def kf2_run(gf, seed):
     def z_of(meas, spread):
         return (meas.C @ x + (meas.c if meas.c is not None else 0)
                 + rng.normal(size=meas.m) * spread)
-    _steps(rec, rng, 150, lambda: rec.predict(car, rng.normal(size=2)),
+    _steps(rec, rng, 150, lambda: rec.predict(car, rng.normal(size=nu)),
            [lambda: (pos, z_of(pos, 1 if rng.random() < 0.8 else 30)),
             lambda: (both, z_of(both, 1))])
     return rec
@@ -134,6 +134,19 @@ def test_export_runs_bit_for_bit_on_the_host(tmp_path, kind, prec):
     r = run([str(exe)])
     assert r.stdout.strip() == "%s_%s: %d steps bit for bit" % (
         kind, prec, len(rec.steps))
+
+
+@pytest.mark.parametrize("prec", ["double", "float"])
+def test_export_a_kf2_with_one_control(tmp_path, prec):
+    """B (2, 1): the C program's model has B's second column zero and
+    each u padded with a zero, as the package gives them to the library."""
+    rec = kf2_run(MODS[prec], 4, nu=1)
+    assert all(len(s["arg"]) == 1 for s in rec.steps
+               if s["op"] == "predict")
+    path = gaussfilt.export_c(rec, tmp_path / ("kf2_one_%s.c" % prec))
+    r = run([str(build_host(path, prec, tmp_path / "kf2_one"))])
+    assert r.stdout.strip() == "kf2_one_%s: %d steps bit for bit" % (
+        prec, len(rec.steps))
 
 
 @pytest.mark.skipif(shutil.which("clang") is None, reason="no clang")
