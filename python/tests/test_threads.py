@@ -86,6 +86,9 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
             "sigma": lambda: kf.sigma,
             "nis": lambda: kf.nis,
             "innovation": lambda: kf.innovation,
+            "S": lambda: kf.S,
+            "K": lambda: kf.K,
+            "loglik": lambda: kf.loglik,
             "copy": lambda: copy.copy(kf),
             "repr": lambda: repr_probe(kf),
         }
