@@ -984,15 +984,18 @@ enum { BUSY_STEP = 1, BUSY_NOGIL = 2 };
 // What S, K and the log-likelihood of an accepted update are computed from
 // when they are read (nothing of them is computed in the step): the belief
 // before the update, as the library's struct, and the update's H (a KF's
-// C; m rows of n) and Q (m x m). m = 0: no record.
+// C; m rows of n) and Q (m x m). m = 0: no record. The header of a block
+// (rec_new) that holds them after it, sized for the family's largest n:
+// a KF2's is some 150 bytes, a KF's 3 KB.
 typedef struct {
     unsigned m, n;
-    gf_real H[NMAX * NMAX];
-    gf_real Q[NMAX * NMAX];
+    gf_real *H; // cap x cap
+    gf_real *Q; // cap x cap
     union {
-        gf_kf2 kf2;
-        gf_ekf3 ekf3;
-        gf_kf kf;
+        gf_kf2 *kf2;
+        gf_ekf3 *ekf3;
+        gf_kf *kf;
+        void *p;
     } prior;
 } UpdateRec;
 
@@ -1002,10 +1005,35 @@ typedef struct {
     int busy;
     // the last accepted update's record, rec[cur], when has_last; an
     // update fills rec[!cur] (the prior first) and an accepted one flips
-    // cur: nothing is copied twice
-    UpdateRec rec[2];
+    // cur: nothing is copied twice. Both NULL until the first update
+    // (recs_ready), one block, freed with the filter (Filter_dealloc).
+    UpdateRec *rec[2];
     int cur;
 } FilterObj;
+
+// The size of a record block for a belief of belief_size bytes and at most
+// cap states, every part on a multiple of 8 bytes (the prior's struct and
+// the gf_reals aligned after it).
+static size_t rec_size(size_t belief_size, unsigned cap)
+{
+    const size_t a = 8u;
+    const size_t head = (sizeof(UpdateRec) + a - 1) / a * a;
+    const size_t prior = (belief_size + a - 1) / a * a;
+    const size_t hq = (2u * cap * cap * sizeof(gf_real) + a - 1) / a * a;
+    return head + prior + hq;
+}
+
+// Points the header at b (a block of rec_size bytes) to its parts.
+static UpdateRec *rec_bind(char *b, size_t belief_size, unsigned cap)
+{
+    UpdateRec *r = (UpdateRec *)b;
+    const size_t head = rec_size(0, 0);
+    r->m = r->n = 0;
+    r->prior.p = b + head;
+    r->H = (gf_real *)(void *)(b + rec_size(belief_size, 0));
+    r->Q = r->H + (size_t)cap * cap;
+    return r;
+}
 
 // Copies the record src of a belief of belief_size bytes into dst: its
 // used entries only (the rest of dst is not read).
@@ -1015,7 +1043,25 @@ static void rec_copy(UpdateRec *dst, const UpdateRec *src, size_t belief_size)
     dst->n = src->n;
     memcpy(dst->H, src->H, (size_t)src->m * src->n * sizeof(gf_real));
     memcpy(dst->Q, src->Q, (size_t)src->m * src->m * sizeof(gf_real));
-    memcpy(&dst->prior, &src->prior, belief_size);
+    memcpy(dst->prior.p, src->prior.p, belief_size);
+}
+
+// Empties f's records (when n may change: the priors' unused entries back
+// to zero, as the library keeps a belief's).
+static void recs_clear(FilterObj *f, size_t belief_size)
+{
+    for (int i = 0; f->rec[0] && i < 2; i++) {
+        f->rec[i]->m = f->rec[i]->n = 0;
+        memset(f->rec[i]->prior.p, 0, belief_size);
+    }
+    f->cur = 0;
+}
+
+// The deallocation of a belief: its records, then as Obj_dealloc.
+static void Filter_dealloc(PyObject *self)
+{
+    PyMem_Free(((FilterObj *)self)->rec[0]);
+    Obj_dealloc(self);
 }
 
 // The rows x cols block at the top left of src (rows of src_cols) into dst,
@@ -1116,25 +1162,25 @@ static int last_update(PyObject *self_, void *kind, const char *who,
                        LastUpdate *out)
 {
     const FilterObj *f = (const FilterObj *)self_;
-    const UpdateRec *r = &f->rec[f->cur];
+    const UpdateRec *r = f->rec[f->cur];
     gf_real sg[NMAX * NMAX];
     double P[NMAX * NMAX], HP[NMAX * NMAX], LU[NMAX * NMAX];
     if (check_readable(f, who) < 0) {
         return -1;
     }
-    if (!f->has_last || r->m < 1u || r->m > r->n || r->n > NMAX) {
+    if (!f->has_last || !r || r->m < 1u || r->m > r->n || r->n > NMAX) {
         return 0;
     }
     const unsigned m = r->m, n = r->n;
     switch ((int)(size_t)kind) {
     case REC_KF2:
-        gf_kf2_cov(&r->prior.kf2, (gf_mat2 *)sg);
+        gf_kf2_cov(r->prior.kf2, (gf_mat2 *)sg);
         break;
     case REC_EKF3:
-        gf_ekf3_cov(&r->prior.ekf3, (gf_mat3 *)sg);
+        gf_ekf3_cov(r->prior.ekf3, (gf_mat3 *)sg);
         break;
     default:
-        gf_kf_cov(&r->prior.kf, sg);
+        gf_kf_cov(r->prior.kf, sg);
     }
     for (unsigned i = 0; i < n * n; i++) {
         P[i] = (double)sg[i];
@@ -1307,6 +1353,44 @@ typedef struct {
     int (*meas_python)(PyObject *meas);
 } Family;
 
+// The most states a belief of fam has: a record's capacity.
+static unsigned rec_cap(const Family *fam)
+{
+    return fam->belief_size == sizeof(gf_kf) ? (unsigned)NMAX : 3u;
+}
+
+// A record block of fam's size, bound (free with PyMem_Free); NULL with
+// MemoryError.
+static UpdateRec *rec_new(const Family *fam)
+{
+    const size_t size = rec_size(fam->belief_size, rec_cap(fam));
+    char *b = PyMem_Calloc(1, size);
+    if (!b) {
+        PyErr_NoMemory();
+        return NULL;
+    }
+    return rec_bind(b, fam->belief_size, rec_cap(fam));
+}
+
+// f's two records, made at its first update (one block). 0, or -1 with
+// MemoryError.
+static int recs_ready(FilterObj *f, const Family *fam)
+{
+    if (f->rec[0]) {
+        return 0;
+    }
+    const size_t size = rec_size(fam->belief_size, rec_cap(fam));
+    char *b = PyMem_Calloc(2, size);
+    if (!b) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    f->rec[0] = rec_bind(b, fam->belief_size, rec_cap(fam));
+    f->rec[1] = rec_bind(b + size, fam->belief_size, rec_cap(fam));
+    f->cur = 0;
+    return 0;
+}
+
 // predict(model, u=None) of any family, see the methods' docstrings. An
 // EKF's u goes to g as a fresh array (a built-in motion's entries
 // checked); a KF's is read as the model's nu entries.
@@ -1400,11 +1484,12 @@ static PyObject *update_entry(const Family *fam, PyObject *self_,
     fam->meas_size(a[0], &n, &m);
     if (check_n(fam->update_name, "measurement", n, fam->states(self_)) < 0 ||
         read_real(a[1], fam->z_name, 0, m, z) < 0 ||
-        check_idle(self, called_back, fam->update_name) < 0) {
+        check_idle(self, called_back, fam->update_name) < 0 ||
+        recs_ready(self, fam) < 0) {
         return NULL;
     }
     self->busy = BUSY_STEP;
-    gf_status st = fam->update(self_, a[0], z, &info, &self->rec[!self->cur]);
+    gf_status st = fam->update(self_, a[0], z, &info, self->rec[!self->cur]);
     self->busy = 0;
     if (st != GF_OK) {
         if (PyErr_Occurred()) {
@@ -1588,7 +1673,10 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
     gf_real *sg_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
     gf_real *nis_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
     signed char *st_o = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
-    if (check_idle(self, called_back, fam->run_name) < 0) {
+    // the records, and a copy of the current one to put back on a failure
+    UpdateRec *saved_rec = NULL;
+    if (check_idle(self, called_back, fam->run_name) < 0 ||
+        (z && (recs_ready(self, fam) < 0 || !(saved_rec = rec_new(fam))))) {
         PyMem_Free(saved);
         for (int i = 0; i < 4; i++) {
             Py_DECREF(o[i]);
@@ -1598,8 +1686,9 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
     const gf_kf_innovation saved_last = self->last;
     const int saved_has = self->has_last;
     const int saved_cur = self->cur;
-    UpdateRec saved_rec;
-    rec_copy(&saved_rec, &self->rec[saved_cur], fam->belief_size);
+    if (saved_rec) {
+        rec_copy(saved_rec, self->rec[saved_cur], fam->belief_size);
+    }
     memcpy(saved, belief, fam->belief_size);
     self->busy = nogil ? BUSY_NOGIL : BUSY_STEP;
     if (nogil) {
@@ -1620,7 +1709,7 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
         }
         if (st == GF_OK && z && z_present(z + m * t, m)) {
             st = fam->update(self_, meas, z + m * t, &info,
-                             &self->rec[!self->cur]);
+                             self->rec[!self->cur]);
             if (st == GF_OK || st == GF_ERR_GATED) {
                 nis_o[t] = info.nis;
             }
@@ -1645,7 +1734,9 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
         self->last = saved_last;
         self->has_last = saved_has;
         self->cur = saved_cur;
-        rec_copy(&self->rec[saved_cur], &saved_rec, fam->belief_size);
+        if (saved_rec) {
+            rec_copy(self->rec[saved_cur], saved_rec, fam->belief_size);
+        }
         if (!PyErr_Occurred()) {
             raise_status(st, fam->run_name, NULL, NULL, 0, 0);
         }
@@ -1654,6 +1745,7 @@ static PyObject *run_steps(const Family *fam, PyObject *self_, PyObject *model,
         out = PyTuple_Pack(4, o[0], o[1], o[2], o[3]);
     }
     PyMem_Free(saved);
+    PyMem_Free(saved_rec);
     for (int i = 0; i < 4; i++) {
         Py_XDECREF(o[i]);
     }
@@ -1831,7 +1923,8 @@ static PyObject *state_get(const Family *fam, PyObject *self_)
     }
     // the innovation's entries beyond m, and its padding, as zeros: equal
     // filters give equal states
-    char buf[sizeof(gf_kf_innovation) + sizeof(UpdateRec)];
+    char buf[sizeof(gf_kf_innovation) + sizeof(gf_kf) +
+             2 * NMAX * NMAX * sizeof(gf_real)];
     gf_kf_innovation last;
     size_t len = sizeof last;
     memset(&last, 0, sizeof last);
@@ -1841,10 +1934,10 @@ static PyObject *state_get(const Family *fam, PyObject *self_)
         last.nis = f->last.nis;
     }
     memcpy(buf, &last, sizeof last);
-    const UpdateRec *r = &f->rec[f->cur];
-    if (f->has_last && r->m == f->last.m && r->n == fam->states(self_)) {
+    const UpdateRec *r = f->rec[f->cur];
+    if (f->has_last && r && r->m == f->last.m && r->n == fam->states(self_)) {
         const size_t mn = (size_t)r->m * r->n * sizeof(gf_real);
-        memcpy(buf + len, &r->prior, fam->belief_size);
+        memcpy(buf + len, r->prior.p, fam->belief_size);
         memcpy(buf + len + fam->belief_size, r->H, mn);
         memcpy(buf + len + fam->belief_size + mn, r->Q,
                (size_t)r->m * r->m * sizeof(gf_real));
@@ -1902,39 +1995,39 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
     }
     // the update's record, when the state has one: its prior a belief of
     // the same n
-    UpdateRec rec;
-    rec.m = rec.n = 0;
-    memset(&rec.prior, 0, sizeof rec.prior);
+    const char *rec = NULL;
     if ((size_t)nl > sizeof in) {
-        const char *p = last + sizeof in;
+        rec = last + sizeof in;
         if (!has_last ||
             (size_t)nl != sizeof in + rec_bytes(fam->belief_size, in.m, n) ||
-            belief_sound(fam, p) != n) {
+            belief_sound(fam, rec) != n) {
             return bad_arg("%s: the state's last update is not one the "
                            "library made",
                            what);
         }
-        const size_t mn = (size_t)in.m * n * sizeof(gf_real);
-        rec.m = in.m;
-        rec.n = n;
-        memcpy(&rec.prior, p, fam->belief_size);
-        memcpy(rec.H, p + fam->belief_size, mn);
-        memcpy(rec.Q, p + fam->belief_size + mn,
-               (size_t)in.m * in.m * sizeof(gf_real));
     }
     if (check_idle(f, reinit_back, what) < 0) {
         return NULL;
     }
-    // the attributes first: the only part that can fail (memory)
-    if (update_instance_dict(self_, d) < 0) {
+    // the records and the attributes first: the parts that can fail
+    // (memory)
+    if ((rec && recs_ready(f, fam) < 0) || update_instance_dict(self_, d) < 0) {
         return NULL;
     }
     memcpy((char *)self_ + fam->belief_offset, belief, fam->belief_size);
     f->last = in;
     f->has_last = has_last != 0;
-    memset(f->rec, 0, sizeof f->rec); // n may have changed
-    f->cur = 0;
-    rec_copy(&f->rec[0], &rec, fam->belief_size);
+    recs_clear(f, fam->belief_size); // n may have changed
+    if (rec) {
+        UpdateRec *r = f->rec[0];
+        const size_t mn = (size_t)in.m * n * sizeof(gf_real);
+        r->m = in.m;
+        r->n = n;
+        memcpy(r->prior.p, rec, fam->belief_size);
+        memcpy(r->H, rec + fam->belief_size, mn);
+        memcpy(r->Q, rec + fam->belief_size + mn,
+               (size_t)in.m * in.m * sizeof(gf_real));
+    }
     Py_RETURN_NONE;
 }
 
@@ -2225,7 +2318,7 @@ static gf_status kf2_update(PyObject *f, PyObject *meas, const gf_real *z,
     const unsigned m = pq->meas.m;
     gf_vec2 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0)}};
     gf_innovation in;
-    rec->prior.kf2 = ((KF2Obj *)f)->kf;
+    *rec->prior.kf2 = ((KF2Obj *)f)->kf;
     gf_status st = gf_kf2_update_prepared(&((KF2Obj *)f)->kf, pq, &zv, &in);
     if (st == GF_OK || st == GF_ERR_GATED) {
         innovation_of(&in, info);
@@ -2693,7 +2786,7 @@ static gf_status ekf3_update(PyObject *f, PyObject *meas, const gf_real *z,
     gf_innovation in;
     Ekf3KeptH kept = {pq.meas.h, pq.meas.ctx, rec};
     rec->m = m;
-    rec->prior.ekf3 = ((EKF3Obj *)f)->ekf;
+    *rec->prior.ekf3 = ((EKF3Obj *)f)->ekf;
     pq.meas.h = ekf3_h_kept;
     pq.meas.ctx = &kept;
     gf_status st = gf_ekf3_update_prepared(&((EKF3Obj *)f)->ekf, &pq, &zv, &in);
@@ -3157,7 +3250,7 @@ static PyTypeObject PF3_Type;
 static void PF3_dealloc(PyObject *self)
 {
     PyMem_Free(((PF3Obj *)self)->pf.p);
-    Obj_dealloc(self);
+    Filter_dealloc(self);
 }
 
 // PF3's belief is its particles: a filter made with __new__ and never
@@ -3336,6 +3429,7 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
         return bad_arg("PF3.run: u without motion");
     }
     if (check_idle(&self->f, called_back, "PF3.run") < 0 ||
+        recs_ready(&self->f, &pf3_family) < 0 ||
         run_arrays(&pf3_family, a[2], a[3], a[4], nu, nu != 0, NULL, m, &U, &Z,
                    &N, &k) < 0) {
         return NULL;
@@ -3361,7 +3455,7 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
     self->f.busy = BUSY_STEP;
     for (t = 0; t < N; t++) {
         gf_kf_innovation info;
-        UpdateRec *rec = &self->f.rec[!self->f.cur];
+        UpdateRec *rec = self->f.rec[!self->f.cur];
         st = GF_OK;
         if (model) {
             PyObject *ut = NULL;
@@ -4032,8 +4126,7 @@ static int KF_init_common(KFObj *self, PyObject *mu, PyObject *sigma,
         return -1;
     }
     self->f.has_last = 0;
-    memset(self->f.rec, 0, sizeof self->f.rec); // n may have changed
-    self->f.cur = 0;
+    recs_clear(&self->f, sizeof(gf_kf)); // n may have changed
     return 0;
 }
 
@@ -4111,7 +4204,7 @@ static gf_status kf_update(PyObject *f, PyObject *meas, const gf_real *z,
 {
     KFObj *self = (KFObj *)f;
     const gf_kf_pmeas *pq = &((KFMeasObj *)meas)->pq;
-    kf_prior_copy(&rec->prior.kf, &self->kf);
+    kf_prior_copy(rec->prior.kf, &self->kf);
     gf_status st = gf_kf_update_prepared(&self->kf, pq, z, info, &self->work);
     if (st == GF_OK) {
         rec->m = pq->meas.m;
@@ -4184,7 +4277,7 @@ static gf_status ekf_update(PyObject *f, PyObject *meas, const gf_real *z,
     EkfKeptH kept = {pq.meas.h, pq.meas.ctx, rec};
     pq.meas.h = ekf_h_kept;
     pq.meas.ctx = &kept;
-    kf_prior_copy(&rec->prior.kf, &self->kf);
+    kf_prior_copy(rec->prior.kf, &self->kf);
     gf_status st = gf_ekf_update_prepared(&self->kf, &pq, z, info, &self->work);
     if (st == GF_OK) {
         rec->m = pq.meas.m;
@@ -4939,7 +5032,12 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
                              &EKF3_Type,    &KFModel_Type,    &KFMeas_Type,
                              &KF_Type,      &EKFMotion_Type,  &EKFMeas_Type,
                              &EKF_Type,     &UKF3_Type,       &PF3_Type};
+    PyTypeObject *beliefs[] = {&KF2_Type, &EKF3_Type, &KF_Type, &EKF_Type,
+                               &UKF3_Type};
     import_array();
+    for (size_t i = 0; i < sizeof beliefs / sizeof beliefs[0]; i++) {
+        beliefs[i]->tp_dealloc = Filter_dealloc; // their update records
+    }
     errors = PyImport_ImportModule("gaussfilt._errors");
     if (!errors) {
         return NULL;
