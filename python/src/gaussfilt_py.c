@@ -2091,6 +2091,42 @@ static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
     Py_RETURN_NONE;
 }
 
+// The family of a belief: that of the class it is or derives from.
+static const Family *family_of(PyObject *self);
+
+// The entries every belief shares, each its family's: predict(), update()
+// and run() (on a failure other than a gate, run() puts the belief back as
+// it was before the call), and __getstate__/__setstate__ for pickle and
+// copy.
+static PyObject *Filter_predict(PyObject *self, PyObject *const *args,
+                                Py_ssize_t nargs, PyObject *kwnames)
+{
+    return predict_entry(family_of(self), self, args, nargs, kwnames);
+}
+
+static PyObject *Filter_update(PyObject *self, PyObject *const *args,
+                               Py_ssize_t nargs, PyObject *kwnames)
+{
+    return update_entry(family_of(self), self, args, nargs, kwnames);
+}
+
+static PyObject *Filter_run(PyObject *self, PyObject *const *args,
+                            Py_ssize_t nargs, PyObject *kwnames)
+{
+    return run_entry(family_of(self), self, args, nargs, kwnames);
+}
+
+static PyObject *Filter_getstate(PyObject *self, PyObject *unused)
+{
+    (void)unused;
+    return state_get(family_of(self), self);
+}
+
+static PyObject *Filter_setstate(PyObject *self, PyObject *st)
+{
+    return state_set(family_of(self), self, st);
+}
+
 // ---- KF2 ------------------------------------------------------------------
 
 typedef struct {
@@ -2362,37 +2398,6 @@ static const Family kf2_family = {
     NULL,
 };
 
-static PyObject *KF2_predict(PyObject *self, PyObject *const *args,
-                             Py_ssize_t nargs, PyObject *kwnames)
-{
-    return predict_entry(&kf2_family, self, args, nargs, kwnames);
-}
-
-static PyObject *KF2_update(PyObject *self, PyObject *const *args,
-                            Py_ssize_t nargs, PyObject *kwnames)
-{
-    return update_entry(&kf2_family, self, args, nargs, kwnames);
-}
-
-// run(): the batch entry of KF2, see its docstring. On a failure other
-// than a gate the belief is put back as it was before the call.
-static PyObject *KF2_getstate(PyObject *self, PyObject *unused)
-{
-    (void)unused;
-    return state_get(&kf2_family, self);
-}
-
-static PyObject *KF2_setstate(PyObject *self, PyObject *st)
-{
-    return state_set(&kf2_family, self, st);
-}
-
-static PyObject *KF2_run(PyObject *self, PyObject *const *args,
-                         Py_ssize_t nargs, PyObject *kwnames)
-{
-    return run_entry(&kf2_family, self, args, nargs, kwnames);
-}
-
 // The getter of KF2's sigma: Sigma = U D U^T, (2, 2).
 static PyObject *KF2_sigma(PyObject *self_, void *unused)
 {
@@ -2447,7 +2452,7 @@ static PyObject *KF2_mu(PyObject *self, void *unused)
 }
 
 static PyMethodDef KF2_methods[] = {
-    {"predict", (PyCFunction)(void (*)(void))KF2_predict,
+    {"predict", (PyCFunction)(void (*)(void))Filter_predict,
      METH_FASTCALL | METH_KEYWORDS,
      "predict($self, /, model, u=None)\n--\n\n"
      "Prediction (Table 3.1, lines 2-3):\n"
@@ -2455,7 +2460,7 @@ static PyMethodDef KF2_methods[] = {
      "on the factors U D U^T of Sigma. u None: no control. Raises the\n"
      "status's GaussfiltError (NonFinite: u not finite); the belief is\n"
      "unchanged then."},
-    {"update", (PyCFunction)(void (*)(void))KF2_update,
+    {"update", (PyCFunction)(void (*)(void))Filter_update,
      METH_FASTCALL | METH_KEYWORDS,
      "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.1, lines 4-6) with m = meas.m values z:\n"
@@ -2465,7 +2470,8 @@ static PyMethodDef KF2_methods[] = {
      "(Bierman's scalar updates on the whitened rows), NIS = y^T S^-1 y.\n"
      "Gated (NIS > meas.gate) carries the innovation and NIS; every error\n"
      "leaves the belief unchanged."},
-    {"run", (PyCFunction)(void (*)(void))KF2_run, METH_FASTCALL | METH_KEYWORDS,
+    {"run", (PyCFunction)(void (*)(void))Filter_run,
+     METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, model=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, 2), sigma (N, 2, 2), nis (N,), status (N,))\n\n"
      "N steps in one call, each predict(model, u[k]) (when model is given)\n"
@@ -2474,10 +2480,10 @@ static PyMethodDef KF2_methods[] = {
      "(status -5 and its NIS) and the run goes on from the prediction;\n"
      "nis is NaN where no update ran. Any other failure raises with\n"
      "exc.step = k and puts the belief back as it was before the call."},
-    {"__getstate__", KF2_getstate, METH_NOARGS,
+    {"__getstate__", Filter_getstate, METH_NOARGS,
      "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
      "every bit of its factors."},
-    {"__setstate__", KF2_setstate, METH_O,
+    {"__setstate__", Filter_setstate, METH_O,
      "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
@@ -2835,37 +2841,6 @@ static const Family ekf3_family = {
     ekf3_meas_python,
 };
 
-static PyObject *EKF3_predict(PyObject *self, PyObject *const *args,
-                              Py_ssize_t nargs, PyObject *kwnames)
-{
-    return predict_entry(&ekf3_family, self, args, nargs, kwnames);
-}
-
-static PyObject *EKF3_update(PyObject *self, PyObject *const *args,
-                             Py_ssize_t nargs, PyObject *kwnames)
-{
-    return update_entry(&ekf3_family, self, args, nargs, kwnames);
-}
-
-// run(): the batch entry of EKF3, see its docstring. On a failure other
-// than a gate the belief is put back as it was before the call.
-static PyObject *EKF3_getstate(PyObject *self, PyObject *unused)
-{
-    (void)unused;
-    return state_get(&ekf3_family, self);
-}
-
-static PyObject *EKF3_setstate(PyObject *self, PyObject *st)
-{
-    return state_set(&ekf3_family, self, st);
-}
-
-static PyObject *EKF3_run(PyObject *self, PyObject *const *args,
-                          Py_ssize_t nargs, PyObject *kwnames)
-{
-    return run_entry(&ekf3_family, self, args, nargs, kwnames);
-}
-
 // The getter of EKF3's sigma, (3, 3).
 static PyObject *EKF3_sigma(PyObject *self_, void *unused)
 {
@@ -2919,7 +2894,7 @@ static PyObject *EKF3_mu(PyObject *self, void *unused)
 }
 
 static PyMethodDef EKF3_methods[] = {
-    {"predict", (PyCFunction)(void (*)(void))EKF3_predict,
+    {"predict", (PyCFunction)(void (*)(void))Filter_predict,
      METH_FASTCALL | METH_KEYWORDS,
      "predict($self, /, motion, u=None)\n--\n\n"
      "Prediction (Table 3.3, lines 2-3), G = dg/dx at mu:\n"
@@ -2927,7 +2902,7 @@ static PyMethodDef EKF3_methods[] = {
      "on the factors; the heading mu[2] is kept in (-pi, pi]. u is handed\n"
      "to g as is (forward_turn: u = (d, phi)). A callback's exception\n"
      "propagates; every failure leaves the belief unchanged."},
-    {"update", (PyCFunction)(void (*)(void))EKF3_update,
+    {"update", (PyCFunction)(void (*)(void))Filter_update,
      METH_FASTCALL | METH_KEYWORDS,
      "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.3, lines 4-6), H = dh/dx at mu_bar:\n"
@@ -2936,7 +2911,7 @@ static PyMethodDef EKF3_methods[] = {
      "    mu = mu_bar + K y,  Sigma = (I - K H) Sigma_bar,  NIS = y^T S^-1 y.\n"
      "Gated carries the innovation and NIS; every failure leaves the\n"
      "belief unchanged."},
-    {"run", (PyCFunction)(void (*)(void))EKF3_run,
+    {"run", (PyCFunction)(void (*)(void))Filter_run,
      METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, 3), sigma (N, 3, 3), nis (N,), status (N,))\n\n"
@@ -2947,10 +2922,10 @@ static PyMethodDef EKF3_methods[] = {
      "(status -5 and its NIS) and the run goes on; any other failure, a\n"
      "callback's exception included, raises with exc.step = k and puts\n"
      "the belief back as it was before the call."},
-    {"__getstate__", EKF3_getstate, METH_NOARGS,
+    {"__getstate__", Filter_getstate, METH_NOARGS,
      "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
      "every bit of its factors."},
-    {"__setstate__", EKF3_setstate, METH_O,
+    {"__setstate__", Filter_setstate, METH_O,
      "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
@@ -3102,35 +3077,6 @@ static const Family ukf3_family = {
     ekf3_meas_python,
 };
 
-static PyObject *UKF3_predict(PyObject *self, PyObject *const *args,
-                              Py_ssize_t nargs, PyObject *kwnames)
-{
-    return predict_entry(&ukf3_family, self, args, nargs, kwnames);
-}
-
-static PyObject *UKF3_update(PyObject *self, PyObject *const *args,
-                             Py_ssize_t nargs, PyObject *kwnames)
-{
-    return update_entry(&ukf3_family, self, args, nargs, kwnames);
-}
-
-static PyObject *UKF3_run(PyObject *self, PyObject *const *args,
-                          Py_ssize_t nargs, PyObject *kwnames)
-{
-    return run_entry(&ukf3_family, self, args, nargs, kwnames);
-}
-
-static PyObject *UKF3_getstate(PyObject *self, PyObject *unused)
-{
-    (void)unused;
-    return state_get(&ukf3_family, self);
-}
-
-static PyObject *UKF3_setstate(PyObject *self, PyObject *st)
-{
-    return state_set(&ukf3_family, self, st);
-}
-
 static PyObject *UKF3_mu(PyObject *self, void *unused)
 {
     (void)unused;
@@ -3180,7 +3126,7 @@ static int UKF3_set_sigma(PyObject *self_, PyObject *value, void *unused)
 }
 
 static PyMethodDef UKF3_methods[] = {
-    {"predict", (PyCFunction)(void (*)(void))UKF3_predict,
+    {"predict", (PyCFunction)(void (*)(void))Filter_predict,
      METH_FASTCALL | METH_KEYWORDS,
      "predict($self, /, motion, u=None)\n--\n\n"
      "Prediction (Table 3.4, lines 2-5): the 7 sigma points\n"
@@ -3190,7 +3136,7 @@ static PyMethodDef UKF3_methods[] = {
      "GF_ERR_UNDEFINED (Undefined) when the points are too close for the\n"
      "precision (a larger alpha resolves them). A callback's exception\n"
      "propagates; every failure leaves the belief unchanged."},
-    {"update", (PyCFunction)(void (*)(void))UKF3_update,
+    {"update", (PyCFunction)(void (*)(void))Filter_update,
      METH_FASTCALL | METH_KEYWORDS,
      "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.4, lines 6-13): Z_i = h(chi_bar_i),\n"
@@ -3199,15 +3145,15 @@ static PyMethodDef UKF3_methods[] = {
      "    Sigma = Sigma_bar - K S K^T,  NIS = y^T S^-1 y.\n"
      "meas: an EKF3Meas (its H unread). Gated carries the innovation and\n"
      "NIS; every failure leaves the belief unchanged."},
-    {"run", (PyCFunction)(void (*)(void))UKF3_run,
+    {"run", (PyCFunction)(void (*)(void))Filter_run,
      METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, 3), sigma (N, 3, 3), nis (N,), status (N,))\n\n"
      "N steps in one call, as EKF3.run."},
-    {"__getstate__", UKF3_getstate, METH_NOARGS,
+    {"__getstate__", Filter_getstate, METH_NOARGS,
      "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
      "every bit of its mean, Sigma and weights."},
-    {"__setstate__", UKF3_setstate, METH_O,
+    {"__setstate__", Filter_setstate, METH_O,
      "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
@@ -4340,65 +4286,6 @@ static const Family ekf_family = {
     ekf_meas_python,
 };
 
-static PyObject *KF_predict(PyObject *self, PyObject *const *args,
-                            Py_ssize_t nargs, PyObject *kwnames)
-{
-    return predict_entry(&kf_family, self, args, nargs, kwnames);
-}
-
-static PyObject *KF_update(PyObject *self, PyObject *const *args,
-                           Py_ssize_t nargs, PyObject *kwnames)
-{
-    return update_entry(&kf_family, self, args, nargs, kwnames);
-}
-
-static PyObject *KF_getstate(PyObject *self, PyObject *unused)
-{
-    (void)unused;
-    return state_get(&kf_family, self);
-}
-
-static PyObject *KF_setstate(PyObject *self, PyObject *st)
-{
-    return state_set(&kf_family, self, st);
-}
-
-static PyObject *KF_run(PyObject *self, PyObject *const *args, Py_ssize_t nargs,
-                        PyObject *kwnames)
-{
-    return run_entry(&kf_family, self, args, nargs, kwnames);
-}
-
-static PyObject *EKF_predict(PyObject *self, PyObject *const *args,
-                             Py_ssize_t nargs, PyObject *kwnames)
-{
-    return predict_entry(&ekf_family, self, args, nargs, kwnames);
-}
-
-static PyObject *EKF_update(PyObject *self, PyObject *const *args,
-                            Py_ssize_t nargs, PyObject *kwnames)
-{
-    return update_entry(&ekf_family, self, args, nargs, kwnames);
-}
-
-// run(): the batch entry of EKF, as EKF3.run.
-static PyObject *EKF_getstate(PyObject *self, PyObject *unused)
-{
-    (void)unused;
-    return state_get(&ekf_family, self);
-}
-
-static PyObject *EKF_setstate(PyObject *self, PyObject *st)
-{
-    return state_set(&ekf_family, self, st);
-}
-
-static PyObject *EKF_run(PyObject *self, PyObject *const *args,
-                         Py_ssize_t nargs, PyObject *kwnames)
-{
-    return run_entry(&ekf_family, self, args, nargs, kwnames);
-}
-
 // "KF.name" or "EKF.name" (self an EKF, or a subclass of it), for
 // messages.
 static const char *kf_who(PyObject *self, const char *kf, const char *ekf)
@@ -4472,13 +4359,13 @@ static PyObject *KF_get(PyObject *self_, void *which)
 }
 
 static PyMethodDef KF_methods[] = {
-    {"predict", (PyCFunction)(void (*)(void))KF_predict,
+    {"predict", (PyCFunction)(void (*)(void))Filter_predict,
      METH_FASTCALL | METH_KEYWORDS,
      "predict($self, /, model, u=None)\n--\n\n"
      "Prediction: mu_bar = A mu + B u + c,  Sigma_bar = A Sigma A^T + R,\n"
      "on the factors (Thornton's time update). u: model.nu entries, or\n"
      "None for no control. Every failure leaves the belief unchanged."},
-    {"update", (PyCFunction)(void (*)(void))KF_update,
+    {"update", (PyCFunction)(void (*)(void))Filter_update,
      METH_FASTCALL | METH_KEYWORDS,
      "update($self, /, meas, z)\n--\n\n"
      "Correction with m = meas.m values z:\n"
@@ -4488,17 +4375,18 @@ static PyMethodDef KF_methods[] = {
      "y\n"
      "(Q whitened, Bierman's scalar updates). Gated carries the\n"
      "innovation and NIS; every failure leaves the belief unchanged."},
-    {"run", (PyCFunction)(void (*)(void))KF_run, METH_FASTCALL | METH_KEYWORDS,
+    {"run", (PyCFunction)(void (*)(void))Filter_run,
+     METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, model=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
      "N steps in one call, as KF2.run: predict(model, u[k]) then\n"
      "update(meas, z[k]) unless z[k] has a NaN; a gated update is recorded\n"
      "and skipped; any other failure raises with exc.step and puts the\n"
      "belief back as it was before the call."},
-    {"__getstate__", KF_getstate, METH_NOARGS,
+    {"__getstate__", Filter_getstate, METH_NOARGS,
      "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
      "every bit of its factors."},
-    {"__setstate__", KF_setstate, METH_O,
+    {"__setstate__", Filter_setstate, METH_O,
      "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
@@ -4510,7 +4398,7 @@ static PyMethodDef KF_methods[] = {
 };
 
 static PyMethodDef EKF_methods[] = {
-    {"predict", (PyCFunction)(void (*)(void))EKF_predict,
+    {"predict", (PyCFunction)(void (*)(void))Filter_predict,
      METH_FASTCALL | METH_KEYWORDS,
      "predict($self, /, motion, u=None)\n--\n\n"
      "Prediction (Table 3.3, lines 2-3), G = dg/dx at mu:\n"
@@ -4518,7 +4406,7 @@ static PyMethodDef EKF_methods[] = {
      "on the factors; the states in `angles` kept in (-pi, pi]. g gets\n"
      "(mu, u) and returns (mu_bar, G). A callback's exception propagates;\n"
      "every failure leaves the belief unchanged."},
-    {"update", (PyCFunction)(void (*)(void))EKF_update,
+    {"update", (PyCFunction)(void (*)(void))Filter_update,
      METH_FASTCALL | METH_KEYWORDS,
      "update($self, /, meas, z)\n--\n\n"
      "Correction (Table 3.3, lines 4-6), H = dh/dx at mu_bar:\n"
@@ -4528,17 +4416,18 @@ static PyMethodDef EKF_methods[] = {
      "y.\n"
      "h gets mu_bar and returns (z_hat, H). Gated carries the innovation\n"
      "and NIS; every failure leaves the belief unchanged."},
-    {"run", (PyCFunction)(void (*)(void))EKF_run, METH_FASTCALL | METH_KEYWORDS,
+    {"run", (PyCFunction)(void (*)(void))Filter_run,
+     METH_FASTCALL | METH_KEYWORDS,
      "run($self, /, motion=None, meas=None, u=None, z=None, steps=None)\n--\n\n"
      "-> (mu (N, n), sigma (N, n, n), nis (N,), status (N,))\n\n"
      "N steps in one call, as EKF3.run: g gets u[k] as a fresh (k,)\n"
      "array (None without u); update unless z[k] has a NaN; a gated\n"
      "update is recorded; any other failure raises with exc.step and puts\n"
      "the belief back as it was before the call."},
-    {"__getstate__", EKF_getstate, METH_NOARGS,
+    {"__getstate__", Filter_getstate, METH_NOARGS,
      "__getstate__($self, /)\n--\n\nThe belief as pickle and copy keep it: "
      "every bit of its factors."},
-    {"__setstate__", EKF_setstate, METH_O,
+    {"__setstate__", Filter_setstate, METH_O,
      "__setstate__($self, state, /)\n--\n\nRestores __getstate__'s "
      "belief (checked first)."},
     {"reset", (PyCFunction)(void (*)(void))Filter_reset,
@@ -4874,6 +4763,19 @@ static PyMethodDef Model_methods[] = {
      "__reduce__'s state."},
     {NULL, NULL, 0, NULL},
 };
+
+static const Family *family_of(PyObject *self)
+{
+    PyTypeObject *t = Py_TYPE(self);
+    while (t->tp_flags & Py_TPFLAGS_HEAPTYPE) { // a subclass in Python
+        t = t->tp_base;
+    }
+    return t == &KF2_Type    ? &kf2_family
+           : t == &EKF3_Type ? &ekf3_family
+           : t == &UKF3_Type ? &ukf3_family
+           : t == &EKF_Type  ? &ekf_family
+                             : &kf_family; // the only other with these entries
+}
 
 #define GF_TYPE(T, name, doc, init, methods, getset)                           \
     static PyTypeObject T##_Type = {                                           \
