@@ -727,22 +727,23 @@ static inline void gr_mmul(int n, int k, int p, double a[3][3], double b[3][3],
     memcpy(out, r, sizeof r);
 }
 
-// A random orthogonal n x n matrix (Gram-Schmidt on Gaussian columns).
-static inline void gr_orth(gr_rng *r, int n, double q[3][3])
+// A random orthogonal n x n matrix (Gram-Schmidt on Gaussian columns),
+// n <= GR_N, into q with rows ld apart.
+static inline void gr_orth(gr_rng *r, int n, double *q, int ld)
 {
     for (int j = 0; j < n; j++) {
         for (;;) {
-            double v[3] = {0, 0, 0};
+            double v[GR_N];
             for (int i = 0; i < n; i++) {
                 v[i] = gr_normal(r);
             }
             for (int k = 0; k < j; k++) {
                 double d = 0;
                 for (int i = 0; i < n; i++) {
-                    d += v[i] * q[i][k];
+                    d += v[i] * q[i * ld + k];
                 }
                 for (int i = 0; i < n; i++) {
-                    v[i] -= d * q[i][k];
+                    v[i] -= d * q[i * ld + k];
                 }
             }
             double nn = 0;
@@ -751,7 +752,7 @@ static inline void gr_orth(gr_rng *r, int n, double q[3][3])
             }
             if (nn > 1e-6) {
                 for (int i = 0; i < n; i++) {
-                    q[i][j] = v[i] / sqrt(nn);
+                    q[i * ld + j] = v[i] / sqrt(nn);
                 }
                 break;
             }
@@ -766,7 +767,7 @@ static inline void gr_corr_factor(gr_rng *r, int n, double cond, int rank,
                                   double f[3][3])
 {
     double q[3][3];
-    gr_orth(r, n, q);
+    gr_orth(r, n, &q[0][0], 3);
     double lam[3];
     for (int i = 0; i < n; i++) {
         double t = n > 1 ? (double)i / (double)(n - 1) : 0.0;
@@ -924,7 +925,7 @@ static inline void gr_scen_make(gr_scen *sc, int kind, uint64_t seed,
     // eigenvalues in [0.5, 1.3] (unstable up to 1.3; [0.9, 1.02] for long
     // runs) and off-diagonals N(0, 0.3^2); c = D N(0, 0.1^2).
     double v[3][3], t[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, a0[3][3];
-    gr_orth(r, n, v);
+    gr_orth(r, n, &v[0][0], 3);
     double lmax = sc->pre ? 1.02 : 1.3;
     for (int i = 0; i < n; i++) {
         // Long runs: no eigenvalue below 0.9, so that 100 predictions

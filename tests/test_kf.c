@@ -175,38 +175,6 @@ static void dtrans(int n, int m, dmat a, dmat out)
     memcpy(out, t, sizeof gs.t);
 }
 
-// A random orthogonal n x n matrix (Gram-Schmidt on Gaussian columns).
-static void orth(gr_rng *r, int n, dmat q)
-{
-    for (int j = 0; j < n; j++) {
-        for (;;) {
-            double v[TN];
-            for (int i = 0; i < n; i++) {
-                v[i] = gr_normal(r);
-            }
-            for (int k = 0; k < j; k++) {
-                double dd = 0;
-                for (int i = 0; i < n; i++) {
-                    dd += v[i] * q[i][k];
-                }
-                for (int i = 0; i < n; i++) {
-                    v[i] -= dd * q[i][k];
-                }
-            }
-            double nn = 0;
-            for (int i = 0; i < n; i++) {
-                nn += v[i] * v[i];
-            }
-            if (nn > 1e-6) {
-                for (int i = 0; i < n; i++) {
-                    q[i][j] = v[i] / sqrt(nn);
-                }
-                break;
-            }
-        }
-    }
-}
-
 // f (n x n) with f f^T a correlation-like matrix of rank `rank` whose
 // eigenvalues spread over [1 / cond, 1] (the largest 1, the smallest of
 // the rank 1 / cond, the others log-uniform between), rows normalised so
@@ -214,7 +182,7 @@ static void orth(gr_rng *r, int n, dmat q)
 static void corr_factor(gr_rng *r, int n, double cond, int rank, dmat f)
 {
     dmat q;
-    orth(r, n, q);
+    gr_orth(r, n, &q[0][0], TN);
     double lam[TN];
     for (int i = 0; i < n; i++) {
         double t = i == 0 ? 0.0 : i == rank - 1 ? 1.0 : gr_unif(r);
@@ -367,7 +335,7 @@ static void scen_make(scen *sc, int kind, int n, unsigned index)
     // of N(0, 1) entries; c = D N(0, 0.1^2).
     double(*v)[TN] = gs.v, (*t)[TN] = gs.mt, (*vt)[TN] = gs.vt;
     memset(t, 0, sizeof gs.mt);
-    orth(r, n, v);
+    gr_orth(r, n, &v[0][0], TN);
     const double off = 0.3 * sqrt(n > 3 ? 3.0 / n : 1.0);
     for (int i = 0; i < n; i++) {
         t[i][i] = 0.5 + 0.8 * gr_unif(r);
