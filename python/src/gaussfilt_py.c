@@ -2127,6 +2127,26 @@ static PyObject *Filter_setstate(PyObject *self, PyObject *st)
     return state_set(family_of(self), self, st);
 }
 
+// The getter of sigma: Sigma = U D U^T (UKF3: Sigma as kept), (n, n).
+static PyObject *Filter_sigma(PyObject *self, void *unused)
+{
+    const Family *fam = family_of(self);
+    gf_real mu[NMAX];
+    (void)unused;
+    if (((FilterObj *)self)->busy == BUSY_NOGIL) { // refused: say whose
+        char who[32];
+        PyOS_snprintf(who, sizeof who, "%s.sigma", fam->name);
+        if (check_readable((FilterObj *)self, who) < 0) {
+            return NULL;
+        }
+    }
+    PyObject *a = new_sigma(fam->states(self), NULL);
+    if (a) {
+        fam->record(self, mu, (gf_real *)PyArray_DATA((PyArrayObject *)a));
+    }
+    return a;
+}
+
 // ---- KF2 ------------------------------------------------------------------
 
 typedef struct {
@@ -2398,21 +2418,6 @@ static const Family kf2_family = {
     NULL,
 };
 
-// The getter of KF2's sigma: Sigma = U D U^T, (2, 2).
-static PyObject *KF2_sigma(PyObject *self_, void *unused)
-{
-    gf_mat2 s;
-    (void)unused;
-    if (check_readable((FilterObj *)self_, "KF2.sigma") < 0) {
-        return NULL;
-    }
-    gf_status st = gf_kf2_cov(&((KF2Obj *)self_)->kf, &s);
-    if (st != GF_OK) {
-        return raise_status(st, "KF2.sigma", NULL, NULL, 0, 0);
-    }
-    return new_sigma(2, &s.m[0][0]);
-}
-
 // The setter of KF2's sigma: the mean and value factored by gf_kf2_init
 // into a copy of the belief, which replaces it only when that succeeds.
 static int KF2_set_sigma(PyObject *self_, PyObject *value, void *unused)
@@ -2497,7 +2502,7 @@ static PyMethodDef KF2_methods[] = {
 static PyGetSetDef KF2_getset[] = {
     {"mu", KF2_mu, KF2_set_mu,
      "the mean, a (2,) copy; set: a new mean, the covariance kept", NULL},
-    {"sigma", KF2_sigma, KF2_set_sigma,
+    {"sigma", Filter_sigma, KF2_set_sigma,
      "the covariance, a (2, 2) array: Sigma = U D U^T, exactly symmetric;\n"
      "set: factored with the mean as the constructor does",
      NULL},
@@ -2841,21 +2846,6 @@ static const Family ekf3_family = {
     ekf3_meas_python,
 };
 
-// The getter of EKF3's sigma, (3, 3).
-static PyObject *EKF3_sigma(PyObject *self_, void *unused)
-{
-    gf_mat3 s;
-    (void)unused;
-    if (check_readable((FilterObj *)self_, "EKF3.sigma") < 0) {
-        return NULL;
-    }
-    gf_status st = gf_ekf3_cov(&((EKF3Obj *)self_)->ekf, &s);
-    if (st != GF_OK) {
-        return raise_status(st, "EKF3.sigma", NULL, NULL, 0, 0);
-    }
-    return new_sigma(3, &s.m[0][0]);
-}
-
 // The setter of EKF3's sigma, as KF2's.
 static int EKF3_set_sigma(PyObject *self_, PyObject *value, void *unused)
 {
@@ -2941,7 +2931,7 @@ static PyGetSetDef EKF3_getset[] = {
      "the mean (x, y, theta), a (3,) copy; set: a new mean (theta\n"
      "wrapped), the covariance kept",
      NULL},
-    {"sigma", EKF3_sigma, EKF3_set_sigma,
+    {"sigma", Filter_sigma, EKF3_set_sigma,
      "the covariance, a (3, 3) array: Sigma = U D U^T, exactly symmetric;\n"
      "set: factored with the mean as the constructor does",
      NULL},
@@ -3094,15 +3084,6 @@ static int UKF3_set_mu(PyObject *self_, PyObject *value, void *unused)
 }
 
 // UKF3 keeps Sigma itself (no factors): the getter's copy of it.
-static PyObject *UKF3_sigma(PyObject *self, void *unused)
-{
-    (void)unused;
-    if (check_readable((FilterObj *)self, "UKF3.sigma") < 0) {
-        return NULL;
-    }
-    return new_sigma(3, &((UKF3Obj *)self)->ukf.sigma.m[0][0]);
-}
-
 // The setter of sigma: judged and symmetrised by gf_ukf3_init (with the
 // mean, into a copy; its weights discarded), the filter's weights kept.
 static int UKF3_set_sigma(PyObject *self_, PyObject *value, void *unused)
@@ -3169,7 +3150,7 @@ static PyGetSetDef UKF3_getset[] = {
      "the mean (x, y, theta), a (3,) copy; set: a new mean (theta\n"
      "wrapped), the covariance kept",
      NULL},
-    {"sigma", UKF3_sigma, UKF3_set_sigma,
+    {"sigma", Filter_sigma, UKF3_set_sigma,
      "the covariance, a (3, 3) copy; set: judged and symmetrised as the\n"
      "constructor does, the weights kept",
      NULL},
@@ -4293,21 +4274,6 @@ static const char *kf_who(PyObject *self, const char *kf, const char *ekf)
     return PyObject_TypeCheck(self, &EKF_Type) ? ekf : kf;
 }
 
-// The getter of KF's and EKF's sigma, (n, n).
-static PyObject *KF_sigma(PyObject *self_, void *unused)
-{
-    KFObj *self = (KFObj *)self_;
-    (void)unused;
-    if (check_readable(&self->f, kf_who(self_, "KF.sigma", "EKF.sigma")) < 0) {
-        return NULL;
-    }
-    PyObject *a = new_sigma(self->kf.n, NULL);
-    if (a) {
-        gf_kf_cov(&self->kf, (gf_real *)PyArray_DATA((PyArrayObject *)a));
-    }
-    return a;
-}
-
 // The setter of KF's and EKF's sigma: gf_kf_init (gf_ekf_init, with the
 // filter's angles) into a copy of the belief, as KF2's.
 static int KF_set_sigma(PyObject *self_, PyObject *value, void *unused)
@@ -4451,7 +4417,7 @@ static PyGetSetDef KF_getset[] = {
      "the mean, an (n,) copy; set: a new mean (the angle states wrapped),\n"
      "the covariance kept",
      (void *)0},
-    {"sigma", KF_sigma, KF_set_sigma,
+    {"sigma", Filter_sigma, KF_set_sigma,
      "the covariance, an (n, n) array: Sigma = P U D U^T P^T, exactly\n"
      "symmetric; set: factored with the mean as the constructor does",
      NULL},
