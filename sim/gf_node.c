@@ -342,7 +342,7 @@ int main(int argc, char **argv)
     int strict = 0;
     char id[GF_NODE_ID_MAX];
     static gf_node_config config;
-    char err[256];
+    char err[512];
     const char *channels = GF_CHANNEL_NODE_DEFAULT;
     static gf_node node;         // ~15 kB: keep it off the stack
     static gf_node_pf_pool pool; // ~516 kB, used with --filter pf only

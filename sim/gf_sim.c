@@ -672,7 +672,7 @@ int main(int argc, char **argv)
     int sensors = 0;
     const gf_node_model *mdl = NULL;
     long nruns = 1;
-    char err[256];
+    char err[512];
     int exercise = 0, i;
     long steps = -1, meas_every = 1, t;
     double rate = 0.0, meas_var = -1.0, turn = 0.1;

@@ -692,7 +692,12 @@ static void track_prior(gf_node *node, gf_node_track *t)
             sigma[i] = (gf_real)l->prior_cov[i];
         }
         memset(&t->f.kf, 0, sizeof(t->f.kf));
-        (void)gf_kf_init(&t->f.kf, l->n, mu, sigma, &node->work);
+        if (l->gen != NULL) { // its angles kept in (-pi, pi]
+            (void)gf_ekf_init(&t->f.kf, l->n, mu, sigma, l->gen->desc->angles,
+                              &node->work);
+        } else {
+            (void)gf_kf_init(&t->f.kf, l->n, mu, sigma, &node->work);
+        }
         t->filter = FILTER_KF;
         return;
     }
@@ -990,6 +995,22 @@ static gf_node_track *track_get_with(gf_node *node, int32_t id, int8_t model,
     if (mdl != NULL) {
         say(node, "track %ld (%s): model %s from a model_t", (long)id,
             kind_name(model), use->name);
+    } else if (named && use->channels != NULL && use->lin != NULL &&
+               use->lin->gen != NULL) {
+        // the states named as its library's descriptor names them
+        const gf_codegen_model *d = use->lin->gen->desc;
+        char states[256] = "";
+        unsigned k;
+        for (k = 0; k < d->n; k++) {
+            size_t used = strlen(states);
+            snprintf(states + used, sizeof states - used, "%s%s (%s)",
+                     k > 0 ? ", " : "", d->states[k],
+                     d->units[k][0] != '\0' ? d->units[k] : "-");
+        }
+        say(node,
+            "track %ld (generated, gf_ekf: %s from %s): model %s, its "
+            "channels %s name it",
+            (long)id, states, use->lin->gen->path, use->name, use->channels);
     } else if (named && use->channels != NULL) {
         say(node, "track %ld (%s%s): model %s, its channels %s name it",
             (long)id, kind_name(model), model == MODEL_LINEAR ? ", gf_kf" : "",
@@ -1022,7 +1043,8 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
 // A track in time: its motion built from dt (see node_core.h).
 static int timed(const gf_node_track *t)
 {
-    return t->model == MODEL_LINEAR && t->mdl.lin->axes > 0;
+    return t->model == MODEL_LINEAR &&
+           (t->mdl.lin->axes > 0 || t->mdl.lin->gen != NULL);
 }
 
 // An input of a stream received, taken or refused, with a seq newer than
@@ -1232,6 +1254,22 @@ static int linear_predict(gf_node *node, gf_node_track *t, gf_kf *kf, double dt,
                           unsigned nu)
 {
     gf_kf_model km;
+    const gf_node_generated *gen = t->mdl.lin->gen;
+    if (gen != NULL) {
+        // a generated model: g and R(dt) from its library; g's u is the
+        // inputs (zeros without a control), then dt
+        gf_ekf_motion em;
+        unsigned i, nin = gen->desc->nu;
+        for (i = nu; i < nin; i++) {
+            node->vec[0][i] = GF_R(0.0);
+        }
+        node->vec[0][nin] = (gf_real)dt;
+        gen->desc->R(gen->params, (gf_real)dt, node->lin[2]);
+        em.g = gen->desc->g;
+        em.ctx = (void *)(uintptr_t)gen->params;
+        em.R = node->lin[2];
+        return gf_ekf_predict(kf, &em, node->vec[0], &node->work);
+    }
     linear_motion(node, t, dt);
     km.nu = t->mdl.lin->nu;
     km.A = node->lin[0];
@@ -1687,11 +1725,17 @@ static int linear_correct(gf_node *node, gf_node_track *t,
             node->lin[4][i * m + j] = (gf_real)q[i][j];
         }
     }
-    if (sen != NULL && sen->angle_mask != 0u) {
+    if (l->gen != NULL || (sen != NULL && sen->angle_mask != 0u)) {
+        // a generated model's sensor (always named: its library's h, in
+        // the order of the descriptor), or C x with angles wrapped
         gf_ekf_meas em;
         em.m = m;
         em.h = linear_h;
         em.ctx = node->lin[3];
+        if (l->gen != NULL) {
+            em.h = l->gen->desc->sensors[sen - t->mdl.sensors->s].h;
+            em.ctx = (void *)(uintptr_t)l->gen->params;
+        }
         em.Q = node->lin[4];
         em.angle_mask = sen->angle_mask;
         em.gate = gate;

@@ -5,6 +5,7 @@
 // the core.
 #include "node_model.h"
 
+#include <dlfcn.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -879,6 +880,217 @@ static int sensor_check(const gf_node_model *mdl, const gf_node_sensor *sen,
     return 0;
 }
 
+// ---- generated models (type = generated) --------------------------------
+
+static int sensor_name_ok(const char *name);
+
+// The folder of the configuration file being read ("" for text: the
+// working directory): a relative library path is taken from there.
+static char config_dir[256];
+
+// Loads the library of a generated model (library = PATH at line): its
+// descriptor checked against this node (export version, precision, sizes,
+// names), then n, the inputs and the sensors taken from it. The model's
+// A is I and R 0 for the linear checks, which then check the prior and
+// the sensors' noise; the track runs g and R(dt) (node_core.c).
+static int generated_load(gf_node_config *cfg, gf_node_model *mdl,
+                          gf_node_linear *lin, const char *path, unsigned line,
+                          char *err, size_t size)
+{
+    size_t i = (size_t)(mdl - cfg->model);
+    gf_node_generated *gen = &cfg->generated[i];
+    gf_node_sensors *set = &cfg->sensors[i];
+    const gf_codegen_export *ex;
+    const gf_codegen_model *d;
+    char full[512];
+    const char *e;
+    unsigned k, j;
+    if (lin->gen != NULL) {
+        return fail(err, size, line, "model %s: library given twice",
+                    mdl->name);
+    }
+    if (strlen(path) >= sizeof gen->path) {
+        return fail(err, size, line, "library: a path of at most %u characters",
+                    (unsigned)sizeof gen->path - 1);
+    }
+    if (path[0] != '/') { // never dlopen's search of the system's folders
+        snprintf(full, sizeof full, "%s/%s",
+                 config_dir[0] != '\0' ? config_dir : ".", path);
+    } else {
+        snprintf(full, sizeof full, "%s", path);
+    }
+    memset(gen, 0, sizeof(*gen));
+    strcpy(gen->path, path);
+    (void)dlerror();
+    gen->handle = dlopen(full, RTLD_NOW | RTLD_LOCAL);
+    if (gen->handle == NULL) {
+        e = dlerror();
+        return fail(err, size, line, "model %s: library does not load: %s",
+                    mdl->name, e != NULL ? e : full);
+    }
+    ex = (const gf_codegen_export *)dlsym(gen->handle, "gf_codegen_exported");
+    if (ex == NULL) {
+        return fail(err, size, line,
+                    "model %s: library %s has no gf_codegen_exported (build "
+                    "gaussfilt.codegen's C with -DGF_CODEGEN_EXPORT)",
+                    mdl->name, full);
+    }
+    if (ex->version != GF_CODEGEN_EXPORT_VERSION || ex->model == NULL ||
+        ex->model->version != 1u) {
+        return fail(err, size, line,
+                    "model %s: library %s: descriptor version %u (export %u), "
+                    "this node reads 1 (export %u): generate it again",
+                    mdl->name, full, ex->model != NULL ? ex->model->version : 0u,
+                    ex->version, GF_CODEGEN_EXPORT_VERSION);
+    }
+    if (ex->real_size != (unsigned)sizeof(gf_real)) {
+        return fail(err, size, line,
+                    "model %s: library %s is built with gf_real of %u bytes, "
+                    "this node with %u (%s -DGF_SINGLE_PRECISION)",
+                    mdl->name, full, ex->real_size, (unsigned)sizeof(gf_real),
+                    sizeof(gf_real) == 4 ? "build it with" : "build it without");
+    }
+    d = ex->model;
+    if (d->n < 1 || d->n > GF_NODE_NMAX || d->nu + 1u > GF_NODE_NMAX) {
+        return fail(err, size, line,
+                    "model %s: library %s: n = %u and %u inputs, this node "
+                    "takes n = 1..%d and at most %d inputs",
+                    mdl->name, full, d->n, d->nu, GF_NODE_NMAX,
+                    GF_NODE_NMAX - 1);
+    }
+    if (d->nparams > GF_NODE_PARAMS) {
+        return fail(err, size, line,
+                    "model %s: library %s: %u parameters, this node takes at "
+                    "most %d",
+                    mdl->name, full, d->nparams, GF_NODE_PARAMS);
+    }
+    if (d->nsensors < 1 || d->nsensors > GF_NODE_SENSORS) {
+        return fail(err, size, line,
+                    "model %s: library %s: %u sensors, this node takes 1 to %d",
+                    mdl->name, full, d->nsensors, GF_NODE_SENSORS);
+    }
+    if (d->g == NULL || d->R == NULL || d->states == NULL || d->units == NULL) {
+        return fail(err, size, line, "model %s: library %s: no motion",
+                    mdl->name, full);
+    }
+    for (k = 0; k < d->n; k++) {
+        if (d->states[k] == NULL || d->units[k] == NULL) {
+            return fail(err, size, line,
+                        "model %s: library %s: state %u has no name", mdl->name,
+                        full, k);
+        }
+    }
+    set->count = d->nsensors;
+    for (k = 0; k < d->nsensors; k++) {
+        const gf_codegen_sensor *ds = &d->sensors[k];
+        gf_node_sensor *sen = &set->s[k];
+        if (ds->name == NULL || !sensor_name_ok(ds->name)) {
+            return fail(err, size, line,
+                        "model %s: library %s: sensor %u's name %s is not a "
+                        "letter, then letters or digits, at most %d characters "
+                        "(a channel GF_MEAS_<id>_<sensor>)",
+                        mdl->name, full, k, ds->name != NULL ? ds->name : "",
+                        GF_NODE_SENSOR_NAME - 1);
+        }
+        if (ds->m < 1 || ds->m > d->n || ds->h == NULL || ds->Q == NULL ||
+            (ds->angle_mask >> ds->m) != 0u) {
+            return fail(err, size, line,
+                        "model %s: library %s: sensor %s has m = %u, n = %u "
+                        "(m must be 1..n, with h and Q)",
+                        mdl->name, full, ds->name, ds->m, d->n);
+        }
+        memset(sen, 0, sizeof(*sen));
+        strcpy(sen->name, ds->name);
+        sen->m = ds->m;
+        sen->angle_mask = ds->angle_mask;
+    }
+    mdl->sensors = set;
+    lin->n = d->n;
+    lin->nu = d->nu;
+    lin->m = 0;
+    memset(lin->A, 0, sizeof lin->A);
+    memset(lin->R, 0, sizeof lin->R);
+    for (j = 0; j < d->n; j++) {
+        lin->A[j * d->n + j] = 1.0;
+    }
+    gen->desc = d;
+    lin->gen = gen;
+    return 0;
+}
+
+// params = P ... of a generated model: one number per parameter.
+static int generated_params(gf_node_model *mdl, gf_node_linear *lin,
+                            gf_node_config *cfg, char *val, unsigned line,
+                            char *err, size_t size)
+{
+    gf_node_generated *gen = &cfg->generated[mdl - cfg->model];
+    const gf_codegen_model *d = lin->gen != NULL ? lin->gen->desc : NULL;
+    double v[GF_NODE_PARAMS + 1];
+    char names[256];
+    int got;
+    unsigned k;
+    if (d == NULL) {
+        return fail(err, size, line, "model %s: library before params",
+                    mdl->name);
+    }
+    got = numbers(val, v, GF_NODE_PARAMS + 1);
+    if (got != (int)d->nparams) {
+        names[0] = '\0';
+        for (k = 0; k < d->nparams && d->params != NULL; k++) {
+            size_t len = strlen(names);
+            snprintf(names + len, sizeof names - len, "%s%s", k > 0 ? " " : "",
+                     d->params[k] != NULL ? d->params[k] : "?");
+        }
+        return fail(err, size, line,
+                    "model %s: params takes %u number%s, its library's "
+                    "parameters (%s) in order",
+                    mdl->name, d->nparams, d->nparams == 1 ? "" : "s",
+                    d->nparams > 0 ? names : "none");
+    }
+    for (k = 0; k < d->nparams; k++) {
+        if (!isfinite(v[k])) {
+            return fail(err, size, line, "model %s: params must be finite",
+                        mdl->name);
+        }
+        gen->params[k] = (gf_real)v[k];
+    }
+    return 0;
+}
+
+// The end of a generated model's section: its library read, its params
+// given, and each sensor's Q the library's unless the section gave one.
+static int generated_finish(const gf_node_model *mdl, const gf_node_linear *lin,
+                            const section *sec, const section *ssec, char *err,
+                            size_t size)
+{
+    const gf_codegen_model *d = lin->gen != NULL ? lin->gen->desc : NULL;
+    gf_node_sensors *set = (gf_node_sensors *)(uintptr_t)mdl->sensors;
+    gf_real Q[GF_NODE_NMAX * GF_NODE_NMAX];
+    unsigned k, j;
+    if (d == NULL) {
+        return fail(err, size, sec->start,
+                    "model %s: a generated model needs library = PATH",
+                    mdl->name);
+    }
+    if (d->nparams > 0 && key_line(sec, "params", 6) == 0) {
+        return fail(err, size, sec->start,
+                    "model %s: params = ... (%u numbers: its library's "
+                    "parameters)",
+                    mdl->name, d->nparams);
+    }
+    for (k = 0; k < set->count; k++) {
+        gf_node_sensor *sen = &set->s[k];
+        if (key_line(&ssec[k], "Q", 1) || key_line(&ssec[k], "meas_cov", 8)) {
+            continue;
+        }
+        d->sensors[k].Q(lin->gen->params, Q);
+        for (j = 0; j < sen->m * sen->m; j++) {
+            sen->Q[j] = (double)Q[j];
+        }
+    }
+    return 0;
+}
+
 // Ends the section being read: builds a linear model's dt-built A and R,
 // checks the model and compiles its pattern.
 static int finish(gf_node_config *cfg, const section *sec, const section *ssec,
@@ -888,7 +1100,11 @@ static int finish(gf_node_config *cfg, const section *sec, const section *ssec,
     gf_node_model *mdl = &cfg->model[i];
     const char *why = NULL;
     char re[160];
-    if (mdl->kind == GF_NODE_KIND_LINEAR) {
+    if (mdl->kind == GF_NODE_KIND_LINEAR && cfg->linear[i].generated) {
+        if (generated_finish(mdl, &cfg->linear[i], sec, ssec, err, size) != 0) {
+            return -1;
+        }
+    } else if (mdl->kind == GF_NODE_KIND_LINEAR) {
         gf_node_linear *lin = &cfg->linear[i];
         if (key_line(sec, "A", 1) && key_line(sec, "motion", 6)) {
             return fail(err, size, key_line(sec, "A", 1),
@@ -1165,6 +1381,14 @@ static int sensor_key(const gf_node_model *mdl, gf_node_sensor *sen,
 {
     const int linear = mdl->kind == GF_NODE_KIND_LINEAR;
     unsigned n = linear ? mdl->lin->n : 3u;
+    if (linear && mdl->lin->generated &&
+        (strcmp(key, "C") == 0 || strcmp(key, "measure") == 0 ||
+         strcmp(key, "landmark") == 0)) {
+        return fail(err, size, line,
+                    "a sensor of a generated model has no %s (its library "
+                    "gives h); it takes Q, gate, angles and rate",
+                    key);
+    }
     if (strcmp(key, "C") == 0 && linear) {
         int m = rows_of(val, sen->C, n, n);
         if (m < 0) {
@@ -1262,8 +1486,21 @@ static int sensor_name_ok(const char *name)
     return 1;
 }
 
+static int parse(gf_node_config *cfg, const char *text, char *err,
+                 size_t err_size);
+
 int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                          size_t err_size)
+{
+    int rc = parse(cfg, text, err, err_size);
+    if (rc != 0) {
+        gf_node_config_free(cfg); // the libraries it opened
+    }
+    return rc;
+}
+
+static int parse(gf_node_config *cfg, const char *text, char *err,
+                 size_t err_size)
 {
     char buf[4096];
     unsigned line = 0;
@@ -1317,6 +1554,34 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                                 "[sensor %s] belongs to a linear or robot "
                                 "model: after its [model NAME] and keys",
                                 name);
+                }
+                if (lin->generated) {
+                    // one of its library's sensors, configured
+                    const gf_node_sensor *got = gf_node_model_sensor(mdl, name);
+                    if (got == NULL) {
+                        char names[160] = "";
+                        for (unsigned k = 0; mdl->sensors != NULL &&
+                                             k < mdl->sensors->count;
+                             k++) {
+                            size_t used = strlen(names);
+                            snprintf(names + used, sizeof names - used, "%s%s",
+                                     k > 0 ? " " : "", mdl->sensors->s[k].name);
+                        }
+                        return fail(err, err_size, line,
+                                    "model %s: its library has no sensor %s "
+                                    "(it has: %s)",
+                                    mdl->name, name,
+                                    names[0] != '\0' ? names
+                                                     : "none: library first");
+                    }
+                    sen = &set->s[got - set->s];
+                    if (ssec[got - set->s].start != 0) {
+                        return fail(err, err_size, line,
+                                    "model %s: sensor %s configured twice",
+                                    mdl->name, name);
+                    }
+                    ssec[got - set->s].start = line;
+                    continue;
                 }
                 if (!sensor_name_ok(name)) {
                     return fail(err, err_size, line,
@@ -1384,7 +1649,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
         key = trim(s);
         val = trim(eq + 1);
         if (sen != NULL) {
-            key_seen(&ssec[mdl->sensors->count - 1], key, line);
+            key_seen(&ssec[sen - mdl->sensors->s], key, line);
             if (sensor_key(mdl, sen, key, val, line, err, err_size) != 0) {
                 return -1;
             }
@@ -1413,14 +1678,29 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 cfg->sensors[i] = *b->sensors;
                 mdl->sensors = &cfg->sensors[i];
             }
+            if (b->lin != NULL && b->lin->gen != NULL) {
+                // its library's descriptor and params, the library kept
+                // open (and closed) by the base
+                size_t i = (size_t)(mdl - cfg->model);
+                cfg->generated[i] = *b->lin->gen;
+                cfg->generated[i].handle = NULL;
+                lin->gen = &cfg->generated[i];
+            }
         } else if (strcmp(key, "type") == 0) {
+            int generated = strcmp(val, "generated") == 0;
             int8_t kind = strcmp(val, "car") == 0      ? GF_NODE_KIND_CAR
                           : strcmp(val, "robot") == 0  ? GF_NODE_KIND_ROBOT
                           : strcmp(val, "linear") == 0 ? GF_NODE_KIND_LINEAR
+                          : generated                  ? GF_NODE_KIND_LINEAR
                                                        : 0;
             if (kind == 0) {
                 return fail(err, err_size, line,
-                            "type is car, robot or linear");
+                            "type is car, robot, linear or generated");
+            }
+            if (mdl->kind == kind && lin->generated != generated) {
+                return fail(err, err_size, line,
+                            "model %s: type %s after the type of its base",
+                            mdl->name, val);
             }
             if (mdl->kind != kind) {
                 // a type of its own starts from that type's preset (a
@@ -1433,6 +1713,7 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                     mdl->kind = kind;
                     mdl->dt = 1.0;
                     mdl->lin = lin;
+                    lin->generated = generated;
                     mdl->late_window = GF_NODE_LATE_WINDOW;
                 } else {
                     *mdl = kind == GF_NODE_KIND_CAR ? book_car : book_robot;
@@ -1447,6 +1728,29 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
                 return fail(err, err_size, line, "channels regex too long");
             }
             strcpy(cfg->channels[i], val);
+        } else if (mdl->kind == GF_NODE_KIND_LINEAR && lin->generated &&
+                   strcmp(key, "library") == 0) {
+            if (generated_load(cfg, mdl, lin, val, line, err, err_size) != 0) {
+                return -1;
+            }
+        } else if (mdl->kind == GF_NODE_KIND_LINEAR && lin->generated &&
+                   strcmp(key, "params") == 0) {
+            if (generated_params(mdl, lin, cfg, val, line, err, err_size) !=
+                0) {
+                return -1;
+            }
+        } else if (mdl->kind == GF_NODE_KIND_LINEAR && lin->generated &&
+                   strcmp(key, "prior_mean") != 0 &&
+                   strcmp(key, "prior_cov") != 0 && strcmp(key, "gate") != 0 &&
+                   strcmp(key, "late_window") != 0 && strcmp(key, "dt") != 0) {
+            return fail(err, err_size, line,
+                        "a generated model has no %s (its library gives the "
+                        "states, the motion and the sensors)",
+                        key);
+        } else if (mdl->kind == GF_NODE_KIND_LINEAR && lin->generated &&
+                   lin->gen == NULL) {
+            return fail(err, err_size, line, "model %s: library before %s",
+                        mdl->name, key);
         } else if (strcmp(key, "states") == 0 || strcmp(key, "units") == 0) {
             if (state_words(mdl, lin, key, val, line, err, err_size) != 0) {
                 return -1;
@@ -1566,9 +1870,23 @@ int gf_node_config_load(gf_node_config *cfg, const char *path, char *err,
     }
     fclose(f);
     text[n] = '\0';
+    {
+        const char *slash = strrchr(path, '/');
+        size_t len = slash != NULL ? (size_t)(slash - path) : 0u;
+        if (slash == path) {
+            len = 1; // the root
+        }
+        if (slash != NULL && len < sizeof config_dir) {
+            memcpy(config_dir, path, len);
+            config_dir[len] = '\0';
+        } else {
+            config_dir[0] = '\0';
+        }
+    }
     rc = gf_node_config_parse(cfg, text, err, err_size);
+    config_dir[0] = '\0';
     if (rc != 0) {
-        char where[256];
+        char where[512];
         snprintf(where, sizeof where, "%s", err);
         snprintf(err, err_size, "%s: %s", path, where);
     }
@@ -1581,6 +1899,11 @@ void gf_node_config_free(gf_node_config *cfg)
     for (i = 0; i < cfg->count; i++) {
         if (cfg->has_regex[i]) {
             regfree(&cfg->regex[i]);
+        }
+    }
+    for (i = 0; i < cfg->count; i++) {
+        if (cfg->generated[i].handle != NULL) {
+            (void)dlclose(cfg->generated[i].handle);
         }
     }
     memset(cfg, 0, sizeof(*cfg));

@@ -120,6 +120,52 @@ typedef struct gf_node_sensors {
     gf_node_sensor s[GF_NODE_SENSORS];
 } gf_node_sensors;
 
+// A generated model (type = generated): the descriptor that
+// gaussfilt.codegen writes (NAME_model.h declares the same types under the
+// same guard), read from a shared object built from the generated C with
+// -DGF_CODEGEN_EXPORT, which defines gf_codegen_exported.
+#ifndef GF_CODEGEN_MODEL_DEFINED
+#define GF_CODEGEN_MODEL_DEFINED
+typedef struct gf_codegen_sensor {
+    const char *name;
+    unsigned m;
+    unsigned angle_mask;           // quantities that are angles
+    const char *const *quantities; // m names
+    gf_ekf_meas_fn h;
+    void (*Q)(const gf_real *params, gf_real *Q); // m x m
+} gf_codegen_sensor;
+
+typedef struct gf_codegen_model {
+    unsigned version; // 1
+    const char *name;
+    unsigned n, nu, nparams;
+    unsigned angles; // the states that are angles
+    const char *const *states, *const *units, *const *inputs,
+        *const *params;
+    gf_ekf_motion_fn g;
+    void (*R)(const gf_real *params, gf_real dt, gf_real *R); // n x n
+    unsigned nsensors;
+    const gf_codegen_sensor *sensors;
+} gf_codegen_model;
+
+#define GF_CODEGEN_EXPORT_VERSION 1u
+typedef struct gf_codegen_export {
+    unsigned version;   // GF_CODEGEN_EXPORT_VERSION
+    unsigned real_size; // sizeof(gf_real): 4 float, 8 double
+    const gf_codegen_model *model;
+} gf_codegen_export;
+#endif
+
+// The most parameters of a generated model.
+#define GF_NODE_PARAMS 32
+
+typedef struct gf_node_generated {
+    void *handle;                // dlopen's (NULL in a model based on it)
+    const gf_codegen_model *desc; // the library's descriptor
+    char path[256];              // the library, as the configuration names it
+    gf_real params[GF_NODE_PARAMS]; // its callbacks' ctx (params = ...)
+} gf_node_generated;
+
 // A linear model's numbers, row-major (rows of n; B rows of nu, C and Q
 // rows of n and m). axes > 0: A and R are built from dt and accel_var per
 // axis (gf_node_linear_build) when the configuration's section ends.
@@ -135,6 +181,11 @@ typedef struct gf_node_linear {
     unsigned axes;                    // dt-built axes, 0: A and R as given
     unsigned char axis[GF_NODE_NMAX]; // GF_NODE_AXIS_CV or _CA
     double accel_var[GF_NODE_NMAX];   // per axis
+    // type = generated: its library (non-NULL once library = is read); g
+    // and R(dt) from it in place of A, B and R, its sensors' h in place of
+    // C, and the states' names and units from its descriptor
+    int generated;
+    const gf_node_generated *gen;
 } gf_node_linear;
 
 typedef struct gf_node_model {
@@ -259,6 +310,17 @@ gf_status gf_node_meas_range_bearing(void *ctx, const gf_vec3 *mu_bar,
 //   late_window = S       seconds an input may be older than its track's
 //                         time and still get a late status belief (1)
 //
+//   type = generated      a model gaussfilt.codegen wrote (docs/codegen.md):
+//   library = PATH        its shared object (relative to the file's folder),
+//                         built with -DGF_CODEGEN_EXPORT in this node's
+//                         precision; n, the inputs (a control's u), the
+//                         states' names and units and the sensors are its
+//   params = P ...        its parameters, in its order
+//   prior_mean, prior_cov, gate, late_window as above; it runs in time
+//   dt = S                the step before a track's first input (1)
+//   [sensor NAME]         one of its sensors: Q, gate, angles, rate (Q's
+//                         default: the library's)
+//
 //   [sensor NAME]         a named sensor of the model above it (linear or
 //                         robot; at most GF_NODE_SENSORS), measured on
 //                         GF_MEAS_<id>_<NAME>:
@@ -283,6 +345,7 @@ typedef struct gf_node_config {
     regex_t regex[GF_NODE_CONFIG_MODELS];
     char channels[GF_NODE_CONFIG_MODELS][128];
     gf_node_sensors sensors[GF_NODE_CONFIG_MODELS]; // model[i].sensors
+    gf_node_generated generated[GF_NODE_CONFIG_MODELS]; // linear[i].gen
 } gf_node_config;
 
 // Reads a configuration from text (NUL-terminated). Returns 0, or -1 with
@@ -294,7 +357,8 @@ int gf_node_config_parse(gf_node_config *cfg, const char *text, char *err,
 int gf_node_config_load(gf_node_config *cfg, const char *path, char *err,
                         size_t err_size);
 
-// Frees the compiled patterns. A configuration's models point into it:
+// Frees the compiled patterns and closes the generated models' libraries
+// (after a failed parse too). A configuration's models point into it:
 // it must not move while they are used.
 void gf_node_config_free(gf_node_config *cfg);
 

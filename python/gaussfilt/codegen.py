@@ -510,6 +510,18 @@ def _header(model, N, n, nu, npar, angles, sensors, ops, origin):
          "    unsigned nsensors;",
          "    const gf_codegen_sensor *sensors;",
          "} gf_codegen_model;",
+         "",
+         "// The descriptor under a fixed name, for a program that loads the",
+         "// model from a shared object (gf_node's type = generated): the",
+         "// export's version, the size of the gf_real it was built with, and",
+         "// the descriptor. Defined when the C is built with",
+         "// -DGF_CODEGEN_EXPORT (one model per shared object).",
+         "#define GF_CODEGEN_EXPORT_VERSION 1u",
+         "typedef struct gf_codegen_export {",
+         "    unsigned version;   // GF_CODEGEN_EXPORT_VERSION",
+         "    unsigned real_size; // sizeof(gf_real): 4 float, 8 double",
+         "    const gf_codegen_model *model;",
+         "} gf_codegen_export;",
          "#endif",
          "",
          "// The motion: mu_bar = g(mu, u, dt) and G = dg/dx (gf_ekf_motion_fn;",
@@ -530,6 +542,9 @@ def _header(model, N, n, nu, npar, angles, sensors, ops, origin):
                  % (name, s[0]))
     L += ["// The descriptor.",
           "const gf_codegen_model *%s_model(void);" % name,
+          "#ifdef GF_CODEGEN_EXPORT",
+          "extern const gf_codegen_export gf_codegen_exported;",
+          "#endif",
           "",
           "#ifdef __cplusplus",
           "}",
@@ -631,6 +646,12 @@ def _source(model, N, n, nu, npar, angles, sensors, g_lines, r_lines, origin):
           "{",
           "    return &%s_descriptor;" % name,
           "}",
+          "",
+          "#ifdef GF_CODEGEN_EXPORT",
+          "const gf_codegen_export gf_codegen_exported = {",
+          "    GF_CODEGEN_EXPORT_VERSION, (unsigned)sizeof(gf_real), "
+          "&%s_descriptor};" % name,
+          "#endif",
           ""]
     return "\n".join(L)
 
@@ -818,6 +839,7 @@ def build(model: Model, workdir: Union[str, "os.PathLike[str]"],
     tag = "f32" if dt_ == np.float32 else "f64"
     lib = pathlib.Path(workdir) / ("lib%s_%s.so" % (model.name, tag))
     cmd = [cc, "-std=c99", "-O2", "-ffp-contract=off", "-fPIC", "-shared",
+           "-DGF_CODEGEN_EXPORT",
            "-Wall", "-Wextra", "-Werror", "-I", str(base / "include"),
            str(c), str(base / "src" / "angle.c"), "-o", str(lib)]
     if dt_ == np.float32:

@@ -76,13 +76,16 @@ def test_the_c_compiles_under_the_strict_flags(tmp_path, cc, prec):
     code = "\n".join(ln.split("//")[0] for ln in text.splitlines())
     code = re.sub(r'"[^"]*"', '""', code)
     calls = set(re.findall(r"\b([A-Za-z_0-9]+)\(", code))
-    assert calls <= {"GF_R", "GF_SQRT", "gf_sincos", "bicycle_g",
+    assert calls <= {"GF_R", "GF_SQRT", "gf_sincos", "sizeof", "bicycle_g",
                      "bicycle_R", "bicycle_model", "bicycle_Q_gps",
                      "bicycle_Q_compass", "bicycle_Q_wheel", "bicycle_Q_range",
                      "bicycle_h_gps", "bicycle_h_compass", "bicycle_h_wheel",
                      "bicycle_h_range"}, calls
     compile_strict(c, tmp_path / "m.o", cc,
                    ["-DGF_SINGLE_PRECISION"] if prec == "float" else [])
+    # with the descriptor exported under its fixed name (gf_node loads it)
+    compile_strict(c, tmp_path / "e.o", cc, ["-DGF_CODEGEN_EXPORT"] + (
+        ["-DGF_SINGLE_PRECISION"] if prec == "float" else []))
 
 
 def test_the_c_compiles_for_the_cortex_m4f(tmp_path):
@@ -212,6 +215,15 @@ def test_the_descriptor_can_be_read(tmp_path):
     assert [(d.sensors[i].name, d.sensors[i].m, d.sensors[i].angle_mask)
             for i in range(d.nsensors)] == [(b"gps", 2, 0), (b"compass", 1, 1),
                                            (b"wheel", 1, 0), (b"range", 1, 0)]
+
+    # the same descriptor under the fixed name a loader finds (gf_node's
+    # type = generated), with the export's version and gf_real's size
+    class Export(ctypes.Structure):
+        _fields_ = [("version", ctypes.c_uint), ("real_size", ctypes.c_uint),
+                    ("model", ctypes.POINTER(Desc))]
+    ex = Export.in_dll(b._lib, "gf_codegen_exported")
+    assert (ex.version, ex.real_size) == (1, 8)
+    assert ctypes.addressof(ex.model.contents) == ctypes.addressof(d)
 
 
 @pytest.mark.parametrize("dtype", ["float32", "float64"])

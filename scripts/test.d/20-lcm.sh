@@ -27,7 +27,7 @@ elif ! command -v javac >/dev/null; then
     echo "lcm: no JDK here: the Java types jar and its test are skipped" \
         "(sudo apt-get install default-jdk-headless)"
 fi
-gf_lcm_setup 'matplotlib>=3.5' numpy # examples/beliefs.py --plot
+gf_lcm_setup 'matplotlib>=3.5' numpy 'sympy>=1.9' # beliefs.py --plot; codegen
 gf_log "lcm: configure and build sim/ (LCM from $GF_LCM_CMAKE_DIR)"
 gf_lcm_build "$GF_BUILD/sim"
 gf_log "lcm: ctest (message types, node, models, memq, udpm)"

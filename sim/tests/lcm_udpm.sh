@@ -67,6 +67,17 @@
 #              now, and its inputs' beliefs are a replay's without --rate;
 #              a sensor 0.1 s late (late) and one 0.5 s late (too_old),
 #              a status belief each, counted exactly
+#   generated  the kinematic bicycle written by gaussfilt.codegen
+#              (gen_bicycle.py), built into a shared object and loaded by
+#              the node (type = generated): a missing library, one of the
+#              other precision, without the export or of another
+#              descriptor version, params, prior, sensor and Q of the
+#              wrong size, a linear key: each refused naming the file and
+#              the line; 50 runs of 10 s over udpm, every input applied,
+#              the states named from the library; NEES and NIS per sensor
+#              (gf_nees.py) and over all updates inside their 95% bounds;
+#              the inputs replayed through a node give the live beliefs
+#              byte for byte
 #   silence    nothing wrong in silence: a simulator sends m = 2 to a
 #              track whose model measures m = 3: every measurement
 #              bad_field, each with its status belief on the wire, said
@@ -602,6 +613,160 @@ PY
     expect applied $((2 * 3 * 775 - 3 * 24 - 3 * 10 - 3 * 239))
     expect published $((2 * 3 * 775 + 6))
     expect gaps 0
+    ;;
+generated)
+    # The kinematic bicycle of docs/codegen.md, written by gaussfilt.codegen
+    # (gen_bicycle.py, SymPy from the venv) and built as docs/codegen.md
+    # says: a shared object with -DGF_CODEGEN_EXPORT, in double as the node
+    py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
+    root=$(cd "$(dirname "$0")/../.." && pwd)
+    gen=$work/gen
+    "$py" "$(dirname "$0")/gen_bicycle.py" write "$root" "$gen" >/dev/null
+    build_lib() { # OUT [FLAGS...]
+        local out=$1
+        shift
+        cc -std=c99 -O2 -ffp-contract=off -fPIC -shared -Wall -Wextra \
+            -Werror "$@" -I "$root/include" "$gen/bicycle_model.c" \
+            "$root/src/angle.c" -o "$gen/$out"
+    }
+    build_lib libbicycle.so -DGF_CODEGEN_EXPORT
+    build_lib libbicycle-f32.so -DGF_CODEGEN_EXPORT -DGF_SINGLE_PRECISION
+    build_lib libbicycle-hidden.so
+    sed 's/^    1u, "bicycle"/    2u, "bicycle"/' "$gen/bicycle_model.c" \
+        >"$gen/v2.c"
+    grep -q '^    2u, "bicycle"' "$gen/v2.c"
+    cc -std=c99 -fPIC -shared -DGF_CODEGEN_EXPORT -I "$root/include" \
+        -I "$gen" "$gen/v2.c" "$root/src/angle.c" -o "$gen/libbicycle-v2.so"
+    # bicycle.conf: its library named relative to the file's folder, the
+    # sensors' Q the library's (the messages carry q of zeros)
+    conf_with() { # EXTRA-LINES [LIBRARY]
+        printf '[model bicycle]\ntype = generated\n'
+        printf 'channels = GF_(MEAS|CTRL|MODEL)_8[0-9][0-9]\n'
+        printf 'library = %s\nparams = 2.5\ndt = 0.1\n' "${2:-libbicycle.so}"
+        printf 'prior_mean = 0 0 0 2 0\nprior_cov = 1 1 0.01 0.25 0.0004\n'
+        printf '%s\n' "$1"
+    }
+    conf_with '[sensor gps]
+gate = 0' >"$gen/bicycle.conf"
+    # configuration errors: the file, the line, what is wrong
+    refused() { # WHAT MESSAGE-REGEX
+        local rc=0
+        "$bin/gf_node" --config "$gen/bad.conf" --url "$URL" \
+            >"$work/bad.out" 2>&1 || rc=$?
+        [ "$rc" -eq 2 ] && grep -Eq "^gf_node: $gen/bad.conf: $2" "$work/bad.out" ||
+            { cat "$work/bad.out"; echo "lcm_udpm: $1 not refused as expected (exit $rc)" >&2; exit 1; }
+        echo "lcm_udpm: $1: $(cat "$work/bad.out")"
+    }
+    conf_with '' nowhere.so >"$gen/bad.conf"
+    refused "a missing library" "line 4: model bicycle: library does not load: $gen/nowhere.so: .*No such file"
+    conf_with '' libbicycle-f32.so >"$gen/bad.conf"
+    refused "a float library" "line 4: model bicycle: library $gen/libbicycle-f32.so is built with gf_real of 4 bytes, this node with 8 \(build it without -DGF_SINGLE_PRECISION\)"
+    conf_with '' libbicycle-hidden.so >"$gen/bad.conf"
+    refused "a library without the export" "line 4: model bicycle: library $gen/libbicycle-hidden.so has no gf_codegen_exported \(build gaussfilt.codegen's C with -DGF_CODEGEN_EXPORT\)"
+    conf_with '' libbicycle-v2.so >"$gen/bad.conf"
+    refused "another descriptor version" "line 4: model bicycle: library $gen/libbicycle-v2.so: descriptor version 2 \(export 1\), this node reads 1 \(export 1\)"
+    conf_with 'params = 2.5 1' >"$gen/bad.conf"
+    refused "params of the wrong count" "line 9: model bicycle: params takes 1 number, its library's parameters \(L\) in order"
+    conf_with 'prior_mean = 0 0 0 2' >"$gen/bad.conf"
+    refused "a prior of n = 4" "line 9: prior_mean takes 5 numbers"
+    conf_with '[sensor lidar]' >"$gen/bad.conf"
+    refused "a sensor the library has not" "line 9: model bicycle: its library has no sensor lidar \(it has: gps compass wheel\)"
+    conf_with '[sensor gps]
+Q = 1 2 3' >"$gen/bad.conf"
+    refused "a Q of m = 3 for the GPS" "line 10: Q takes 2 or 4 numbers \(m = 2\)"
+    conf_with 'A = 1 0 0 0 0' >"$gen/bad.conf"
+    refused "a linear key" "line 9: a generated model has no A \(its library gives the states, the motion and the sensors\)"
+    printf '[model b]\ntype = generated\nchannels = GF_MEAS_1\nprior_cov = 1\n' >"$gen/bad.conf"
+    refused "a key before the library" "line 4: model b: library before prior_cov"
+    # 50 runs of 10 s streamed over udpm to the node (and into a log, the
+    # same bytes): a control, the truth, the compass and the wheel speed
+    # every 0.1 s, the GPS every second
+    chans='GF_(MEAS|CTRL|MODEL)_8[0-9][0-9](_[A-Za-z0-9]+)?'
+    runs=50
+    start node "$bin/gf_node" --config "$gen/bicycle.conf" --strict \
+        --name bike --url "$URL&recv_buf_size=4194304" --channels "$chans" \
+        --out-url "file://$work/beliefs-live.lcmlog?mode=w"
+    ready node
+    "$py" "$(dirname "$0")/gen_bicycle.py" sim "$gen/libbicycle.so" "$URL" \
+        "$work/inputs.lcmlog" --first 800 --runs $runs --steps 100 --seed 7
+    stop_node
+    expect received $((runs * 310))
+    expect applied $((runs * 310))
+    expect gaps 0
+    expect dropped 0
+    expect tracks $runs
+    expect gated 0
+    grep -q "track 800 (generated, gf_ekf: x (m), y (m), theta (rad), v (m/s), delta (rad) from libbicycle.so): model bicycle" "$work/node.out" ||
+        { echo "lcm_udpm: the node did not name the bicycle's states" >&2; exit 1; }
+    # NEES and NIS per sensor (scripts/nees's tool), inside their 95% bounds
+    tools=$(cd "$(dirname "$0")/../tools" && pwd)
+    "$py" "$tools/gf_nees.py" "$work/inputs.lcmlog" \
+        "$work/beliefs-live.lcmlog" >"$work/nees.out" ||
+        { tail -n 5 "$work/nees.out"; echo "lcm_udpm: gf_nees.py calls the bicycle inconsistent" >&2; exit 1; }
+    for spec in compass:1:100 wheel:1:100 gps:2:10; do
+        s=${spec%%:*} m=${spec#*:} k=${spec##*:} m=${m%:*}
+        grep -E "^all $runs linear tracks \(n=5, m=$m, sensor $s\): $((runs * k)) updates \(0 gated, 0 missing of $((runs * k)) measurements\): NEES [0-9.]+ \(95% bounds [0-9.]+\.\.[0-9.]+, inside\); NIS [0-9.]+ \(95% bounds [0-9.]+\.\.[0-9.]+, inside\)$" \
+            "$work/nees.out" ||
+            { grep "^all" "$work/nees.out"; echo "lcm_udpm: the bicycle's $s is not judged consistent" >&2; exit 1; }
+    done
+    # and over all updates: the NIS summed over every update against
+    # chi-square of the summed m, the NEES of every update against n
+    "$py" - "$work/inputs.lcmlog" "$work/beliefs-live.lcmlog" <<'PY'
+import math
+import sys
+
+import lcm
+import numpy as np
+from gaussfilt_lcm import belief_t, groundtruth_t
+
+truth = {}
+for e in lcm.EventLog(sys.argv[1], "r"):
+    if e.channel.startswith("GF_TRUTH_"):
+        g = groundtruth_t.decode(e.data)
+        truth[(g.track, g.utime)] = np.array(g.state)
+nis, dof, nees, n_upd = 0.0, 0, {}, 0
+for e in lcm.EventLog(sys.argv[2], "r"):
+    if not e.channel.startswith("GF_BELIEF_"):
+        continue
+    b = belief_t.decode(e.data)
+    if b.stage != belief_t.STAGE_UPDATE:
+        continue
+    assert b.status == 0, (b.track, b.seq, b.status)
+    m = {"gps": 2}.get(b.sensor, 1)
+    nis += b.nis
+    dof += m
+    n_upd += 1
+    err = truth[(b.track, b.utime)] - np.array(b.mean)
+    P = np.array([list(r) for r in b.cov])
+    nees.setdefault(b.track, []).append(err @ np.linalg.solve(P, err))
+
+
+def bounds(k, N):  # the 95% interval of the mean of N chi2(k) samples
+    def q(z):
+        a = 2.0 / (9.0 * k * N)
+        return k * N * (1.0 - a + z * math.sqrt(a)) ** 3 / N
+    return q(-1.959964), q(1.959964)
+
+
+lo, hi = bounds(dof / n_upd, n_upd)
+m_nis = nis / n_upd
+runs = len(nees)
+m_nees = float(np.mean([np.mean(v) for v in nees.values()]))
+lo_e, hi_e = bounds(5, runs)
+print("lcm_udpm: the bicycle over all %d updates of %d runs: NIS %.3f per "
+      "update (95%% bounds %.3f..%.3f), NEES %.3f (95%% bounds %.3f..%.3f)"
+      % (n_upd, runs, m_nis, lo, hi, m_nees, lo_e, hi_e))
+assert n_upd == 50 * 210 and runs == 50
+assert lo <= m_nis <= hi and lo_e <= m_nees <= hi_e
+PY
+    # the same inputs replayed through a node: the live beliefs, byte for
+    # byte (a belief per input and each track's first)
+    "$bin/gf_node" --config "$gen/bicycle.conf" --strict --name bike \
+        --channels "$chans" --url "file://$work/inputs.lcmlog?speed=0" \
+        --out-url "file://$work/beliefs-replay.lcmlog?mode=w" >"$work/replay.out"
+    tail -n 1 "$work/replay.out"
+    "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect $((runs * 311)) \
+        "$work/beliefs-live.lcmlog" "$work/beliefs-replay.lcmlog"
     ;;
 silence)
     py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
