@@ -19,8 +19,10 @@ seconds): the mean, its 2-sigma band, and the true state when the
 simulator's groundtruth_t (GF_TRUTH_<track>) is on the wire too. Each
 state is labelled with its name and unit: from --config, the gf_node
 configuration whose model the track runs (its states = and units = lines,
-or the axes of its motion = line: x vx y vy for cv cv); else the car's
-(position, velocity) and the robot's (x, y, theta in rad); else x0, x1, ...
+or the axes of its motion = line: x vx y vy for cv cv, or for type =
+generated the names and units its library's descriptor gives); else the
+car's (position, velocity) and the robot's (x, y, theta in rad); else x0,
+x1, ...
 
 With --status it prints the nodes' status messages instead (node_status_t
 on GF_NODE_STATUS, once a second from every node): a line per status
@@ -36,6 +38,7 @@ Ctrl-C.
 """
 import argparse
 import math
+import os
 import re
 import select
 import sys
@@ -46,7 +49,7 @@ from gaussfilt_lcm import belief_t
 STAGES = {0: "init", 1: "predict", 2: "update"}
 TRUTH = "GF_TRUTH_"
 # measurement_t.MODEL_*: a configuration's type, and the presets' states
-KINDS = {"car": 1, "robot": 2, "linear": 3}
+KINDS = {"car": 1, "robot": 2, "linear": 3, "generated": 3}
 PRESET = {1: (["position", "velocity"], ["", ""]),
           2: (["x", "y", "theta"], ["", "", "rad"])}
 
@@ -84,6 +87,34 @@ def axis_states(motion):
     return names
 
 
+def library_states(path):
+    """The states' names and units of a generated model's library
+    (type = generated, library = PATH: its gf_codegen_exported, as
+    gaussfilt.codegen writes it), or ([], []) if it cannot be read."""
+    import ctypes
+
+    class Model(ctypes.Structure):  # gf_codegen_model's first fields
+        _fields_ = [("version", ctypes.c_uint), ("name", ctypes.c_char_p),
+                    ("n", ctypes.c_uint), ("nu", ctypes.c_uint),
+                    ("nparams", ctypes.c_uint), ("angles", ctypes.c_uint),
+                    ("states", ctypes.POINTER(ctypes.c_char_p)),
+                    ("units", ctypes.POINTER(ctypes.c_char_p))]
+
+    class Export(ctypes.Structure):
+        _fields_ = [("version", ctypes.c_uint), ("real_size", ctypes.c_uint),
+                    ("model", ctypes.POINTER(Model))]
+    try:
+        ex = Export.in_dll(ctypes.CDLL(os.path.abspath(path)),
+                           "gf_codegen_exported")
+    except (OSError, ValueError):
+        return [], []
+    if ex.version != 1 or not ex.model or ex.model.contents.version != 1:
+        return [], []
+    d = ex.model.contents
+    return ([d.states[i].decode() for i in range(d.n)],
+            [d.units[i].decode() for i in range(d.n)])
+
+
 def state_labels(config, track, model, n):
     """'name (unit)' of each of the n states of a track of this model
     (measurement_t.MODEL_*): the configured model whose channels name the
@@ -95,6 +126,11 @@ def state_labels(config, track, model, n):
                 re.fullmatch(ch, "GF_%s_%d" % (k, track))
                 for k in ("MEAS", "CTRL")):
             continue
+        if keys.get("type") == "generated" and "library" in keys:
+            # named by its library (relative to the configuration's folder)
+            names, units = library_states(os.path.join(
+                os.path.dirname(os.path.abspath(config)), keys["library"]))
+            break
         if "states" in keys or "motion" in keys:
             names = keys["states"].split() if "states" in keys else \
                 axis_states(keys["motion"])

@@ -767,6 +767,14 @@ int main(int argc, char **argv)
             fprintf(stderr, "gf_sim: --runs 1..%d\n", MAX_RUNS);
             return 2;
         }
+        if (mdl->lin != NULL && mdl->lin->generated) {
+            fprintf(stderr,
+                    "gf_sim: model %s is generated (type = generated): "
+                    "gf_sim does not simulate it (docs/codegen.md, \"In "
+                    "the node\")\n",
+                    model_name);
+            return 2;
+        }
         s.model = mdl->kind;
         sensors = mdl->kind == MODEL_LINEAR && mdl->sensors != NULL &&
                   mdl->sensors->count > 0;

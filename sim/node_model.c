@@ -940,15 +940,17 @@ static int generated_load(gf_node_config *cfg, gf_node_model *mdl,
         return fail(err, size, line,
                     "model %s: library %s: descriptor version %u (export %u), "
                     "this node reads 1 (export %u): generate it again",
-                    mdl->name, full, ex->model != NULL ? ex->model->version : 0u,
-                    ex->version, GF_CODEGEN_EXPORT_VERSION);
+                    mdl->name, full,
+                    ex->model != NULL ? ex->model->version : 0u, ex->version,
+                    GF_CODEGEN_EXPORT_VERSION);
     }
     if (ex->real_size != (unsigned)sizeof(gf_real)) {
         return fail(err, size, line,
                     "model %s: library %s is built with gf_real of %u bytes, "
                     "this node with %u (%s -DGF_SINGLE_PRECISION)",
                     mdl->name, full, ex->real_size, (unsigned)sizeof(gf_real),
-                    sizeof(gf_real) == 4 ? "build it with" : "build it without");
+                    sizeof(gf_real) == 4 ? "build it with"
+                                         : "build it without");
     }
     d = ex->model;
     if (d->n < 1 || d->n > GF_NODE_NMAX || d->nu + 1u > GF_NODE_NMAX) {
@@ -1560,8 +1562,8 @@ static int parse(gf_node_config *cfg, const char *text, char *err,
                     const gf_node_sensor *got = gf_node_model_sensor(mdl, name);
                     if (got == NULL) {
                         char names[160] = "";
-                        for (unsigned k = 0; mdl->sensors != NULL &&
-                                             k < mdl->sensors->count;
+                        for (unsigned k = 0;
+                             mdl->sensors != NULL && k < mdl->sensors->count;
                              k++) {
                             size_t used = strlen(names);
                             snprintf(names + used, sizeof names - used, "%s%s",

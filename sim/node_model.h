@@ -140,8 +140,7 @@ typedef struct gf_codegen_model {
     const char *name;
     unsigned n, nu, nparams;
     unsigned angles; // the states that are angles
-    const char *const *states, *const *units, *const *inputs,
-        *const *params;
+    const char *const *states, *const *units, *const *inputs, *const *params;
     gf_ekf_motion_fn g;
     void (*R)(const gf_real *params, gf_real dt, gf_real *R); // n x n
     unsigned nsensors;
@@ -160,9 +159,9 @@ typedef struct gf_codegen_export {
 #define GF_NODE_PARAMS 32
 
 typedef struct gf_node_generated {
-    void *handle;                // dlopen's (NULL in a model based on it)
+    void *handle;                 // dlopen's (NULL in a model based on it)
     const gf_codegen_model *desc; // the library's descriptor
-    char path[256];              // the library, as the configuration names it
+    char path[256];               // the library, as the configuration names it
     gf_real params[GF_NODE_PARAMS]; // its callbacks' ctx (params = ...)
 } gf_node_generated;
 
@@ -344,7 +343,7 @@ typedef struct gf_node_config {
     int has_regex[GF_NODE_CONFIG_MODELS];
     regex_t regex[GF_NODE_CONFIG_MODELS];
     char channels[GF_NODE_CONFIG_MODELS][128];
-    gf_node_sensors sensors[GF_NODE_CONFIG_MODELS]; // model[i].sensors
+    gf_node_sensors sensors[GF_NODE_CONFIG_MODELS];     // model[i].sensors
     gf_node_generated generated[GF_NODE_CONFIG_MODELS]; // linear[i].gen
 } gf_node_config;
 

@@ -74,7 +74,8 @@
 #              descriptor version, params, prior, sensor and Q of the
 #              wrong size, a linear key: each refused naming the file and
 #              the line; 50 runs of 10 s over udpm, every input applied,
-#              the states named from the library; NEES and NIS per sensor
+#              the states named from the library (by the node, and by
+#              scripts/plot's tool); NEES and NIS per sensor
 #              (gf_nees.py) and over all updates inside their 95% bounds;
 #              the inputs replayed through a node give the live beliefs
 #              byte for byte
@@ -759,6 +760,12 @@ print("lcm_udpm: the bicycle over all %d updates of %d runs: NIS %.3f per "
 assert n_upd == 50 * 210 and runs == 50
 assert lo <= m_nis <= hi and lo_e <= m_nees <= hi_e
 PY
+    # scripts/plot's tool names the states from the library
+    "$py" "$tools/gf_track.py" "$work/inputs.lcmlog" \
+        "$work/beliefs-live.lcmlog" --track 807 --config "$gen/bicycle.conf" \
+        --out "$work/track_807.png" | tee "$work/plot.out"
+    grep -qx "drew $work/track_807.png (track 807: 311 beliefs, 100 truths): x (m), y (m), theta (rad), v (m/s), delta (rad)" "$work/plot.out" ||
+        { echo "lcm_udpm: the plot does not name the bicycle's states" >&2; exit 1; }
     # the same inputs replayed through a node: the live beliefs, byte for
     # byte (a belief per input and each track's first)
     "$bin/gf_node" --config "$gen/bicycle.conf" --strict --name bike \
