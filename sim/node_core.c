@@ -1627,8 +1627,10 @@ static gf_node_result handle_ctrl(gf_node *node, int32_t id, const node_ctrl *c,
             }
             return refuse_field(node, id, SAY_SIZE_N, &in, 0,
                                 "a control has n = %d, its model %s takes n "
-                                "= 0 or %u (B's columns)",
-                                (int)c->n, mdl->name, mdl->lin->nu);
+                                "= 0 or %u (%s)",
+                                (int)c->n, mdl->name, mdl->lin->nu,
+                                mdl->lin->gen != NULL ? "its inputs"
+                                                      : "B's columns");
         }
     } else if (c->model == MODEL_CAR ? (c->n != 0 && c->n != 2) : c->n != 2) {
         return refuse_field(node, id, SAY_SIZE_N, &in, 0,

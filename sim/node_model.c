@@ -1056,17 +1056,18 @@ static int generated_params(gf_node_model *mdl, gf_node_linear *lin,
         }
         gen->params[k] = (gf_real)v[k];
     }
+    gen->has_params = 1;
     return 0;
 }
 
 // The end of a generated model's section: its library read, its params
-// given, and each sensor's Q the library's unless the section gave one.
+// given (here or by its base), and each sensor's Q the library's unless
+// the configuration gave one (a Q of zeros: none, as a message's q).
 static int generated_finish(const gf_node_model *mdl, const gf_node_linear *lin,
-                            const section *sec, const section *ssec, char *err,
+                            gf_node_sensors *set, const section *sec, char *err,
                             size_t size)
 {
     const gf_codegen_model *d = lin->gen != NULL ? lin->gen->desc : NULL;
-    gf_node_sensors *set = (gf_node_sensors *)(uintptr_t)mdl->sensors;
     gf_real Q[GF_NODE_NMAX * GF_NODE_NMAX];
     unsigned k, j;
     if (d == NULL) {
@@ -1074,7 +1075,7 @@ static int generated_finish(const gf_node_model *mdl, const gf_node_linear *lin,
                     "model %s: a generated model needs library = PATH",
                     mdl->name);
     }
-    if (d->nparams > 0 && key_line(sec, "params", 6) == 0) {
+    if (d->nparams > 0 && !lin->gen->has_params) {
         return fail(err, size, sec->start,
                     "model %s: params = ... (%u numbers: its library's "
                     "parameters)",
@@ -1082,7 +1083,11 @@ static int generated_finish(const gf_node_model *mdl, const gf_node_linear *lin,
     }
     for (k = 0; k < set->count; k++) {
         gf_node_sensor *sen = &set->s[k];
-        if (key_line(&ssec[k], "Q", 1) || key_line(&ssec[k], "meas_cov", 8)) {
+        int given = 0;
+        for (j = 0; j < sen->m * sen->m; j++) {
+            given |= fabs(sen->Q[j]) > 0.0;
+        }
+        if (given) {
             continue;
         }
         d->sensors[k].Q(lin->gen->params, Q);
@@ -1103,7 +1108,8 @@ static int finish(gf_node_config *cfg, const section *sec, const section *ssec,
     const char *why = NULL;
     char re[160];
     if (mdl->kind == GF_NODE_KIND_LINEAR && cfg->linear[i].generated) {
-        if (generated_finish(mdl, &cfg->linear[i], sec, ssec, err, size) != 0) {
+        if (generated_finish(mdl, &cfg->linear[i], &cfg->sensors[i], sec, err,
+                             size) != 0) {
             return -1;
         }
     } else if (mdl->kind == GF_NODE_KIND_LINEAR) {
@@ -1635,6 +1641,7 @@ static int parse(gf_node_config *cfg, const char *text, char *err,
             strcpy(mdl->name, name);
             mdl->late_window = GF_NODE_LATE_WINDOW;
             memset(&sec, 0, sizeof(sec));
+            memset(ssec, 0, sizeof(ssec));
             sec.start = line;
             start[cfg->count - 1] = line;
             continue;

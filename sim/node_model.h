@@ -163,6 +163,7 @@ typedef struct gf_node_generated {
     const gf_codegen_model *desc; // the library's descriptor
     char path[256];               // the library, as the configuration names it
     gf_real params[GF_NODE_PARAMS]; // its callbacks' ctx (params = ...)
+    int has_params;                 // params given
 } gf_node_generated;
 
 // A linear model's numbers, row-major (rows of n; B rows of nu, C and Q

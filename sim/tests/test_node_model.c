@@ -179,7 +179,27 @@ static void config_errors(void **state)
         const char *text, *err;
     } bad[] = {
         {"dt = 1\n", "line 1: a key before the first [model NAME]"},
-        {"[model a]\ntype = boat\n", "line 2: type is car, robot or linear"},
+        {"[model a]\ntype = boat\n",
+         "line 2: type is car, robot, linear or generated"},
+        // a generated model: its library first, then what it sizes
+        {"[model a]\ntype = generated\nchannels = GF_MEAS_1\n",
+         "line 1: model a: a generated model needs library = PATH"},
+        {"[model a]\ntype = generated\nprior_mean = 0\n",
+         "line 3: model a: library before prior_mean"},
+        {"[model a]\ntype = generated\nparams = 1\n",
+         "line 3: model a: library before params"},
+        {"[model a]\ntype = generated\nmotion = cv\n",
+         "line 3: a generated model has no motion (its library gives the "
+         "states, the motion and the sensors)"},
+        {"[model a]\ntype = generated\n[sensor gps]\n",
+         "line 3: model a: its library has no sensor gps (it has: none: "
+         "library first)"},
+        {"[model a]\ntype = generated\nlibrary = ./no/such.so\n",
+         "line 3: model a: library does not load: ././no/such.so: cannot "
+         "open shared object file: No such file or directory"},
+        {"[model a]\ntype = linear\nn = 1\nC = 1\nchannels = GF_MEAS_1\n"
+         "[model b]\nbase = a\ntype = generated\n",
+         "line 8: model b: type generated after the type of its base"},
         {"[model a]\ndt = 1\n", "line 2: type or base first"},
         {"[model a]\ntype = car\nspeed = 3\n", "line 3: unknown key speed"},
         {"[model a]\ntype = car\ndt = 0\n",
@@ -201,7 +221,7 @@ static void config_errors(void **state)
         {"[model a]\ntype = car\ndt = 1x\n", "line 3: dt takes 1 number"},
     };
     gf_node_config cfg;
-    char err[160];
+    char err[256];
     unsigned i;
     (void)state;
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -587,7 +607,7 @@ static const char linear_conf[] =
 static void linear_config(void **state)
 {
     static gf_node_config cfg;
-    char err[160];
+    char err[256];
     const gf_node_model *m;
     const gf_node_linear *l;
     const double dt = 0.5, h = 0.5 * dt * dt;
@@ -844,7 +864,7 @@ static void linear_reset_and_gates(void **state)
     static gf_node node;
     static catch_ c;
     said_ said;
-    char err[160];
+    char err[256];
     gaussfilt_lcm_model_t mm;
     const gf_wire_belief *b;
     const double far = 100.0, near = 1.0, q = 0.3;
