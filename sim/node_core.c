@@ -1040,7 +1040,8 @@ static gf_node_track *track_get(gf_node *node, int32_t id, int8_t model,
     return track_get_with(node, id, model, utime, NULL, why);
 }
 
-// A track in time: its motion built from dt (see node_core.h).
+// A track in time: its motion built from dt (dt-built axes, or a generated
+// model's g and R(dt); see node_core.h).
 static int timed(const gf_node_track *t)
 {
     return t->model == MODEL_LINEAR &&

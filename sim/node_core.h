@@ -40,11 +40,13 @@
 // (belief_t.sensor).
 //
 // Time: a track whose linear model has dt-built axes (motion = cv|ca|c)
-// is in time: every input first predicts it to its utime, A and R built
-// for the dt since the track's last input (the model's dt before its
-// first), a control with its B u; an input the core refuses leaves the
-// track's belief and time as they were, a gated measurement the
-// prediction to its utime. An input older than the track's time is
+// or is generated (type = generated: gf_ekf with its library's g, R(dt)
+// and sensors' h) is in time: every input first predicts it to its utime,
+// A and R (g and R) built for the dt since the track's last input (the
+// model's dt before its first), a control with its B u (its inputs; a
+// measurement's prediction takes them as zero); an input the core
+// refuses leaves the track's belief and time as they were, a gated
+// measurement the prediction to its utime. An input older than the track's time is
 // late (within the model's late_window: refused, a STATUS_LATE belief) or
 // too_old (refused, no belief); both keep their stream's seq. Other tracks
 // step once per control, and an input whose utime falls is out_of_order.
