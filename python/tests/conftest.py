@@ -50,18 +50,25 @@ def replay_bin():
 @pytest.fixture(scope="session")
 def firmware_replay():
     """The Cortex-M4F replay image (float, -Os) and the QEMU to run it."""
-    need = ["arm-none-eabi-gcc", "arm-none-eabi-objdump", "qemu-system-arm"]
-    missing = [t for t in need if not shutil.which(t)]
-    if missing:
-        msg = "missing %s (scripts/test python installs them)" % " ".join(missing)
-        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
-            pytest.fail(msg)
-        pytest.skip(msg)
+    need_firmware_tools("arm-none-eabi-gcc", "arm-none-eabi-objdump",
+                        "qemu-system-arm")
     r = run(["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
              'GF_FW_VARIANT=replay gf_fw_build cortex-m4f float '
              '-DGF_FW_REPLAY=ON | tail -1'], cwd=ROOT,
             env=dict(os.environ, GF_BUILD=str(BUILD)))
     return pathlib.Path(r.stdout.strip())
+
+
+def need_firmware_tools(*need):
+    """Skips the test (or, with GF_PY_REQUIRE_FIRMWARE=1, fails it) when
+    any of the programs named is missing."""
+    missing = [t for t in need if not shutil.which(t)]
+    if missing:
+        msg = "missing %s (scripts/test python installs them)" % " ".join(
+            missing)
+        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
+            pytest.fail(msg)
+        pytest.skip(msg)
 
 
 def run_export_on_m4f(files, variant):
@@ -70,14 +77,7 @@ def run_export_on_m4f(files, variant):
     image gf_fw_export (float, -Os; firmware/CMakeLists.txt) and runs it on
     QEMU's mps2-an386; returns what it printed. Skips (or, with
     GF_PY_REQUIRE_FIRMWARE=1, fails) without the Arm toolchain and QEMU."""
-    need = ["arm-none-eabi-gcc", "qemu-system-arm"]
-    missing = [t for t in need if not shutil.which(t)]
-    if missing:
-        msg = "missing %s (scripts/test python installs them)" % " ".join(
-            missing)
-        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
-            pytest.fail(msg)
-        pytest.skip(msg)
+    need_firmware_tools("arm-none-eabi-gcc", "qemu-system-arm")
     r = run(["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
              'GF_FW_VARIANT="$0" gf_fw_build cortex-m4f float '
              '-DGF_FW_EXPORT="$1" | tail -1', variant,

@@ -24,7 +24,8 @@ mpmath = pytest.importorskip("mpmath")
 
 import gaussfilt  # noqa: E402
 from gaussfilt import codegen as cg  # noqa: E402
-from conftest import BUILD, ROOT  # noqa: E402
+from conftest import (BUILD, ROOT,  # noqa: E402
+                      need_firmware_tools)
 
 STRICT = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic",
           "-Wdouble-promotion", "-Wconversion", "-Werror"]
@@ -89,8 +90,7 @@ def test_the_c_compiles_under_the_strict_flags(tmp_path, cc, prec):
 
 
 def test_the_c_compiles_for_the_cortex_m4f(tmp_path):
-    if shutil.which("arm-none-eabi-gcc") is None:
-        pytest.skip("no arm-none-eabi-gcc")
+    need_firmware_tools("arm-none-eabi-gcc")
     _, c = cg.write(bicycle(), tmp_path)
     compile_strict(c, tmp_path / "m.o", "arm-none-eabi-gcc",
                    ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard",
@@ -603,14 +603,8 @@ def m4f_counts(sources, variant):
     """Builds examples/gps8_count.c with sources into the Cortex-M4F image
     gf_fw_export (float, -Os) and runs it under QEMU's insncount plugin
     (bench/qemu/m4f.sh's gf_m4f_count): {part: instructions per call}."""
-    need = ["arm-none-eabi-gcc", "arm-none-eabi-nm", "qemu-system-arm"]
-    missing = [t for t in need if not shutil.which(t)]
-    if missing:
-        msg = "missing %s (scripts/test python installs them)" % " ".join(
-            missing)
-        if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
-            pytest.fail(msg)
-        pytest.skip(msg)
+    need_firmware_tools("arm-none-eabi-gcc", "arm-none-eabi-nm",
+                        "qemu-system-arm")
     files = [ROOT / "examples" / "gps8_count.c"] + list(sources)
     r = subprocess.run(
         ["bash", "-c", '. scripts/lib.sh && . scripts/firmware.sh && '
