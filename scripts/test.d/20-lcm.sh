@@ -14,7 +14,9 @@
 # docs/node.md's quick start as written, refusals and the kernel's drops
 # never in silence, the Python example on a replayed
 # log, the Java types decoding a demo-like log and lcm-spy's plugin naming
-# its codes), in a private network namespace when root; and scripts/nees,
+# its codes, a generated model's beliefs byte for byte those of the
+# package's gaussfilt.float64.EKF, so the package is installed here too),
+# in a private network namespace when root; and scripts/nees,
 # scripts/plot and examples/beliefs.py on logs a node replayed (lcm_tools).
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
@@ -27,7 +29,14 @@ elif ! command -v javac >/dev/null; then
     echo "lcm: no JDK here: the Java types jar and its test are skipped" \
         "(sudo apt-get install default-jdk-headless)"
 fi
-gf_lcm_setup 'matplotlib>=3.5' numpy 'sympy>=1.9' # beliefs.py --plot; codegen
+# beliefs.py --plot; codegen; the package's build requirement (numpy too)
+gf_lcm_setup 'matplotlib>=3.5' 'numpy>=1.21' 'sympy>=1.9' 'scikit-build-core>=1.0'
+# the package of this checkout (the generated model's beliefs against
+# gaussfilt.float64.EKF), built offline as the python stage builds it
+gf_log "lcm: pip install ./python (offline, into $GF_VENV)"
+"$GF_VENV/bin/python" -m pip install -q --disable-pip-version-check \
+    --no-build-isolation --no-index --force-reinstall --no-deps ./python ||
+    gf_die "pip install ./python failed"
 gf_log "lcm: configure and build sim/ (LCM from $GF_LCM_CMAKE_DIR)"
 gf_lcm_build "$GF_BUILD/sim"
 gf_log "lcm: ctest (message types, node, models, memq, udpm)"

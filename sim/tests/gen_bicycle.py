@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 """The kinematic bicycle of docs/codegen.md for the node's generated-model
-test (lcm_udpm.sh generated), in two commands:
+test (lcm_udpm.sh generated), in three commands:
 
     python gen_bicycle.py write ROOT DIR
         writes DIR/bicycle_model.h and .c with gaussfilt.codegen (from the
@@ -14,6 +14,14 @@ test (lcm_udpm.sh generated), in two commands:
         compass and the wheel speed; the GPS every tenth step. The
         measurements carry q of zeros: the node takes each sensor's Q from
         its configuration, here the library's.
+    python gen_bicycle.py same ROOT WORKDIR INPUTS BELIEFS [--q-ulp SENSOR]
+        replays the log INPUTS into gaussfilt.float64.EKF on the callables
+        of codegen.build (ROOT's C built in WORKDIR; the package installed)
+        as the node steps a generated track, and compares the mean and
+        covariance of every belief in the node's log BELIEFS with it, byte
+        for byte: exit 0 when all are equal, 1 naming the first that is
+        not (--q-ulp: that sensor's Q one ulp up in the replay; sensors'
+        gates: --gate-SENSOR G, 0 by default as in the node)
 
 States (x, y, theta, v, delta), inputs (acceleration, steering rate),
 parameters (L, the wheelbase). The truth starts from a draw of the prior
@@ -159,10 +167,112 @@ def sim(lib_path, url, log_path, first, runs, steps, seed):
           % (runs, steps, first, first + runs - 1, url, log_path))
 
 
+def same(root, workdir, inputs, beliefs, gate, ulp_sensor=None):
+    """Replays the inputs log into gaussfilt.float64.EKF on codegen.build's
+    callables (the same generated C, stepped by the package's C) as the
+    node steps a generated track, and compares every belief of the node's
+    log with it, byte for byte; ulp_sensor: that sensor's Q one ulp up in
+    the replay (the check must then fail)."""
+    import lcm
+    import numpy as np
+    import sympy as sp
+    from gaussfilt import codegen as cg
+    from gaussfilt import float64 as gf
+    from gaussfilt_lcm import belief_t, control_t, measurement_t
+
+    built = cg.build(model(cg, sp), workdir, root=root)
+    built.set_params(L=WHEELBASE)
+    n, nu = built.n, built.nu
+    Q = {s: built.Q(s) for s, _, _ in SENSORS}
+    if ulp_sensor is not None:
+        Q[ulp_sensor] = Q[ulp_sensor].copy()
+        Q[ulp_sensor][0, 0] = np.nextafter(Q[ulp_sensor][0, 0], np.inf)
+    meas = {s: gf.EKFMeas(h=built.h[s], Q=Q[s], n=n,
+                          angle_mask=built.angle_masks[s], gate=gate[s])
+            for s in Q}
+    # the node's rule for a generated track (sim/node_core.c): its first
+    # input predicts over the configured dt, any other over the time since
+    # the last (utime difference / 1e6); a control predicts with its
+    # inputs, a measurement first (when dt > 0) with inputs of zeros, then
+    # updates with its sensor's h, Q and gate; the belief is published
+    # after each
+    tracks = {}
+    for e in lcm.EventLog(inputs, "r"):
+        if e.channel.startswith("GF_CTRL_"):
+            c = control_t.decode(e.data)
+            tracks.setdefault(c.track, []).append(
+                (c.utime, c.seq, None, list(c.u)))
+        elif e.channel.startswith("GF_MEAS_"):
+            z = measurement_t.decode(e.data)
+            assert not np.any(z.q), "a measurement with its own q"
+            sensor = e.channel.split("_", 3)[3]
+            tracks.setdefault(z.track, []).append(
+                (z.utime, z.seq, sensor, list(z.z)))
+    got = {}
+    for e in lcm.EventLog(beliefs, "r"):
+        if e.channel.startswith("GF_BELIEF_"):
+            b = belief_t.decode(e.data)
+            got.setdefault(b.track, []).append(b)
+
+    def hexed(a):
+        return np.ascontiguousarray(a, dtype="<f8").tobytes().hex()
+
+    compared = 0
+    for track in sorted(tracks):
+        ins, bs = tracks[track], got.get(track, [])
+        assert len(bs) == len(ins) + 1, (track, len(bs), len(ins))
+        f = gf.EKF(np.array(PRIOR_MEAN), np.diag(PRIOR_COV),
+                   angles=built.angles)
+        time = None
+        for k, b in enumerate(bs):
+            if k > 0:
+                utime, seq, sensor, v = ins[k - 1]
+                dt = DT if time is None else (utime - time) / 1e6
+                time = utime
+                if sensor is None:
+                    f.predict(built.motion(dt), v + [dt])
+                else:
+                    if dt > 0.0:
+                        f.predict(built.motion(dt), [0.0] * nu + [dt])
+                    f.update(meas[sensor], v)
+                want = (utime, seq, sensor or "",
+                        belief_t.STAGE_PREDICT if sensor is None
+                        else belief_t.STAGE_UPDATE)
+                have = (b.utime, b.input_seq, b.sensor, b.stage)
+                assert have == want, (track, k, have, want)
+            assert b.status == 0 and b.n == n, (track, k, b.status, b.n)
+            for what, mine, node in (
+                    ("mean", f.mu, np.array(b.mean)),
+                    ("covariance", f.sigma,
+                     np.array([list(r) for r in b.cov]))):
+                if hexed(mine) != hexed(node):
+                    d = np.flatnonzero(np.ascontiguousarray(mine).ravel() !=
+                                       node.ravel())[0]
+                    print("gen_bicycle: track %d, belief %d (utime %d, %s): "
+                          "the %s differs first at entry %d: node %s (%r), "
+                          "EKF %s (%r)"
+                          % (track, b.seq, b.utime, b.sensor or "control",
+                             what, d, node.ravel()[d].hex(),
+                             node.ravel()[d],
+                             np.ascontiguousarray(mine).ravel()[d].hex(),
+                             np.ascontiguousarray(mine).ravel()[d]))
+                    return 1
+            compared += 1
+    print("gen_bicycle: %d beliefs of %d tracks: the node's means and "
+          "covariances are gaussfilt.float64.EKF's, byte for byte"
+          % (compared, len(tracks)))
+    return 0
+
+
 def main(argv):
     if argv[1] == "write":
         write(argv[2], argv[3])
         return 0
+    if argv[1] == "same":
+        opts = dict(zip(argv[6::2], argv[7::2]))
+        gate = {s: float(opts.get("--gate-" + s, 0.0)) for s, _, _ in SENSORS}
+        return same(argv[2], argv[3], argv[4], argv[5], gate,
+                    opts.get("--q-ulp"))
     opts = dict(zip(argv[5::2], argv[6::2]))
     sim(argv[2], argv[3], argv[4], int(opts["--first"]), int(opts["--runs"]),
         int(opts["--steps"]), int(opts["--seed"]))

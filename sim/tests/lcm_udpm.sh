@@ -78,7 +78,9 @@
 #              scripts/plot's tool); NEES and NIS per sensor
 #              (gf_nees.py) and over all updates inside their 95% bounds;
 #              the inputs replayed through a node give the live beliefs
-#              byte for byte
+#              byte for byte, and so do they replayed into the package's
+#              gaussfilt.float64.EKF on codegen.build's callables
+#              (gen_bicycle.py same; not with a Q one ulp off)
 #   silence    nothing wrong in silence: a simulator sends m = 2 to a
 #              track whose model measures m = 3: every measurement
 #              bad_field, each with its status belief on the wire, said
@@ -774,6 +776,21 @@ PY
     tail -n 1 "$work/replay.out"
     "$bin/gf_logcmp" --prefix GF_BELIEF_ --expect $((runs * 311)) \
         "$work/beliefs-live.lcmlog" "$work/beliefs-replay.lcmlog"
+    # and the same inputs in a notebook: gaussfilt.float64.EKF on
+    # codegen.build's callables, stepped as the node steps, gives every
+    # live belief's mean and covariance byte for byte; with the wheel's Q
+    # one ulp up it must not
+    "$py" "$(dirname "$0")/gen_bicycle.py" same "$root" "$work/nb" \
+        "$work/inputs.lcmlog" "$work/beliefs-live.lcmlog" | tee "$work/same.out"
+    grep -qx "gen_bicycle: $((runs * 311)) beliefs of $runs tracks: the node's means and covariances are gaussfilt.float64.EKF's, byte for byte" "$work/same.out" ||
+        { echo "lcm_udpm: the node's beliefs are not the notebook's" >&2; exit 1; }
+    rc=0
+    "$py" "$(dirname "$0")/gen_bicycle.py" same "$root" "$work/nb" \
+        "$work/inputs.lcmlog" "$work/beliefs-live.lcmlog" --q-ulp wheel \
+        >"$work/ulp.out" || rc=$?
+    cat "$work/ulp.out"
+    [ "$rc" -eq 1 ] && grep -Eq "^gen_bicycle: track 800, belief [0-9]+ \(utime [0-9]+, wheel\): the (mean|covariance) differs" "$work/ulp.out" ||
+        { echo "lcm_udpm: a Q one ulp off is not told from the node's (exit $rc)" >&2; exit 1; }
     ;;
 silence)
     py=$(cd "$lcmbin/../../../.." && pwd)/bin/python
