@@ -1279,31 +1279,30 @@ static PyObject *new_array_of(npy_intp d0, npy_intp d1, const double *src)
     return a;
 }
 
-// The getters of S, K and loglik (closure: the belief's REC_ kind).
-static PyObject *Filter_S(PyObject *self, void *kind)
+// The getters of S, K and loglik (closure: the belief's REC_ kind); S
+// and K are None before the first accepted update.
+static PyObject *last_matrix(PyObject *self, void *kind, const char *name)
 {
     LastUpdate u;
-    int got = last_update(self, kind, "S", &u);
+    const int gain = name[0] == 'K';
+    int got = last_update(self, kind, name, &u);
     if (got <= 0) {
         if (got < 0) {
             return NULL;
         }
         Py_RETURN_NONE;
     }
-    return new_array_of(u.m, u.m, u.S);
+    return gain ? new_array_of(u.n, u.m, u.K) : new_array_of(u.m, u.m, u.S);
+}
+
+static PyObject *Filter_S(PyObject *self, void *kind)
+{
+    return last_matrix(self, kind, "S");
 }
 
 static PyObject *Filter_K(PyObject *self, void *kind)
 {
-    LastUpdate u;
-    int got = last_update(self, kind, "K", &u);
-    if (got <= 0) {
-        if (got < 0) {
-            return NULL;
-        }
-        Py_RETURN_NONE;
-    }
-    return new_array_of(u.n, u.m, u.K);
+    return last_matrix(self, kind, "K");
 }
 
 // loglik = log N(y; 0, S) = -(NIS + log det S + m log 2 pi) / 2, the NIS
