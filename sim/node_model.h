@@ -56,6 +56,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "gaussfilt/codegen.h"
 #include "gaussfilt/gaussfilt.h"
 
 #ifdef __cplusplus
@@ -120,44 +121,12 @@ typedef struct gf_node_sensors {
     gf_node_sensor s[GF_NODE_SENSORS];
 } gf_node_sensors;
 
-// A generated model (type = generated): the descriptor that
-// gaussfilt.codegen writes (NAME_model.h declares the same types under the
-// same guard), read from a shared object built from the generated C with
-// -DGF_CODEGEN_EXPORT, which defines gf_codegen_exported.
-#ifndef GF_CODEGEN_MODEL_DEFINED
-#define GF_CODEGEN_MODEL_DEFINED
-typedef struct gf_codegen_sensor {
-    const char *name;
-    unsigned m;
-    unsigned angle_mask;           // quantities that are angles
-    const char *const *quantities; // m names
-    gf_ekf_meas_fn h;
-    void (*Q)(const gf_real *params, gf_real *Q); // m x m
-} gf_codegen_sensor;
-
-typedef struct gf_codegen_model {
-    unsigned version; // 1
-    const char *name;
-    unsigned n, nu, nparams;
-    unsigned angles; // the states that are angles
-    const char *const *states, *const *units, *const *inputs, *const *params;
-    gf_ekf_motion_fn g;
-    void (*R)(const gf_real *params, gf_real dt, gf_real *R); // n x n
-    unsigned nsensors;
-    const gf_codegen_sensor *sensors;
-} gf_codegen_model;
-
-#define GF_CODEGEN_EXPORT_VERSION 1u
-typedef struct gf_codegen_export {
-    unsigned version;   // GF_CODEGEN_EXPORT_VERSION
-    unsigned real_size; // sizeof(gf_real): 4 float, 8 double
-    const gf_codegen_model *model;
-} gf_codegen_export;
-#endif
-
 // The most parameters of a generated model.
 #define GF_NODE_PARAMS 32
 
+// A generated model (type = generated): its descriptor
+// (gaussfilt/codegen.h), read from a shared object built from the
+// generated C with -DGF_CODEGEN_EXPORT, which defines gf_codegen_exported.
 typedef struct gf_node_generated {
     void *handle;                 // dlopen's (NULL in a model based on it)
     const gf_codegen_model *desc; // the library's descriptor
