@@ -3234,6 +3234,11 @@ static gf_status pf3_predict(PyObject *f, PyObject *model, const gf_real *u,
                              PyObject *u_obj)
 {
     EKF3MotionObj *mo = (EKF3MotionObj *)model;
+    if (mo->pm.motion.g != ekf3_g_py) {
+        // a built-in: nothing of the model written (a run without the GIL
+        // may share it with another thread's)
+        return gf_pf3_predict(&((PF3Obj *)f)->pf, &mo->pm.motion, u);
+    }
     PyObject *prev_u = mo->cb.cur_u;
     mo->cb.cur_u = u_obj;
     gf_status st = gf_pf3_predict(&((PF3Obj *)f)->pf, &mo->pm.motion, u);
@@ -3318,6 +3323,8 @@ static PyObject *PF3_resample(PyObject *self_, PyObject *unused)
 // headings cancel out), neff (N,) and status (N,); a gated update is
 // recorded (-5) and the run goes on; any other failure raises with
 // exc.step and puts the particles and the generator back as they were.
+// With no Python model in the run the steps go without the GIL, as
+// run_steps' do (BUSY_NOGIL).
 static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
                          Py_ssize_t nargs, PyObject *kwnames)
 {
@@ -3378,7 +3385,12 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
     gf_real *sg_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[1]);
     gf_real *neff_o = (gf_real *)PyArray_DATA((PyArrayObject *)o[2]);
     signed char *st_o = (signed char *)PyArray_DATA((PyArrayObject *)o[3]);
-    self->f.busy = BUSY_STEP;
+    const int nogil = !python_g && !(meas && ekf3_meas_python(meas));
+    PyThreadState *ts = NULL;
+    self->f.busy = nogil ? BUSY_NOGIL : BUSY_STEP;
+    if (nogil) {
+        ts = PyEval_SaveThread();
+    }
     for (t = 0; t < N; t++) {
         gf_kf_innovation info;
         UpdateRec *rec = self->f.rec[!self->f.cur];
@@ -3417,6 +3429,9 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
         if (gf_pf3_neff(&self->pf, &neff_o[t]) != GF_OK) {
             neff_o[t] = (gf_real)NAN;
         }
+    }
+    if (ts) {
+        PyEval_RestoreThread(ts);
     }
     self->f.busy = 0;
     if (t < N) {

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
-"""run() without Python models releases the GIL: another thread runs
-Python meanwhile, and may neither step, run, re-initialise or set that
-filter nor read it (RuntimeError, the run's results untouched), while
-filters of their own sharing the same models step in parallel to the same
-bits as alone."""
+"""run() without Python models releases the GIL (KF2's and PF3's here):
+another thread runs Python meanwhile, and may neither step, run,
+re-initialise or set that filter nor read it (RuntimeError, the run's
+results untouched), while filters of their own sharing the same models
+step in parallel to the same bits as alone; a PF3 run with a Python h
+keeps the GIL (its callback runs)."""
 import copy
 import threading
 
@@ -134,3 +135,107 @@ def test_filters_sharing_models_run_in_parallel_to_the_same_bits(mod):
         assert "error" not in out, out.get("error")
         for a, b in zip(out["result"], alone[i % 2]):
             assert a.tobytes() == b.tobytes()
+
+
+def pf3_setup(mod, steps=2000):
+    motion = mod.EKF3Motion(mod.forward_turn, np.eye(3) * 1e-3)
+    meas = mod.EKF3Meas(mod.meas_xy, np.eye(2) * 0.1)
+    k = np.arange(steps)
+    u = np.stack([np.full(steps, 0.1), np.full(steps, 0.01)], axis=1)
+    z = np.stack([np.cos(k * 1e-2), np.sin(k * 1e-2)], axis=1) * 10
+    return motion, meas, u, z
+
+
+def pf3_state(pf):
+    return pf.__getstate__()
+
+
+@pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
+def test_another_thread_may_not_touch_a_running_pf3(mod):
+    motion, meas, u, z = pf3_setup(mod)
+
+    def fresh():
+        return mod.PF3([10, 0, 1.6], np.eye(3), 100, seed=7)
+    alone_pf = fresh()
+    alone = alone_pf.run(motion, meas, u=u, z=z)
+    nan = float("nan")
+    refused = {}
+    for _ in range(20):
+        pf = fresh()
+
+        def resample():
+            # only while the run is seen on: an idle resample would draw
+            if busy(pf):
+                pf.resample()
+        probes = {
+            "predict": lambda: pf.predict(motion, [nan, nan]),
+            "update": lambda: pf.update(meas, [nan, nan]),
+            "run": lambda: pf.run(motion, u=[[nan, nan]]),
+            "resample": resample,
+            "init": lambda: pf.__init__([nan, 0, 0], np.eye(3), 10),
+            "reset": lambda: pf.reset([nan, 0, 0], np.eye(3), 10),
+            "mu": lambda: pf.mu,
+            "sigma": lambda: pf.sigma,
+            "particles": lambda: pf.particles,
+            "weights": lambda: pf.weights,
+            "neff": lambda: pf.neff,
+            "copy": lambda: copy.copy(pf),
+            "repr": lambda: pf3_repr_probe(pf),
+        }
+        th, out = start(lambda: pf.run(motion, meas, u=u, z=z))
+        while th.is_alive() and not busy(pf):
+            pass
+        while th.is_alive() and len(refused) < len(probes):
+            for name, call in probes.items():
+                try:
+                    call()
+                except RuntimeError as e:
+                    refused[name] = str(e)
+                except gaussfilt.NonFinite:
+                    pass
+        th.join()
+        assert "error" not in out, out.get("error")
+        for a, b in zip(out["result"], alone):
+            assert a.tobytes() == b.tobytes()
+        # every particle and the generator as the run alone left them
+        assert pf3_state(pf) == pf3_state(alone_pf)
+        if len(refused) == len(probes):
+            break
+    assert sorted(refused) == sorted(probes), refused
+    assert all("in progress in another thread" in msg
+               for msg in refused.values()), refused
+    assert "PF3.predict" in refused["predict"], refused
+    assert "PF3.resample" in refused["resample"], refused
+
+
+def pf3_repr_probe(pf):
+    r = repr(pf)
+    if r.endswith(" (a run in progress)>"):
+        raise RuntimeError("a run() of this filter is in progress in another "
+                           "thread: " + r)
+    assert r.startswith("<gaussfilt.float") and "PF3" in r, r
+
+
+@pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
+def test_pf3_runs_in_parallel_and_a_python_h_keeps_the_gil(mod):
+    motion, meas, u, z = pf3_setup(mod, 500)
+    job = [lambda: mod.PF3([10, 0, 1.6], np.eye(3), 50, seed=3).run(
+        motion, meas, u=u, z=z)]
+    alone = job[0]()
+    threads = [start(job[0]) for _ in range(3)]
+    for th, out in threads:
+        th.join()
+        assert "error" not in out, out.get("error")
+        for a, b in zip(out["result"], alone):
+            assert a.tobytes() == b.tobytes()
+    # with a Python h the run holds the GIL: the callback itself reads the
+    # filter (allowed to its own callback), never refused as "in progress
+    # in another thread"
+    pf = mod.PF3([10, 0, 1.6], np.eye(3), 20, seed=3)
+    seen = []
+
+    def h(x):
+        seen.append(repr(pf))
+        return x[:2], np.zeros((2, 3))
+    pf.run(motion, mod.EKF3Meas(h, np.eye(2) * 0.1), u=u[:3], z=z[:3])
+    assert seen and not any("in progress" in r for r in seen), seen[:2]
