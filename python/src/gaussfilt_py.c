@@ -1142,7 +1142,7 @@ static PyObject *Filter_innovation(PyObject *self_, void *unused)
 // ---- the last update's S, K and log-likelihood ---------------------------
 
 // Which library belief a record's prior is (the getters' closure).
-enum { REC_KF2 = 1, REC_EKF3 = 2, REC_KF = 3 };
+enum { REC_KF2 = 1, REC_EKF3 = 2, REC_KF = 3, REC_UKF3 = 4 };
 
 // S, K and log det S of a record, in double.
 typedef struct {
@@ -1156,8 +1156,10 @@ typedef struct {
 // accessor, then in double):
 //   S = H Sigma_bar H^T + Q,   K = Sigma_bar H^T S^-1 = (S^-1 H Sigma_bar)^T,
 // S^-1 applied and det S taken by Gaussian elimination with partial
-// pivoting. 1 when done, 0 when there is no accepted update to read, -1
-// with RuntimeError during another thread's run (who named).
+// pivoting. A UKF3 record holds S and (Sigma^xz)^T themselves (in Q and H:
+// ukf3_update), and K = Sigma^xz S^-1 is taken the same way. 1 when done,
+// 0 when there is no accepted update to read, -1 with RuntimeError during
+// another thread's run (who named).
 static int last_update(PyObject *self_, void *kind, const char *who,
                        LastUpdate *out)
 {
@@ -1172,36 +1174,45 @@ static int last_update(PyObject *self_, void *kind, const char *who,
         return 0;
     }
     const unsigned m = r->m, n = r->n;
-    switch ((int)(size_t)kind) {
-    case REC_KF2:
-        gf_kf2_cov(r->prior.kf2, (gf_mat2 *)sg);
-        break;
-    case REC_EKF3:
-        gf_ekf3_cov(r->prior.ekf3, (gf_mat3 *)sg);
-        break;
-    default:
-        gf_kf_cov(r->prior.kf, sg);
-    }
-    for (unsigned i = 0; i < n * n; i++) {
-        P[i] = (double)sg[i];
-    }
-    // HP = H Sigma_bar (m x n), S = HP H^T + Q
-    for (unsigned i = 0; i < m; i++) {
-        for (unsigned j = 0; j < n; j++) {
-            double a = 0.0;
-            for (unsigned k = 0; k < n; k++) {
-                a += (double)r->H[n * i + k] * P[n * k + j];
-            }
-            HP[n * i + j] = a;
+    if ((int)(size_t)kind == REC_UKF3) {
+        for (unsigned i = 0; i < m * n; i++) {
+            HP[i] = (double)r->H[i];
         }
-    }
-    for (unsigned i = 0; i < m; i++) {
-        for (unsigned j = 0; j < m; j++) {
-            double a = 0.0;
-            for (unsigned k = 0; k < n; k++) {
-                a += HP[n * i + k] * (double)r->H[n * j + k];
+        for (unsigned i = 0; i < m * m; i++) {
+            out->S[i] = (double)r->Q[i];
+        }
+    } else {
+        switch ((int)(size_t)kind) {
+        case REC_KF2:
+            gf_kf2_cov(r->prior.kf2, (gf_mat2 *)sg);
+            break;
+        case REC_EKF3:
+            gf_ekf3_cov(r->prior.ekf3, (gf_mat3 *)sg);
+            break;
+        default:
+            gf_kf_cov(r->prior.kf, sg);
+        }
+        for (unsigned i = 0; i < n * n; i++) {
+            P[i] = (double)sg[i];
+        }
+        // HP = H Sigma_bar (m x n), S = HP H^T + Q
+        for (unsigned i = 0; i < m; i++) {
+            for (unsigned j = 0; j < n; j++) {
+                double a = 0.0;
+                for (unsigned k = 0; k < n; k++) {
+                    a += (double)r->H[n * i + k] * P[n * k + j];
+                }
+                HP[n * i + j] = a;
             }
-            out->S[m * i + j] = a + (double)r->Q[m * i + j];
+        }
+        for (unsigned i = 0; i < m; i++) {
+            for (unsigned j = 0; j < m; j++) {
+                double a = 0.0;
+                for (unsigned k = 0; k < n; k++) {
+                    a += HP[n * i + k] * (double)r->H[n * j + k];
+                }
+                out->S[m * i + j] = a + (double)r->Q[m * i + j];
+            }
         }
     }
     // LU = S with partial pivoting (rows swapped in piv); HP overwritten
@@ -3018,20 +3029,138 @@ static gf_status ukf3_predict(PyObject *f, PyObject *model, const gf_real *u,
     return st;
 }
 
-// The library's UKF update forms S from the sigma points and gives only
-// the innovation and NIS: no record (rec->m = 0), so UKF3 has no S, K or
-// loglik to read.
+// The UKF's S and Sigma^xz as an update forms them (ukf3.h), summed in
+// double from the images Z_j = h(chi_j) of the seven sigma points as the
+// library's calls of h give them (the centre first), the offsets chi_j -
+// mu_bar = +-gamma L_i from L L^T = Sigma_bar taken in double: with dz_j
+// = Z_j - Z_0 (the angle_mask entries wrapped) and w_i the points' weight,
+//   m_z = sum_{j>0} w_i dz_j,  S = sum_{j>0} w_i dz_j dz_j^T
+//   + (beta - alpha^2) m_z m_z^T + Q,  Sigma^xz = sum_{j>0} w_i off_j dz_j^T.
+// The model's own h and ctx are called through a copy of the prepared
+// model (the model itself is not written).
+typedef struct {
+    gf_ekf3_meas_fn h;
+    void *ctx;
+    unsigned j, m, mask;
+    double wi;
+    double off[3][3]; // off[i]: gamma L_i, column i of L
+    double z0[3], mz[3], s[3][3], pxz[3][3];
+} Ukf3KeptZ;
+
+static double wrap_pi(double a)
+{
+    const double pi = 3.14159265358979323846;
+    double w = fmod(a, 2.0 * pi);
+    if (w > pi) {
+        w -= 2.0 * pi;
+    } else if (w <= -pi) {
+        w += 2.0 * pi;
+    }
+    return w;
+}
+
+static gf_status ukf3_h_kept(void *ctx, const gf_vec3 *chi, gf_vec3 *z_hat,
+                             gf_mat3 *H)
+{
+    Ukf3KeptZ *k = (Ukf3KeptZ *)ctx;
+    gf_status st = k->h(k->ctx, chi, z_hat, H);
+    if (st != GF_OK || k->j > 6u) {
+        return st;
+    }
+    const unsigned j = k->j++;
+    double dz[3];
+    for (unsigned a = 0; a < k->m; a++) {
+        if (j == 0u) {
+            k->z0[a] = (double)z_hat->v[a];
+            continue;
+        }
+        dz[a] = (double)z_hat->v[a] - k->z0[a];
+        dz[a] = (k->mask >> a) & 1u ? wrap_pi(dz[a]) : dz[a];
+    }
+    if (j == 0u) {
+        return st;
+    }
+    const double *o = k->off[(j - 1u) % 3u];
+    const double sign = j > 3u ? -1.0 : 1.0;
+    for (unsigned a = 0; a < k->m; a++) {
+        const double wz = k->wi * dz[a];
+        k->mz[a] += wz;
+        for (unsigned b = 0; b <= a; b++) {
+            k->s[a][b] += wz * dz[b];
+        }
+        for (unsigned x = 0; x < 3u; x++) {
+            k->pxz[x][a] += sign * o[x] * wz;
+        }
+    }
+    return st;
+}
+
+// An update of the library's, its S and (Sigma^xz)^T kept in rec (in Q
+// and H, rounded once to the precision; ukf3_h_kept) with the prior.
 static gf_status ukf3_update(PyObject *f, PyObject *meas, const gf_real *z,
                              gf_kf_innovation *info, UpdateRec *rec)
 {
-    const gf_ekf3_meas *me = &((EKF3MeasObj *)meas)->pq.meas;
-    const unsigned m = me->m;
+    gf_ekf3_meas me = ((EKF3MeasObj *)meas)->pq.meas;
+    gf_ukf3 *ukf = &((UKF3Obj *)f)->ukf;
+    const unsigned m = me.m;
     gf_vec3 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0), m > 2 ? z[2] : GF_R(0.0)}};
     gf_innovation in;
-    rec->m = 0;
-    gf_status st = gf_ukf3_update(&((UKF3Obj *)f)->ukf, me, &zv, &in);
+    Ukf3KeptZ kept;
+    memset(&kept, 0, sizeof kept);
+    kept.h = me.h;
+    kept.ctx = me.ctx;
+    kept.m = m <= 3u ? m : 3u;
+    kept.mask = me.angle_mask;
+    kept.wi = (double)ukf->wi;
+    // L L^T = Sigma_bar (symmetrised) in double, a zero column where the
+    // pivot is not positive; off[i] = gamma L_i
+    double L[3][3] = {{0.0}};
+    for (unsigned c = 0; c < 3u; c++) {
+        double d = (double)ukf->sigma.m[c][c];
+        for (unsigned k = 0; k < c; k++) {
+            d -= L[c][k] * L[c][k];
+        }
+        if (!(d > 0.0)) {
+            continue;
+        }
+        L[c][c] = sqrt(d);
+        for (unsigned i = c + 1; i < 3u; i++) {
+            double v = 0.5 * (double)ukf->sigma.m[i][c] +
+                       0.5 * (double)ukf->sigma.m[c][i];
+            for (unsigned k = 0; k < c; k++) {
+                v -= L[i][k] * L[c][k];
+            }
+            L[i][c] = v / L[c][c];
+        }
+    }
+    for (unsigned i = 0; i < 3u; i++) {
+        for (unsigned x = 0; x < 3u; x++) {
+            kept.off[i][x] = (double)ukf->gamma * L[x][i];
+        }
+    }
+    rec->m = m;
+    memcpy(rec->prior.p, ukf, sizeof *ukf);
+    me.h = ukf3_h_kept;
+    me.ctx = &kept;
+    gf_status st = gf_ukf3_update(ukf, &me, &zv, &in);
     if (st == GF_OK || st == GF_ERR_GATED) {
         innovation_of(&in, info);
+    }
+    if (st == GF_OK) {
+        const double wfold = (double)((const gf_ukf3 *)rec->prior.p)->wfold;
+        rec->n = 3;
+        for (unsigned a = 0; a < kept.m; a++) {
+            for (unsigned b = 0; b < kept.m; b++) {
+                const double q =
+                    0.5 * (double)me.Q.m[a][b] + 0.5 * (double)me.Q.m[b][a];
+                const double sab = b <= a ? kept.s[a][b] : kept.s[b][a];
+                rec->Q[kept.m * a + b] =
+                    (gf_real)(sab + wfold * kept.mz[a] * kept.mz[b] + q);
+            }
+            for (unsigned x = 0; x < 3u; x++) {
+                rec->H[3u * a + x] = (gf_real)kept.pxz[x][a];
+            }
+        }
     }
     return st;
 }
@@ -3157,6 +3286,19 @@ static PyGetSetDef UKF3_getset[] = {
      "NIS = y^T S^-1 y of the last accepted update (nan before any)", NULL},
     {"innovation", Filter_innovation, NULL,
      "y = z - z_hat of the last accepted update (None before any)", NULL},
+    {"S", Filter_S, NULL,
+     "the unscented S = sum_i w_c,i (Z_i - z_hat)(Z_i - z_hat)^T + Q of the\n"
+     "last accepted update, (m, m), summed in double from its sigma points'\n"
+     "images (None before any)",
+     (void *)REC_UKF3},
+    {"K", Filter_K, NULL,
+     "the gain K = Sigma^xz S^-1 of the last accepted update, (3, m)\n"
+     "(None before any)",
+     (void *)REC_UKF3},
+    {"loglik", Filter_loglik, NULL,
+     "log N(y; 0, S) = -(NIS + log det S + m log 2 pi) / 2 of the last\n"
+     "accepted update (nan before any)",
+     (void *)REC_UKF3},
     {NULL, NULL, NULL, NULL, NULL},
 };
 

@@ -147,3 +147,69 @@ def test_filterpy_agrees(family, n, seed):
           "%.2g), %d gated" % (family, n, seed, worst["%s n=%d" % (family, n)],
                                worst.get("%s n=%d update" % (family, n), 0.0),
                                gated))
+
+
+def range_bearing(x):  # landmark at (4, 3): (range, bearing), an angle
+    dx, dy = 4.0 - x[0], 3.0 - x[1]
+    return (np.array([math.hypot(dx, dy), math.atan2(dy, dx) - x[2]]),
+            np.zeros((2, 3)))
+
+
+def wrapped(d, mask):
+    d = np.array(d, float)
+    for i in range(len(d)):
+        if mask >> i & 1:
+            d[i] = math.remainder(d[i], 2 * math.pi)
+    return d
+
+
+@pytest.mark.parametrize("params", [(1.0, 2.0, 0.0), (0.5, 2.0, 1.0),
+                                    (0.2, 0.0, 0.5)])
+@pytest.mark.parametrize("h", ["meas_xy", "meas_x", "range_bearing"])
+def test_filterpy_agrees_on_ukf3_updates(params, h):
+    """UKF3's S, K and loglik beside FilterPy's UnscentedKalmanFilter with
+    MerweScaledSigmaPoints of the same alpha, beta and kappa, drawn from
+    the same mu_bar and Sigma_bar (Table 3.4 draws the update's points
+    afresh; FilterPy's update reuses its prediction's, so they are set
+    here), the heading and the bearing's residuals wrapped and z_hat's
+    mean taken about the centre's image as the library takes it."""
+    from filterpy.kalman import MerweScaledSigmaPoints, UnscentedKalmanFilter
+    alpha, beta, kappa = params
+    rng = np.random.default_rng(7)
+    mask = 2 if h == "range_bearing" else 0
+    m = 1 if h == "meas_x" else 2
+    Q = np.array([[0.05, 0.01], [0.01, 0.03]])[:m, :m]
+    fn = range_bearing if h == "range_bearing" else getattr(gf, h)
+    meas = gf.EKF3Meas(fn, Q, angle_mask=mask)
+    def hx(s):  # z alone, as FilterPy's h gives it
+        return range_bearing(s)[0] if h == "range_bearing" else s[:m]
+    motion = gf.EKF3Motion(gf.forward_turn, np.diag([0.02, 0.02, 0.01]))
+    ours = gf.UKF3([0.5, -0.2, 0.4], np.diag([0.2, 0.3, 0.1]), alpha=alpha,
+                   beta=beta, kappa=kappa)
+    points = MerweScaledSigmaPoints(3, alpha=alpha, beta=beta, kappa=kappa)
+
+    def z_mean(sigmas, Wm):  # about the centre's image, as ukf3.h says
+        d = np.array([wrapped(s - sigmas[0], mask) for s in sigmas])
+        return wrapped(sigmas[0] + Wm @ d, mask)
+    name = "ukf3 %s alpha=%g" % (h, alpha)
+    x = np.array([0.5, -0.2, 0.4])
+    for k in range(40):
+        u = [0.3, rng.uniform(-0.3, 0.3)]
+        ours.predict(motion, u)
+        x = forward_turn(x, u)[0]
+        mu, P = np.asarray(ours.mu, float), np.asarray(ours.sigma, float)
+        z = wrapped(hx(x) + rng.normal(size=m) * 0.2, mask)
+        ours.update(meas, z)
+        fp = UnscentedKalmanFilter(3, m, 1.0, hx=hx,
+                                   fx=lambda s, dt: s, points=points,
+                                   z_mean_fn=z_mean,
+                                   residual_z=lambda a, b: wrapped(a - b,
+                                                                   mask))
+        fp.x, fp.P, fp.R = mu.copy(), P.copy(), Q.copy()
+        fp.sigmas_f = points.sigma_points(mu, P)
+        fp.update(z)
+        assert ours.nis == pytest.approx(
+            float(fp.y @ np.linalg.solve(fp.S, fp.y)), rel=1e-9)
+        agree_update(name, ours, fp)
+    print("%s: S, K, loglik worst relative difference %.2g"
+          % (name, worst[name + " update"]))

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
-"""The last accepted update's S, gain K and loglik on every belief, in
-both precisions: None (nan) before any update; each equal to the formulas
-of docs/python.md computed here in numpy from the covariance read before
-the update (float64 within 1e-12, float32 within 1e-5, both relative to
-max(1, |value|)); kept bit for bit through a refused update (gated, not
+"""The last accepted update's S, gain K and loglik on every Gaussian
+belief (KF2, EKF3, UKF3, KF, EKF), in both precisions: None (nan) before
+any update; each equal to the formulas of docs/python.md computed here in
+numpy from the covariance read before the update (UKF3 with a linear h,
+whose unscented S and K are these; float64 within 1e-12, float32 within
+1e-5, both relative to max(1, |value|)); kept bit for bit through a refused update (gated, not
 finite, a wrong shape, a callback's exception, a run that fails: the
 belief unchanged too); a run leaves its last update's; cleared by reset;
 kept by pickle and copy. test_filterpy.py compares them with FilterPy."""
@@ -47,7 +48,13 @@ def cases(gf):
     ekf = gf.EKF(mu=[1, 2, 0.5], sigma=np.diag([1, 0.5, 0.2]))
     drift = gf.EKFMotion(g=drift_g, R=np.eye(3) * 0.01)
     bil = gf.EKFMeas(h=bilinear_h, Q=np.eye(2) * 0.3, n=3)
+    # the unscented S of a linear h is H Sigma_bar H^T + Q, its gain
+    # Sigma_bar H^T S^-1 (the points' second moment is Sigma_bar)
+    ukf3 = gf.UKF3(mu=[0, 0, 3.0], sigma=[[1, 0.3, 0], [0.3, 1, 0.1],
+                                          [0, 0.1, 0.1]], alpha=0.5, kappa=1)
     return [
+        ("UKF3", ukf3, lambda f: f.predict(turn, u=[1, 0.3]), xy,
+         lambda mu: np.eye(2, 3), [-0.8, 0.3]),
         ("KF2", kf2, lambda f: f.predict(car), both,
          lambda mu: np.asarray(both.C, float), [1.5, 0.2]),
         ("EKF3", ekf3, lambda f: f.predict(turn, u=[1, 0.3]), xy,

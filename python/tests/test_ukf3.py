@@ -5,8 +5,10 @@ on forward_turn and a bearing-free nonlinear measurement it equals Table
 3.4 written out here in numpy (float64, 1e-9 relative); a Python h equal
 to a built-in's gives the built-in's bits; run equals one call per step,
 bit for bit, and a failed run changes nothing; bad input is refused with
-the belief unchanged; pickle and copy keep every bit; the setters and
-reset judge as the constructor does; the repr."""
+the belief unchanged (and the last update's S, K and loglik with it);
+pickle and copy keep every bit; the setters and reset judge as the
+constructor does; the repr. S, K and loglik: test_last_update.py, and
+test_filterpy.py beside FilterPy's UnscentedKalmanFilter."""
 import copy
 import math
 import pickle
@@ -192,9 +194,11 @@ def test_bad_input_changes_nothing(gf):
         with pytest.raises(exc):
             gf.UKF3(**args)
     f = gf.UKF3(MU0, SIGMA0)
-    before = f.__getstate__()
     motion = gf.EKF3Motion(gf.forward_turn, np.eye(3) * 0.01)
     meas = gf.EKF3Meas(gf.meas_xy, np.eye(2))
+    f.update(meas, [0.4, -0.2])
+    before = f.__getstate__()
+    last = f.S, f.K, f.loglik
 
     def raising(mu, u):
         raise KeyError("g")
@@ -214,7 +218,9 @@ def test_bad_input_changes_nothing(gf):
         with pytest.raises((gaussfilt.GaussfiltError, KeyError)):
             call()
         assert f.__getstate__() == before
-    assert not hasattr(f, "S") and not hasattr(f, "loglik")
+        # the last accepted update's S, K and loglik kept, every bit
+        assert np.array_equal(f.S, last[0]) and np.array_equal(f.K, last[1])
+        assert f.loglik == last[2]
 
 
 @pytest.mark.parametrize("gf", MODS)
