@@ -1,13 +1,17 @@
 # SPDX-License-Identifier: MIT
 """Back to C (gaussfilt.export_c): seeded runs of KF2, KF (n = 4, a
-control input, m = 1 and 2, gated and singular updates) and EKF3 (the
-built-in models) recorded in Python (EKF with generated models:
-test_codegen.py), written as C, compiled against the
-checkout's include/ and src/ as a firmware project vendors them, and run:
-every status, mean, covariance, innovation and NIS must be the recorded
-bytes, on the host in both precisions (gcc, and clang where present) and
-on QEMU's Cortex-M4F in float. A perturbed expected value and a build in
-the wrong precision must fail.
+control input, m = 1 and 2, gated and singular updates), EKF3, UKF3 and
+PF3 (the built-in models; PF3 with resampling, checked through its
+generator, a hash of its particles, its estimate and neff) recorded in
+Python (EKF with generated models: test_codegen.py), written as C,
+compiled against the checkout's include/ and src/ as a firmware project
+vendors them, and run: every status, mean, covariance, innovation and NIS
+must be the recorded bytes, on the host in both precisions (gcc, and
+clang where present) and on QEMU's Cortex-M4F in float (PF3 excepted
+there: newlib's logf and expf are not glibc's, and the program must say
+at which step it differs). A perturbed expected value (a PF3's seed,
+generator word or hash; a UKF3's alpha) and a build in the wrong
+precision must fail.
 """
 import re
 import shutil
@@ -100,7 +104,53 @@ def ekf3_run(gf, seed):
     return rec
 
 
-RUNS = {"kf2": kf2_run, "kf": kf_run, "ekf3": ekf3_run}
+def ekf3_models(gf):
+    motion = gf.EKF3Motion(g=gf.forward_turn,
+                           R=np.diag([0.01, 0.01, 0.002]))
+    xy = gf.EKF3Meas(h=gf.meas_xy, Q=[[0.05, 0.01], [0.01, 0.05]], gate=9.0)
+    x = gf.EKF3Meas(h=gf.meas_x, Q=[[0.02]])
+    return motion, xy, x
+
+
+def ukf3_run(gf, seed):
+    rng = np.random.default_rng(seed)
+    motion, xy, x = ekf3_models(gf)
+    rec = gaussfilt.Recorder(gf.UKF3, mu=[0, 0, 0.3],
+                             sigma=np.diag([0.1, 0.1, 0.05]), alpha=0.5,
+                             beta=2.0, kappa=1.0)
+
+    def near(m):
+        return rec.mu[:m] + rng.normal(size=m) * (0.2 if rng.random() < 0.85
+                                                   else 5)
+    _steps(rec, rng, 150,
+           lambda: rec.predict(motion, [0.5, rng.uniform(-0.6, 0.6)]),
+           [lambda: (xy, near(2)), lambda: (x, near(1))])
+    return rec
+
+
+def pf3_run(gf, seed):
+    """64 particles; resampled after about every third update."""
+    rng = np.random.default_rng(seed)
+    motion, xy, x = ekf3_models(gf)
+    rec = gaussfilt.Recorder(gf.PF3, mu=[0, 0, 0.3],
+                             sigma=np.diag([0.1, 0.1, 0.05]), n=64,
+                             seed=int(rng.integers(2**32)))
+
+    def near(m):
+        return rec.mu[:m] + rng.normal(size=m) * (0.2 if rng.random() < 0.85
+                                                   else 5)
+
+    def predict():
+        if rng.random() < 0.3:
+            rec.resample()
+        rec.predict(motion, [0.5, rng.uniform(-0.6, 0.6)])
+    _steps(rec, rng, 100, predict, [lambda: (xy, near(2)),
+                                    lambda: (x, near(1))])
+    return rec
+
+
+RUNS = {"kf2": kf2_run, "kf": kf_run, "ekf3": ekf3_run, "ukf3": ukf3_run,
+        "pf3": pf3_run}
 
 
 def export(tmp_path, kind, prec, seed=1):
@@ -178,6 +228,49 @@ def test_export_finds_a_difference(tmp_path):
     assert step <= i  # the same values may recur; never after the change
 
 
+@pytest.mark.parametrize("prec", ["double", "float"])
+def test_export_of_a_pf3_finds_a_difference(tmp_path, prec):
+    """Another seed fails at once; a generator word or a particle hash one
+    bit off fails at its step."""
+    rec, path = export(tmp_path, "pf3", prec)
+    assert {"predict", "update", "resample"} <= {s["op"] for s in rec.steps}
+    text = path.read_text()
+    i = len(rec.steps) // 2
+    s = rec.steps[i]
+    init = "%du, %du, &mu0" % (rec.particles, rec.seed)
+    word = "0x%08xu" % s["rng"][2]
+    digest = "0x%016xull" % s["hash"]
+    for old, new, first in (
+            (init, "%du, %du, &mu0" % (rec.particles, rec.seed ^ 1), 0),
+            (word, "0x%08xu" % (s["rng"][2] ^ 1), i),
+            (digest, "0x%016xull" % (s["hash"] ^ 1 << 63), i)):
+        assert text.count(old) == 1, old
+        path.write_text(text.replace(old, new))
+        exe = build_host(path, prec, tmp_path / "nudged")
+        r = __import__("subprocess").run([str(exe)], capture_output=True,
+                                         text=True)
+        assert r.returncode == 1
+        if first == 0:
+            assert "step 0 differs" in r.stdout, r.stdout
+        else:
+            assert "step %d differs" % first in r.stdout, r.stdout
+
+
+def test_export_of_a_ukf3_keeps_its_parameters(tmp_path):
+    """alpha, beta and kappa in the C file as recorded: another alpha
+    fails at the first step."""
+    rec, path = export(tmp_path, "ukf3", "double")
+    text = path.read_text()
+    line = "static const gf_ukf3_params ukf3_double_params = " \
+        "{0x1p-1, 0x1p+1, 0x1p+0};"
+    assert line in text
+    path.write_text(text.replace(line, line.replace("0x1p-1", "0x1.2p-1")))
+    exe = build_host(path, "double", tmp_path / "nudged")
+    r = __import__("subprocess").run([str(exe)], capture_output=True,
+                                     text=True)
+    assert r.returncode == 1 and "step 0 differs" in r.stdout, r.stdout
+
+
 def test_export_refuses_the_wrong_precision(tmp_path):
     _, path = export(tmp_path, "kf2", "float")
     with pytest.raises(RuntimeError, match="recorded with gaussfilt.float32"):
@@ -192,9 +285,21 @@ def test_export_refuses_python_models(tmp_path):
         return mu, np.eye(3)
     with pytest.raises(gaussfilt.BadArgument, match="forward_turn"):
         rec.predict(gf.EKF3Motion(g=g, R=np.eye(3)), [1, 0])
-    with pytest.raises(gaussfilt.BadArgument, match="KF2, KF, EKF3 or EKF"):
-        gaussfilt.Recorder(gf.UKF3 if hasattr(gf, "UKF3") else gf.KF2Meas,
-                           mu=[0, 0], sigma=np.eye(2))
+    with pytest.raises(gaussfilt.BadArgument, match="EKF, UKF3 or PF3"):
+        gaussfilt.Recorder(gf.KF2Meas, mu=[0, 0], sigma=np.eye(2))
+    for kind, kw in (("UKF3", {}), ("PF3", {"n": 10})):
+        other = gaussfilt.Recorder(getattr(gf, kind), mu=[0, 0, 0],
+                                   sigma=np.eye(3), **kw)
+        with pytest.raises(gaussfilt.BadArgument, match="forward_turn"):
+            other.predict(gf.EKF3Motion(g=g, R=np.eye(3)), [1, 0])
+        with pytest.raises(gaussfilt.BadArgument, match="meas_x or meas_xy"):
+            other.update(gf.EKF3Meas(h=lambda mu: (mu[:1], np.eye(1, 3)),
+                                     Q=[[1]]), [0.5])
+        assert other.steps == []
+    with pytest.raises(gaussfilt.BadArgument, match="needs n"):
+        gaussfilt.Recorder(gf.PF3, mu=[0, 0, 0], sigma=np.eye(3))
+    with pytest.raises(gaussfilt.BadArgument, match="only a PF3"):
+        rec.resample()
     ekf = gaussfilt.Recorder(gf.EKF, mu=[0, 0], sigma=np.eye(2))
     with pytest.raises(gaussfilt.BadArgument, match="gaussfilt.codegen"):
         ekf.predict(gf.EKFMotion(g=lambda mu, u: (mu, np.eye(2)),
@@ -217,7 +322,20 @@ def test_export_records_nothing_the_package_refused(tmp_path):
 
 
 def test_export_runs_bit_for_bit_on_the_cortex_m4f(tmp_path):
-    for kind in sorted(RUNS):
+    for kind in sorted(set(RUNS) - {"pf3"}):
         rec, path = export(tmp_path, kind, "float", seed=3)
         assert run_export_on_m4f([path], "export") == \
             "%s_float: %d steps bit for bit" % (kind, len(rec.steps))
+
+
+def test_export_of_a_pf3_differs_on_the_cortex_m4f(tmp_path):
+    """PF3's steps call libm's logf and expf (Box-Muller, the weights) and
+    atan2f (the estimate); newlib's for a single-precision FPU are its
+    older implementations (__OBSOLETE_MATH), not glibc's, so the M4F's
+    first draws already differ from the host's: the program runs and says
+    so at step 0 (the host's run is bit for bit above). A target whose
+    libm gives glibc's bits would pass; this one does not."""
+    rec, path = export(tmp_path, "pf3", "float", seed=3)
+    with pytest.raises(RuntimeError) as e:
+        run_export_on_m4f([path], "export")
+    assert "pf3_float: step 0 differs" in str(e.value), str(e.value)
