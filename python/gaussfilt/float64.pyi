@@ -223,10 +223,13 @@ class UKF3:
     def __setstate__(self, state: _State, /) -> None: ...
 
 
-#: a PF3's __getstate__: (1, precision, particles, generator), and a
-#: subclass's instance attributes when it has any
+#: a PF3's __getstate__: (2, precision, particles, generator, loglik's
+#: bytes), and a subclass's instance attributes when it has any (a state
+#: of version 1, without loglik, is read too)
 _PF3State: TypeAlias = (tuple[int, str, bytes, bytes]
-                        | tuple[int, str, bytes, bytes, dict[str, Any]])
+                        | tuple[int, str, bytes, bytes, bytes]
+                        | tuple[int, str, bytes, bytes, dict[str, Any]]
+                        | tuple[int, str, bytes, bytes, bytes, dict[str, Any]])
 
 
 @disjoint_base
@@ -252,6 +255,8 @@ class PF3:
     def n(self) -> int: ...
     @property
     def neff(self) -> float: ...
+    @property
+    def loglik(self) -> float: ...
     def reset(self, mu: ArrayLike, sigma: ArrayLike, n: int,
               seed: int = 0) -> None: ...
     def __getstate__(self) -> _PF3State: ...

@@ -3310,6 +3310,7 @@ static PyGetSetDef UKF3_getset[] = {
 typedef struct {
     FilterObj f;
     gf_pf3 pf;
+    double loglik;      // of the last accepted update (pf3_update); NaN: none
     PyObject *weakrefs; // weakref support
 } PF3Obj;
 
@@ -3369,6 +3370,7 @@ static int PF3_init(PyObject *self_, PyObject *args, PyObject *kw)
     PyMem_Free(self->pf.p);
     self->pf = fresh;
     self->f.has_last = 0;
+    self->loglik = (double)NAN;
     return 0;
 }
 
@@ -3388,18 +3390,120 @@ static gf_status pf3_predict(PyObject *f, PyObject *model, const gf_real *u,
     return st;
 }
 
+// The particle filter's likelihood of an update's z, summed in double as
+// the library's dry run over the particles calls h (particle k's state
+// x_k passed as &p[k].x, the first n calls; the commit's calls after them
+// are not read): with W the prior weights' total, d2_k = r_k^T Q^-1 r_k
+// (r_k = z - h(x_k), the angle_mask entries wrapped) and L L^T = Q (its
+// lower triangle, as the library reads it),
+//   loglik = log sum_k (w_k / W) N(z; h(x_k), Q)
+//          = log sum_k w_k exp(-(d2_k - d2_min) / 2) - d2_min / 2 - log W
+//            - (m log 2 pi + log det Q) / 2.
+// The model's own h and ctx are called through a copy of the model.
+typedef struct {
+    gf_ekf3_meas_fn h;
+    void *ctx;
+    const gf_pf3 *pf;
+    unsigned calls, m, mask;
+    int ok, seen;
+    double z[3], L[3][3];
+    double dmin, sum;
+} Pf3KeptLik;
+
+static gf_status pf3_h_kept(void *ctx, const gf_vec3 *x, gf_vec3 *z_hat,
+                            gf_mat3 *H)
+{
+    Pf3KeptLik *k = (Pf3KeptLik *)ctx;
+    gf_status st = k->h(k->ctx, x, z_hat, H);
+    const unsigned j = k->calls++;
+    if (st != GF_OK || j >= k->pf->n) {
+        return st;
+    }
+    if (x != &k->pf->p[j].x) { // not the dry run's order: no estimate
+        k->ok = 0;
+        return st;
+    }
+    const double w = (double)k->pf->p[j].w;
+    if (!(w > 0.0)) {
+        return st;
+    }
+    // d2 = |L^-1 r|^2
+    double y[3], d2 = 0.0;
+    for (unsigned i = 0; i < k->m; i++) {
+        double r = k->z[i] - (double)z_hat->v[i];
+        r = (k->mask >> i) & 1u ? wrap_pi(r) : r;
+        for (unsigned c = 0; c < i; c++) {
+            r -= k->L[i][c] * y[c];
+        }
+        y[i] = r / k->L[i][i];
+        d2 += y[i] * y[i];
+    }
+    if (!isfinite(d2)) {
+        return st;
+    }
+    if (!k->seen || d2 < k->dmin) {
+        k->sum = k->seen ? k->sum * exp(-0.5 * (k->dmin - d2)) : 0.0;
+        k->dmin = d2;
+        k->seen = 1;
+    }
+    k->sum += w * exp(-0.5 * (d2 - k->dmin));
+    return st;
+}
+
 // The library's PF update gives no innovation: info holds none (m = 0,
-// NIS nan), rec no record.
+// NIS nan), rec no record. An accepted update's likelihood (Pf3KeptLik)
+// goes to the filter's loglik (NaN when it could not be formed).
 static gf_status pf3_update(PyObject *f, PyObject *meas, const gf_real *z,
                             gf_kf_innovation *info, UpdateRec *rec)
 {
-    const gf_ekf3_meas *me = &((EKF3MeasObj *)meas)->pq.meas;
-    const unsigned m = me->m;
+    const double pi = 3.14159265358979323846;
+    PF3Obj *self = (PF3Obj *)f;
+    gf_ekf3_meas me = ((EKF3MeasObj *)meas)->pq.meas;
+    const unsigned m = me.m;
     gf_vec3 zv = {{z[0], m > 1 ? z[1] : GF_R(0.0), m > 2 ? z[2] : GF_R(0.0)}};
+    Pf3KeptLik kept;
+    memset(&kept, 0, sizeof kept);
+    kept.h = me.h;
+    kept.ctx = me.ctx;
+    kept.pf = &self->pf;
+    kept.m = m <= 3u ? m : 3u;
+    kept.mask = me.angle_mask;
+    kept.ok = 1;
+    double logdet = 0.0, total = 0.0;
+    for (unsigned i = 0; i < kept.m; i++) {
+        kept.z[i] = (double)zv.v[i];
+        for (unsigned c = 0; c <= i; c++) {
+            double v = (double)me.Q.m[i][c];
+            for (unsigned t = 0; t < c; t++) {
+                v -= kept.L[i][t] * kept.L[c][t];
+            }
+            if (c < i) {
+                kept.L[i][c] = v / kept.L[c][c];
+            } else if (v > 0.0) {
+                kept.L[i][i] = sqrt(v);
+                logdet += 2.0 * log(kept.L[i][i]);
+            } else {
+                kept.ok = 0; // the library refuses such a Q
+                kept.L[i][i] = 1.0;
+            }
+        }
+    }
+    for (unsigned j = 0; j < self->pf.n; j++) {
+        total += (double)self->pf.p[j].w;
+    }
     info->m = 0;
     info->nis = (gf_real)NAN;
     rec->m = 0;
-    return gf_pf3_update(&((PF3Obj *)f)->pf, me, &zv);
+    me.h = pf3_h_kept;
+    me.ctx = &kept;
+    gf_status st = gf_pf3_update(&self->pf, &me, &zv);
+    if (st == GF_OK) {
+        self->loglik = kept.ok && kept.seen && kept.sum > 0.0 && total > 0.0
+                           ? log(kept.sum) - 0.5 * kept.dmin - log(total) -
+                                 0.5 * (m * log(2.0 * pi) + logdet)
+                           : (double)NAN;
+    }
+    return st;
 }
 
 // The steps as predict_entry and update_entry take them (PF3 has no run:
@@ -3519,6 +3623,7 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
     }
     memcpy(saved, self->pf.p, bytes);
     const gf_rng saved_rng = self->pf.rng;
+    const double saved_loglik = self->loglik;
     const gf_real *u =
         U ? (const gf_real *)PyArray_DATA((PyArrayObject *)U) : NULL;
     const gf_real *z =
@@ -3579,6 +3684,7 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
     if (t < N) {
         memcpy(self->pf.p, saved, bytes);
         self->pf.rng = saved_rng;
+        self->loglik = saved_loglik;
         if (!PyErr_Occurred()) {
             raise_status(st, "PF3.run", NULL, NULL, 0, 0);
         }
@@ -3626,6 +3732,9 @@ static PyObject *PF3_get(PyObject *self_, void *which)
     if (check_readable(&self->f, "PF3") < 0 || pf3_ready(self, "PF3") < 0) {
         return NULL;
     }
+    if (w == 4) {
+        return PyFloat_FromDouble(self->loglik);
+    }
     if (w == 3) {
         gf_real neff;
         gf_status st = gf_pf3_neff(pf, &neff);
@@ -3648,8 +3757,9 @@ static PyObject *PF3_get(PyObject *self_, void *which)
     return a;
 }
 
-// __getstate__: (1, precision, the particles as bytes, the generator as
-// bytes), and a subclass object's attributes as a fifth item.
+// __getstate__: (2, precision, the particles as bytes, the generator as
+// bytes, loglik's double as bytes), and a subclass object's attributes as
+// a sixth item. (Version 1, without loglik, is still read.)
 static PyObject *PF3_getstate(PyObject *self_, PyObject *unused)
 {
     PF3Obj *self = (PF3Obj *)self_;
@@ -3670,36 +3780,55 @@ static PyObject *PF3_getstate(PyObject *self_, PyObject *unused)
     }
     const char *p = (const char *)self->pf.p;
     const Py_ssize_t np = (Py_ssize_t)(self->pf.n * sizeof *self->pf.p);
-    return d ? Py_BuildValue("(isy#y#N)", 1, GF_PREC_NAME, p, np,
-                             (const char *)&rng, (Py_ssize_t)sizeof rng, d)
-             : Py_BuildValue("(isy#y#)", 1, GF_PREC_NAME, p, np,
-                             (const char *)&rng, (Py_ssize_t)sizeof rng);
+    const char *ll = (const char *)&self->loglik;
+    const Py_ssize_t nll = (Py_ssize_t)sizeof self->loglik;
+    return d ? Py_BuildValue("(isy#y#y#N)", 2, GF_PREC_NAME, p, np,
+                             (const char *)&rng, (Py_ssize_t)sizeof rng, ll,
+                             nll, d)
+             : Py_BuildValue("(isy#y#y#)", 2, GF_PREC_NAME, p, np,
+                             (const char *)&rng, (Py_ssize_t)sizeof rng, ll,
+                             nll);
 }
 
-// __setstate__: __getstate__'s particles and generator, checked first (the
-// sizes; every particle finite, its heading in (-pi, pi], its weight >= 0,
-// the weights' sum positive; the generator's state not all zero, its spare
-// finite); BadArgument otherwise, the filter unchanged.
+// __setstate__: __getstate__'s particles, generator and loglik, checked
+// first (the sizes; every particle finite, its heading in (-pi, pi], its
+// weight >= 0, the weights' sum positive; the generator's state not all
+// zero, its spare finite); BadArgument otherwise, the filter unchanged. A
+// state of version 1 (no loglik) gives loglik nan.
 static PyObject *PF3_setstate(PyObject *self_, PyObject *st)
 {
     PF3Obj *self = (PF3Obj *)self_;
     int version;
     const char *prec, *parts, *rng_b;
     Py_ssize_t np, nr;
-    PyObject *d = Py_None;
+    PyObject *d = Py_None, *a4 = NULL, *a5 = NULL;
     gf_rng rng;
+    double loglik = (double)NAN;
     const char *what = "PF3.__setstate__";
-    if (!PyTuple_Check(st) || !PyArg_ParseTuple(st, "isy#y#|O", &version, &prec,
-                                                &parts, &np, &rng_b, &nr, &d)) {
+    if (!PyTuple_Check(st) ||
+        !PyArg_ParseTuple(st, "isy#y#|OO", &version, &prec, &parts, &np, &rng_b,
+                          &nr, &a4, &a5)) {
         PyErr_Clear();
         return bad_arg("%s: not a state of this package", what);
     }
+    if (version == 2) { // loglik's bytes, then the attributes
+        if (!a4 || !PyBytes_Check(a4) ||
+            PyBytes_GET_SIZE(a4) != (Py_ssize_t)sizeof loglik) {
+            return bad_arg("%s: not a state of this package", what);
+        }
+        memcpy(&loglik, PyBytes_AS_STRING(a4), sizeof loglik);
+        d = a5 ? a5 : Py_None;
+    } else if (a5) {
+        return bad_arg("%s: not a state of this package", what);
+    } else {
+        d = a4 ? a4 : Py_None;
+    }
     const size_t ps = sizeof(gf_pf3_particle);
-    if (version != 1 || strcmp(prec, GF_PREC_NAME) != 0 || np <= 0 ||
-        (size_t)np % ps != 0 || (size_t)np / ps > GF_PF3_MAX_N ||
+    if ((version != 1 && version != 2) || strcmp(prec, GF_PREC_NAME) != 0 ||
+        np <= 0 || (size_t)np % ps != 0 || (size_t)np / ps > GF_PF3_MAX_N ||
         (size_t)nr != sizeof rng) {
         return bad_arg("%s: a state of version %d in %s with %zd and %zd "
-                       "bytes, not one of this filter's (version 1 in %s)",
+                       "bytes, not one of this filter's (version 2 in %s)",
                        what, version, prec, np, nr, GF_PREC_NAME);
     }
     if (d != Py_None && (!PyDict_Check(d) || !Py_TYPE(self_)->tp_dictoffset)) {
@@ -3741,6 +3870,7 @@ static PyObject *PF3_setstate(PyObject *self_, PyObject *st)
     self->pf.n = n;
     self->pf.rng = rng;
     self->f.has_last = 0;
+    self->loglik = loglik;
     Py_RETURN_NONE;
 }
 
@@ -3805,6 +3935,11 @@ static PyGetSetDef PF3_getset[] = {
     {"weights", PF3_get, NULL, "the particles' weights, an (n,) copy (sum 1)",
      (void *)1},
     {"n", PF3_get, NULL, "particles", (void *)2},
+    {"loglik", PF3_get, NULL,
+     "log sum_k w_k N(z; h(x_k), Q) of the last accepted update, the prior\n"
+     "weights w_k normalised: the particle filter's estimate of log p(z)\n"
+     "(in double from the dry run's h; nan before any)",
+     (void *)4},
     {"neff", PF3_get, NULL, "effective sample size 1 / sum (w_k / W)^2, 1..n",
      (void *)3},
     {NULL, NULL, NULL, NULL, NULL},

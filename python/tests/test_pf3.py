@@ -239,3 +239,87 @@ def test_copy_pickle_repr(gf):
     r = repr(f)
     assert r.startswith("<gaussfilt.%s.PF3 particles=64 mu=[" %
                         gf.__name__[10:]), r
+
+
+def bearing_h(x):  # module level: picklable; (range, bearing) to (4, 3)
+    dx, dy = 4.0 - x[0], 3.0 - x[1]
+    return (np.array([math.hypot(dx, dy), math.atan2(dy, dx) - x[2]]),
+            np.zeros((2, 3)))
+
+
+def pf3_loglik(x, w, z, h, Q, mask):
+    """log sum_k (w_k / W) N(z; h(x_k), Q), in numpy."""
+    r = np.array([np.asarray(z, float) - h(xk)[0][:len(z)] for xk in x])
+    for i in range(len(z)):
+        if mask >> i & 1:
+            r[:, i] = wrap(r[:, i])
+    d2 = np.einsum("ki,ij,kj->k", r, np.linalg.inv(Q), r)
+    lw = np.log(w / w.sum()) - 0.5 * d2
+    top = lw.max()
+    return (top + math.log(np.exp(lw - top).sum()) - 0.5 * (
+        len(z) * math.log(2 * math.pi) + math.log(np.linalg.det(Q))))
+
+
+@pytest.mark.parametrize("gf", MODS)
+def test_loglik(gf):
+    """loglik: nan before any update, then the particle filter's
+    log-likelihood of the last accepted update's z against the numpy
+    formula over the particles and weights read before it (built-in and
+    Python h, an angle residual wrapped, weights unequal and equal); kept
+    by refused updates, failed runs, copy and pickle; a run's the calls';
+    cleared by reset."""
+    f = gf.PF3([1, 2, 0.5], np.diag([0.3, 0.2, 0.1]), 200, seed=4)
+    assert math.isnan(f.loglik)
+    motion = gf.EKF3Motion(gf.forward_turn, np.eye(3) * 0.01)
+    Qxy = np.array([[0.3, 0.1], [0.1, 0.5]])
+    Qrb = np.array([[0.2, 0.0], [0.0, 0.05]])
+    cases = [(gf.EKF3Meas(gf.meas_xy, Qxy), lambda x: (x[:2], None), Qxy,
+              0, [1.5, 2.2]),
+             (gf.EKF3Meas(gf.meas_x, [[0.2]]), lambda x: (x[:1], None),
+              np.array([[0.2]]), 0, [1.4]),
+             (gf.EKF3Meas(bearing_h, Qrb, angle_mask=2), bearing_h, Qrb, 2,
+              [3.3, 3.1])]
+    for k in range(9):
+        meas, h, Q, mask, z = cases[k % 3]
+        f.predict(motion, [0.2, 0.05])
+        if k % 2:
+            f.resample()  # equal weights: the mean of the likelihoods
+        x, w = f.particles.astype(float), f.weights.astype(float)
+        f.update(meas, z)
+        want = pf3_loglik(x, w, z, h, Q, mask)
+        assert type(f.loglik) is float
+        assert close(f.loglik, want, TOL[gf]), (k, f.loglik, want)
+    # refused: gated, not finite, a wrong shape; the run that fails
+    ll = f.loglik
+    gated = gf.EKF3Meas(gf.meas_xy, Qxy, gate=1.0)
+    for call in (lambda: f.update(gated, [90, 90]),
+                 lambda: f.update(cases[0][0], [np.nan, 1]),
+                 lambda: f.update(cases[0][0], [1, 2, 3]),
+                 lambda: f.run(motion, cases[0][0], u=[[0.1, 0], [0.1, 0]],
+                               z=[[1.5, 2.2], [np.inf, 0]])):
+        with pytest.raises(gaussfilt.GaussfiltError):
+            call()
+        assert f.loglik == ll
+    for twin in (copy.copy(f), copy.deepcopy(f),
+                 pickle.loads(pickle.dumps(f))):
+        assert twin.loglik == ll and twin.__getstate__() == f.__getstate__()
+    # a state of version 1 (no loglik) still reads, loglik nan
+    st = f.__getstate__()
+    assert st[0] == 2 and len(st[4]) == 8
+    old = type(f).__new__(type(f))
+    old.__setstate__((1,) + st[1:4])
+    assert math.isnan(old.loglik) and np.array_equal(old.particles,
+                                                     f.particles)
+    # run leaves its last update's, as the calls do
+    a, b = copy.copy(f), copy.copy(f)
+    u = [[0.2, 0.05]] * 3
+    z = [[1.5, 2.2], [1.6, 2.3], [np.nan, np.nan]]
+    a.run(motion, cases[0][0], u=u, z=z)
+    for uk, zk in zip(u, z):
+        b.predict(motion, uk)
+        if not np.isnan(zk[0]):
+            b.update(cases[0][0], zk)
+            b.resample()
+    assert a.__getstate__() == b.__getstate__() and a.loglik == b.loglik
+    f.reset([0, 0, 0], np.eye(3), 10)
+    assert math.isnan(f.loglik)

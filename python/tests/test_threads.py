@@ -179,6 +179,7 @@ def test_another_thread_may_not_touch_a_running_pf3(mod):
             "particles": lambda: pf.particles,
             "weights": lambda: pf.weights,
             "neff": lambda: pf.neff,
+            "loglik": lambda: pf.loglik,
             "copy": lambda: copy.copy(pf),
             "repr": lambda: pf3_repr_probe(pf),
         }
