@@ -5,7 +5,9 @@
 // in that precision. Every step is one call of the library's step on the
 // object's own belief; nothing here computes a step. The last update's S,
 // K and log-likelihood, which the library never forms, are computed here
-// when read (last_update), from what the update kept.
+// when read (last_update), from what the update kept (UKF3's S and
+// Sigma^xz, and PF3's likelihood, summed in double as the library's update
+// calls h: ukf3_update, pf3_update).
 //
 // Conventions: arrays come in as anything numpy converts (rounded to
 // gf_real: float32 in _f32) and go out as fresh arrays of gf_real. A status
