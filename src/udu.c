@@ -381,18 +381,33 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 }
 
 // The singular verdict's scale of an exact quantity (r = 0) hp, in the
-// factors' order: h Sigma h^T without its cancellations, times n,
-//   n sum_j d_j (|hp_j| + sum_(i<j) |U_ij hp_i|)^2
-// (the same in any units).
-static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp)
+// factors' order, with f = U^T hp (h Sigma h^T = sum_j d_j f_j^2) and
+// t_j = |hp_j| + sum_(i<j) |U_ij hp_i|, f_j's terms without their
+// cancellations (the same in any units):
+//   (n / 8) sum_j d_j t_j^2                      (terms)
+//   n sum_j d_j t_j (2 |f_j| + GF_PD_RTOL t_j)   (cancelled)
+// The sum is rounded by about 2 n u times sum_j d_j t_j^2 (u the unit
+// roundoff); GF_PD_RTOL (64 u) times the first is four times that: a sum
+// below it is a rounding residue, or has less than a digit (a direction
+// known exactly, or one whose variance the rounding of h or Sigma made).
+// The second bounds the sum's rounding to first order (each f_j off by
+// about u t_j): for a whitened quantity met after noisy ones of its
+// update, which subtracts a large multiple of one of them (a
+// rank-deficient Q in units far apart) and so cancels far more than it
+// loses; what it measures was judged by the first on the update's prior.
+static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
+                               int cancelled)
 {
     gf_real scale = 0;
     for (unsigned j = 0; j < n; j++) {
-        gf_real t = GF_FABS(hp[j]);
+        gf_real f = hp[j], t = GF_FABS(hp[j]);
         for (unsigned i = 0; i < j; i++) {
+            f += ud[GF_UD(i, j)] * hp[i];
             t += GF_FABS(ud[GF_UD(i, j)] * hp[i]);
         }
-        scale += ud[GF_UD(j, j)] * t * t;
+        const gf_real w = cancelled ? GF_R(2.0) * GF_FABS(f) + GF_PD_RTOL * t
+                                    : GF_R(0.125) * t;
+        scale += ud[GF_UD(j, j)] * t * w;
     }
     return (gf_real)n * scale;
 }
@@ -484,18 +499,26 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
     // prior, sum_j d_j f_j^2 (f = U^T hp): S's diagonal entry, for the
     // verdict in S's correlation form. (One judged only on the factors an
     // earlier exact quantity had left would be judged on residues of its
-    // own size when it measures a direction already known exactly.)
+    // own size when it measures a direction already known exactly.) -1
+    // where that entry is zero relative to its terms: S is singular.
     for (unsigned i = 0; i < m; i++) {
-        gf_real acc = 0;
-        for (unsigned j = 0; m > 1u && !(e[i] > 0) && j < n; j++) {
-            gf_real fj = hw[(size_t)i * n + perm[j]];
-            for (unsigned l = 0; l < j; l++) {
-                fj += ud[GF_UD(l, j)] * hw[(size_t)i * n + perm[l]];
+        es[i] = 0;
+        if (m > 1u && !(e[i] > 0)) {
+            gf_real acc = 0;
+            for (unsigned j = 0; j < n; j++) {
+                hp[j] = hw[(size_t)i * n + perm[j]];
+                gf_real fj = hp[j];
+                for (unsigned l = 0; l < j; l++) {
+                    fj += ud[GF_UD(l, j)] * hp[l];
+                }
+                acc += ud[GF_UD(j, j)] * fj * fj;
             }
-            acc += ud[GF_UD(j, j)] * fj * fj;
+            const gf_real sc = udu_exact_scale(n, ud, hp, 0);
+            es[i] =
+                (acc > GF_PD_RTOL * sc || !GF_ISFINITE(acc)) ? acc : GF_R(-1.0);
         }
-        es[i] = acc;
     }
+    int exact_before = 0, noisy_before = 0;
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[(size_t)i * n];
         // Bierman's update changes no entry of U for the state at the root
@@ -529,12 +552,20 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
             hp[j] = h[perm[j]];
             yi -= hp[j] * dp[j];
         }
-        // an exact quantity is singular when its s is zero relative to its
-        // own terms, or, after others, relative to S_ii (es_i)
+        // an exact quantity is singular when its S_ii on the prior is zero
+        // (es_i); when its s is zero relative to its own terms, or, after
+        // noisy ones alone, to its rounding; and after exact ones, also
+        // when it is zero relative to S_ii
         gf_real sc = 0;
         if (!(e[i] > 0)) {
-            sc = udu_exact_scale(n, ud, hp);
-            sc = (es[i] > sc) ? es[i] : sc;
+            if (es[i] < 0) {
+                return GF_ERR_SINGULAR;
+            }
+            sc = udu_exact_scale(n, ud, hp, noisy_before && !exact_before);
+            sc = (exact_before && es[i] > sc) ? es[i] : sc;
+            exact_before = 1;
+        } else {
+            noisy_before = 1;
         }
         const gf_status st =
             (e[i] > 0) ? udu_update(n, ud, hp, e[i], sc, yi, dp, nis, b)
