@@ -9,10 +9,22 @@
 #include "kf_core.h"
 #include "udu.h"
 
+// The states in ekf->angles of ekf->mu wrapped into (-pi, pi] (once a
+// step has written the belief: a wrapped entry is finite where it was).
+static gf_status ekf_wrap(gf_status st, gf_kf *ekf)
+{
+    for (unsigned i = 0; st == GF_OK && i < ekf->n; i++) {
+        if ((ekf->angles >> i) & 1u) {
+            ekf->mu[i] = gf_angle_wrap(ekf->mu[i]);
+        }
+    }
+    return st;
+}
+
 gf_status gf_ekf_init(gf_kf *ekf, unsigned n, const gf_real *mu,
                       const gf_real *sigma, unsigned angles, gf_kf_work *work)
 {
-    return gf_kfc_init(ekf, n, mu, sigma, angles, work);
+    return ekf_wrap(gf_kfc_init(ekf, n, mu, sigma, angles, work), ekf);
 }
 
 // R's verdict and factors (into Rf, Rd).
@@ -51,7 +63,7 @@ static gf_status ekf_predict_step(gf_kf *ekf, const gf_ekf_motion *motion,
             gf_nan_sum(gf_nan_sum(GF_R(0.0), mu_bar, n), G, n * n))) {
         return GF_ERR_NONFINITE;
     }
-    return gf_kfc_predict(ekf, mu_bar, G, Rf, Rd, work);
+    return ekf_wrap(gf_kfc_predict(ekf, mu_bar, G, Rf, Rd, work), ekf);
 }
 
 gf_status gf_ekf_predict(gf_kf *ekf, const gf_ekf_motion *motion,
@@ -139,8 +151,9 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
     const gf_status st =
         gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
     return st != GF_OK ? st
-                       : ekf_update_step(ekf, meas, z, q->F, q->d, q->order,
-                                         info, work);
+                       : ekf_wrap(ekf_update_step(ekf, meas, z, q->F, q->d,
+                                                  q->order, info, work),
+                                  ekf);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -172,8 +185,9 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe, pq->Qorder, info,
-                           work);
+    return ekf_wrap(ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe,
+                                    pq->Qorder, info, work),
+                    ekf);
 }
 
 // ---- checking a model's Jacobians ---------------------------------------

@@ -39,16 +39,6 @@ GF_NOINLINE void kfc_copy(gf_kf *restrict dst, const gf_kf *restrict src)
     }
 }
 
-// The states in `angles` of x (n entries) wrapped into (-pi, pi].
-static void kfc_wrap(gf_real *x, unsigned n, unsigned angles)
-{
-    for (unsigned i = 0; i < n; i++) {
-        if ((angles >> i) & 1u) {
-            x[i] = gf_angle_wrap(x[i]);
-        }
-    }
-}
-
 gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
                        const gf_kf_factors **fac)
 {
@@ -84,7 +74,6 @@ gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] = mu[i];
     }
-    kfc_wrap(nb->mu, n, angles);
     if (!gf_belief_finite(nb->mu, nb->ud, n)) {
         return GF_ERR_NONFINITE; // a variance at the end of the range
     }
@@ -106,7 +95,6 @@ gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
     for (unsigned i = 0; i < n; i++) {
         nb->mu[i] = mu_bar[i];
     }
-    kfc_wrap(nb->mu, n, kf->angles);
     // Sigma_bar = G Sigma G^T + R on the factors (Thornton)
     gf_udu_predict(n, kf->ud, nb->ud, kf->perm, G, Rf, Rd, work->steps);
     if (!gf_belief_finite(nb->mu, nb->ud, n)) {
@@ -147,7 +135,6 @@ gf_status gf_kfc_correct(gf_kf *kf, unsigned m, const gf_real *hw,
     if (st != GF_OK) {
         return st;
     }
-    kfc_wrap(nb->mu, n, nb->angles);
     st = gf_update_status(in->nis, gate, gf_belief_finite(nb->mu, nb->ud, n));
     if (st == GF_OK) {
         kfc_copy(kf, nb);

@@ -36,7 +36,8 @@ extern "C" {
 // The belief N(mu, Sigma) of n states, Sigma carried as its factors
 // P U D U^T P^T (as gf_kf2's); read it with gf_kf_cov, set it with
 // gf_kf_init or gf_ekf_init only. angles: bit i set keeps state i in
-// (-pi, pi] (an EKF's heading); zero for a linear filter.
+// (-pi, pi] (an EKF's heading, wrapped by gf_ekf's steps); zero for a
+// linear filter (gf_kf's steps wrap nothing).
 typedef struct gf_kf {
     unsigned n;
     unsigned angles;
