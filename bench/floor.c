@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The loop floor of KF2 (floor.h): the filter's own code, on the steps of
-// floor_core.c.
+// The loop floor of KF2, EKF3 and gf_kf (floor.h): each filter's own code,
+// on the steps of floor_core.c.
 #include "floor.h"
 
 gf_status floor_kf2_init(floor_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
@@ -18,11 +18,12 @@ gf_status floor_kf2_init(floor_kf2 *kf, const gf_vec2 *mu, const gf_mat2 *sigma)
     return GF_OK;
 }
 
-gf_status floor_kf2_predict(floor_kf2 *kf, const gf_kf2_model *model)
+gf_status floor_kf2_predict(floor_kf2 *kf, const gf_kf2_model *model,
+                            const gf_vec2 *u)
 {
     gf_real rud[3], w[2 * 2 * 2 + 4 + 4];
     if (!fl_finite(model->A.m[0], 4) || !fl_finite(model->B.m[0], 4) ||
-        !fl_finite(model->c.v, 2)) {
+        !fl_finite(model->c.v, 2) || (u && !fl_finite(u->v, 2))) {
         return GF_ERR_NONFINITE;
     }
     const gf_status st = fl_factor(model->R.m[0], 2, rud);
@@ -33,7 +34,8 @@ gf_status floor_kf2_predict(floor_kf2 *kf, const gf_kf2_model *model)
     for (unsigned i = 0; i < 2u; i++) {
         nb.mu.v[i] = model->c.v[i];
         for (unsigned j = 0; j < 2u; j++) {
-            nb.mu.v[i] += model->A.m[i][j] * kf->mu.v[j];
+            nb.mu.v[i] += model->A.m[i][j] * kf->mu.v[j] +
+                          (u ? model->B.m[i][j] * u->v[j] : GF_R(0.0));
         }
     }
     fl_predict(2, kf->ud, model->A.m[0], rud, nb.ud, w);
@@ -47,24 +49,29 @@ gf_status floor_kf2_predict(floor_kf2 *kf, const gf_kf2_model *model)
 gf_status floor_kf2_update(floor_kf2 *kf, const gf_kf2_meas *meas,
                            const gf_vec2 *z, gf_real *nis)
 {
-    if (meas->m != 1u) {
+    const unsigned m = meas->m;
+    if (m < 1u || m > 2u) {
         return GF_ERR_ARG;
     }
-    const gf_real q = meas->Q.m[0][0];
-    const gf_real t =
-        q * GF_R(0.0) + z->v[0] * GF_R(0.0) + meas->gate * GF_R(0.0);
-    if (!fl_finite(meas->C.m[0], 2) || !(t == 0)) {
+    if (!fl_finite(meas->C.m[0], 2u * m) || !fl_finite(meas->Q.m[0], 4) ||
+        !fl_finite(meas->c.v, m) || !fl_finite(z->v, m) ||
+        !fl_finite(&meas->gate, 1)) {
         return GF_ERR_NONFINITE;
     }
-    if (q < 0 || meas->gate < 0) {
-        return q < 0 ? GF_ERR_NOT_PSD : GF_ERR_ARG;
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    gf_real q[2], y[2], b[4];
+    gf_status st = fl_noise_diag(meas->Q.m[0], 2, m, q);
+    if (st != GF_OK) {
+        return st;
+    }
+    for (unsigned i = 0; i < m; i++) {
+        y[i] = z->v[i] - meas->c.v[i] -
+               (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
     }
     floor_kf2 nb = *kf;
-    const gf_real *h = meas->C.m[0];
-    const gf_real y =
-        z->v[0] - meas->c.v[0] - (h[0] * kf->mu.v[0] + h[1] * kf->mu.v[1]);
-    gf_real b[2];
-    const gf_status st = fl_correct(2, nb.ud, nb.mu.v, h, q, y, nis, b);
+    st = fl_correct_m(2, m, nb.ud, nb.mu.v, meas->C.m[0], q, y, nis, b);
     if (st != GF_OK) {
         return st;
     }
@@ -132,34 +139,39 @@ gf_status floor_ekf3_predict(floor_ekf3 *ekf, const gf_ekf3_motion *motion,
 gf_status floor_ekf3_update(floor_ekf3 *ekf, const gf_ekf3_meas *meas,
                             const gf_vec3 *z, gf_real *nis)
 {
-    if (!meas->h || meas->m != 1u) {
+    const unsigned m = meas->m;
+    if (!meas->h || m < 1u || m > 3u) {
         return GF_ERR_ARG;
     }
-    const gf_real q = meas->Q.m[0][0];
-    const gf_real t =
-        q * GF_R(0.0) + z->v[0] * GF_R(0.0) + meas->gate * GF_R(0.0);
-    if (!(t == 0)) {
+    if (!fl_finite(meas->Q.m[0], 9) || !fl_finite(z->v, m) ||
+        !fl_finite(&meas->gate, 1)) {
         return GF_ERR_NONFINITE;
     }
-    if (q < 0 || meas->gate < 0) {
-        return q < 0 ? GF_ERR_NOT_PSD : GF_ERR_ARG;
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
     }
-    gf_vec3 zh = {{0, 0, 0}};
-    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-    gf_status st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    gf_real q[3], y[3], b[6];
+    gf_status st = fl_noise_diag(meas->Q.m[0], 3, m, q);
     if (st != GF_OK) {
         return st;
     }
-    if (!fl_finite(H.m[0], 3) || !(zh.v[0] * GF_R(0.0) == 0)) {
+    gf_vec3 zh = {{0, 0, 0}};
+    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    st = meas->h(meas->ctx, &ekf->mu, &zh, &H);
+    if (st != GF_OK) {
+        return st;
+    }
+    if (!fl_finite(H.m[0], 3u * m) || !fl_finite(zh.v, m)) {
         return GF_ERR_NONFINITE;
     }
-    gf_real y = z->v[0] - zh.v[0];
-    if (meas->angle_mask & 1u) {
-        y = gf_angle_wrap(y);
+    for (unsigned i = 0; i < m; i++) {
+        y[i] = z->v[i] - zh.v[i];
+        if ((meas->angle_mask >> i) & 1u) {
+            y[i] = gf_angle_wrap(y[i]);
+        }
     }
     floor_ekf3 nb = *ekf;
-    gf_real b[3];
-    st = fl_correct(3, nb.ud, nb.mu.v, H.m[0], q, y, nis, b);
+    st = fl_correct_m(3, m, nb.ud, nb.mu.v, H.m[0], q, y, nis, b);
     if (st != GF_OK) {
         return st;
     }
@@ -177,4 +189,109 @@ gf_status floor_ekf3_update(floor_ekf3 *ekf, const gf_ekf3_meas *meas,
 void floor_ekf3_cov(const floor_ekf3 *ekf, gf_mat3 *sigma)
 {
     fl_to_cov(ekf->ud, 3, sigma->m[0]);
+}
+
+gf_status floor_kf_init(floor_kf *kf, unsigned n, const gf_real *mu,
+                        const gf_real *sigma, floor_kf_work *work)
+{
+    floor_kf *nb = &work->belief;
+    if (n < 1u || n > GF_KF_NMAX) {
+        return GF_ERR_ARG;
+    }
+    if (!fl_finite(mu, n)) {
+        return GF_ERR_NONFINITE;
+    }
+    const gf_status st = fl_factor(sigma, n, nb->ud);
+    if (st != GF_OK) {
+        return st;
+    }
+    nb->n = n;
+    for (unsigned i = 0; i < n; i++) {
+        nb->mu[i] = mu[i];
+    }
+    *kf = *nb;
+    return GF_OK;
+}
+
+gf_status floor_kf_predict(floor_kf *kf, const gf_kf_model *model,
+                           const gf_real *u, floor_kf_work *work)
+{
+    const unsigned n = kf->n, nu = (u && model->B) ? model->nu : 0u;
+    if (!fl_finite(model->A, n * n) || !fl_finite(u ? u : model->A, nu) ||
+        !fl_finite(nu ? model->B : model->A, n * nu) ||
+        !fl_finite(model->c ? model->c : model->A, model->c ? n : 0u)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_real *rud = work->rud, *w = work->steps;
+    const gf_status st = fl_factor(model->R, n, rud);
+    if (st != GF_OK) {
+        return st;
+    }
+    floor_kf *nb = &work->belief;
+    nb->n = n;
+    // mu_bar = A mu + B u + c
+    for (unsigned i = 0; i < n; i++) {
+        gf_real acc = model->c ? model->c[i] : GF_R(0.0);
+        for (unsigned j = 0; j < n; j++) {
+            acc += model->A[i * n + j] * kf->mu[j];
+        }
+        for (unsigned j = 0; j < nu; j++) {
+            acc += model->B[i * nu + j] * u[j];
+        }
+        nb->mu[i] = acc;
+    }
+    fl_predict(n, kf->ud, model->A, rud, nb->ud, w);
+    if (!fl_belief_finite(nb->mu, nb->ud, n)) {
+        return GF_ERR_NONFINITE;
+    }
+    *kf = *nb;
+    return GF_OK;
+}
+
+gf_status floor_kf_update(floor_kf *kf, const gf_kf_meas *meas,
+                          const gf_real *z, gf_real *nis, floor_kf_work *work)
+{
+    const unsigned n = kf->n, m = meas->m;
+    if (m < 1u || m > n) {
+        return GF_ERR_ARG;
+    }
+    if (!fl_finite(meas->C, m * n) || !fl_finite(meas->Q, m * m) ||
+        !fl_finite(z, m) || !fl_finite(&meas->gate, 1) ||
+        !fl_finite(meas->c ? meas->c : z, m)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    gf_real *q = work->rud, *y = &work->rud[GF_KF_NMAX];
+    gf_status st = fl_noise_diag(meas->Q, m, m, q);
+    if (st != GF_OK) {
+        return st;
+    }
+    // y = z - c - C mu
+    for (unsigned i = 0; i < m; i++) {
+        y[i] = z[i] - (meas->c ? meas->c[i] : GF_R(0.0));
+        for (unsigned j = 0; j < n; j++) {
+            y[i] -= meas->C[i * n + j] * kf->mu[j];
+        }
+    }
+    floor_kf *nb = &work->belief;
+    *nb = *kf;
+    st = fl_correct_m(n, m, nb->ud, nb->mu, meas->C, q, y, nis, work->steps);
+    if (st != GF_OK) {
+        return st;
+    }
+    if (meas->gate > 0 && *nis > meas->gate) {
+        return GF_ERR_GATED;
+    }
+    if (!fl_belief_finite(nb->mu, nb->ud, n)) {
+        return GF_ERR_NONFINITE;
+    }
+    *kf = *nb;
+    return GF_OK;
+}
+
+void floor_kf_cov(const floor_kf *kf, gf_real *sigma)
+{
+    fl_to_cov(kf->ud, kf->n, sigma);
 }

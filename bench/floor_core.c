@@ -12,7 +12,8 @@
 // What it leaves out, against src/: the symmetry test, the pivoting of the
 // verdict (a zero pivot judged by the 2 x 2 bound alone), the compensated
 // factorisation of a prior, the move of a measured state to the root, the
-// Joseph form for exact quantities, and m = 2 (W1 has m = 1).
+// Joseph form for exact quantities, and correlated measurement noise (Q
+// must be diagonal: its quantities are taken one at a time, unwhitened).
 #include <stddef.h>
 
 #include "floor.h"
@@ -166,4 +167,46 @@ void fl_to_cov(const gf_real *ud, unsigned n, gf_real *s)
             s[j * n + i] = acc;
         }
     }
+}
+
+gf_status fl_noise_diag(const gf_real *Q, unsigned stride, unsigned m,
+                        gf_real *q)
+{
+    for (unsigned i = 0; i < m; i++) {
+        for (unsigned j = 0; j < m; j++) {
+            const gf_real x = Q[i * stride + j];
+            if (i == j ? x < 0 : !(x == 0)) {
+                return GF_ERR_NOT_PSD;
+            }
+        }
+        q[i] = Q[i * stride + i];
+    }
+    return GF_OK;
+}
+
+gf_status fl_correct_m(unsigned n, unsigned m, gf_real *ud, gf_real *mu,
+                       const gf_real *H, const gf_real *q, const gf_real *y,
+                       gf_real *nis, gf_real *b)
+{
+    gf_real *dx = &b[n], total = 0;
+    for (unsigned j = 0; j < n; j++) {
+        dx[j] = 0;
+    }
+    for (unsigned i = 0; i < m; i++) {
+        const gf_real *h = &H[i * n];
+        gf_real yi = y[i], part;
+        for (unsigned j = 0; j < n; j++) {
+            yi -= h[j] * dx[j];
+        }
+        const gf_status st = fl_correct(n, ud, dx, h, q[i], yi, &part, b);
+        if (st != GF_OK) {
+            return st;
+        }
+        total += part;
+    }
+    for (unsigned j = 0; j < n; j++) {
+        mu[j] += dx[j];
+    }
+    *nis = total;
+    return GF_OK;
 }

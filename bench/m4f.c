@@ -123,7 +123,7 @@ static void w1(void)
     for (unsigned i = 0; i < WL_TAB; i++) {
         gf_real nis;
         bench_mark_start(&fk);
-        gf_status a = floor_kf2_predict(&fk, &wl_w1_model);
+        gf_status a = floor_kf2_predict(&fk, &wl_w1_model, NULL);
         gf_status b = floor_kf2_update(&fk, &wl_w1_meas, &wl_w1_z[i], &nis);
         bench_mark_stop(&fk);
         check(a != GF_OK ? a : b, "w1 floor", i);

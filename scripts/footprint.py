@@ -505,7 +505,8 @@ def report(root, build_root):
     results = {}
     for key, label, pfx in TARGETS:
         build = os.path.join(build_root, f"fw-{key}-float")
-        imgs = ["base"] + [img for img, _ in IMAGES]
+        imgs = ["base"] + [img for img, _ in IMAGES] + [
+            f"floor_{img}" for img, _ in IMAGES]
         results[key] = {
             "label": label,
             "mods": module_sizes(pfx, build),
@@ -547,6 +548,20 @@ def report(root, build_root):
     lines.append("| base image (absolute) | " + " | ".join(
         fmt_b(flash(results[k]["images"]["base"])) for k, _, _ in TARGETS)
         + " |")
+    lines.append("")
+
+    # The loop floor in the same images.
+    lines += ["The loop floor (`bench/floor.c`, `bench/floor_core.c`: the "
+              "least code that keeps the filters' promises in the core's loop "
+              "style, less the features [Against the loop floor]"
+              "(#against-the-loop-floor) accounts for) in the same images "
+              "(`GF_FW_FLOOR`), flash over the base image:", "",
+              "| image | " + " | ".join(labels) + " |",
+              "|---|" + "---|" * len(TARGETS)]
+    for img, label in IMAGES:
+        lines.append(f"| {label} | " + " | ".join(
+            fmt_b(delta(key, f"floor_{img}")) for key, _, _ in TARGETS)
+            + " |")
     lines.append("")
 
     lines += ["What the delta is made of, Cortex-M4F (bytes, from the link "
