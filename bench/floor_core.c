@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
-// The loop floor: the least code that keeps KF2's promises, in the core's
-// loop style (one implementation for any n, n known only at run time), to
-// show what a step and its flash cost at the least. Bench only, never
-// linked by a filter.
+// The loop floor: the least code that keeps KF2's, EKF3's and gf_kf's
+// promises, in the core's loop style (one implementation for any n, n
+// known only at run time), to show what a step and its flash cost at the
+// least. Bench only, never linked by a filter.
 //
 // What it keeps of the API: every input checked finite, R and the prior
 // judged positive semidefinite (a zero pivot allowed, scale-free
 // tolerances), the belief factored U D U^T, Thornton's prediction and
-// Bierman's update on the factors, the singular verdict of an exact
-// quantity, the gate, and a failed call leaving the belief as it was.
+// Bierman's update on the factors, m measured quantities one after
+// another, the control input, the singular verdict of an exact quantity,
+// the gate, and a failed call leaving the belief as it was.
 // What it leaves out, against src/: the symmetry test, the pivoting of the
 // verdict (a zero pivot judged by the 2 x 2 bound alone), the compensated
 // factorisation of a prior, the move of a measured state to the root, the
