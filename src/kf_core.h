@@ -21,8 +21,9 @@ gf_status gf_kfc_noise(const gf_real *s, unsigned n, gf_kf_work *work,
 gf_status gf_kfc_init(gf_kf *kf, unsigned n, const gf_real *mu,
                       const gf_real *sigma, unsigned angles, gf_kf_work *work);
 
-// The prediction once the model is checked: mu_bar (n), Sigma_bar = G Sigma G^T + R with R's factors (Rf, Rd); the
-// belief written only if all of it is finite.
+// The prediction once the model is checked: mu_bar (n), Sigma_bar =
+// G Sigma G^T + R with R's factors (Rf, Rd); the belief written only if
+// all of it is finite.
 gf_status gf_kfc_predict(gf_kf *kf, const gf_real *mu_bar, const gf_real *G,
                          const gf_real *Rf, const gf_real *Rd,
                          gf_kf_work *work);
@@ -35,8 +36,8 @@ gf_status gf_kfc_meas_check(unsigned n, unsigned m, const gf_real *Q,
 
 // The correction once the measurement is checked, with the innovation y
 // (m entries) in work->in.y and in work->yw, and the whitened rows hw (m x
-// n, F_Q^-1 H): y_w = F_Q^-1 y in work->yw (Q's factors Qf, Qorder), one scalar update per quantity
-// with the noises Qe (gf_udu_correct), the gate
+// n, F_Q^-1 H): y_w = F_Q^-1 y in work->yw (Q's factors Qf, Qorder), one
+// scalar update per quantity with the noises Qe (gf_udu_correct), the gate
 // on the total NIS; the belief and info written only if every quantity
 // passed and the result is finite.
 gf_status gf_kfc_correct(gf_kf *kf, unsigned m, const gf_real *hw,
