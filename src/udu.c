@@ -383,7 +383,7 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 // The singular verdict's scale of an exact quantity (r = 0) hp, in the
 // factors' order, with f = U^T hp (h Sigma h^T = sum_j d_j f_j^2) and
 // t_j = |hp_j| + sum_(i<j) |U_ij hp_i|, f_j's terms without their
-// cancellations (the same in any units):
+// cancellations (the same in any units; *hsh = h Sigma h^T):
 //   (n / 8) sum_j d_j t_j^2                      (terms)
 //   n sum_j d_j t_j (2 |f_j| + GF_PD_RTOL t_j)   (cancelled)
 // The sum is rounded by about 2 n u times sum_j d_j t_j^2 (u the unit
@@ -396,9 +396,9 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 // rank-deficient Q in units far apart) and so cancels far more than it
 // loses; what it measures was judged by the first on the update's prior.
 static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
-                               int cancelled)
+                               int cancelled, gf_real *hsh)
 {
-    gf_real scale = 0;
+    gf_real scale = 0, acc = 0;
     for (unsigned j = 0; j < n; j++) {
         gf_real f = hp[j], t = GF_FABS(hp[j]);
         for (unsigned i = 0; i < j; i++) {
@@ -408,7 +408,9 @@ static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
         const gf_real w = cancelled ? GF_R(2.0) * GF_FABS(f) + GF_PD_RTOL * t
                                     : GF_R(0.125) * t;
         scale += ud[GF_UD(j, j)] * t * w;
+        acc += ud[GF_UD(j, j)] * f * f;
     }
+    *hsh = acc;
     return (gf_real)n * scale;
 }
 
@@ -504,16 +506,11 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
     for (unsigned i = 0; i < m; i++) {
         es[i] = 0;
         if (m > 1u && !(e[i] > 0)) {
-            gf_real acc = 0;
             for (unsigned j = 0; j < n; j++) {
                 hp[j] = hw[(size_t)i * n + perm[j]];
-                gf_real fj = hp[j];
-                for (unsigned l = 0; l < j; l++) {
-                    fj += ud[GF_UD(l, j)] * hp[l];
-                }
-                acc += ud[GF_UD(j, j)] * fj * fj;
             }
-            const gf_real sc = udu_exact_scale(n, ud, hp, 0);
+            gf_real acc;
+            const gf_real sc = udu_exact_scale(n, ud, hp, 0, &acc);
             es[i] =
                 (acc > GF_PD_RTOL * sc || !GF_ISFINITE(acc)) ? acc : GF_R(-1.0);
         }
@@ -561,7 +558,9 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
             if (es[i] < 0) {
                 return GF_ERR_SINGULAR;
             }
-            sc = udu_exact_scale(n, ud, hp, noisy_before && !exact_before);
+            gf_real hsh;
+            sc =
+                udu_exact_scale(n, ud, hp, noisy_before && !exact_before, &hsh);
             sc = (exact_before && es[i] > sc) ? es[i] : sc;
             exact_before = 1;
         } else {
