@@ -345,15 +345,18 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
         const gf_real d = uj[j];
         const gf_real gj = d * fj;
         const gf_real a1 = alpha + fj * gj;
-        gf_real inv = 0;
+        gf_real inv = 0, dj = d;
         if (a1 >= GF_REAL_MIN) { // (a smaller one is zero: 1 / a1 overflows)
             inv = GF_R(1.0) / a1;
-            uj[j] = d * (alpha * inv);
+            dj = d * (alpha * inv);
         }
+        // a d_j below GF_REAL_MIN is zero, with its column of U
+        const int zero = dj < GF_REAL_MIN;
+        uj[j] = zero ? GF_R(0.0) : dj;
         const gf_real p = -fj * inv_prev;
         for (unsigned i = 0; i < j; i++) {
             const gf_real uij = uj[i];
-            uj[i] = uij + b[i] * p;
+            uj[i] = zero ? GF_R(0.0) : uij + b[i] * p;
             b[i] += uij * gj;
         }
         b[j] = gj;
@@ -369,13 +372,7 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
     const gf_real k = y * inv_prev; // y / s
     *nis += y * k;
     for (unsigned j = 0; j < n; j++) {
-        gf_real *uj = &ud[GF_UD(0u, j)];
         dx[j] += b[j] * k;
-        if (uj[j] < GF_REAL_MIN) {
-            for (unsigned i = 0; i <= j; i++) {
-                uj[i] = 0;
-            }
-        }
     }
     return GF_OK;
 }
