@@ -142,23 +142,35 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     return GF_OK;
 }
 
-// The correction, Table 3.3, lines 4-6, once meas and z are checked, with
-// Q's factors q: z_hat =
-// h(mu_bar) and H from the callback (both preset to zeros), y = z - z_hat
-// (angle residuals wrapped), both whitened by Q's factors (y_w = F^-1 y,
-// H_w = F^-1 H), then one scalar update per quantity (gf_udu_correct), the
-// gate on the total NIS, and the belief written only if every quantity
-// passed and all is finite.
+// The correction, Table 3.3, lines 4-6, with Q's factors prepared (or,
+// where prepared is NULL, factored here once gf_meas3_check has checked
+// meas and z): z_hat = h(mu_bar) and H from the callback (both preset to
+// zeros), y = z - z_hat (angle residuals wrapped), both whitened by Q's
+// factors (y_w = F^-1 y, H_w = F^-1 H), then one scalar update per
+// quantity (gf_udu_correct), the gate on the total NIS, and the belief
+// written only if every quantity passed and all is finite. Q's factors
+// and the belief's copy live in blocks of their own: one frame holds them
+// in turn, not both.
 static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
-                                  const gf_ekf3_qfactors *q, const gf_vec3 *z,
-                                  gf_innovation *info)
+                                  const gf_ekf3_qfactors *prepared,
+                                  const gf_vec3 *z, gf_innovation *info)
 {
     const unsigned m = meas->m;
     gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     gf_vec3 yw = {{0, 0, 0}}; // z_hat, then y, then y_w
     gf_innovation in = {m, {0, 0, 0}, 0};
+    gf_real e[3]; // the noises of the whitened quantities, Q's Qe
     gf_status st = GF_OK;
     {
+        gf_ekf3_qfactors own;
+        const gf_ekf3_qfactors *q = prepared;
+        if (!q) {
+            st = gf_meas3_check(meas, z, &own);
+            if (st != GF_OK) {
+                return st;
+            }
+            q = &own;
+        }
         st = meas->h(meas->ctx, &ekf->mu, &yw, &H);
         if (st != GF_OK) {
             return gf_callback_status(st);
@@ -174,6 +186,7 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
                 in.y[i] = gf_angle_wrap(in.y[i]);
             }
             yw.v[i] = in.y[i];
+            e[i] = q->Qe[i];
         }
         gf_udu_whiten(q->Qf, q->Qorder, m, H.m[0], 3);
         gf_udu_whiten(q->Qf, q->Qorder, m, yw.v, 1);
@@ -181,7 +194,7 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     {
         gf_ekf3 nb = *ekf;
         gf_real work[GF_UDU_CORRECT_WORK(3u)];
-        st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], q->Qe, yw.v, nb.mu.v,
+        st = gf_udu_correct(3u, nb.ud, nb.perm, m, H.m[0], e, yw.v, nb.mu.v,
                             &in.nis, work);
         if (st != GF_OK) {
             return st;
@@ -213,9 +226,7 @@ gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
     if (!ekf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_ekf3_qfactors q;
-    const gf_status st = gf_meas3_check(meas, z, &q);
-    return st != GF_OK ? st : ekf3_update_step(ekf, meas, &q, z, info);
+    return ekf3_update_step(ekf, meas, NULL, z, info);
 }
 
 gf_status gf_ekf3_prepare_motion(gf_ekf3_pmotion *pm,

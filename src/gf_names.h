@@ -17,6 +17,7 @@
 
 // gf_meas3.h: defined in meas3.c
 #define gf_meas3_check GF_NAME(gf_meas3_check)
+#define gf_meas3_verdict GF_NAME(gf_meas3_verdict)
 
 // udu.h: defined in udu.c
 #define gf_belief_finite GF_NAME(gf_belief_finite)

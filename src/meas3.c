@@ -23,7 +23,11 @@ gf_status gf_meas3_check(const gf_ekf3_meas *meas, const gf_vec3 *z,
     if (meas->gate < 0) {
         return GF_ERR_ARG;
     }
-    gf_ekf3_qfactors own = {{0}, {0}, {0}};
-    gf_ekf3_qfactors *out = (q != NULL) ? q : &own;
-    return gf_cov_factor(meas->Q.m[0], 3, m, out->Qf, out->Qe, out->Qorder);
+    return gf_cov_factor(meas->Q.m[0], 3, m, q->Qf, q->Qe, q->Qorder);
+}
+
+gf_status gf_meas3_verdict(const gf_ekf3_meas *meas, const gf_vec3 *z)
+{
+    gf_ekf3_qfactors own;
+    return gf_meas3_check(meas, z, &own);
 }

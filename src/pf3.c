@@ -211,7 +211,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
     if (!pf || !pf->p) {
         return GF_ERR_ARG;
     }
-    gf_status st = z ? gf_meas3_check(meas, z, NULL) : GF_ERR_ARG;
+    gf_status st = z ? gf_meas3_verdict(meas, z) : GF_ERR_ARG;
     if (st != GF_OK) {
         return st;
     }

@@ -428,12 +428,14 @@ static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
 // squares; the exact direction's d a rounding residue, not zero), and
 //   dx += K y,  *nis += y^2 / s;
 // else Bierman's update (udu_update). Statuses as udu_update's, on scale
-// (nothing written on failure). b: scratch of n; x: scratch of n^2 + 2n.
+// (nothing written on failure). b: scratch of n (f, then the modified
+// weighted Gram-Schmidt's); x: scratch of n^2 + n.
 static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
                                   gf_real scale, gf_real y, gf_real *dx,
                                   gf_real *nis, gf_real *b, gf_real *x)
 {
-    gf_real *w = x, *wd = &x[(size_t)n * n], *f = &x[(size_t)n * n + n];
+    // f in b's scratch: the vector b below is computed an entry at a time
+    gf_real *w = x, *wd = &x[(size_t)n * n], *f = b;
     // f = U^T hp, D, s in Bierman's order, alpha_j0 = the first alpha_j of
     // at least GF_REAL_MIN (Bierman's test)
     gf_real s = 0, first = 0;
@@ -489,7 +491,7 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
     gf_real *hp = &work[n];                    // P^T h_i
     gf_real *b = &work[(size_t)2u * n];        // Bierman's b
     gf_real *wx = &work[(size_t)3u * n];       // the exact quantities' W
-    gf_real *es = &work[((size_t)n + 5u) * n]; // their S_ii on the prior
+    gf_real *es = &work[((size_t)n + 4u) * n]; // their S_ii on the prior
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;

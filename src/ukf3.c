@@ -619,7 +619,7 @@ gf_status gf_ukf3_update(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
     if (!ukf) {
         return GF_ERR_ARG;
     }
-    gf_status st = z ? gf_meas3_check(meas, z, NULL) : GF_ERR_ARG;
+    gf_status st = z ? gf_meas3_verdict(meas, z) : GF_ERR_ARG;
     if (st != GF_OK) {
         return st;
     }
