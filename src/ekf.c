@@ -105,12 +105,12 @@ gf_status gf_ekf_predict_prepared(gf_kf *ekf, const gf_ekf_pmotion *pm,
 }
 
 // z_hat and H from the callback (both preset to zeros), y = z - z_hat
-// (angle residuals wrapped) into work->in.y and work->yw, H whitened by Q's factors
-// (H_w = F_Q^-1 H, in work->rows), then the correction (gf_kfc_correct).
-static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
-                                 const gf_real *z, const gf_real *Qf,
-                                 const gf_real *Qe, const unsigned *Qorder,
-                                 gf_kf_innovation *info, gf_kf_work *work)
+// (angle residuals wrapped) into work->in.y and work->yw, H whitened by
+// Q's factors (H_w = F_Q^-1 H, in work->rows): what the correction
+// (gf_kfc_correct) takes.
+static gf_status ekf_meas_eval(const gf_kf *ekf, const gf_ekf_meas *meas,
+                               const gf_real *z, const gf_real *Qf,
+                               const unsigned *Qorder, gf_kf_work *work)
 {
     const unsigned n = ekf->n, m = meas->m;
     gf_real *zh = work->mean;
@@ -137,7 +137,7 @@ static gf_status ekf_update_step(gf_kf *ekf, const gf_ekf_meas *meas,
         work->yw[i] = y[i];
     }
     gf_udu_whiten(Qf, Qorder, m, H, n);
-    return gf_kfc_correct(ekf, m, H, Qf, Qe, Qorder, meas->gate, info, work);
+    return GF_OK;
 }
 
 gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
@@ -148,12 +148,16 @@ gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
         return GF_ERR_ARG;
     }
     const gf_kf_factors *q = NULL;
-    const gf_status st =
+    gf_status st =
         gf_kfc_meas_check(ekf->n, meas->m, meas->Q, meas->gate, z, work, &q);
-    return st != GF_OK ? st
-                       : ekf_wrap(ekf_update_step(ekf, meas, z, q->F, q->d,
-                                                  q->order, info, work),
-                                  ekf);
+    if (st == GF_OK) {
+        st = ekf_meas_eval(ekf, meas, z, q->F, q->order, work);
+    }
+    return st != GF_OK
+               ? st
+               : ekf_wrap(gf_kfc_correct(ekf, meas->m, work->rows, q->F, q->d,
+                                         q->order, meas->gate, info, work),
+                          ekf);
 }
 
 gf_status gf_ekf_prepare_meas(gf_ekf_pmeas *pq, unsigned n,
@@ -185,9 +189,13 @@ gf_status gf_ekf_update_prepared(gf_kf *ekf, const gf_ekf_pmeas *pq,
     if (!gf_sum_finite(gf_nan_sum(GF_R(0.0), z, pq->meas.m))) {
         return GF_ERR_NONFINITE;
     }
-    return ekf_wrap(ekf_update_step(ekf, &pq->meas, z, pq->Qf, pq->Qe,
-                                    pq->Qorder, info, work),
-                    ekf);
+    const gf_status st =
+        ekf_meas_eval(ekf, &pq->meas, z, pq->Qf, pq->Qorder, work);
+    return st != GF_OK ? st
+                       : ekf_wrap(gf_kfc_correct(ekf, pq->meas.m, work->rows,
+                                                 pq->Qf, pq->Qe, pq->Qorder,
+                                                 pq->meas.gate, info, work),
+                                  ekf);
 }
 
 // ---- checking a model's Jacobians ---------------------------------------
