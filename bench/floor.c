@@ -295,3 +295,157 @@ void floor_kf_cov(const floor_kf *kf, gf_real *sigma)
 {
     fl_to_cov(kf->ud, kf->n, sigma);
 }
+
+// ---- the updates with what the API must also hold ------------------------
+//
+// What the floors above leave out of gf_kf2_update and gf_ekf3_update and
+// the library's update must hold on the stack: Q's factors for m > 1 (here
+// fl_factor's packed U D U^T, the least layout), the whitened C or H, the
+// whitened innovations beside the innovation returned, the belief's copy
+// (kept unchanged on failure), and the n^2 + 2n scratch of the Joseph form
+// for an exact quantity (fl_correct_exact). Left out still: the pivoted
+// verdict of Q, the move to the root, the S_ii of exact quantities.
+
+// One scalar update per whitened quantity i (row h_i of hw, rows of n;
+// noise d_i of qud; whitened innovation yw_i at the prior mean mu0), each
+// at the mean the earlier ones gave; *nis their sum. x: scratch of
+// n^2 + 2n (Bierman's b its first n).
+static gf_status floor_correct_all(unsigned n, unsigned m, gf_real *ud,
+                                   gf_real *mu, const gf_real *mu0,
+                                   const gf_real *hw, const gf_real *qud,
+                                   const gf_real *yw, gf_real *nis, gf_real *x)
+{
+    *nis = 0;
+    for (unsigned i = 0; i < m; i++) {
+        const gf_real *h = &hw[i * n];
+        const gf_real r = qud[FL_UD(i, i)];
+        gf_real y = yw[i], ni = 0;
+        for (unsigned j = 0; j < n; j++) {
+            y -= h[j] * (mu[j] - mu0[j]);
+        }
+        const gf_status st = (r > 0)
+                                 ? fl_correct(n, ud, mu, h, r, y, &ni, x)
+                                 : fl_correct_exact(n, ud, mu, h, y, &ni, x);
+        if (st != GF_OK) {
+            return st;
+        }
+        *nis += ni;
+    }
+    return GF_OK;
+}
+
+gf_status floor_kf2_update_api(floor_kf2 *kf, const gf_kf2_meas *meas,
+                               const gf_vec2 *z, gf_innovation *info)
+{
+    const unsigned m = meas->m;
+    if (m < 1u || m > 2u) {
+        return GF_ERR_ARG;
+    }
+    if (!fl_finite(meas->C.m[0], 2u * m) || !fl_finite(meas->c.v, m) ||
+        !fl_finite(z->v, m) || !(meas->gate * GF_R(0.0) == 0)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    gf_real qud[3];
+    gf_status st = fl_factor(meas->Q.m[0], m, qud);
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_innovation in = {m, {0, 0, 0}, 0};
+    gf_mat2 cw = meas->C;
+    gf_real yw[2];
+    for (unsigned i = 0; i < m; i++) {
+        in.y[i] = z->v[i] - meas->c.v[i] -
+                  (cw.m[i][0] * kf->mu.v[0] + cw.m[i][1] * kf->mu.v[1]);
+        yw[i] = in.y[i];
+    }
+    fl_whiten(qud, m, cw.m[0], 2);
+    fl_whiten(qud, m, yw, 1);
+    floor_kf2 nb = *kf;
+    gf_real x[2 * 2 + 2 * 2];
+    st = floor_correct_all(2, m, nb.ud, nb.mu.v, kf->mu.v, cw.m[0], qud, yw,
+                           &in.nis, x);
+    if (st != GF_OK) {
+        return st;
+    }
+    if (meas->gate > 0 && in.nis > meas->gate) {
+        st = GF_ERR_GATED;
+    } else if (!fl_belief_finite(nb.mu.v, nb.ud, 2)) {
+        return GF_ERR_NONFINITE;
+    } else {
+        *kf = nb;
+    }
+    if (info) {
+        *info = in;
+    }
+    return st;
+}
+
+gf_status floor_ekf3_update_api(floor_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                const gf_vec3 *z, gf_innovation *info)
+{
+    const unsigned m = meas->m;
+    if (!meas->h || m < 1u || m > 3u) {
+        return GF_ERR_ARG;
+    }
+    if (!fl_finite(z->v, m) || !(meas->gate * GF_R(0.0) == 0)) {
+        return GF_ERR_NONFINITE;
+    }
+    if (meas->gate < 0) {
+        return GF_ERR_ARG;
+    }
+    gf_real qud[6];
+    gf_status st;
+    {
+        gf_real q[9]; // Q's m x m block, rows of m
+        for (unsigned i = 0; i < m; i++) {
+            for (unsigned j = 0; j < m; j++) {
+                q[i * m + j] = meas->Q.m[i][j];
+            }
+        }
+        st = fl_factor(q, m, qud);
+    }
+    if (st != GF_OK) {
+        return st;
+    }
+    gf_vec3 yw = {{0, 0, 0}}; // z_hat, then y, then y_w
+    gf_mat3 H = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    st = meas->h(meas->ctx, &ekf->mu, &yw, &H);
+    if (st != GF_OK) {
+        return st;
+    }
+    if (!fl_finite(H.m[0], 3u * m) || !fl_finite(yw.v, m)) {
+        return GF_ERR_NONFINITE;
+    }
+    gf_innovation in = {m, {0, 0, 0}, 0};
+    for (unsigned i = 0; i < m; i++) {
+        in.y[i] = z->v[i] - yw.v[i];
+        if (meas->angle_mask & (1u << i)) {
+            in.y[i] = gf_angle_wrap(in.y[i]);
+        }
+        yw.v[i] = in.y[i];
+    }
+    fl_whiten(qud, m, H.m[0], 3);
+    fl_whiten(qud, m, yw.v, 1);
+    floor_ekf3 nb = *ekf;
+    gf_real x[3 * 3 + 2 * 3];
+    st = floor_correct_all(3, m, nb.ud, nb.mu.v, ekf->mu.v, H.m[0], qud, yw.v,
+                           &in.nis, x);
+    if (st != GF_OK) {
+        return st;
+    }
+    nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
+    if (meas->gate > 0 && in.nis > meas->gate) {
+        st = GF_ERR_GATED;
+    } else if (!fl_belief_finite(nb.mu.v, nb.ud, 3)) {
+        return GF_ERR_NONFINITE;
+    } else {
+        *ekf = nb;
+    }
+    if (info) {
+        *info = in;
+    }
+    return st;
+}

@@ -45,6 +45,10 @@ void fl_predict(unsigned n, const gf_real *ud, const gf_real *A,
 gf_status fl_correct(unsigned n, gf_real *ud, gf_real *mu, const gf_real *h,
                      gf_real r, gf_real y, gf_real *nis, gf_real *b);
 void fl_to_cov(const gf_real *ud, unsigned n, gf_real *s);
+void fl_whiten(const gf_real *qud, unsigned m, gf_real *x, unsigned cols);
+gf_status fl_correct_exact(unsigned n, gf_real *ud, gf_real *mu,
+                           const gf_real *h, gf_real y, gf_real *nis,
+                           gf_real *x);
 // q = the variances of an m x m Q (rows of stride) that is diagonal with
 // variances >= 0, else GF_ERR_NOT_PSD.
 gf_status fl_noise_diag(const gf_real *Q, unsigned stride, unsigned m,
@@ -64,6 +68,12 @@ gf_status floor_kf2_predict(floor_kf2 *kf, const gf_kf2_model *model,
 gf_status floor_kf2_update(floor_kf2 *kf, const gf_kf2_meas *meas,
                            const gf_vec2 *z, gf_real *nis);
 void floor_kf2_cov(const floor_kf2 *kf, gf_mat2 *sigma);
+// The update with what gf_kf2_update must also hold (the stack's floor):
+// a full Q, factored and whitened (U_Q^-1 C, U_Q^-1 y), one scalar update
+// per quantity at the mean the earlier ones gave, exact quantities (e = 0)
+// in the Joseph form, the innovation returned.
+gf_status floor_kf2_update_api(floor_kf2 *kf, const gf_kf2_meas *meas,
+                               const gf_vec2 *z, gf_innovation *info);
 
 // EKF3 on them.
 gf_status floor_ekf3_init(floor_ekf3 *ekf, const gf_vec3 *mu,
@@ -73,6 +83,9 @@ gf_status floor_ekf3_predict(floor_ekf3 *ekf, const gf_ekf3_motion *motion,
 gf_status floor_ekf3_update(floor_ekf3 *ekf, const gf_ekf3_meas *meas,
                             const gf_vec3 *z, gf_real *nis);
 void floor_ekf3_cov(const floor_ekf3 *ekf, gf_mat3 *sigma);
+// As floor_kf2_update_api, for m = 1..3 and the callback's H.
+gf_status floor_ekf3_update_api(floor_ekf3 *ekf, const gf_ekf3_meas *meas,
+                                const gf_vec3 *z, gf_innovation *info);
 
 // gf_kf on them, n states (1..GF_KF_NMAX), m quantities of independent
 // noises (Q diagonal), the scratch in work.

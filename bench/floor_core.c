@@ -15,6 +15,9 @@
 // factorisation of a prior, the move of a measured state to the root, the
 // Joseph form for exact quantities, and correlated measurement noise (Q
 // must be diagonal: its quantities are taken one at a time, unwhitened).
+// fl_whiten and fl_correct_exact serve the floor of the update with what
+// the API must also hold (floor.c's *_update_api): a full Q whitened, and
+// the Joseph form for exact quantities.
 #include <stddef.h>
 
 #include "floor.h"
@@ -209,5 +212,84 @@ gf_status fl_correct_m(unsigned n, unsigned m, gf_real *ud, gf_real *mu,
         mu[j] += dx[j];
     }
     *nis = total;
+    return GF_OK;
+}
+
+// x <- U^-1 x for m quantities whose noise is Q = U D U^T (fl_factor's
+// packed factors), x m rows of cols, by back substitution:
+//   x_i <- x_i - sum_(k>i) U_ik x_k;
+// the rows then have independent noises d_i.
+void fl_whiten(const gf_real *qud, unsigned m, gf_real *x, unsigned cols)
+{
+    for (unsigned i = m; i-- > 0u;) {
+        for (unsigned k = i + 1u; k < m; k++) {
+            for (unsigned c = 0; c < cols; c++) {
+                x[i * cols + c] -= qud[FL_UD(i, k)] * x[k * cols + c];
+            }
+        }
+    }
+}
+
+// An exact quantity (r = 0) in the Joseph form on the factors, as
+// src/udu.c's: f = U^T h, s = f^T D f, b = U D f, K = b / s,
+//   Sigma+ = W D W^T,  W = U - K f^T,
+// triangularised by the modified weighted Gram-Schmidt; mu += K y.
+// GF_ERR_SINGULAR for s = 0. x: scratch of n^2 + 2n.
+gf_status fl_correct_exact(unsigned n, gf_real *ud, gf_real *mu,
+                           const gf_real *h, gf_real y, gf_real *nis,
+                           gf_real *x)
+{
+    gf_real *w = x, *wd = &x[n * n], *f = &wd[n];
+    gf_real s = 0;
+    for (unsigned j = 0; j < n; j++) {
+        gf_real fj = h[j];
+        for (unsigned i = 0; i < j; i++) {
+            fj += ud[FL_UD(i, j)] * h[i];
+        }
+        wd[j] = ud[FL_UD(j, j)];
+        f[j] = fj;
+        s += fj * (wd[j] * fj);
+    }
+    if (!(s > 0)) {
+        return GF_ERR_SINGULAR;
+    }
+    const gf_real inv = GF_R(1.0) / s, k = y * inv;
+    *nis = y * k;
+    for (unsigned i = 0; i < n; i++) {
+        gf_real acc = wd[i] * f[i];
+        for (unsigned j = i + 1u; j < n; j++) {
+            acc += ud[FL_UD(i, j)] * (wd[j] * f[j]);
+        }
+        mu[i] += acc * k;
+        for (unsigned j = 0; j < n; j++) {
+            const gf_real uij = (j > i)    ? ud[FL_UD(i, j)]
+                                : (j == i) ? GF_R(1.0)
+                                           : GF_R(0.0);
+            w[i * n + j] = uij - acc * inv * f[j];
+        }
+    }
+    // f is free now: the Gram-Schmidt's c
+    for (unsigned j = n; j-- > 0u;) {
+        const gf_real *wj = &w[j * n];
+        gf_real dj = 0;
+        for (unsigned c = 0; c < n; c++) {
+            f[c] = wd[c] * wj[c];
+            dj += wj[c] * f[c];
+        }
+        const gf_real dinv = (dj > 0) ? GF_R(1.0) / dj : GF_R(0.0);
+        for (unsigned i = 0; i < j; i++) {
+            gf_real *wi = &w[i * n];
+            gf_real acc = 0;
+            for (unsigned c = 0; c < n; c++) {
+                acc += wi[c] * f[c];
+            }
+            const gf_real uij = acc * dinv;
+            for (unsigned c = 0; c < n; c++) {
+                wi[c] -= uij * wj[c];
+            }
+            ud[FL_UD(i, j)] = uij;
+        }
+        ud[FL_UD(j, j)] = dj;
+    }
     return GF_OK;
 }

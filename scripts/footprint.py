@@ -328,10 +328,10 @@ def model_kind(name):
     return None
 
 
-def stack_report(prefix, build, api):
-    """({public function: (frame, depth, chain)}, functions without a
-    known frame): depth through the deepest chain of calls and jumps."""
-    frames, edges = read_ci(build, core_objects(prefix, build))
+def call_depths(prefix, build, frames, edges, names):
+    """({function of names: (frame, depth, chain)}, functions without a
+    known frame): depth through the deepest chain of calls and jumps, over
+    the frames and edges given and the C library's, libm's and libgcc's."""
     lib = {}
     for archive in libraries(build):
         for k, v in disassemble(prefix, archive).items():
@@ -372,7 +372,7 @@ def stack_report(prefix, build, api):
 
     rows = {}
     for n in sorted(frames):
-        if ":" in n or plain(n) not in api:
+        if ":" in n or plain(n) not in names:
             continue
         kind = model_kind(plain(n))
         d, via = depth(n, kind)
@@ -382,6 +382,41 @@ def stack_report(prefix, build, api):
             via = memo[(via, kind)][1]
         rows[plain(n)] = (frames[n], d, chain)
     return rows, unknown
+
+
+def stack_report(prefix, build, api):
+    """({public function: (frame, depth, chain)}, functions without a
+    known frame)."""
+    frames, edges = read_ci(build, core_objects(prefix, build))
+    return call_depths(prefix, build, frames, edges, api)
+
+
+# The loop floor's steps (bench/floor.h) whose depth the report prints,
+# with the library's public function each stands for.
+FLOOR_STEPS = [
+    ("floor_kf2_predict", "gf_kf2_predict"),
+    ("floor_kf2_update", "gf_kf2_update"),
+    ("floor_kf2_update_api", "gf_kf2_update"),
+    ("floor_ekf3_predict", "gf_ekf3_predict"),
+    ("floor_ekf3_update", "gf_ekf3_update"),
+    ("floor_ekf3_update_api", "gf_ekf3_update"),
+]
+
+
+def floor_stack(prefix, build):
+    """{floor step: (frame, depth, chain)} of the loop floor the firmware
+    build compiled (gf_fw_floor, with its .ci files), on the core's frames
+    for what it calls of the core (the angle wrap, the built-in models)."""
+    frames, edges = read_ci(build, core_objects(prefix, build))
+    for ci in sorted(glob.glob(os.path.join(
+            build, "CMakeFiles/gf_fw_floor.dir/**/*.ci"), recursive=True)):
+        text = open(ci).read()
+        for title, size, kind in CI_NODE.findall(text):
+            frames[ci_name(title)] = int(size)
+        for src, dst in CI_EDGE.findall(text):
+            edges.setdefault(ci_name(src), set()).add(ci_name(dst))
+    return call_depths(prefix, build, frames, edges,
+                       {f for f, _ in FLOOR_STEPS})[0]
 
 
 # ---- images -----------------------------------------------------------------
@@ -512,6 +547,7 @@ def report(root, build_root):
             "mods": module_sizes(pfx, build),
             "structs": struct_sizes(pfx, build),
             "stack": stack_report(pfx, build, api),
+            "floor": floor_stack(pfx, build),
             "images": {img: image_sizes(pfx, os.path.join(
                 build, f"gf_fw_{img}.elf")) for img in imgs},
             "bd": {img: map_breakdown(os.path.join(
@@ -618,6 +654,24 @@ def report(root, build_root):
             cells.append(f"{f} / {d}{flag}")
         lines.append(f"| `{n}` | " + " | ".join(cells)
                      + f" | {m4['stack'][0][n][2]} |")
+    lines.append("")
+    lines += ["The loop floor's stack (`bench/floor_core.c`, `bench/floor.c`, "
+              "compiled as the core is and counted the same way; "
+              "`*_update_api`: the floor's update with what the library's "
+              "update must also hold, `bench/floor.h`), beside the library's "
+              "function it stands for (frame / depth, bytes; **!**: over "
+              "the target):", "",
+              "| floor step | " + " | ".join(labels)
+              + " | the library's |", "|---|" + "---|" * len(TARGETS) + "---|"]
+    for fl, lib_fn in FLOOR_STEPS:
+        cells = []
+        for key, _, _ in TARGETS:
+            f, d, _ = results[key]["floor"].get(fl, (0, 0, ""))
+            flag = " **!**" if d > STACK_TARGETS[key] else ""
+            cells.append(f"{f} / {d}{flag}")
+        lines.append(f"| `{fl}` | " + " | ".join(cells) + " | " + " / ".join(
+            str(results[k]["stack"][0][lib_fn][1]) for k, _, _ in TARGETS)
+            + f" (`{lib_fn}`) |")
     lines.append("")
     unknown = [f"{results[k]['label']}: "
                + ", ".join(f"`{u}`" for u in sorted(results[k]["stack"][1]))
