@@ -74,9 +74,10 @@ gf_status gf_ekf3_meas_xy(void *ctx, const gf_vec3 *mu_bar, gf_vec3 *z_hat,
 }
 
 // The checks of a motion model before its callback: GF_ERR_ARG (g NULL),
-// R's verdict; on GF_OK, Rf and Rd hold R's factors.
-static gf_status ekf3_motion_check(const gf_ekf3_motion *motion, gf_real Rf[9],
-                                   gf_real Rd[3])
+// R's verdict; on GF_OK, Rf and Rd hold R's factors. (Not inlined: the
+// verdict's pivot order stays in this frame, not under the prediction.)
+GF_NOINLINE gf_status ekf3_motion_check(const gf_ekf3_motion *motion,
+                                        gf_real Rf[9], gf_real Rd[3])
 {
     if (!motion->g) {
         return GF_ERR_ARG;

@@ -28,8 +28,9 @@
 #include "gf_names.h"
 
 // Kept a function of its own: UKF3's steps, whose frames must not sit
-// under each other's, and gf_kf's belief copies, whose restrict pointers
-// then hold (the compiler's memcpy, not memmove).
+// under each other's; EKF3's check of R, whose verdict's scratch must not
+// sit under the prediction; and gf_kf's belief copies, whose restrict
+// pointers then hold (the compiler's memcpy, not memmove).
 #if defined(__GNUC__)
 #define GF_NOINLINE static __attribute__((noinline))
 #else
