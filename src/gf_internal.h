@@ -29,7 +29,8 @@
 
 // Kept a function of its own: UKF3's steps, whose frames must not sit
 // under each other's; EKF3's check of R, whose verdict's scratch must not
-// sit under the prediction; and gf_kf's belief copies, whose restrict
+// sit under the prediction; Thornton's W (udu.c), whose frame must not sit
+// under the Gram-Schmidt's; and gf_kf's belief copies, whose restrict
 // pointers then hold (the compiler's memcpy, not memmove).
 #if defined(__GNUC__)
 #define GF_NOINLINE static __attribute__((noinline))

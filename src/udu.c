@@ -196,15 +196,17 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
     }
 }
 
-void gf_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
-                    const unsigned char *perm, const gf_real *A,
-                    const gf_real *Rf, const gf_real *Rd, gf_real *work)
+// Thornton's W = [P^T A P U | P^T F_R] (n rows of 2n) and its weights
+// wd = [D | d_R] into work, as gf_udu_predict lays them out. Kept out of
+// line: its frame does not sit under the Gram-Schmidt's.
+GF_NOINLINE void udu_thornton_w(unsigned n, const gf_real *ud,
+                                const unsigned char *perm, const gf_real *A,
+                                const gf_real *Rf, const gf_real *Rd,
+                                gf_real *work)
 {
     const unsigned cols = 2u * n;
-    gf_real *w = work;                     // W, n rows of 2n
-    gf_real *wd = &work[(size_t)n * cols]; // its weights, 2n
-    // a row of P^T A P; then mwgs's c
-    gf_real *v = &work[((size_t)n + 1u) * cols];
+    gf_real *w = work, *wd = &work[(size_t)n * cols];
+    gf_real *v = &work[((size_t)n + 1u) * cols]; // a row of P^T A P
     for (unsigned j = 0; j < n; j++) {
         wd[j] = ud[GF_UD(j, j)];
         wd[n + j] = Rd[j];
@@ -225,6 +227,18 @@ void gf_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
             wi[j] = acc;
         }
     }
+}
+
+void gf_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
+                    const unsigned char *perm, const gf_real *A,
+                    const gf_real *Rf, const gf_real *Rd, gf_real *work)
+{
+    const unsigned cols = 2u * n;
+    gf_real *w = work;                     // W, n rows of 2n
+    gf_real *wd = &work[(size_t)n * cols]; // its weights, 2n
+    // a row of P^T A P; then mwgs's c
+    gf_real *v = &work[((size_t)n + 1u) * cols];
+    udu_thornton_w(n, ud, perm, A, Rf, Rd, work);
     udu_mwgs(n, cols, w, wd, ud_new, v);
 }
 
