@@ -109,7 +109,7 @@ PY
 # the project's .venv, once: its build requirements from PyPI, then the
 # package built from this checkout, offline (pip install ./python).
 gf_py_package() {
-    gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0'
+    gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'cmake>=3.26'
     "$GF_VENV/bin/python" -c 'import gaussfilt' 2>/dev/null && return 0
     gf_apt cmake make gcc libc6-dev
     gf_log "installing the Python package gaussfilt into .venv (pip install ./python)"

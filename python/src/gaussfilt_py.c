@@ -18,12 +18,14 @@
 // returns NULL with the callback's exception still set.
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <structmember.h>
 #include <numpy/arrayobject.h>
 #include <numpy/arrayscalars.h>
 
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "gaussfilt/cov2.h"
@@ -86,11 +88,10 @@ static PyObject *raise_status(gf_status st, const char *where, const char *what,
                                              what ? what : gf_status_str(st));
         if (msg) {
             PyObject *a = PyTuple_Pack(1, msg);
-            if (a) {
-                PyObject *old = ((PyBaseExceptionObject *)exc)->args;
-                ((PyBaseExceptionObject *)exc)->args = a;
-                Py_XDECREF(old);
+            if (a && PyObject_SetAttrString(exc, "args", a) < 0) {
+                PyErr_Clear();
             }
+            Py_XDECREF(a);
             Py_DECREF(msg);
         }
     }
@@ -108,6 +109,42 @@ static PyObject *bad_arg(const char *fmt, ...)
     PyOS_vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
     return raise_status(GF_ERR_ARG, NULL, buf, NULL, 0, 0);
+}
+
+// The name of the class cls as Python's messages print it, into buf
+// (len bytes): __module__.__qualname__, without the module for a builtin
+// ("str", "numpy.ndarray", "gaussfilt.float64.KF2"). Returns buf.
+static const char *class_name(PyObject *cls, char *buf, size_t len)
+{
+    PyObject *mod = PyObject_GetAttrString(cls, "__module__");
+    PyObject *qual = PyObject_GetAttrString(cls, "__qualname__");
+    PyObject *s = NULL;
+    if (mod && qual && PyUnicode_Check(mod) && PyUnicode_Check(qual) &&
+        PyUnicode_CompareWithASCIIString(mod, "builtins") != 0) {
+        s = PyUnicode_FromFormat("%U.%U", mod, qual);
+    } else if (qual && PyUnicode_Check(qual)) {
+        s = qual;
+        Py_INCREF(s);
+    }
+    const char *u = s ? PyUnicode_AsUTF8AndSize(s, NULL) : NULL;
+    if (!u) {
+        PyErr_Clear();
+    }
+    PyOS_snprintf(buf, len, "%s", u ? u : "?");
+    Py_XDECREF(s);
+    Py_XDECREF(qual);
+    Py_XDECREF(mod);
+    return buf;
+}
+
+// obj's type for a message, into buf: "None", "str", "complex".
+static const char *type_name(PyObject *obj, char *buf, size_t len)
+{
+    if (obj == Py_None) {
+        PyOS_snprintf(buf, len, "None");
+        return buf;
+    }
+    return class_name((PyObject *)Py_TYPE(obj), buf, len);
 }
 
 // Puts step = k on the exception being raised (a batch's failed step).
@@ -149,8 +186,9 @@ static PyArrayObject *numeric_array(PyObject *obj, const char *name)
 {
     if (obj == Py_None || PyUnicode_Check(obj) || PyBytes_Check(obj) ||
         PyByteArray_Check(obj)) {
+        char tn[96];
         bad_arg("%s: not an array of numbers (%s)", name,
-                obj == Py_None ? "None" : Py_TYPE(obj)->tp_name);
+                type_name(obj, tn, sizeof tn));
         return NULL;
     }
     PyArrayObject *raw =
@@ -188,7 +226,7 @@ static int numbers_only(PyObject *obj, const char *name)
         return 0;
     }
     PyArrayObject *a = numeric_array(obj, name);
-    Py_XDECREF(a);
+    Py_XDECREF((PyObject *)a);
     return a ? 0 : -1;
 }
 
@@ -200,16 +238,14 @@ static int numbers_only(PyObject *obj, const char *name)
 static int read_float_item(PyObject *x, gf_real *out)
 {
     double v;
-    if (PyFloat_CheckExact(x)) {
-        *out = (gf_real)PyFloat_AS_DOUBLE(x);
-        return 1;
-    }
-    if (PyArray_IsScalar(x, Double)) {
-        *out = (gf_real)PyArrayScalar_VAL(x, Double);
+    if (PyFloat_CheckExact(x) || PyArray_IsScalar(x, Double)) {
+        *out = (gf_real)PyFloat_AsDouble(x); // numpy.float64 is a float
         return 1;
     }
     if (PyArray_IsScalar(x, Float)) {
-        *out = (gf_real)PyArrayScalar_VAL(x, Float);
+        float f;
+        PyArray_ScalarAsCtype(x, &f);
+        *out = (gf_real)f;
         return 1;
     }
     if (PyLong_CheckExact(x)) {
@@ -234,9 +270,10 @@ static int read_float_item(PyObject *x, gf_real *out)
 // read_float_item reads, read into out; else 0, out unspecified.
 static int read_flat_floats(PyObject *seq, npy_intp n, gf_real *out)
 {
-    PyObject **items = PySequence_Fast_ITEMS(seq);
+    const int list = PyList_CheckExact(seq);
     for (npy_intp i = 0; i < n; i++) {
-        if (!read_float_item(items[i], &out[i])) {
+        PyObject *x = list ? PyList_GetItem(seq, i) : PyTuple_GetItem(seq, i);
+        if (!read_float_item(x, &out[i])) {
             return 0;
         }
     }
@@ -261,11 +298,11 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
         // the module's type, or the other precision's: rounded entry by
         // entry below, as numpy's cast rounds them
         a = (PyArrayObject *)obj;
-        Py_INCREF(a);
+        Py_INCREF(obj);
     } else if (size == 1 && read_float_item(obj, out)) {
         return 0; // a Python or numpy scalar
     } else if ((PyList_CheckExact(obj) || PyTuple_CheckExact(obj)) &&
-               rows <= 1 && PySequence_Fast_GET_SIZE(obj) == cols &&
+               rows <= 1 && PySequence_Size(obj) == cols &&
                read_flat_floats(obj, cols, out)) {
         return 0; // a list or tuple of such scalars
     } else {
@@ -396,8 +433,8 @@ static int get_args(const char *fname, PyObject *const *args, Py_ssize_t nargs,
         out[i] = args[i];
     }
     if (kwnames) {
-        for (Py_ssize_t k = 0; k < PyTuple_GET_SIZE(kwnames); k++) {
-            PyObject *key = PyTuple_GET_ITEM(kwnames, k);
+        for (Py_ssize_t k = 0; k < PyTuple_Size(kwnames); k++) {
+            PyObject *key = PyTuple_GetItem(kwnames, k);
             int j = 0;
             while (j < nmax &&
                    PyUnicode_CompareWithASCIIString(key, names[j])) {
@@ -428,12 +465,6 @@ static int get_args(const char *fname, PyObject *const *args, Py_ssize_t nargs,
     return 0;
 }
 
-// obj's type for a message: "None", "str", "complex".
-static const char *type_name(PyObject *obj)
-{
-    return obj == Py_None ? "None" : Py_TYPE(obj)->tp_name;
-}
-
 // A real number from obj: a Python or numpy bool, integer or float, or a
 // 0-d array of one. Else (text, bytes, None, complex, an array) GF_ERR_ARG's
 // exception naming `name` and -1.
@@ -453,7 +484,8 @@ static int read_number(PyObject *obj, const char *name, double *out)
         }
         PyErr_Clear(); // an integer beyond a double's range
     }
-    bad_arg("%s: not a real number (%s)", name, type_name(obj));
+    char tn[96];
+    bad_arg("%s: not a real number (%s)", name, type_name(obj, tn, sizeof tn));
     return -1;
 }
 
@@ -477,7 +509,8 @@ static int read_count(PyObject *obj, const char *name, unsigned long max,
         bad_arg("%s must be in 0..%lu", name, max);
         return -1;
     }
-    bad_arg("%s: not an integer (%s)", name, type_name(obj));
+    char tn[96];
+    bad_arg("%s: not an integer (%s)", name, type_name(obj, tn, sizeof tn));
     return -1;
 }
 
@@ -521,7 +554,7 @@ typedef struct {
     const char *name;
 } BuiltinObj;
 
-static PyTypeObject Builtin_Type;
+static PyTypeObject *Builtin_Type;
 
 static PyObject *Builtin_call(PyObject *self_, PyObject *args, PyObject *kw)
 {
@@ -616,25 +649,42 @@ static PyGetSetDef Builtin_getset[] = {
     {NULL, NULL, NULL, NULL, NULL},
 };
 
-static PyTypeObject Builtin_Type = {
-    PyVarObject_HEAD_INIT(NULL, 0).tp_name =
-        "gaussfilt." GF_PREC_NAME ".Builtin",
-    .tp_basicsize = sizeof(BuiltinObj),
-    .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "One of the library's built-in EKF3 models, as a C function.\n\n"
-              "Passed as g or h to EKF3Motion / EKF3Meas, the library calls "
-              "it directly (no Python in the step). Callable from Python as "
-              "well: a motion as g(mu, u) -> (mu_bar, G), a measurement as "
-              "h(mu_bar) -> (z_hat, H).",
-    .tp_call = Builtin_call,
-    .tp_repr = Builtin_repr,
-    .tp_getset = Builtin_getset,
+// Made only by the module (new_builtin): Builtin() from Python raises.
+static PyObject *Builtin_new(PyTypeObject *t, PyObject *args, PyObject *kw)
+{
+    (void)t;
+    (void)args;
+    (void)kw;
+    return PyErr_Format(PyExc_TypeError,
+                        "cannot create 'gaussfilt.%s.Builtin' instances",
+                        GF_PREC_NAME);
+}
+
+static void free_obj(PyObject *self);
+
+static PyType_Slot Builtin_slots[] = {
+    {Py_tp_doc,
+     (void *)"One of the library's built-in EKF3 models, as a C function.\n\n"
+             "Passed as g or h to EKF3Motion / EKF3Meas, the library calls it "
+             "directly (no Python in the step). Callable from Python as well: "
+             "a motion as g(mu, u) -> (mu_bar, G), a measurement as h(mu_bar) "
+             "-> (z_hat, H)."},
+    {Py_tp_new, (void *)Builtin_new},
+    {Py_tp_call, (void *)Builtin_call},
+    {Py_tp_repr, (void *)Builtin_repr},
+    {Py_tp_getset, Builtin_getset},
+    {Py_tp_dealloc, (void *)free_obj},
+    {0, NULL},
 };
+
+static PyType_Spec Builtin_spec = {"gaussfilt." GF_PREC_NAME ".Builtin",
+                                   sizeof(BuiltinObj), 0, Py_TPFLAGS_DEFAULT,
+                                   Builtin_slots};
 
 static PyObject *new_builtin(gf_ekf3_motion_fn g, gf_ekf3_meas_fn h, unsigned m,
                              const char *name)
 {
-    BuiltinObj *b = PyObject_New(BuiltinObj, &Builtin_Type);
+    BuiltinObj *b = PyObject_New(BuiltinObj, Builtin_Type);
     if (b) {
         b->g = g;
         b->h = h;
@@ -670,13 +720,15 @@ static int check_type(PyObject *o, PyTypeObject *t, const char *who,
     if (PyObject_TypeCheck(o, t)) {
         return 0;
     }
-    const char *name = strrchr(t->tp_name, '.') + 1;
+    char tn[96], on[96];
+    const char *name = strrchr(class_name((PyObject *)t, tn, sizeof tn), '.');
+    name = name ? name + 1 : tn;
     const char *an = strchr("AEIOU", name[0]) ? "an" : "a";
     if (or_none) {
         bad_arg("%s: %s must be %s %s or None", who, arg, an, name);
     } else {
         bad_arg("%s: %s must be %s %s, not %s", who, arg, an, name,
-                Py_TYPE(o)->tp_name);
+                type_name(o, on, sizeof on));
     }
     return -1;
 }
@@ -724,6 +776,7 @@ typedef struct {
 
 static int Callback_traverse(PyObject *self, visitproc visit, void *arg)
 {
+    Py_VISIT(Py_TYPE(self)); // an instance of a heap type holds its class
     Py_VISIT(((CallbackObj *)self)->fn);
     Py_VISIT(((CallbackObj *)self)->capsule);
     return 0;
@@ -735,24 +788,29 @@ static int Callback_clear(PyObject *self)
     Py_CLEAR(((CallbackObj *)self)->capsule);
     return 0;
 }
+// The end of every deallocation here: the object's memory freed, then
+// the reference it held to its class (a heap type) dropped.
+static void free_obj(PyObject *self)
+{
+    PyTypeObject *t = Py_TYPE(self);
+    ((freefunc)PyType_GetSlot(t, Py_tp_free))(self);
+    Py_DECREF(t);
+}
+
 static void Callback_dealloc(PyObject *self)
 {
     PyObject_GC_UnTrack(self);
-    if (Py_TYPE(self)->tp_weaklistoffset) {
-        PyObject_ClearWeakRefs(self);
-    }
+    PyObject_ClearWeakRefs(self);
     Callback_clear(self);
-    Py_TYPE(self)->tp_free(self);
+    free_obj(self);
 }
 
 // The deallocation of the classes without references of their own: the
 // weak references to the object cleared first.
 static void Obj_dealloc(PyObject *self)
 {
-    if (Py_TYPE(self)->tp_weaklistoffset) {
-        PyObject_ClearWeakRefs(self);
-    }
-    Py_TYPE(self)->tp_free(self);
+    PyObject_ClearWeakRefs(self);
+    free_obj(self);
 }
 
 // The getter of g or h.
@@ -770,8 +828,10 @@ static PyObject *Callback_fn(PyObject *self, void *unused)
 // Keeps fn as the model's callable (after a successful prepare).
 static void set_fn(CallbackObj *self, PyObject *fn)
 {
+    PyObject *old = self->fn;
     Py_INCREF(fn);
-    Py_XSETREF(self->fn, fn);
+    self->fn = fn;
+    Py_XDECREF(old);
 }
 
 // 0 when fn is callable; else GF_ERR_ARG's exception and -1.
@@ -887,9 +947,10 @@ static int c_function_of(PyObject *fn, int motion, const char *who,
     if (!name || strncmp(name, "gaussfilt.float", 15) != 0 ||
         (strcmp(name + 17, ".ekf_motion") != 0 &&
          strcmp(name + 17, ".ekf_meas") != 0)) {
+        char tn[96];
         bad_arg("%s: %s.gf_capsule is not a capsule of gaussfilt's C "
                 "functions (%s)",
-                who, arg, name ? name : Py_TYPE(c)->tp_name);
+                who, arg, name ? name : type_name(c, tn, sizeof tn));
         Py_DECREF(c);
         return -1;
     }
@@ -930,8 +991,10 @@ static const char *c_function_name(const CallbackObj *cb)
 static void set_c_function(CallbackObj *self, PyObject *cap,
                            const CFunction *cf)
 {
+    PyObject *old = self->capsule;
     self->cfn = cf;
-    Py_XSETREF(self->capsule, cap);
+    self->capsule = cap;
+    Py_XDECREF(old);
 }
 
 // Calls a Python model of an EKF of the family ("EKF3" or "EKF") on x (n
@@ -953,10 +1016,9 @@ static gf_status call_model(PyObject *fn, int motion, PyObject *u,
     if (!r) {
         return GF_ERR_MODEL;
     }
-    seq = PySequence_Fast(r, "");
-    Py_DECREF(r);
-    if (!seq || PySequence_Fast_GET_SIZE(seq) != 2) {
-        Py_XDECREF(seq);
+    seq = PySequence_Check(r) && PySequence_Size(r) == 2 ? r : NULL;
+    if (!seq) {
+        Py_DECREF(r);
         PyErr_Clear();
         if (motion) {
             bad_arg("%s motion g must return (mu_bar, G)", family);
@@ -965,12 +1027,15 @@ static gf_status call_model(PyObject *fn, int motion, PyObject *u,
         }
         return GF_ERR_MODEL;
     }
-    int bad =
-        read_real(PySequence_Fast_GET_ITEM(seq, 0),
-                  motion ? "g's mu_bar" : "h's z_hat", 0, rows, out) < 0 ||
-        read_real(PySequence_Fast_GET_ITEM(seq, 1), motion ? "g's G" : "h's H",
-                  rows, n, J) < 0;
+    PyObject *r0 = PySequence_GetItem(seq, 0);
+    PyObject *r1 = r0 ? PySequence_GetItem(seq, 1) : NULL;
     Py_DECREF(seq);
+    int bad =
+        !r1 ||
+        read_real(r0, motion ? "g's mu_bar" : "h's z_hat", 0, rows, out) < 0 ||
+        read_real(r1, motion ? "g's G" : "h's H", rows, n, J) < 0;
+    Py_XDECREF(r0);
+    Py_XDECREF(r1);
     return bad ? GF_ERR_MODEL : GF_OK;
 }
 
@@ -1335,11 +1400,11 @@ static PyObject *Filter_loglik(PyObject *self, void *kind)
 // One family of filters (KF2, EKF3, KF or EKF) as the shared entries
 // predict_entry, update_entry and run_entry step it.
 typedef struct {
-    const char *name;                     // "KF2": messages' prefix
-    const char *predict_name, *u_name;    // "KF2.predict", "KF2.predict: u"
-    const char *update_name, *z_name;     // "KF2.update", "KF2.update: z"
-    const char *run_name;                 // "KF2.run"
-    PyTypeObject *model_type, *meas_type; // predict's and update's
+    const char *name;                       // "KF2": messages' prefix
+    const char *predict_name, *u_name;      // "KF2.predict", "KF2.predict: u"
+    const char *update_name, *z_name;       // "KF2.update", "KF2.update: z"
+    const char *run_name;                   // "KF2.run"
+    PyTypeObject **model_type, **meas_type; // predict's and update's
     int ekf;             // the model is a motion g, u handed to it as given
     int u_min_nd;        // run's u: 2 dimensions, or 1 as well (one column)
     const char *u_shape; // run's u in messages: "(N, 2)"
@@ -1422,7 +1487,7 @@ static PyObject *predict_entry(const Family *fam, PyObject *self_,
     int python_g;
     if (get_args("predict", args, nargs, kwnames,
                  fam->ekf ? ekf_names : kf_names, 1, 2, a) < 0 ||
-        check_type(a[0], fam->model_type, fam->predict_name, what, 0) < 0) {
+        check_type(a[0], *fam->model_type, fam->predict_name, what, 0) < 0) {
         return NULL;
     }
     fam->model_size(a[0], &n, &nu, &python_g);
@@ -1490,7 +1555,7 @@ static PyObject *update_entry(const Family *fam, PyObject *self_,
     unsigned n;
     npy_intp m;
     if (get_args("update", args, nargs, kwnames, names, 2, 2, a) < 0 ||
-        check_type(a[0], fam->meas_type, fam->update_name, "meas", 0) < 0) {
+        check_type(a[0], *fam->meas_type, fam->update_name, "meas", 0) < 0) {
         return NULL;
     }
     fam->meas_size(a[0], &n, &m);
@@ -1785,7 +1850,7 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
         return NULL;
     }
     if (given(a[0])) {
-        if (check_type(a[0], fam->model_type, fam->run_name, what, 1) < 0) {
+        if (check_type(a[0], *fam->model_type, fam->run_name, what, 1) < 0) {
             return NULL;
         }
         model = a[0];
@@ -1797,7 +1862,7 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
         fam->model_size(NULL, &got, &nu, &python_g);
     }
     if (given(a[1])) {
-        if (check_type(a[1], fam->meas_type, fam->run_name, "meas", 1) < 0) {
+        if (check_type(a[1], *fam->meas_type, fam->run_name, "meas", 1) < 0) {
             return NULL;
         }
         meas = a[1];
@@ -1822,16 +1887,28 @@ static PyObject *run_entry(const Family *fam, PyObject *self_,
 
 // ---- state, for pickle and copy ----------------------------------------
 
+// 1 when self's class (a Python subclass) gives its objects a __dict__
+// (its __dictoffset__ is not 0); else 0.
+static int has_dict(PyObject *self)
+{
+    PyObject *off =
+        PyObject_GetAttrString((PyObject *)Py_TYPE(self), "__dictoffset__");
+    const long v = off ? PyLong_AsLong(off) : 0;
+    Py_XDECREF(off);
+    PyErr_Clear();
+    return v != 0;
+}
+
 // The instance dictionary of self when its class is a Python subclass
 // with one and it holds anything (a new reference); NULL otherwise, with
 // an exception only when reading it failed.
 static PyObject *instance_dict(PyObject *self)
 {
-    if (!Py_TYPE(self)->tp_dictoffset) {
+    if (!has_dict(self)) {
         return NULL;
     }
     PyObject *d = PyObject_GetAttrString(self, "__dict__");
-    if (d && PyDict_Check(d) && PyDict_GET_SIZE(d) > 0) {
+    if (d && PyDict_Check(d) && PyDict_Size(d) > 0) {
         return d;
     }
     Py_XDECREF(d);
@@ -1993,7 +2070,7 @@ static PyObject *state_set(const Family *fam, PyObject *self_, PyObject *st)
                        "filter's is version 1 in %s, %zu bytes",
                        what, version, prec, nb, GF_PREC_NAME, fam->belief_size);
     }
-    if (d != Py_None && (!PyDict_Check(d) || !Py_TYPE(self_)->tp_dictoffset)) {
+    if (d != Py_None && (!PyDict_Check(d) || !has_dict(self_))) {
         return bad_arg("%s: the state's attributes are not a dict for an "
                        "object with a __dict__",
                        what);
@@ -2088,16 +2165,17 @@ static int set_sigma_value(PyObject *value, const char *who)
     return -1;
 }
 
+// The package's class t is or derives from (a Python subclass's), or NULL.
+static PyTypeObject *package_class(PyTypeObject *t);
+
 // reset(mu, sigma[, angles]): the class's own constructor again on this
 // object (a subclass's __init__ is not called), which judges and factors
 // as it does; the belief unchanged when it refuses.
 static PyObject *Filter_reset(PyObject *self, PyObject *args, PyObject *kw)
 {
-    PyTypeObject *t = Py_TYPE(self);
-    while (t->tp_flags & Py_TPFLAGS_HEAPTYPE) {
-        t = t->tp_base;
-    }
-    if (t->tp_init(self, args, kw) < 0) {
+    PyTypeObject *t = package_class(Py_TYPE(self));
+    initproc init = t ? (initproc)PyType_GetSlot(t, Py_tp_init) : NULL;
+    if (!init || init(self, args, kw) < 0) {
         return NULL;
     }
     Py_RETURN_NONE;
@@ -2181,7 +2259,7 @@ typedef struct {
     PyObject *weakrefs; // weakref support
 } KF2Obj;
 
-static PyTypeObject KF2Model_Type, KF2Meas_Type, KF2_Type;
+static PyTypeObject *KF2Model_Type, *KF2Meas_Type, *KF2_Type;
 
 static int KF2Model_init(PyObject *self_, PyObject *args, PyObject *kw)
 {
@@ -2558,7 +2636,7 @@ typedef struct {
     PyObject *weakrefs; // weakref support
 } EKF3Obj;
 
-static PyTypeObject EKF3Motion_Type, EKF3Meas_Type, EKF3_Type;
+static PyTypeObject *EKF3Motion_Type, *EKF3Meas_Type, *EKF3_Type;
 
 // The Python motion g(mu, u) -> (mu_bar, G) behind EKF3's C callback.
 static gf_status ekf3_g_py(void *ctx, const gf_vec3 *mu, const gf_real *u,
@@ -2597,7 +2675,7 @@ static int EKF3Motion_init(PyObject *self_, PyObject *args, PyObject *kw)
     if (read_real(R, "EKF3Motion: R", 3, 3, &mo.R.m[0][0]) < 0) {
         return -1;
     }
-    if (PyObject_TypeCheck(g, &Builtin_Type)) {
+    if (PyObject_TypeCheck(g, Builtin_Type)) {
         if (!((BuiltinObj *)g)->g) {
             bad_arg("EKF3Motion: %s is a measurement", ((BuiltinObj *)g)->name);
             return -1;
@@ -2658,7 +2736,7 @@ static int EKF3Meas_init(PyObject *self_, PyObject *args, PyObject *kw)
     }
     q3_copy(&me.Q.m[0][0], 3, Qv, me.m, me.m);
     me.angle_mask = angle_mask;
-    if (PyObject_TypeCheck(h, &Builtin_Type)) {
+    if (PyObject_TypeCheck(h, Builtin_Type)) {
         BuiltinObj *b = (BuiltinObj *)h;
         if (!b->h) {
             bad_arg("EKF3Meas: %s is a motion", b->name);
@@ -2976,7 +3054,7 @@ typedef struct {
     PyObject *weakrefs; // weakref support
 } UKF3Obj;
 
-static PyTypeObject UKF3_Type;
+static PyTypeObject *UKF3_Type;
 
 // The parameters of Table 3.4 from the constructor's or reset's alpha,
 // beta and kappa (NULL: 1, 2, 0).
@@ -3316,7 +3394,7 @@ typedef struct {
     PyObject *weakrefs; // weakref support
 } PF3Obj;
 
-static PyTypeObject PF3_Type;
+static PyTypeObject *PF3_Type;
 
 static void PF3_dealloc(PyObject *self)
 {
@@ -3590,14 +3668,14 @@ static PyObject *PF3_run(PyObject *self_, PyObject *const *args,
         return NULL;
     }
     if (given(a[0])) {
-        if (check_type(a[0], &EKF3Motion_Type, "PF3.run", "motion", 1) < 0) {
+        if (check_type(a[0], EKF3Motion_Type, "PF3.run", "motion", 1) < 0) {
             return NULL;
         }
         model = a[0];
         ekf3_model_size(model, &got, &nu, &python_g);
     }
     if (given(a[1])) {
-        if (check_type(a[1], &EKF3Meas_Type, "PF3.run", "meas", 1) < 0) {
+        if (check_type(a[1], EKF3Meas_Type, "PF3.run", "meas", 1) < 0) {
             return NULL;
         }
         meas = a[1];
@@ -3833,7 +3911,7 @@ static PyObject *PF3_setstate(PyObject *self_, PyObject *st)
                        "bytes, not one of this filter's (version 2 in %s)",
                        what, version, prec, np, nr, GF_PREC_NAME);
     }
-    if (d != Py_None && (!PyDict_Check(d) || !Py_TYPE(self_)->tp_dictoffset)) {
+    if (d != Py_None && (!PyDict_Check(d) || !has_dict(self_))) {
         return bad_arg("%s: the state's attributes are not a dict for an "
                        "object with a __dict__",
                        what);
@@ -3986,8 +4064,8 @@ typedef struct {
 
 typedef KFObj EKFObj;
 
-static PyTypeObject KFModel_Type, KFMeas_Type, KF_Type;
-static PyTypeObject EKFMotion_Type, EKFMeas_Type, EKF_Type;
+static PyTypeObject *KFModel_Type, *KFMeas_Type, *KF_Type;
+static PyTypeObject *EKFMotion_Type, *EKFMeas_Type, *EKF_Type;
 
 // An n x n (or m x m) square matrix's size, 1..NMAX.
 static int square_size(PyObject *obj, const char *name, npy_intp *n)
@@ -4564,7 +4642,7 @@ static const Family ekf_family = {
 // messages.
 static const char *kf_who(PyObject *self, const char *kf, const char *ekf)
 {
-    return PyObject_TypeCheck(self, &EKF_Type) ? ekf : kf;
+    return PyObject_TypeCheck(self, EKF_Type) ? ekf : kf;
 }
 
 // The setter of KF's and EKF's sigma: gf_kf_init (gf_ekf_init, with the
@@ -4572,7 +4650,7 @@ static const char *kf_who(PyObject *self, const char *kf, const char *ekf)
 static int KF_set_sigma(PyObject *self_, PyObject *value, void *unused)
 {
     KFObj *self = (KFObj *)self_;
-    const int ekf = PyObject_TypeCheck(self_, &EKF_Type);
+    const int ekf = PyObject_TypeCheck(self_, EKF_Type);
     const char *who = ekf ? "EKF.sigma" : "KF.sigma";
     const unsigned n = self->kf.n;
     gf_real m[NMAX], s[NMAX * NMAX];
@@ -4829,34 +4907,31 @@ static PyObject *Obj_repr(PyObject *self)
 {
     static const char *const sizes[] = {"n", "m"};
     PyObject *parts = PyList_New(0), *out = NULL, *mu = NULL, *head;
-    PyTypeObject *base = Py_TYPE(self);
+    PyTypeObject *base = package_class(Py_TYPE(self));
+    char name[96];
     if (!parts) {
         return NULL;
     }
-    while (base->tp_flags & Py_TPFLAGS_HEAPTYPE) {
-        base = base->tp_base;
-    }
-    if (base == Py_TYPE(self)) {
-        head = PyUnicode_FromFormat("<%s", base->tp_name);
+    class_name((PyObject *)(base ? base : Py_TYPE(self)), name, sizeof name);
+    if (!base || base == Py_TYPE(self)) {
+        head = PyUnicode_FromFormat("<%s", name);
     } else {
         PyObject *cls = (PyObject *)Py_TYPE(self);
         PyObject *mod = PyObject_GetAttrString(cls, "__module__");
         PyObject *qual =
             mod ? PyObject_GetAttrString(cls, "__qualname__") : NULL;
-        head = qual
-                   ? PyUnicode_FromFormat("<%S.%S %s", mod, qual, base->tp_name)
-                   : NULL;
+        head = qual ? PyUnicode_FromFormat("<%S.%S %s", mod, qual, name) : NULL;
         Py_XDECREF(mod);
         Py_XDECREF(qual);
     }
     int ok = head && PyList_Append(parts, head) == 0;
     Py_XDECREF(head);
-    const int belief = PyObject_TypeCheck(self, &KF2_Type) ||
-                       PyObject_TypeCheck(self, &EKF3_Type) ||
-                       PyObject_TypeCheck(self, &UKF3_Type) ||
-                       PyObject_TypeCheck(self, &PF3_Type) ||
-                       PyObject_TypeCheck(self, &KF_Type) ||
-                       PyObject_TypeCheck(self, &EKF_Type);
+    const int belief = PyObject_TypeCheck(self, KF2_Type) ||
+                       PyObject_TypeCheck(self, EKF3_Type) ||
+                       PyObject_TypeCheck(self, UKF3_Type) ||
+                       PyObject_TypeCheck(self, PF3_Type) ||
+                       PyObject_TypeCheck(self, KF_Type) ||
+                       PyObject_TypeCheck(self, EKF_Type);
     const int running = belief && ((FilterObj *)self)->busy == BUSY_NOGIL;
     if (ok && running) {
         PyObject *t = PyUnicode_FromString("(a run in progress)");
@@ -4865,7 +4940,7 @@ static PyObject *Obj_repr(PyObject *self)
     }
     // PF3: its particles' count, then its estimate when it has one (none
     // never initialised, Undefined when the headings cancel out)
-    const int pf3 = PyObject_TypeCheck(self, &PF3_Type);
+    const int pf3 = PyObject_TypeCheck(self, PF3_Type);
     if (ok && pf3 && !running) {
         const gf_pf3 *pf = &((PF3Obj *)self)->pf;
         PyObject *t = PyUnicode_FromFormat("particles=%u", pf->p ? pf->n : 0u);
@@ -4919,7 +4994,7 @@ static PyObject *Obj_repr(PyObject *self)
 // A model class, its constructor and the arguments it is rebuilt from (its
 // getters of the same names).
 typedef struct {
-    PyTypeObject *type;
+    PyTypeObject **type;
     initproc init;
     const char *names[5];
 } ModelKind;
@@ -4939,7 +5014,7 @@ static const ModelKind model_kinds[] = {
 static const ModelKind *model_kind(PyObject *self)
 {
     for (size_t i = 0; i < sizeof model_kinds / sizeof model_kinds[0]; i++) {
-        if (PyObject_TypeCheck(self, model_kinds[i].type)) {
+        if (PyObject_TypeCheck(self, *model_kinds[i].type)) {
             return &model_kinds[i];
         }
     }
@@ -4970,7 +5045,7 @@ static PyObject *Model_reduce(PyObject *self, PyObject *unused)
             Py_CLEAR(args);
             break;
         }
-        PyTuple_SET_ITEM(args, i, v);
+        PyTuple_SetItem(args, i, v);
     }
     if (!args) {
         return NULL;
@@ -4999,12 +5074,15 @@ static PyObject *Model_reduce(PyObject *self, PyObject *unused)
 static PyObject *Model_setstate(PyObject *self, PyObject *st)
 {
     const ModelKind *k = model_kind(self);
-    const char *name = k ? strrchr(k->type->tp_name, '.') + 1 : "model";
+    char tn[96];
+    const char *name =
+        k ? strrchr(class_name((PyObject *)*k->type, tn, sizeof tn), '.') + 1
+          : "model";
     PyObject *args, *d;
-    if (!k || !PyTuple_Check(st) || PyTuple_GET_SIZE(st) != 2 ||
-        !PyTuple_Check(args = PyTuple_GET_ITEM(st, 0)) ||
-        ((d = PyTuple_GET_ITEM(st, 1)) != Py_None &&
-         (!PyDict_Check(d) || !Py_TYPE(self)->tp_dictoffset))) {
+    if (!k || !PyTuple_Check(st) || PyTuple_Size(st) != 2 ||
+        !PyTuple_Check(args = PyTuple_GetItem(st, 0)) ||
+        ((d = PyTuple_GetItem(st, 1)) != Py_None &&
+         (!PyDict_Check(d) || !has_dict(self)))) {
         return bad_arg("%s.__setstate__: not a state of this package", name);
     }
     if (k->init(self, args, NULL) < 0 || update_instance_dict(self, d) < 0) {
@@ -5026,50 +5104,50 @@ static PyMethodDef Model_methods[] = {
 static const Family *family_of(PyObject *self)
 {
     PyTypeObject *t = Py_TYPE(self);
-    while (t->tp_flags & Py_TPFLAGS_HEAPTYPE) { // a subclass in Python
-        t = t->tp_base;
+    if (t != KF2_Type && t != EKF3_Type && t != UKF3_Type && t != EKF_Type &&
+        t != KF_Type) {
+        t = package_class(t); // a subclass in Python
     }
-    return t == &KF2_Type    ? &kf2_family
-           : t == &EKF3_Type ? &ekf3_family
-           : t == &UKF3_Type ? &ukf3_family
-           : t == &EKF_Type  ? &ekf_family
-                             : &kf_family; // the only other with these entries
+    return t == KF2_Type    ? &kf2_family
+           : t == EKF3_Type ? &ekf3_family
+           : t == UKF3_Type ? &ukf3_family
+           : t == EKF_Type  ? &ekf_family
+                            : &kf_family; // the only other with these entries
 }
 
+// The classes are heap types made at import from these specs
+// (PyType_FromModuleAndSpec): the stable ABI has no static type objects.
+// X_Type points to class X once the module is made. Each class keeps its
+// objects' weak references at the offset its __weaklistoffset__ gives.
+#define GF_SPEC(T, name, flags, ...)                                           \
+    static PyMemberDef T##_members[] = {                                       \
+        {"__weaklistoffset__", T_PYSSIZET, offsetof(T##Obj, weakrefs),         \
+         READONLY, NULL},                                                      \
+        {NULL, 0, 0, 0, NULL},                                                 \
+    };                                                                         \
+    static PyType_Slot T##_slots[] = {                                         \
+        {Py_tp_new, (void *)PyType_GenericNew},                                \
+        {Py_tp_repr, (void *)Obj_repr},                                        \
+        {Py_tp_members, T##_members},                                          \
+        __VA_ARGS__,                                                           \
+        {0, NULL},                                                             \
+    };                                                                         \
+    static PyType_Spec T##_spec = {                                            \
+        "gaussfilt." GF_PREC_NAME "." name, sizeof(T##Obj), 0,                 \
+        Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE | (flags), T##_slots}
+
 #define GF_TYPE(T, name, doc, init, methods, getset)                           \
-    static PyTypeObject T##_Type = {                                           \
-        PyVarObject_HEAD_INIT(NULL, 0).tp_name =                               \
-            "gaussfilt." GF_PREC_NAME "." name,                                \
-        .tp_basicsize = sizeof(T##Obj),                                        \
-        .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE,                  \
-        .tp_doc = doc,                                                         \
-        .tp_new = PyType_GenericNew,                                           \
-        .tp_init = init,                                                       \
-        .tp_methods = methods,                                                 \
-        .tp_getset = getset,                                                   \
-        .tp_repr = Obj_repr,                                                   \
-        .tp_dealloc = Obj_dealloc,                                             \
-        .tp_weaklistoffset = offsetof(T##Obj, weakrefs),                       \
-    }
+    GF_SPEC(T, name, 0, {Py_tp_doc, (void *)(doc)},                            \
+            {Py_tp_init, (void *)(init)}, {Py_tp_methods, methods},            \
+            {Py_tp_getset, getset}, {Py_tp_dealloc, (void *)Obj_dealloc})
 
 #define GF_GC_TYPE(T, name, doc, init, getset)                                 \
-    static PyTypeObject T##_Type = {                                           \
-        PyVarObject_HEAD_INIT(NULL, 0).tp_name =                               \
-            "gaussfilt." GF_PREC_NAME "." name,                                \
-        .tp_basicsize = sizeof(T##Obj),                                        \
-        .tp_flags =                                                            \
-            Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE | Py_TPFLAGS_HAVE_GC,     \
-        .tp_doc = doc,                                                         \
-        .tp_new = PyType_GenericNew,                                           \
-        .tp_init = init,                                                       \
-        .tp_methods = Model_methods,                                           \
-        .tp_getset = getset,                                                   \
-        .tp_traverse = Callback_traverse,                                      \
-        .tp_clear = Callback_clear,                                            \
-        .tp_dealloc = Callback_dealloc,                                        \
-        .tp_repr = Obj_repr,                                                   \
-        .tp_weaklistoffset = offsetof(T##Obj, weakrefs),                       \
-    }
+    GF_SPEC(T, name, Py_TPFLAGS_HAVE_GC, {Py_tp_doc, (void *)(doc)},           \
+            {Py_tp_init, (void *)(init)}, {Py_tp_methods, Model_methods},      \
+            {Py_tp_getset, getset},                                            \
+            {Py_tp_traverse, (void *)Callback_traverse},                       \
+            {Py_tp_clear, (void *)Callback_clear},                             \
+            {Py_tp_dealloc, (void *)Callback_dealloc})
 
 GF_TYPE(KF2Model, "KF2Model",
         "KF2Model(A, R, B=None, c=None)\n--\n\n"
@@ -5121,23 +5199,16 @@ GF_TYPE(UKF3, "UKF3",
         "(Julier and Uhlmann's scaling; the defaults put the points at\n"
         "sqrt(3) sigma). sigma 3x3 symmetric PSD.",
         UKF3_init, UKF3_methods, UKF3_getset);
-static PyTypeObject PF3_Type = {
-    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "gaussfilt." GF_PREC_NAME ".PF3",
-    .tp_basicsize = sizeof(PF3Obj),
-    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE,
-    .tp_doc = "PF3(mu, sigma, n, seed=0)\n--\n\n"
-              "The particle filter over (x, y, theta) (gf_pf3, Tables 4.3 and\n"
-              "4.4), stepped with EKF3's models: n particles drawn from N(mu,\n"
-              "sigma) by the filter's own generator, seeded with seed (0 to\n"
-              "2^32 - 1): the same seed, the same run, bit for bit.",
-    .tp_new = PyType_GenericNew,
-    .tp_init = PF3_init,
-    .tp_methods = PF3_methods,
-    .tp_getset = PF3_getset,
-    .tp_repr = Obj_repr,
-    .tp_dealloc = PF3_dealloc,
-    .tp_weaklistoffset = offsetof(PF3Obj, weakrefs),
-};
+GF_SPEC(PF3, "PF3", 0,
+        {Py_tp_doc,
+         (void *)"PF3(mu, sigma, n, seed=0)\n--\n\n"
+                 "The particle filter over (x, y, theta) (gf_pf3, Tables 4.3 "
+                 "and\n4.4), stepped with EKF3's models: n particles drawn "
+                 "from N(mu,\nsigma) by the filter's own generator, seeded "
+                 "with seed (0 to\n2^32 - 1): the same seed, the same run, "
+                 "bit for bit."},
+        {Py_tp_init, (void *)PF3_init}, {Py_tp_methods, PF3_methods},
+        {Py_tp_getset, PF3_getset}, {Py_tp_dealloc, (void *)PF3_dealloc});
 GF_TYPE(KFModel, "KFModel",
         "KFModel(A, R, B=None, c=None)\n--\n\n"
         "gf_kf's motion of n states: x_t = A x_{t-1} + B u_t + c + eps,\n"
@@ -5185,19 +5256,44 @@ static struct PyModuleDef moddef = {
     NULL,
 };
 
+// The classes in the order the module adds them, and their specs.
+static PyTypeObject **const all_types[] = {
+    &Builtin_Type,    &KF2Model_Type, &KF2Meas_Type,   &KF2_Type,
+    &EKF3Motion_Type, &EKF3Meas_Type, &EKF3_Type,      &KFModel_Type,
+    &KFMeas_Type,     &KF_Type,       &EKFMotion_Type, &EKFMeas_Type,
+    &EKF_Type,        &UKF3_Type,     &PF3_Type};
+static PyType_Spec *const all_specs[] = {
+    &Builtin_spec,    &KF2Model_spec, &KF2Meas_spec,   &KF2_spec,
+    &EKF3Motion_spec, &EKF3Meas_spec, &EKF3_spec,      &KFModel_spec,
+    &KFMeas_spec,     &KF_spec,       &EKFMotion_spec, &EKFMeas_spec,
+    &EKF_spec,        &UKF3_spec,     &PF3_spec};
+#define NTYPES (sizeof all_types / sizeof all_types[0])
+
+static PyTypeObject *package_class(PyTypeObject *t)
+{
+    while (t && (PyType_GetFlags(t) & Py_TPFLAGS_HEAPTYPE)) {
+        for (size_t i = 0; i < NTYPES; i++) {
+            if (t == *all_types[i]) {
+                return t;
+            }
+        }
+        t = (PyTypeObject *)PyType_GetSlot(t, Py_tp_base);
+    }
+    return NULL;
+}
+
 PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
 {
     PyObject *m, *errors;
-    PyTypeObject *types[] = {&Builtin_Type, &KF2Model_Type,   &KF2Meas_Type,
-                             &KF2_Type,     &EKF3Motion_Type, &EKF3Meas_Type,
-                             &EKF3_Type,    &KFModel_Type,    &KFMeas_Type,
-                             &KF_Type,      &EKFMotion_Type,  &EKFMeas_Type,
-                             &EKF_Type,     &UKF3_Type,       &PF3_Type};
-    PyTypeObject *beliefs[] = {&KF2_Type, &EKF3_Type, &KF_Type, &EKF_Type,
-                               &UKF3_Type};
+    PyType_Spec *beliefs[] = {&KF2_spec, &EKF3_spec, &KF_spec, &EKF_spec,
+                              &UKF3_spec};
     import_array();
     for (size_t i = 0; i < sizeof beliefs / sizeof beliefs[0]; i++) {
-        beliefs[i]->tp_dealloc = Filter_dealloc; // their update records
+        for (PyType_Slot *s = beliefs[i]->slots; s->slot; s++) {
+            if (s->slot == Py_tp_dealloc) {
+                s->pfunc = (void *)Filter_dealloc; // their update records
+            }
+        }
     }
     errors = PyImport_ImportModule("gaussfilt._errors");
     if (!errors) {
@@ -5222,15 +5318,19 @@ PyMODINIT_FUNC CAT(PyInit_, GF_PY_MODULE)(void)
     if (!m) {
         return NULL;
     }
-    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++) {
-        if (PyType_Ready(types[i]) < 0) {
+    // Each class is kept by its X_Type for the module's lifetime (the
+    // module is never unloaded) and, but for Builtin, by the module.
+    for (size_t i = 0; i < NTYPES; i++) {
+        PyObject *t = PyType_FromModuleAndSpec(m, all_specs[i], NULL);
+        if (!t) {
             goto fail;
         }
+        *all_types[i] = (PyTypeObject *)t;
         if (i > 0) {
-            const char *dot = strrchr(types[i]->tp_name, '.');
-            Py_INCREF(types[i]);
-            if (PyModule_AddObject(m, dot + 1, (PyObject *)types[i]) < 0) {
-                Py_DECREF(types[i]);
+            const char *dot = strrchr(all_specs[i]->name, '.');
+            Py_INCREF(t);
+            if (PyModule_AddObject(m, dot + 1, t) < 0) {
+                Py_DECREF(t);
                 goto fail;
             }
         }

