@@ -238,14 +238,19 @@ static int numbers_only(PyObject *obj, const char *name)
 static int read_float_item(PyObject *x, gf_real *out)
 {
     double v;
-    if (PyFloat_CheckExact(x) || PyArray_IsScalar(x, Double)) {
-        *out = (gf_real)PyFloat_AsDouble(x); // numpy.float64 is a float
+    if (PyFloat_CheckExact(x)) {
+        *out = (gf_real)PyFloat_AsDouble(x);
+        return 1;
+    }
+    // numpy's structs of its scalars (PyObject_HEAD, then the value):
+    // arrayscalars.h declares them for the limited API too, only their
+    // accessor PyArrayScalar_VAL is left out
+    if (PyArray_IsScalar(x, Double)) {
+        *out = (gf_real)((PyDoubleScalarObject *)x)->obval;
         return 1;
     }
     if (PyArray_IsScalar(x, Float)) {
-        float f;
-        PyArray_ScalarAsCtype(x, &f);
-        *out = (gf_real)f;
+        *out = (gf_real)((PyFloatScalarObject *)x)->obval;
         return 1;
     }
     if (PyLong_CheckExact(x)) {
@@ -302,7 +307,9 @@ static int read_real(PyObject *obj, const char *name, npy_intp rows,
     } else if (size == 1 && read_float_item(obj, out)) {
         return 0; // a Python or numpy scalar
     } else if ((PyList_CheckExact(obj) || PyTuple_CheckExact(obj)) &&
-               rows <= 1 && PySequence_Size(obj) == cols &&
+               rows <= 1 &&
+               (PyList_CheckExact(obj) ? PyList_Size(obj)
+                                       : PyTuple_Size(obj)) == cols &&
                read_flat_floats(obj, cols, out)) {
         return 0; // a list or tuple of such scalars
     } else {

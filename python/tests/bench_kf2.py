@@ -9,6 +9,8 @@ step; python/tests/replay/replay.c --bench-kf2 is the C loop):
   overhead over the C step;
 - the package's batch entry, KF2.run, over arrays of z;
 - FilterPy's KalmanFilter, predict + update, on the same workload;
+- KF of n = 4 (a constant-velocity target in the plane, its position
+  measured), a call each and KF.run;
 - an update alone with z in each form the package reads in place (a
   list, a tuple, Python and numpy scalars, the other precision's array),
   beside an array of the module's own type.
@@ -109,6 +111,29 @@ def main():
     print("  FilterPy KalmanFilter            %8.3f us per step" % (fp_ns / 1e3))
     print("    FilterPy / Python calls        %8.1f x" % (fp_ns / py_ns))
     print("    FilterPy / batch               %8.1f x" % (fp_ns / batch_ns))
+    cv = gf.KFModel(A=[[1, 0, 1, 0], [0, 1, 0, 1], [0, 0, 1, 0],
+                       [0, 0, 0, 1]], R=np.diag([0.25, 0.25, 1.0, 1.0]))
+    pos = gf.KFMeas(C=[[1, 0, 0, 0], [0, 1, 0, 0]], Q=np.eye(2) * 10)
+    z4 = np.hstack([z, -z])
+    z4s = [np.array(r) for r in z4]
+    K = N // 4
+
+    def kf4_steps():
+        kf = gf.KF(np.zeros(4), np.eye(4))
+        predict, update = kf.predict, kf.update
+        for zk in z4s[:K]:
+            predict(cv)
+            update(pos, zk)
+
+    def kf4_batch():
+        gf.KF(np.zeros(4), np.eye(4)).run(cv, pos, z=z4[:K])
+    kf4_ns = median_of(kf4_steps) / K * 1e9
+    kf4_batch_ns = median_of(kf4_batch) / K * 1e9
+    print("KF, n = 4, predict + update (a position of 2), %d steps (median "
+          "of %d):" % (K, REPEAT))
+    print("  Python, a call each              %8.3f us per step" % (kf4_ns / 1e3))
+    print("  Python, KF.run (batch)           %8.3f us per step"
+          % (kf4_batch_ns / 1e3))
     print("update alone, by the form z comes in (median of %d runs of %d "
           "calls; x: over an array of the module's type, and over a "
           "float64 array):" % (REPEAT, N // 4))

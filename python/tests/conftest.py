@@ -5,8 +5,10 @@ bit-identity tests compare the package with (built here with CMake).
 GF_BUILD (default: the checkout's build/) says where to build. With
 GF_PY_REQUIRE_FIRMWARE=1 (scripts/test python sets it after installing the
 Arm toolchain and QEMU) a missing tool fails the QEMU test instead of
-skipping it.
+skipping it; with GF_PY_REQUIRE_PYTHONS=1 (scripts/test python sets it) a
+missing CPython minor fails the tests of the stable-ABI wheel on it.
 """
+import glob
 import os
 import pathlib
 import shutil
@@ -69,6 +71,33 @@ def need_firmware_tools(*need):
         if os.environ.get("GF_PY_REQUIRE_FIRMWARE") == "1":
             pytest.fail(msg)
         pytest.skip(msg)
+
+
+def need_python(minor):
+    """The interpreter of CPython 3.minor: python3.minor on PATH, else
+    pyenv's (PYENV_ROOT, default ~/.pyenv: versions/3.minor.*/bin), the
+    first that runs and says it is 3.minor. When there is none the test
+    is skipped (or, with GF_PY_REQUIRE_PYTHONS=1, fails), saying so."""
+    name = "python3.%d" % minor
+    root = os.environ.get("PYENV_ROOT", os.path.expanduser("~/.pyenv"))
+    found = [shutil.which(name)] + sorted(glob.glob(os.path.join(
+        root, "versions", "3.%d.*" % minor, "bin", name)), reverse=True)
+    if sys.version_info[:2] == (3, minor):
+        found.insert(0, sys.executable)
+    for exe in filter(None, found):
+        try:
+            r = subprocess.run([exe, "-c", "import sys, venv; "
+                                "print(*sys.version_info[:2])"],
+                               capture_output=True, text=True, timeout=60)
+        except OSError:
+            continue
+        if r.returncode == 0 and r.stdout.split() == ["3", str(minor)]:
+            return exe
+    msg = ("no CPython 3.%d here (%s on PATH or %s/versions/3.%d.*/bin): the "
+           "abi3 wheel is not tested on it" % (minor, name, root, minor))
+    if os.environ.get("GF_PY_REQUIRE_PYTHONS") == "1":
+        pytest.fail(msg)
+    pytest.skip(msg)
 
 
 def run_export_on_m4f(files, variant):

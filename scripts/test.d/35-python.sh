@@ -34,7 +34,7 @@ gf_log "python: pip install ./python (offline, into $GF_VENV)"
 gf_log "python: pytest python/tests"
 out=$(mktemp)
 set +e
-GF_BUILD=$GF_BUILD GF_PY_REQUIRE_FIRMWARE=1 MPLCONFIGDIR=$GF_BUILD/mpl \
+GF_BUILD=$GF_BUILD GF_PY_REQUIRE_FIRMWARE=1 GF_PY_REQUIRE_PYTHONS=1 MPLCONFIGDIR=$GF_BUILD/mpl \
     "$GF_VENV/bin/python" -m pytest -q -p no:cacheprovider --timeout=600 python/tests 2>&1 | tee "$out"
 rc=${PIPESTATUS[0]}
 set -e
