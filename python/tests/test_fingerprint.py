@@ -42,11 +42,19 @@ def _uniform(r, shape, scale=1.0):
     return np.array(vals, dtype=np.float64).reshape(shape)
 
 
+def _dot(a, b):
+    """a . b added left to right, one rounding per term (Python's sum()
+    compensates its rounding from 3.12 on, which gives other bits)."""
+    s = 0.0
+    for x, y in zip(a, b):
+        s = s + x * y
+    return s
+
+
 def _psd(r, n, rank, scale):
     """L L^T, L (n, rank), summed in a fixed order."""
     L = _uniform(r, (n, rank), scale).tolist()
-    return np.array([[sum(L[i][k] * L[j][k] for k in range(rank))
-                      for j in range(n)] for i in range(n)])
+    return np.array([[_dot(L[i], L[j]) for j in range(n)] for i in range(n)])
 
 
 def portable_ops(seed):
