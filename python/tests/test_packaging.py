@@ -8,6 +8,7 @@ wheel, and that one wheel, installed in a fresh venv of each of CPython
 fingerprint's bits there (test_fingerprint.py, as cibuildwheel runs it on
 every wheel).
 """
+import json
 import os
 import pathlib
 import re
@@ -76,14 +77,24 @@ def test_the_wheel_holds_the_modules_and_their_types(dist):
 
 def test_the_wheel_is_one_for_every_cpython_from_3_11(dist):
     """Built by CPython 3.11 or later, the wheel is on the stable ABI:
-    tagged cp311-abi3 (that its modules load on 3.12 and 3.13, every
-    symbol bound at import, is the fresh venvs' test below)."""
+    tagged cp311-abi3, and abi3audit (PyPI's, as cibuildwheel runs it)
+    finds in its modules no symbol outside the stable ABI of 3.11. That
+    they load and run on 3.12 and 3.13 is the fresh venvs' test below."""
     _, _, wheel = dist
     assert "-cp311-abi3-" in wheel.name, wheel.name
     with zipfile.ZipFile(wheel) as z:
         tags = [ln for ln in z.read("gaussfilt-%s.dist-info/WHEEL" % VERSION)
                 .decode().splitlines() if ln.startswith("Tag:")]
     assert tags == ["Tag: cp311-abi3-linux_x86_64"], tags
+    out = run([sys.executable, "-m", "abi3audit", "--strict", "--report",
+               wheel], timeout=300).stdout
+    mods = json.loads(out)["specs"][str(wheel)]["wheel"]
+    assert sorted(m["name"] for m in mods) == ["_f32.abi3.so",
+                                               "_f64.abi3.so"], mods
+    for m in mods:
+        r = m["result"]
+        assert r["is_abi3"] and r["is_abi3_baseline_compatible"], m
+        assert r["baseline"] == "3.11" and not r["non_abi3_symbols"], m
 
 @pytest.fixture(scope="module")
 def repaired(dist):

