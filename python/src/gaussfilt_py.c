@@ -3900,10 +3900,10 @@ static PyObject *PF3_setstate(PyObject *self_, PyObject *st)
     }
     if (version == 2) { // loglik's bytes, then the attributes
         if (!a4 || !PyBytes_Check(a4) ||
-            PyBytes_GET_SIZE(a4) != (Py_ssize_t)sizeof loglik) {
+            PyBytes_Size(a4) != (Py_ssize_t)sizeof loglik) {
             return bad_arg("%s: not a state of this package", what);
         }
-        memcpy(&loglik, PyBytes_AS_STRING(a4), sizeof loglik);
+        memcpy(&loglik, PyBytes_AsString(a4), sizeof loglik);
         d = a5 ? a5 : Py_None;
     } else if (a5) {
         return bad_arg("%s: not a state of this package", what);
