@@ -2,12 +2,15 @@
 // The Python extension over gaussfilt's C library: compiled once per
 // precision (GF_SINGLE_PRECISION or not) into gaussfilt._f32 and
 // gaussfilt._f64 (python/CMakeLists.txt), each linked to the library built
-// in that precision. Every step is one call of the library's step on the
-// object's own belief; nothing here computes a step. The last update's S,
-// K and log-likelihood, which the library never forms, are computed here
-// when read (last_update), from what the update kept (UKF3's S and
-// Sigma^xz, and PF3's likelihood, summed in double as the library's update
-// calls h: ukf3_update, pf3_update).
+// in that precision. Built for CPython 3.11 or later it uses only the
+// limited API of 3.11 (Py_LIMITED_API, set by python/CMakeLists.txt): one
+// module for every later CPython; for 3.9 and 3.10 the same source is
+// compiled against that minor's full API. Every step is one call of the
+// library's step on the object's own belief; nothing here computes a step.
+// The last update's S, K and log-likelihood, which the library never
+// forms, are computed here when read (last_update), from what the update
+// kept (UKF3's S and Sigma^xz, and PF3's likelihood, summed in double as
+// the library's update calls h: ukf3_update, pf3_update).
 //
 // Conventions: arrays come in as anything numpy converts (rounded to
 // gf_real: float32 in _f32) and go out as fresh arrays of gf_real. A status
