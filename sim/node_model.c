@@ -487,7 +487,7 @@ static gf_status landmark_meas(const double *lm, const gf_vec3 *mu_bar,
     r = GF_SQRT(q);
     // z_hat = (r, atan2(dy, dx) - theta)
     z[0] = r;
-    z[1] = gf_angle_wrap(GF_ATAN2(dy, dx) - mu_bar->v[2]);
+    z[1] = gf_angle_wrap(gf_atan2(dy, dx) - mu_bar->v[2]);
     h[0][0] = -dx / r;
     h[0][1] = -dy / r;
     h[0][2] = GF_R(0.0);

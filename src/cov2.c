@@ -41,7 +41,7 @@ gf_status gf_cov2_ellipse(const gf_mat2 *s, gf_real p, gf_ellipse *e)
     }
     // k^2 = -2 ln(1 - p): the chi-square quantile with two degrees of
     // freedom. Rounding can leave a PSD matrix's small eigenvalue at -0.
-    gf_real k2 = -GF_R(2.0) * GF_LOG(GF_R(1.0) - p);
+    gf_real k2 = -GF_R(2.0) * gf_log(GF_R(1.0) - p);
     gf_real l2 = lambda.v[1] > 0 ? lambda.v[1] : GF_R(0.0);
     // sqrt(k2) sqrt(lambda), not sqrt(k2 lambda), which could overflow.
     gf_real k = GF_SQRT(k2);

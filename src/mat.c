@@ -140,7 +140,7 @@ gf_status gf_mat2_eig_sym(const gf_mat2 *s, gf_vec2 *lambda, gf_real *angle)
     // determinant divided through by l1 first, so it cannot overflow.
     gf_real l2 = (GF_FABS(l1) > GF_FABS(mean - d)) ? (a / l1) * c - (b / l1) * b
                                                    : mean - d;
-    gf_real th = GF_R(0.5) * GF_ATAN2(b, half);
+    gf_real th = GF_R(0.5) * gf_atan2(b, half);
     if (th <= -GF_R(0.5) * GF_PI) {
         th += GF_PI;
     }

@@ -5,15 +5,6 @@
 #include "gf_internal.h"
 #include "gf_meas3.h"
 
-// exp() of gf_real; -DGF_EXP=... overrides it (config.h does not define it).
-#ifndef GF_EXP
-#ifdef GF_SINGLE_PRECISION
-#define GF_EXP expf
-#else
-#define GF_EXP exp
-#endif
-#endif
-
 // Total weight W; GF_ERR_NONFINITE or GF_ERR_UNDEFINED (a negative weight,
 // W not positive) when the weights cannot be used.
 static gf_status pf3_total_weight(const gf_pf3 *pf, gf_real *total)
@@ -247,7 +238,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
         if (!(pf->p[k].w > 0)) {
             continue;
         }
-        const gf_real lw = GF_LOG(pf->p[k].w) - GF_R(0.5) * d2;
+        const gf_real lw = gf_log(pf->p[k].w) - GF_R(0.5) * d2;
         if (!seen || lw > best) {
             best = lw;
         }
@@ -268,7 +259,7 @@ gf_status gf_pf3_update(gf_pf3 *pf, const gf_ekf3_meas *meas, const gf_vec3 *z)
         (void)pf3_mahalanobis(meas, L, &zc, &pf->p[k].x, &d2);
         gf_real w = 0;
         if (pf->p[k].w > 0) {
-            w = GF_EXP(GF_LOG(pf->p[k].w) - GF_R(0.5) * d2 - best);
+            w = gf_exp(gf_log(pf->p[k].w) - GF_R(0.5) * d2 - best);
         }
         pf->p[k].w = w;
         sum += w;
@@ -386,7 +377,7 @@ gf_status gf_pf3_estimate(const gf_pf3 *pf, gf_vec3 *mu, gf_mat3 *sigma)
     if (!(GF_SQRT(ss * ss + sc * sc) > GF_R(64.0) * GF_REAL_EPSILON * total)) {
         return GF_ERR_UNDEFINED;
     }
-    gf_vec3 m = {{sx / total, sy / total, GF_ATAN2(ss, sc)}};
+    gf_vec3 m = {{sx / total, sy / total, gf_atan2(ss, sc)}};
     m.v[2] = gf_angle_wrap(m.v[2]);
     // Sigma = sum w d d^T / W, d = x - mean with the heading wrapped
     gf_mat3 s = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};

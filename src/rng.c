@@ -86,7 +86,7 @@ gf_real gf_rng_normal(gf_rng *rng)
     // 2 pi u2 - pi in [-pi, pi) (the range gf_sincos keeps).
     const gf_real u1 = GF_R(1.0) - gf_rng_uniform(rng);
     const gf_real u2 = gf_rng_uniform(rng);
-    const gf_real r = GF_SQRT(GF_R(-2.0) * GF_LOG(u1));
+    const gf_real r = GF_SQRT(GF_R(-2.0) * gf_log(u1));
     const gf_real a = GF_R(2.0) * GF_PI * u2 - GF_PI;
     gf_real s, c;
     gf_sincos(a, &s, &c);

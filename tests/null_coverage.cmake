@@ -13,7 +13,7 @@ foreach(h ${headers})
     foreach(d ${decls})
         string(REGEX MATCH "gf_[a-z0-9_]+\\($" fn "${d}")
         string(REGEX REPLACE "\\($" "" fn "${fn}")
-        if(fn MATCHES "^gf_angle_wrap$|^gf_status_str$")
+        if(fn MATCHES "^gf_(angle_wrap|exp|log|atan2|status_str)$")
             continue() # no pointer argument
         endif()
         string(FIND "${test_src}" "${fn}(" at)

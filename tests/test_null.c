@@ -262,7 +262,8 @@ static void test_angle(void **state)
     NULL_NOTHING(gf_sincos(GF_R(0.5), NULL, &fx.c));
     NULL_NOTHING(gf_sincos(GF_R(0.5), &fx.s, NULL));
     NULL_NOTHING(gf_sincos(GF_R(0.5), NULL, NULL));
-    // gf_angle_wrap and gf_status_str take no pointer.
+    // gf_angle_wrap, gf_exp, gf_log, gf_atan2 and gf_status_str take no
+    // pointer.
     assert_non_null(gf_status_str((gf_status)-99));
 }
 

@@ -21,8 +21,6 @@ typedef float gf_real;
 #define GF_REAL_EPSILON FLT_EPSILON
 #define GF_REAL_MIN FLT_MIN
 #define GF_SQRT sqrtf
-#define GF_ATAN2 atan2f
-#define GF_LOG logf
 #define GF_FABS fabsf
 #else
 typedef double gf_real;
@@ -30,8 +28,6 @@ typedef double gf_real;
 #define GF_REAL_EPSILON DBL_EPSILON
 #define GF_REAL_MIN DBL_MIN
 #define GF_SQRT sqrt
-#define GF_ATAN2 atan2
-#define GF_LOG log
 #define GF_FABS fabs
 #endif
 

@@ -22,6 +22,9 @@
 
 // mat.h
 #define gf_angle_wrap GF_NAME(gf_angle_wrap)
+#define gf_atan2 GF_NAME(gf_atan2)
+#define gf_exp GF_NAME(gf_exp)
+#define gf_log GF_NAME(gf_log)
 #define gf_mat2_check_psd GF_NAME(gf_mat2_check_psd)
 #define gf_mat2_eig_sym GF_NAME(gf_mat2_eig_sym)
 #define gf_mat2_is_finite GF_NAME(gf_mat2_is_finite)
