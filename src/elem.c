@@ -8,7 +8,7 @@
 // for the float build, FreeBSD's float versions of them (e_expf.c,
 // e_logf.c, s_atanf.c), whose minimax polynomials are as short as float
 // allows. Where fdlibm reads or writes an exponent field, powers of two are
-// multiplied in instead, which is exact. docs/numerics.md has the measured
+// multiplied in instead, which is exact. docs/accuracy.md has the measured
 // errors (tests/test_elem.c checks them).
 #include "gaussfilt/mat.h"
 

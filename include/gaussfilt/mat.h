@@ -126,7 +126,7 @@ void gf_sincos(gf_real a, gf_real *s, gf_real *c);
 
 // The core's own exp, log and atan2 (src/elem.c), with no libm call: the
 // same bits on every IEEE-754 target, where libms round differently
-// (docs/numerics.md). gf_exp and gf_log within 1 ulp of the true value,
+// (docs/firmware.md). gf_exp and gf_log within 1 ulp of the true value,
 // gf_atan2 within 1.5 (the rounding of y / x included), in both precisions
 // (tests/test_elem.c measures them). As C99's: a NaN gives NaN;
 // gf_exp(-inf) = 0 and gf_exp of a large x is inf; gf_log(+-0) = -inf,

@@ -12,7 +12,7 @@
 # option); the CMake snippet cross-built (Release and MinSizeRel); and the
 # arm-none-eabi-gcc line on copied sources. Each links a bare-metal image
 # (tests/consumer/bare_metal.c, firmware/startup.c, firmware/mps2-an386.ld)
-# that needs sqrtf, atan2f and logf.
+# whose only libm function is sqrtf (exp, log and atan2 are the core's own).
 set -euo pipefail
 . "$(dirname "$0")/../lib.sh"
 . "$GF_ROOT/scripts/firmware.sh"
@@ -29,18 +29,23 @@ for target in $GF_FW_TARGETS; do
     done
 done
 
-# bare_metal_check WHAT ELF: ELF links, with libm's sqrtf, atan2f and logf
-# in it and none of the symbols a filter image must not contain.
+# bare_metal_check WHAT ELF: ELF links, with libm's sqrtf in it, not its
+# atan2f, logf or expf (the core's gf_atan2 and gf_log instead), and none of
+# the symbols a filter image must not contain.
 bare_metal_check() {
     local what=$1 elf=$2 syms bad f
     [ -f "$elf" ] || gf_die "$what: no $elf"
     syms=$(arm-none-eabi-nm "$elf" | awk '$2 ~ /^[Tt]$/ {print $3}')
-    for f in sqrtf atan2f logf; do
+    grep -qx sqrtf <<<"$syms" || gf_die "$what: sqrtf is not in the image"
+    for f in gf_atan2_f32 gf_log_f32; do
         grep -qx "$f" <<<"$syms" || gf_die "$what: $f is not in the image"
+    done
+    for f in atan2f logf expf; do
+        ! grep -qx "$f" <<<"$syms" || gf_die "$what: libm's $f is in the image"
     done
     bad=$(grep -Ex "$GF_FW_FORBIDDEN" <<<"$syms" | tr '\n' ' ' || true)
     [ -z "$bad" ] || gf_die "$what: the image links $bad"
-    echo "$what: links; libm's sqrtf, atan2f, logf in the image; $(arm-none-eabi-size "$elf" | awk 'NR == 2 {print $1 + $2 " B of flash"}')"
+    echo "$what: links; libm's sqrtf in the image, gf_atan2 and gf_log, not atan2f or logf; $(arm-none-eabi-size "$elf" | awk 'NR == 2 {print $1 + $2 " B of flash"}')"
 }
 
 b=$GF_BUILD/cross-vendor

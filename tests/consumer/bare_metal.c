@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // A bare-metal application for the vendoring tests: KF2 with a two-value
 // measurement, the 68% ellipse of its covariance and one EKF3 step, so
-// that the image needs sqrtf, atan2f and logf from libm. Inputs and
+// that the image calls the core's log and atan2 (gf_log, gf_atan2) and
+// needs only sqrtf from libm. Inputs and
 // outputs are volatile so that nothing is folded away. The caller's start-up
 // code calls main().
 #include "gaussfilt/gaussfilt.h"
