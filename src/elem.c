@@ -23,6 +23,7 @@
 #define EXP_MAX GF_R(89.0)                // e^89 > FLT_MAX
 #define EXP_MIN GF_R(-104.0)              // e^-104 < 2^-150
 #define POW2_STEPS 7                      // 2^1 .. 2^64
+#define POW2_TOP 64
 #define REAL_MAX FLT_MAX
 #define ATAN_BIG GF_R(67108864.0)     // 2^26: atan = pi/2 to float
 #define PI_LO GF_R(-8.7422776573e-08) // pi - GF_PI (e_atan2f.c)
@@ -32,9 +33,10 @@
 #define LN2_LO 1.90821492927058770002e-10 // ln 2 - LN2_HI
 #define EXP_LN2_HI LN2_HI
 #define EXP_LN2_LO LN2_LO
-#define EXP_MAX 710.0  // e^710 > DBL_MAX
-#define EXP_MIN -746.0 // e^-746 < 2^-1075
-#define POW2_STEPS 10  // 2^1 .. 2^512
+#define EXP_MAX 710.0    // e^710 > DBL_MAX
+#define EXP_MIN (-746.0) // e^-746 < 2^-1075
+#define POW2_STEPS 10    // 2^1 .. 2^512
+#define POW2_TOP 512
 #define REAL_MAX DBL_MAX
 #define ATAN_BIG 7.3786976294838206464e+19 // 2^66
 #define PI_LO 1.2246467991473531772e-16    // pi - GF_PI (e_atan2.c)
@@ -60,14 +62,13 @@ static gf_real pow2(int n)
     return p;
 }
 
-gf_real gf_exp(gf_real x)
+gf_real gf_exp(gf_real a)
 {
-    if (!(x > EXP_MIN)) {
-        return x < EXP_MIN ? GF_R(0.0) : x + x; // NaN stays NaN
+    if (!(a > EXP_MIN)) {
+        return a < EXP_MIN ? GF_R(0.0) : a + a; // NaN stays NaN
     }
-    if (x > EXP_MAX) {
-        x = EXP_MAX; // then 2^k below overflows to inf, as it should
-    }
+    // beyond EXP_MAX, 2^k below overflows to inf, as it should
+    const gf_real x = a > EXP_MAX ? EXP_MAX : a;
     // x = k ln 2 + r, |r| <= ln 2 / 2: k EXP_LN2_HI is exact (|k| < 2^11
     // in double, 2^8 in float), so hi - lo carries r to within a rounding.
     const gf_real k = (x * INV_LN2 + MAGIC) - MAGIC;
@@ -97,14 +98,17 @@ gf_real gf_exp(gf_real x)
     return (y * pow2(n1)) * pow2(n - n1);
 }
 
-gf_real gf_log(gf_real x)
+gf_real gf_log(gf_real a)
 {
-    if (!(x > 0)) {
-        // log(+-0) = -inf; NaN for NaN and x < 0
-        return (x < 0 || !(x <= 0)) ? (x - x) / (x - x) : GF_R(-1.0) / (x * x);
+    if (a < 0) {
+        return GF_SQRT(a); // NaN, for -inf too
     }
-    if (x > REAL_MAX) {
-        return x; // +inf
+    if (!(a > 0)) {
+        // -inf for +-0; a NaN stays NaN
+        return a >= 0 ? GF_R(-1.0) / (a * a) : a + a;
+    }
+    if (a > REAL_MAX) {
+        return a; // +inf
     }
     // x = 2^k m, m in [1, 2), by dividing or multiplying by 2^(2^i) from
     // the largest down (exact); a subnormal x is first brought up by the
@@ -114,19 +118,22 @@ gf_real gf_log(gf_real x)
     for (int i = 1; i < POW2_STEPS; i++) {
         p[i] = p[i - 1] * p[i - 1];
     }
-    int k = 0;
+    gf_real x = a;
+    int k = 0, e = POW2_TOP; // p[i] = 2^e
     if (x < GF_REAL_MIN) {
         x *= p[POW2_STEPS - 1];
-        k = -(1 << (POW2_STEPS - 1));
+        k = -POW2_TOP;
     }
     for (int i = POW2_STEPS - 1; i >= 0; i--) {
         if (x >= p[i]) {
-            x /= p[i];
-            k += 1 << i;
-        } else if (x * p[i] < GF_R(2.0)) {
-            x *= p[i];
-            k -= 1 << i;
+            x /= p[i]; // then x p[i] >= 2: the next test fails
+            k += e;
         }
+        if (x * p[i] < GF_R(2.0)) {
+            x *= p[i];
+            k -= e;
+        }
+        e /= 2;
     }
     // m in [sqrt(2)/2, sqrt(2)): f = m - 1 is exact
     if (x > SQRT2) {
@@ -162,9 +169,9 @@ gf_real gf_log(gf_real x)
 // atan(t), t >= 0 and not NaN: atan(t) = atan(c) + atan((t - c) / (1 + t c))
 // for c in {0, 1/2, 1, 3/2, inf} as t lies below 7/16, 11/16, 19/16, 39/16
 // or above; atan(c) in two parts, then the odd Remez polynomial.
-static gf_real atan_pos(gf_real t)
+static gf_real atan_pos(gf_real a)
 {
-    gf_real hi = 0, lo = 0;
+    gf_real hi = 0, lo = 0, t = a;
     if (t >= ATAN_BIG) {
         return GF_R(0.5) * GF_PI + GF_R(0.5) * PI_LO;
     }
@@ -234,9 +241,15 @@ static int negative(gf_real x)
     return x < 0 || (!(x > 0) && GF_R(1.0) / x < 0);
 }
 
+// True for a NaN: neither finite nor infinite.
+static int is_nan(gf_real x)
+{
+    return !GF_ISFINITE(x) && !(GF_FABS(x) > REAL_MAX);
+}
+
 gf_real gf_atan2(gf_real y, gf_real x)
 {
-    if (!(x >= x) || !(y >= y)) {
+    if (is_nan(x) || is_nan(y)) {
         return x + y; // NaN stays NaN
     }
     const int ny = negative(y), nx = negative(x);

@@ -129,11 +129,11 @@ void gf_sincos(gf_real a, gf_real *s, gf_real *c);
 // (docs/firmware.md). gf_exp and gf_log within 1 ulp of the true value,
 // gf_atan2 within 1.5 (the rounding of y / x included), in both precisions
 // (tests/test_elem.c measures them). As C99's: a NaN gives NaN;
-// gf_exp(-inf) = 0 and gf_exp of a large x is inf; gf_log(+-0) = -inf,
-// gf_log(x < 0) is NaN, gf_log(inf) = inf; gf_atan2(y, x) is in [-pi, pi]
+// gf_exp(-inf) = 0 and gf_exp of a large a is inf; gf_log(+-0) = -inf,
+// gf_log(a < 0) is NaN, gf_log(inf) = inf; gf_atan2(y, x) is in [-pi, pi]
 // and follows the signs of zeros and infinities as C99 Annex F says.
-gf_real gf_exp(gf_real x);
-gf_real gf_log(gf_real x);
+gf_real gf_exp(gf_real a);
+gf_real gf_log(gf_real a);
 gf_real gf_atan2(gf_real y, gf_real x);
 
 #ifdef __cplusplus
