@@ -101,7 +101,8 @@ gf_real gf_exp(gf_real a)
 gf_real gf_log(gf_real a)
 {
     if (a < 0) {
-        return GF_SQRT(a); // NaN, for -inf too
+        const gf_real zero = a - a;       // NaN for -inf
+        return (GF_R(1.0) / zero) * zero; // inf times 0: NaN
     }
     if (!(a > 0)) {
         // -inf for +-0; a NaN stays NaN
