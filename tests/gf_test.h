@@ -4,6 +4,8 @@
 #ifndef GF_TEST_H
 #define GF_TEST_H
 
+#include <float.h>
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -21,6 +23,24 @@
 static inline double gf_test_uniform(gf_rng *rng, double lo, double hi)
 {
     return lo + (hi - lo) * (double)gf_rng_uniform(rng);
+}
+
+// ulp(y) of the build's precision, y the true value (zero and subnormals
+// in the ulp of the smallest normal exponent): the unit of the tests that
+// hold the library's own elementary functions to a bound in ulps.
+static inline long double gf_test_ulp_of(long double y)
+{
+    int e;
+    (void)frexpl(y, &e); // |y| = f 2^e, f in [0.5, 1)
+#ifdef GF_SINGLE_PRECISION
+    const int p = FLT_MANT_DIG, emin = FLT_MIN_EXP;
+#else
+    const int p = DBL_MANT_DIG, emin = DBL_MIN_EXP;
+#endif
+    if (y == 0 || e < emin) {
+        e = emin;
+    }
+    return ldexpl(1, e - p);
 }
 
 // Golden tolerance: |got - want| <= GF_TEST_TOL * max(1, |want|).

@@ -15,22 +15,6 @@
 #define GF_NEXTAFTER nextafter
 #endif
 
-// ulp(y) of the build's precision, y the true value (nonzero or zero).
-static long double ulp_of(long double y)
-{
-    int e;
-    (void)frexpl(y, &e); // |y| = f 2^e, f in [0.5, 1)
-#ifdef GF_SINGLE_PRECISION
-    const int p = FLT_MANT_DIG, emin = FLT_MIN_EXP;
-#else
-    const int p = DBL_MANT_DIG, emin = DBL_MIN_EXP;
-#endif
-    if (y == 0 || e < emin) {
-        e = emin;
-    }
-    return ldexpl(1, e - p);
-}
-
 typedef struct worst {
     double ulp, abs;
     double at_ulp, at_abs;
@@ -44,9 +28,9 @@ static void measure(worst *w, gf_real a)
     const long double ts = sinl((long double)a), tc = cosl((long double)a);
     const long double es = fabsl((long double)s - ts);
     const long double ec = fabsl((long double)c - tc);
-    const double u =
-        (double)(es / ulp_of(ts) > ec / ulp_of(tc) ? es / ulp_of(ts)
-                                                   : ec / ulp_of(tc));
+    const double u = (double)(es / gf_test_ulp_of(ts) > ec / gf_test_ulp_of(tc)
+                                  ? es / gf_test_ulp_of(ts)
+                                  : ec / gf_test_ulp_of(tc));
     const double ab = (double)(es > ec ? es : ec);
     if (u > w->ulp) {
         w->ulp = u;

@@ -25,22 +25,6 @@
 #define ULP_TOL 1.0
 #define ATAN2_ULP_TOL 1.5
 
-// ulp(y) of the build's precision, y the true value.
-static long double ulp_of(long double y)
-{
-    int e;
-    (void)frexpl(y, &e); // |y| = f 2^e, f in [0.5, 1)
-#ifdef GF_SINGLE_PRECISION
-    const int p = FLT_MANT_DIG, emin = FLT_MIN_EXP;
-#else
-    const int p = DBL_MANT_DIG, emin = DBL_MIN_EXP;
-#endif
-    if (y == 0 || e < emin) {
-        e = emin;
-    }
-    return ldexpl(1, e - p);
-}
-
 typedef struct worst {
     double ulp, at_x, at_y;
     unsigned n;
@@ -72,7 +56,8 @@ static void measure(worst *w, enum fn f, gf_real y, gf_real x)
         assert_true(isinf(got));
         return;
     }
-    const double u = (double)(fabsl((long double)got - want) / ulp_of(want));
+    const double u =
+        (double)(fabsl((long double)got - want) / gf_test_ulp_of(want));
     if (!(u <= w->ulp)) {
         w->ulp = u;
         w->at_x = (double)x;
