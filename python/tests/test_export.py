@@ -86,24 +86,6 @@ def kf_run(gf, seed):
     return rec
 
 
-def ekf3_run(gf, seed):
-    rng = np.random.default_rng(seed)
-    motion = gf.EKF3Motion(g=gf.forward_turn,
-                           R=np.diag([0.01, 0.01, 0.002]))
-    xy = gf.EKF3Meas(h=gf.meas_xy, Q=[[0.05, 0.01], [0.01, 0.05]], gate=9.0)
-    x = gf.EKF3Meas(h=gf.meas_x, Q=[[0.02]])
-    rec = gaussfilt.Recorder(gf.EKF3, mu=[0, 0, 0.3],
-                             sigma=np.diag([0.1, 0.1, 0.05]))
-
-    def near(m):
-        return rec.mu[:m] + rng.normal(size=m) * (0.2 if rng.random() < 0.85
-                                                   else 5)
-    _steps(rec, rng, 150,
-           lambda: rec.predict(motion, [0.5, rng.uniform(-0.6, 0.6)]),
-           [lambda: (xy, near(2)), lambda: (x, near(1))])
-    return rec
-
-
 def ekf3_models(gf):
     motion = gf.EKF3Motion(g=gf.forward_turn,
                            R=np.diag([0.01, 0.01, 0.002]))
@@ -112,12 +94,10 @@ def ekf3_models(gf):
     return motion, xy, x
 
 
-def ukf3_run(gf, seed):
-    rng = np.random.default_rng(seed)
+def turning_steps(gf, rec, rng):
+    """The run EKF3 and UKF3 share: 150 turning steps, xy or x measured
+    near the mean (one in seven far off)."""
     motion, xy, x = ekf3_models(gf)
-    rec = gaussfilt.Recorder(gf.UKF3, mu=[0, 0, 0.3],
-                             sigma=np.diag([0.1, 0.1, 0.05]), alpha=0.5,
-                             beta=2.0, kappa=1.0)
 
     def near(m):
         return rec.mu[:m] + rng.normal(size=m) * (0.2 if rng.random() < 0.85
@@ -126,6 +106,21 @@ def ukf3_run(gf, seed):
            lambda: rec.predict(motion, [0.5, rng.uniform(-0.6, 0.6)]),
            [lambda: (xy, near(2)), lambda: (x, near(1))])
     return rec
+
+
+def ekf3_run(gf, seed):
+    rng = np.random.default_rng(seed)
+    rec = gaussfilt.Recorder(gf.EKF3, mu=[0, 0, 0.3],
+                             sigma=np.diag([0.1, 0.1, 0.05]))
+    return turning_steps(gf, rec, rng)
+
+
+def ukf3_run(gf, seed):
+    rng = np.random.default_rng(seed)
+    rec = gaussfilt.Recorder(gf.UKF3, mu=[0, 0, 0.3],
+                             sigma=np.diag([0.1, 0.1, 0.05]), alpha=0.5,
+                             beta=2.0, kappa=1.0)
+    return turning_steps(gf, rec, rng)
 
 
 def pf3_run(gf, seed):

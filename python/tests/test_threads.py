@@ -61,6 +61,27 @@ def busy(kf):
     return repr(kf).endswith(" (a run in progress)>")
 
 
+def probe_during(f, run, probes, refused):
+    """Starts run (a run() of f) in another thread and, once it is seen in
+    progress (so that no probe takes the filter before it), calls each
+    probe until it is refused (RuntimeError, its message into refused) or
+    the run ends; returns the run's outcome, which must not be an error."""
+    th, out = start(run)
+    while th.is_alive() and not busy(f):
+        pass
+    while th.is_alive() and len(refused) < len(probes):
+        for name, call in probes.items():
+            try:
+                call()
+            except RuntimeError as e:
+                refused[name] = str(e)
+            except gaussfilt.NonFinite:
+                pass
+    th.join()
+    assert "error" not in out, out.get("error")
+    return out
+
+
 @pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
 def test_another_thread_runs_and_may_not_touch_the_filter(mod):
     car, gps, z = kf2_setup(mod)
@@ -95,19 +116,8 @@ def test_another_thread_runs_and_may_not_touch_the_filter(mod):
         }
         # the run is the first to take the filter: no probe starts before
         # it is seen in progress, so none competes with it for the filter
-        th, out = start(lambda: kf.run(car, gps, z=z))
-        while th.is_alive() and not busy(kf):
-            pass
-        while th.is_alive() and len(refused) < len(probes):
-            for name, call in probes.items():
-                try:
-                    call()
-                except RuntimeError as e:
-                    refused[name] = str(e)
-                except gaussfilt.NonFinite:
-                    pass
-        th.join()
-        assert "error" not in out, out.get("error")
+        out = probe_during(kf, lambda: kf.run(car, gps, z=z), probes,
+                           refused)
         for a, b in zip(out["result"], alone):
             assert a.tobytes() == b.tobytes()
         np.testing.assert_array_equal(kf.mu, alone[0][-1])
@@ -183,19 +193,8 @@ def test_another_thread_may_not_touch_a_running_pf3(mod):
             "copy": lambda: copy.copy(pf),
             "repr": lambda: pf3_repr_probe(pf),
         }
-        th, out = start(lambda: pf.run(motion, meas, u=u, z=z))
-        while th.is_alive() and not busy(pf):
-            pass
-        while th.is_alive() and len(refused) < len(probes):
-            for name, call in probes.items():
-                try:
-                    call()
-                except RuntimeError as e:
-                    refused[name] = str(e)
-                except gaussfilt.NonFinite:
-                    pass
-        th.join()
-        assert "error" not in out, out.get("error")
+        out = probe_during(pf, lambda: pf.run(motion, meas, u=u, z=z),
+                           probes, refused)
         for a, b in zip(out["result"], alone):
             assert a.tobytes() == b.tobytes()
         # every particle and the generator as the run alone left them
