@@ -2852,19 +2852,34 @@ static void ekf3_meas_size(PyObject *meas, unsigned *n, npy_intp *m)
     *m = ((EKF3MeasObj *)meas)->pq.meas.m;
 }
 
+// An EKF3 motion's u for its Python g during one prediction: u_obj in the
+// model's cur_u, the one before returned for motion_u_leave. A built-in g
+// takes no Python and nothing of the model is written (a run without the
+// GIL may share it with another thread's).
+static PyObject *motion_u_enter(EKF3MotionObj *mo, PyObject *u_obj)
+{
+    PyObject *prev = mo->cb.cur_u;
+    if (mo->pm.motion.g == ekf3_g_py) {
+        mo->cb.cur_u = u_obj;
+    }
+    return prev;
+}
+
+static void motion_u_leave(EKF3MotionObj *mo, PyObject *prev)
+{
+    if (mo->pm.motion.g == ekf3_g_py) {
+        mo->cb.cur_u = prev;
+    }
+}
+
 static gf_status ekf3_predict(PyObject *f, PyObject *model, const gf_real *u,
                               PyObject *u_obj)
 {
     EKF3MotionObj *mo = (EKF3MotionObj *)model;
-    if (mo->pm.motion.g != ekf3_g_py) {
-        // a built-in: no Python, and nothing of the model written (a run
-        // without the GIL may share it with another thread's)
-        return gf_ekf3_predict_prepared(&((EKF3Obj *)f)->ekf, &mo->pm, u);
-    }
-    PyObject *prev_u = mo->cb.cur_u;
-    mo->cb.cur_u = u_obj;
-    gf_status st = gf_ekf3_predict_prepared(&((EKF3Obj *)f)->ekf, &mo->pm, u);
-    mo->cb.cur_u = prev_u;
+    PyObject *prev = motion_u_enter(mo, u_obj);
+    const gf_status st =
+        gf_ekf3_predict_prepared(&((EKF3Obj *)f)->ekf, &mo->pm, u);
+    motion_u_leave(mo, prev);
     return st;
 }
 
@@ -3109,13 +3124,10 @@ static gf_status ukf3_predict(PyObject *f, PyObject *model, const gf_real *u,
                               PyObject *u_obj)
 {
     EKF3MotionObj *mo = (EKF3MotionObj *)model;
-    if (mo->pm.motion.g != ekf3_g_py) {
-        return gf_ukf3_predict(&((UKF3Obj *)f)->ukf, &mo->pm.motion, u);
-    }
-    PyObject *prev_u = mo->cb.cur_u;
-    mo->cb.cur_u = u_obj;
-    gf_status st = gf_ukf3_predict(&((UKF3Obj *)f)->ukf, &mo->pm.motion, u);
-    mo->cb.cur_u = prev_u;
+    PyObject *prev = motion_u_enter(mo, u_obj);
+    const gf_status st =
+        gf_ukf3_predict(&((UKF3Obj *)f)->ukf, &mo->pm.motion, u);
+    motion_u_leave(mo, prev);
     return st;
 }
 
@@ -3468,15 +3480,9 @@ static gf_status pf3_predict(PyObject *f, PyObject *model, const gf_real *u,
                              PyObject *u_obj)
 {
     EKF3MotionObj *mo = (EKF3MotionObj *)model;
-    if (mo->pm.motion.g != ekf3_g_py) {
-        // a built-in: nothing of the model written (a run without the GIL
-        // may share it with another thread's)
-        return gf_pf3_predict(&((PF3Obj *)f)->pf, &mo->pm.motion, u);
-    }
-    PyObject *prev_u = mo->cb.cur_u;
-    mo->cb.cur_u = u_obj;
-    gf_status st = gf_pf3_predict(&((PF3Obj *)f)->pf, &mo->pm.motion, u);
-    mo->cb.cur_u = prev_u;
+    PyObject *prev = motion_u_enter(mo, u_obj);
+    const gf_status st = gf_pf3_predict(&((PF3Obj *)f)->pf, &mo->pm.motion, u);
+    motion_u_leave(mo, prev);
     return st;
 }
 
