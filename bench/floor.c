@@ -303,8 +303,11 @@ void floor_kf_cov(const floor_kf *kf, gf_real *sigma)
 // fl_factor's packed U D U^T, the least layout), the whitened C or H, the
 // whitened innovations beside the innovation returned, the belief's copy
 // (kept unchanged on failure), and the n^2 + 2n scratch of the Joseph form
-// for an exact quantity (fl_correct_exact). Left out still: the pivoted
-// verdict of Q, the move to the root, the S_ii of exact quantities.
+// for an exact quantity (fl_correct_exact), with the S_ii of exact
+// quantities on the update's prior (an exact quantity along an earlier
+// one's direction is singular). Left out still: the pivoted verdict of Q
+// and the move to the root, so the floor is a lower bound of what the
+// library's update must hold.
 
 // One scalar update per whitened quantity i (row h_i of hw, rows of n;
 // noise d_i of qud; whitened innovation yw_i at the prior mean mu0), each
@@ -315,6 +318,11 @@ static gf_status floor_correct_all(unsigned n, unsigned m, gf_real *ud,
                                    const gf_real *hw, const gf_real *qud,
                                    const gf_real *yw, gf_real *nis, gf_real *x)
 {
+    gf_real es[3]; // each exact quantity's h Sigma h^T on the prior
+    for (unsigned i = 0; i < m; i++) {
+        es[i] = (qud[FL_UD(i, i)] > 0) ? GF_R(0.0) : fl_hsh(n, ud, &hw[i * n]);
+    }
+    int exact_before = 0;
     *nis = 0;
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[i * n];
@@ -323,9 +331,11 @@ static gf_status floor_correct_all(unsigned n, unsigned m, gf_real *ud,
         for (unsigned j = 0; j < n; j++) {
             y -= h[j] * (mu[j] - mu0[j]);
         }
-        const gf_status st = (r > 0)
-                                 ? fl_correct(n, ud, mu, h, r, y, &ni, x)
-                                 : fl_correct_exact(n, ud, mu, h, y, &ni, x);
+        const gf_real sii = exact_before ? es[i] : GF_R(0.0);
+        exact_before = exact_before || !(r > 0);
+        const gf_status st =
+            (r > 0) ? fl_correct(n, ud, mu, h, r, y, &ni, x)
+                    : fl_correct_exact(n, ud, mu, h, sii, y, &ni, x);
         if (st != GF_OK) {
             return st;
         }

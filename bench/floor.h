@@ -46,9 +46,11 @@ gf_status fl_correct(unsigned n, gf_real *ud, gf_real *mu, const gf_real *h,
                      gf_real r, gf_real y, gf_real *nis, gf_real *b);
 void fl_to_cov(const gf_real *ud, unsigned n, gf_real *s);
 void fl_whiten(const gf_real *qud, unsigned m, gf_real *x, unsigned cols);
+// h Sigma h^T = f^T D f, f = U^T h.
+gf_real fl_hsh(unsigned n, const gf_real *ud, const gf_real *h);
 gf_status fl_correct_exact(unsigned n, gf_real *ud, gf_real *mu,
-                           const gf_real *h, gf_real y, gf_real *nis,
-                           gf_real *x);
+                           const gf_real *h, gf_real sii, gf_real y,
+                           gf_real *nis, gf_real *x);
 // q = the variances of an m x m Q (rows of stride) that is diagonal with
 // variances >= 0, else GF_ERR_NOT_PSD.
 gf_status fl_noise_diag(const gf_real *Q, unsigned stride, unsigned m,

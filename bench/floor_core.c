@@ -15,9 +15,10 @@
 // factorisation of a prior, the move of a measured state to the root, the
 // Joseph form for exact quantities, and correlated measurement noise (Q
 // must be diagonal: its quantities are taken one at a time, unwhitened).
-// fl_whiten and fl_correct_exact serve the floor of the update with what
-// the API must also hold (floor.c's *_update_api): a full Q whitened, and
-// the Joseph form for exact quantities.
+// fl_whiten, fl_hsh and fl_correct_exact serve the floor of the update
+// with what the API must also hold (floor.c's *_update_api): a full Q
+// whitened, the Joseph form for exact quantities, and their verdict on the
+// update's prior.
 #include <stddef.h>
 
 #include "floor.h"
@@ -230,14 +231,29 @@ void fl_whiten(const gf_real *qud, unsigned m, gf_real *x, unsigned cols)
     }
 }
 
+gf_real fl_hsh(unsigned n, const gf_real *ud, const gf_real *h)
+{
+    gf_real s = 0;
+    for (unsigned j = 0; j < n; j++) {
+        gf_real fj = h[j];
+        for (unsigned i = 0; i < j; i++) {
+            fj += ud[FL_UD(i, j)] * h[i];
+        }
+        s += fj * (ud[FL_UD(j, j)] * fj);
+    }
+    return s;
+}
+
 // An exact quantity (r = 0) in the Joseph form on the factors, as
 // src/udu.c's: f = U^T h, s = f^T D f, b = U D f, K = b / s,
 //   Sigma+ = W D W^T,  W = U - K f^T,
 // triangularised by the modified weighted Gram-Schmidt; mu += K y.
-// GF_ERR_SINGULAR for s = 0. x: scratch of n^2 + 2n.
+// GF_ERR_SINGULAR unless s > GF_PD_RTOL sii (sii: its h Sigma h^T on the
+// update's prior after an earlier exact quantity, else 0). x: scratch of
+// n^2 + 2n.
 gf_status fl_correct_exact(unsigned n, gf_real *ud, gf_real *mu,
-                           const gf_real *h, gf_real y, gf_real *nis,
-                           gf_real *x)
+                           const gf_real *h, gf_real sii, gf_real y,
+                           gf_real *nis, gf_real *x)
 {
     gf_real *w = x, *wd = &x[n * n], *f = &wd[n];
     gf_real s = 0;
@@ -250,7 +266,7 @@ gf_status fl_correct_exact(unsigned n, gf_real *ud, gf_real *mu,
         f[j] = fj;
         s += fj * (wd[j] * fj);
     }
-    if (!(s > 0)) {
+    if (!(s > GF_PD_RTOL * sii) || !(s > 0)) {
         return GF_ERR_SINGULAR;
     }
     const gf_real inv = GF_R(1.0) / s, k = y * inv;

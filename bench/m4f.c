@@ -18,6 +18,7 @@
 // "bench done" at the end; a failing filter call ends it with exit code 1.
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "floor.h"
 #include "gaussfilt/gaussfilt.h"
@@ -299,6 +300,80 @@ static void n_rows(const char *name)
     report(name, "ref");
 }
 
+// 1 if a and b (n entries) agree within tol times scale.
+static int near(const gf_real *a, const gf_real *b, unsigned n, gf_real scale)
+{
+    for (unsigned i = 0; i < n; i++) {
+        const gf_real e = a[i] - b[i], t = GF_R(1e-3) * scale;
+        if (e > t || -e > t) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+// The floors of the updates with what the API holds (floor.h's
+// *_update_api), whose stack scripts/footprint counts, checked against
+// the library outside any region: W1's prior updated with two correlated
+// quantities (the same mean, Sigma and NIS within float's rounding) and
+// with two exact quantities along one direction (both singular, the
+// floor's belief unchanged); W2's prior with its three quantities.
+static void api_floors(void)
+{
+    wl_setup_w1();
+    gf_kf2_meas meas = wl_w1_meas;
+    meas.m = 2;
+    meas.C = (gf_mat2){{{1, 0}, {1, 1}}};
+    meas.Q = (gf_mat2){{{GF_R(0.5), GF_R(0.2)}, {GF_R(0.2), GF_R(0.4)}}};
+    const gf_vec2 z = {{GF_R(1.0), GF_R(2.0)}};
+    gf_kf2 kf = wl_w1_prior[5];
+    gf_mat2 s0, s1, s2;
+    (void)gf_kf2_cov(&kf, &s0);
+    floor_kf2 fk, fk0;
+    check(floor_kf2_init(&fk, &kf.mu, &s0), "kf2 api floor init", 0);
+    fk0 = fk;
+    gf_innovation a, b;
+    check(gf_kf2_update(&kf, &meas, &z, &a), "kf2 api update", 0);
+    check(floor_kf2_update_api(&fk, &meas, &z, &b), "kf2 api floor", 0);
+    (void)gf_kf2_cov(&kf, &s1);
+    floor_kf2_cov(&fk, &s2);
+    const gf_real tr = s0.m[0][0] + s0.m[1][1];
+    check(near(s1.m[0], s2.m[0], 4, tr) && near(kf.mu.v, fk.mu.v, 2, tr) &&
+                  near(&a.nis, &b.nis, 1, a.nis)
+              ? GF_OK
+              : GF_ERR_ARG,
+          "kf2 api floor's belief", 0);
+    meas.C = (gf_mat2){{{1, 0}, {2, 0}}};
+    meas.Q = (gf_mat2){{{0, 0}, {0, 0}}};
+    fk = fk0;
+    kf = wl_w1_prior[5];
+    const gf_status st = gf_kf2_update(&kf, &meas, &z, &a);
+    const gf_status fst = floor_kf2_update_api(&fk, &meas, &z, &b);
+    check(st == GF_ERR_SINGULAR && fst == GF_ERR_SINGULAR &&
+                  memcmp(&fk, &fk0, sizeof fk) == 0
+              ? GF_OK
+              : GF_ERR_ARG,
+          "kf2 api floor's exact duplicate", 0);
+
+    wl_setup_w2(3, 0);
+    gf_ekf3 ekf = wl_w2_prior[5];
+    gf_mat3 t0, t1, t2;
+    (void)gf_ekf3_cov(&ekf, &t0);
+    floor_ekf3 fe;
+    check(floor_ekf3_init(&fe, &ekf.mu, &t0), "ekf3 api floor init", 0);
+    check(gf_ekf3_update(&ekf, &wl_w2_meas, &wl_w2_z[5], &a), "ekf3 api", 0);
+    check(floor_ekf3_update_api(&fe, &wl_w2_meas, &wl_w2_z[5], &b),
+          "ekf3 api floor", 0);
+    (void)gf_ekf3_cov(&ekf, &t1);
+    floor_ekf3_cov(&fe, &t2);
+    const gf_real tr3 = t0.m[0][0] + t0.m[1][1] + t0.m[2][2];
+    check(near(t1.m[0], t2.m[0], 9, tr3) && near(ekf.mu.v, fe.mu.v, 3, tr3) &&
+                  near(&a.nis, &b.nis, 1, a.nis)
+              ? GF_OK
+              : GF_ERR_ARG,
+          "ekf3 api floor's belief", 0);
+}
+
 int main(void)
 {
     empty();
@@ -306,6 +381,7 @@ int main(void)
     w2("w2", 1);
     w2("w2m2", 2);
     w2("w2m3", 3);
+    api_floors();
     for (unsigned k = 0; k < WL_N_ROWS; k++) {
         n_rows(wl_n_names[k]);
     }
