@@ -4,6 +4,7 @@
 #include "gf_filter.h"
 #include "gf_internal.h"
 #include "gf_meas3.h"
+#include "ldl.h"
 
 #define N_STATE 3u
 #define N_SIGMA (2u * N_STATE + 1u)
@@ -326,8 +327,10 @@ gf_status gf_ukf3_predict(gf_ukf3 *ukf, const gf_ekf3_motion *motion,
 // doing duty in more than one:
 // - l: the packed square root of Sigma_bar while the points are measured,
 //   then u = L_S^-1 y in its first m entries and the NIS at UPD_NIS;
-// - s: S = Q + the sums (lower triangle packed), then L_S in place;
-// - pxz: Sigma^xz, then W = L_S^-1 (Sigma^xz)^T row by row in place;
+// - s: S = Q + the sums (lower triangle packed), then L_S in place, then
+//   the posterior's d (update_verdict);
+// - pxz: Sigma^xz, then W = L_S^-1 (Sigma^xz)^T row by row in place,
+//   then the posterior's F (update_verdict);
 // - y: Z_0, then z_hat, then the innovation y = z - z_hat;
 // - mu: m_z while the points are summed, then the posterior mean;
 // - sigma: h's H (not read) while the points are measured, then the
@@ -348,20 +351,9 @@ typedef struct ukf3_point {
     gf_vec3 dz;
 } ukf3_point;
 
-// dz_j = Z_j - Z_0 in p->dz (angles wrapped), Z_0 in w->y; GF_OK. A
-// status, so that point_image ends in a call of it that is a tail call
-// (point_image's frame given back before wrap_flagged runs).
-UKF3_SMALL_CALL gf_status ukf3_point_residual(const gf_ekf3_meas *meas,
-                                              ukf3_point *p, const ukf3_upd *w)
-{
-    ukf3_residual(&p->dz, &w->y, meas->m, meas->angle_mask, &p->dz);
-    return GF_OK;
-}
-
 // dz = h(chi) (first m entries, the rest zero), checked finite, h's H (not
-// read) into w->sigma; kept as Z_0 in w->y (j = 0) or taken as its
-// residual dz_j (point_residual).
-UKF3_SMALL_CALL gf_status ukf3_point_image(const gf_ekf3_meas *meas, unsigned j,
+// read) into w->sigma.
+UKF3_SMALL_CALL gf_status ukf3_point_image(const gf_ekf3_meas *meas,
                                            ukf3_point *p, ukf3_upd *w)
 {
     p->dz.v[0] = p->dz.v[1] = p->dz.v[2] = 0;
@@ -372,11 +364,7 @@ UKF3_SMALL_CALL gf_status ukf3_point_image(const gf_ekf3_meas *meas, unsigned j,
     if (!gf_vec3_is_finite_n(&p->dz, meas->m)) {
         return GF_ERR_NONFINITE;
     }
-    if (j == 0u) {
-        w->y = p->dz;
-        return GF_OK;
-    }
-    return ukf3_point_residual(meas, p, w);
+    return GF_OK;
 }
 
 // S = Q (m x m, symmetrized; lower triangle packed, zero past the m x m
@@ -451,18 +439,22 @@ static gf_status ukf3_update_resolved(const gf_ukf3 *ukf,
 // (S m x m, lower triangle packed; Sigma^xz 3 x m), Z_0 in w->y. Table
 // 3.4's Sigma^xz has dz_j - m_z in place of dz_j; the off_j sum to zero.
 // A call of its own: only the point and its image are on the stack above
-// the working set while h runs.
+// the working set while h runs (in point_image) and dz_j is wrapped (in
+// residual).
 GF_NOINLINE gf_status ukf3_update_points(const gf_ukf3 *ukf,
                                          const gf_ekf3_meas *meas, ukf3_upd *w)
 {
     ukf3_point p;
     for (unsigned j = 0; j < N_SIGMA; j++) {
         ukf3_sigma_point(ukf, w->l, j, &p.chi);
-        const gf_status st = ukf3_point_image(meas, j, &p, w);
+        const gf_status st = ukf3_point_image(meas, &p, w);
         if (st != GF_OK) {
             return st;
         }
-        if (j > 0u) {
+        if (j == 0u) {
+            w->y = p.dz; // Z_0
+        } else {
+            ukf3_residual(&p.dz, &w->y, meas->m, meas->angle_mask, &p.dz);
             ukf3_update_add(ukf, j, &p.dz, w);
         }
     }
@@ -572,6 +564,17 @@ GF_NOINLINE gf_status ukf3_update_gain(const gf_ukf3 *ukf,
     return GF_OK;
 }
 
+// The verdict on the posterior Sigma in w->sigma (gf_cov_factor, as
+// gf_mat3_check_psd), its factors F and d written to pxz and s, no longer
+// needed once the gain has built the posterior: only the pivots' order in
+// this frame, on top of the working set.
+GF_NOINLINE gf_status ukf3_update_verdict(ukf3_upd *w)
+{
+    unsigned order[N_STATE];
+    return gf_cov_factor(w->sigma.m[0], N_STATE, N_STATE, w->pxz.m[0], w->s,
+                         order);
+}
+
 // The posterior of w into ukf, and the innovation into info (if not
 // NULL: gf_innovation_keep's fields), once the posterior is accepted.
 UKF3_SMALL_CALL void ukf3_update_commit(gf_ukf3 *ukf, unsigned m,
@@ -589,8 +592,8 @@ UKF3_SMALL_CALL void ukf3_update_commit(gf_ukf3 *ukf, unsigned m,
 }
 
 // The update once its inputs are checked: the points, the gain, then the
-// posterior's verdict (gf_mat3_check_psd) from this frame, which holds
-// the working set alone; ukf and info written only if it is PSD.
+// posterior's verdict (update_verdict) from this frame, which holds the
+// working set alone; ukf and info written only if it is PSD.
 GF_NOINLINE gf_status ukf3_update_step(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
                                        const gf_vec3 *z, gf_innovation *info)
 {
@@ -605,7 +608,7 @@ GF_NOINLINE gf_status ukf3_update_step(gf_ukf3 *ukf, const gf_ekf3_meas *meas,
         st = ukf3_update_gain(ukf, meas, info, &w);
     }
     if (st == GF_OK) {
-        st = gf_mat3_check_psd(&w.sigma, N_STATE);
+        st = ukf3_update_verdict(&w);
     }
     if (st == GF_OK) {
         ukf3_update_commit(ukf, meas->m, info, &w);
