@@ -54,31 +54,21 @@ UKF3_SMALL_CALL void ukf3_sigma_point(const gf_ukf3 *ukf, const gf_real l[6],
     }
 }
 
-// Entry e of a residual finished by the bits of wrap_flagged for it: bit
-// 0 clear, zeroed; else bit 3 set, wrapped; else kept.
-static inline void ukf3_wrap_entry(gf_real *e, unsigned b)
-{
-    if ((b & 1u) == 0u) {
-        *e = 0;
-    } else if ((b & (1u << N_STATE)) != 0u) {
-        *e = gf_angle_wrap(*e);
-    } else {
-        // kept as it is
-    }
-}
-
 // The flagged entries among the first n of d wrapped to (-pi, pi], the
 // entries from n on zeroed: the second half of a residual, and the last
-// step of a mean. The one helper that calls gf_angle_wrap; entry by entry,
-// with the bits (k: entry k kept, 3 + k: entry k wrapped).
+// step of a mean. The one helper that calls gf_angle_wrap.
 UKF3_SMALL_CALL void ukf3_wrap_flagged(gf_vec3 *d, unsigned n,
                                        unsigned angle_mask)
 {
-    const unsigned keep = (1u << n) - 1u;
-    const unsigned bits = keep | ((angle_mask & keep) << N_STATE);
-    ukf3_wrap_entry(&d->v[0], bits);
-    ukf3_wrap_entry(&d->v[1], bits >> 1);
-    ukf3_wrap_entry(&d->v[2], bits >> 2);
+    for (unsigned k = 0; k < N_STATE; k++) {
+        if (k >= n) {
+            d->v[k] = 0;
+        } else if ((angle_mask & (1u << k)) != 0u) {
+            d->v[k] = gf_angle_wrap(d->v[k]);
+        } else {
+            // kept as it is
+        }
+    }
 }
 
 // d = p - ref on the first n entries, those flagged in angle_mask wrapped,
