@@ -400,6 +400,27 @@ static inline void gr_i_minus_kh(gr_filt *f, int m, int i, gr_mat K, gr_mat H,
     }
 }
 
+// Whether gr_update takes its second pass (the gain from Q^-1): Q = LQ
+// DQ LQ^T succeeds (written into LQ, DQ), and Q's least pivot relative to
+// its diagonal entry is 1e-12 or more, or no smaller than S's (DS: S's
+// pivots). A Q singular but for its rounding (a least pivot of about 1e-17
+// relative) has a Q^-1 of that condition number, and Sigma H^T Q^-1 loses
+// every digit, in long double and in 128 bits alike (docs/accuracy.md);
+// the first pass, K = Sigma H^T S^-1, loses u kappa(S) only.
+static inline int gr_second_pass(int m, gr_mat Q, gr_mat LQ, gr_real *DQ,
+                                 gr_mat S, const gr_real *DS)
+{
+    if (!gr_ldl(m, Q, LQ, DQ, 0)) {
+        return 0;
+    }
+    gr_real q = 1, s = 1;
+    for (int k = 0; k < m; k++) {
+        q = DQ[k] / Q[k][k] < q ? DQ[k] / Q[k][k] : q;
+        s = DS[k] / S[k][k] < s ? DS[k] / S[k][k] : s;
+    }
+    return q >= 1e-12L || q >= s;
+}
+
 // The batch update (Table 3.1 with the Joseph form), m = 1..n, H m x n with
 // rows ldh apart, Q m x m with rows ldq apart, d (a constant term of the
 // measurement) NULL or m:
@@ -486,9 +507,10 @@ static inline int gr_update(gr_filt *f, int m, const gf_real *Hin, int ldh,
     // pass's Sigma is only second-order sensitive to the error of K (the
     // Joseph form), so this K is accurate where S^-1 y was not, and the
     // mean and the NIS follow from it: mu = mu + K y, NIS = y^T Q^-1 (y - H
-    // K y) (= y^T S^-1 y). Without a positive definite Q, the first pass.
+    // K y) (= y^T S^-1 y). Without a positive definite Q, or with a Q
+    // singular but for its rounding (gr_second_pass), the first pass.
     gr_real(*LQ)[GR_N] = gr_ws.LQ, (*Qi)[GR_N] = gr_ws.Qi, DQ[GR_N];
-    if (f->bug == GR_BUG_NONE && gr_ldl(m, Q, LQ, DQ, 0)) {
+    if (f->bug == GR_BUG_NONE && gr_second_pass(m, Q, LQ, DQ, S, D)) {
         gr_ldl_inverse(m, LQ, DQ, Qi);
         for (int i = 0; i < n; i++) {
             for (int j = 0; j < m; j++) {
