@@ -116,30 +116,51 @@ gf_status gf_ekf3_cov(const gf_ekf3 *ekf, gf_mat3 *sigma)
     return GF_OK;
 }
 
-// The prediction once R is factored (Rf, Rd), Table 3.3, lines 2-3:
+// The prediction, Table 3.3, lines 2-3, with R's factors prepared (or,
+// where prepared is NULL, factored here by ekf3_motion_check, before the
+// callback runs):
 //   mu_bar = g(u, mu) (heading wrapped), G = dg/dx at mu (the callback's;
 //   mu_bar preset to mu, G to the identity),
 //   Sigma_bar = G Sigma G^T + R on the factors (gf_udu_predict).
 // The belief is written only if all of it is finite: a NaN or inf in
 // mu_bar or G reaches the result (G_ij is a term of (G U)_ij with U_jj =
-// 1, and of some d_j or U_ij of the result), so does an overflow.
+// 1, and of some d_j or U_ij of the result), so does an overflow. One
+// block s holds the prediction's scratch and then the new factors; R's
+// own factors lie in its last 12 entries (the scratch's last 2n and the
+// new factors), which gf_udu_predict reads before it writes there.
 static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
-                                   const gf_real *u, const gf_real Rf[9],
-                                   const gf_real Rd[3])
+                                   const gf_ekf3_pmotion *prepared,
+                                   const gf_real *u)
 {
-    gf_ekf3 nb = *ekf;
+    gf_real s[GF_UDU_PREDICT_WORK(3u) + GF_UD_SIZE(3u)];
+    gf_real *ud_new = &s[GF_UDU_PREDICT_WORK(3u)];
+    gf_real *own = &s[GF_UDU_PREDICT_WORK(3u) - 6u]; // R's F (9), then d (3)
+    const gf_real *Rf = own, *Rd = &own[9];
+    gf_status st = GF_OK;
+    if (prepared) {
+        Rf = prepared->Rf;
+        Rd = prepared->Rd;
+    } else {
+        st = ekf3_motion_check(motion, own, &own[9]);
+        if (st != GF_OK) {
+            return st;
+        }
+    }
+    gf_vec3 mu_bar = ekf->mu;
     gf_mat3 G = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    const gf_status st = motion->g(motion->ctx, &ekf->mu, u, &nb.mu, &G);
+    st = motion->g(motion->ctx, &ekf->mu, u, &mu_bar, &G);
     if (st != GF_OK) {
         return gf_callback_status(st);
     }
-    nb.mu.v[2] = gf_angle_wrap(nb.mu.v[2]);
-    gf_real work[GF_UDU_PREDICT_WORK(3u)];
-    gf_udu_predict(3u, ekf->ud, nb.ud, ekf->perm, G.m[0], Rf, Rd, work);
-    if (!gf_belief_finite(nb.mu.v, nb.ud, 3)) {
+    mu_bar.v[2] = gf_angle_wrap(mu_bar.v[2]);
+    gf_udu_predict(3u, ekf->ud, ud_new, ekf->perm, G.m[0], Rf, Rd, s);
+    if (!gf_belief_finite(mu_bar.v, ud_new, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
-    *ekf = nb;
+    ekf->mu = mu_bar;
+    for (unsigned k = 0; k < GF_UD_SIZE(3u); k++) {
+        ekf->ud[k] = ud_new[k];
+    }
     return GF_OK;
 }
 
@@ -216,9 +237,7 @@ gf_status gf_ekf3_predict(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     if (!ekf || !motion) {
         return GF_ERR_ARG;
     }
-    gf_real Rf[9], Rd[3];
-    const gf_status st = ekf3_motion_check(motion, Rf, Rd);
-    return st != GF_OK ? st : ekf3_predict_step(ekf, motion, u, Rf, Rd);
+    return ekf3_predict_step(ekf, motion, NULL, u);
 }
 
 gf_status gf_ekf3_update(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
@@ -266,7 +285,7 @@ gf_status gf_ekf3_predict_prepared(gf_ekf3 *ekf, const gf_ekf3_pmotion *pm,
     if (!ekf || !pm || !pm->motion.g) {
         return GF_ERR_ARG;
     }
-    return ekf3_predict_step(ekf, &pm->motion, u, pm->Rf, pm->Rd);
+    return ekf3_predict_step(ekf, &pm->motion, pm, u);
 }
 
 gf_status gf_ekf3_update_prepared(gf_ekf3 *ekf, const gf_ekf3_pmeas *pq,

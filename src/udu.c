@@ -197,8 +197,9 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
 }
 
 // Thornton's W = [P^T A P U | P^T F_R] (n rows of 2n) and its weights
-// wd = [D | d_R] into work, as gf_udu_predict lays them out. Kept out of
-// line: its frame does not sit under the Gram-Schmidt's.
+// wd = [D | d_R] into work, as gf_udu_predict lays them out; work's last
+// 2n entries are not written. Kept out of line: its frame does not sit
+// under the Gram-Schmidt's.
 GF_NOINLINE void udu_thornton_w(unsigned n, const gf_real *ud,
                                 const unsigned char *perm, const gf_real *A,
                                 const gf_real *Rf, const gf_real *Rd,
@@ -206,7 +207,6 @@ GF_NOINLINE void udu_thornton_w(unsigned n, const gf_real *ud,
 {
     const unsigned cols = 2u * n;
     gf_real *w = work, *wd = &work[(size_t)n * cols];
-    gf_real *v = &work[((size_t)n + 1u) * cols]; // a row of P^T A P
     for (unsigned j = 0; j < n; j++) {
         wd[j] = ud[GF_UD(j, j)];
         wd[n + j] = Rd[j];
@@ -216,13 +216,12 @@ GF_NOINLINE void udu_thornton_w(unsigned n, const gf_real *ud,
         const gf_real *ai = &A[(size_t)perm[i] * n];
         gf_real *wi = &w[(size_t)i * cols];
         for (unsigned l = 0; l < n; l++) {
-            v[l] = ai[perm[l]];
             wi[n + l] = Rf[perm[i] * n + l];
         }
         for (unsigned j = 0; j < n; j++) {
-            gf_real acc = v[j];
+            gf_real acc = ai[perm[j]];
             for (unsigned l = 0; l < j; l++) {
-                acc += v[l] * ud[GF_UD(l, j)];
+                acc += ai[perm[l]] * ud[GF_UD(l, j)];
             }
             wi[j] = acc;
         }
@@ -234,12 +233,11 @@ void gf_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
                     const gf_real *Rf, const gf_real *Rd, gf_real *work)
 {
     const unsigned cols = 2u * n;
-    gf_real *w = work;                     // W, n rows of 2n
-    gf_real *wd = &work[(size_t)n * cols]; // its weights, 2n
-    // a row of P^T A P; then mwgs's c
-    gf_real *v = &work[((size_t)n + 1u) * cols];
+    gf_real *w = work;                           // W, n rows of 2n
+    gf_real *wd = &work[(size_t)n * cols];       // its weights, 2n
+    gf_real *c = &work[((size_t)n + 1u) * cols]; // mwgs's scratch, 2n
     udu_thornton_w(n, ud, perm, A, Rf, Rd, work);
-    udu_mwgs(n, cols, w, wd, ud_new, v);
+    udu_mwgs(n, cols, w, wd, ud_new, c);
 }
 
 // ---- correction: Bierman's scalar update --------------------------------

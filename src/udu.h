@@ -62,7 +62,9 @@ int gf_belief_finite(const gf_real *mu, const gf_real *ud, unsigned n);
 //   Sigma_bar = W diag(w_d) W^T,  W = [P^T A P U | P^T F_R],  w_d = [D | d_R],
 // with R = F_R diag(d_R) F_R^T given by its factors (gf_cov_factor: Rf n x
 // n, rows of n), A n x n (rows of n), then triangularised (modified
-// weighted Gram-Schmidt). work: scratch of GF_UDU_PREDICT_WORK(n).
+// weighted Gram-Schmidt). work: scratch of GF_UDU_PREDICT_WORK(n). A, Rf
+// and Rd are read only while W is formed, before anything is written to
+// ud_new or to work's last 2n entries: they may lie there.
 void gf_udu_predict(unsigned n, const gf_real *ud, gf_real *ud_new,
                     const unsigned char *perm, const gf_real *A,
                     const gf_real *Rf, const gf_real *Rd, gf_real *work);
