@@ -203,12 +203,14 @@ static gf_status ekf3_update_step(gf_ekf3 *ekf, const gf_ekf3_meas *meas,
             return GF_ERR_NONFINITE;
         }
         for (unsigned i = 0; i < m; i++) {
+            e[i] = q->Qe[i];
+        }
+        for (unsigned i = 0; i < m; i++) {
             in.y[i] = z->v[i] - yw.v[i];
             if (meas->angle_mask & (1u << i)) {
                 in.y[i] = gf_angle_wrap(in.y[i]);
             }
             yw.v[i] = in.y[i];
-            e[i] = q->Qe[i];
         }
         gf_udu_whiten(q->Qf, q->Qorder, m, H.m[0], 3);
         gf_udu_whiten(q->Qf, q->Qorder, m, yw.v, 1);
