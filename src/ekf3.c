@@ -135,12 +135,8 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
     gf_real s[GF_UDU_PREDICT_WORK(3u) + GF_UD_SIZE(3u)];
     gf_real *ud_new = &s[GF_UDU_PREDICT_WORK(3u)];
     gf_real *own = &s[GF_UDU_PREDICT_WORK(3u) - 6u]; // R's F (9), then d (3)
-    const gf_real *Rf = own, *Rd = &own[9];
     gf_status st = GF_OK;
-    if (prepared) {
-        Rf = prepared->Rf;
-        Rd = prepared->Rd;
-    } else {
+    if (!prepared) {
         st = ekf3_motion_check(motion, own, &own[9]);
         if (st != GF_OK) {
             return st;
@@ -153,7 +149,9 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
         return gf_callback_status(st);
     }
     mu_bar.v[2] = gf_angle_wrap(mu_bar.v[2]);
-    gf_udu_predict(3u, ekf->ud, ud_new, ekf->perm, G.m[0], Rf, Rd, s);
+    gf_udu_predict(3u, ekf->ud, ud_new, ekf->perm, G.m[0],
+                   prepared ? prepared->Rf : own,
+                   prepared ? prepared->Rd : &own[9], s);
     if (!gf_belief_finite(mu_bar.v, ud_new, 3)) {
         return GF_ERR_NONFINITE; // keep the last good belief
     }
