@@ -180,7 +180,8 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
             dj = 0;
         }
         const gf_real inv = (dj > 0) ? GF_R(1.0) / dj : GF_R(0.0);
-        for (unsigned i = 0; i < j; i++) {
+        ud[GF_UD(j, j)] = dj;
+        for (unsigned i = j; i-- > 0u;) { // (each row on its own)
             gf_real *wi = &w[(size_t)i * cols];
             gf_real acc = 0;
             for (unsigned k = 0; k < cols; k++) {
@@ -192,7 +193,6 @@ static void udu_mwgs(unsigned n, unsigned cols, gf_real *w, const gf_real *wd,
             }
             ud[GF_UD(i, j)] = uij;
         }
-        ud[GF_UD(j, j)] = dj;
     }
 }
 
@@ -339,16 +339,15 @@ void gf_udu_swap(unsigned n, unsigned k, gf_real *ud, unsigned char *perm)
 // one below GF_REAL_MIN) leaves U as it is (b is zero there) and d_j as
 // it is while alpha stays zero; the first d_j to make it positive becomes
 // zero: that direction is now known exactly. A d_j below GF_REAL_MIN
-// becomes zero, with its column of U. GF_ERR_NONFINITE if s overflows;
-// GF_ERR_SINGULAR if r = 0 and s <= GF_PD_RTOL scale (udu_exact_scale;
-// unread if r > 0). b: scratch of n.
+// becomes zero, with its column of U. GF_ERR_NONFINITE if s overflows
+// (for r = 0, udu_update_exact has judged s before). b: scratch of n.
 static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
-                            gf_real r, gf_real scale, gf_real y, gf_real *dx,
-                            gf_real *nis, gf_real *b)
+                            gf_real r, gf_real y, gf_real *dx, gf_real *nis,
+                            gf_real *b)
 {
     gf_real alpha = r, inv_prev = 0;
+    gf_real *uj = ud; // column j: uj[i] = U_ij, uj[j] = d_j
     for (unsigned j = 0; j < n; j++) {
-        gf_real *uj = &ud[GF_UD(0u, j)]; // uj[i] = U_ij, uj[j] = d_j
         // f_j = (U^T hp)_j
         gf_real fj = hp[j];
         for (unsigned i = 0; i < j; i++) {
@@ -374,12 +373,10 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
         b[j] = gj;
         alpha = a1;
         inv_prev = inv;
+        uj = &uj[j + 1u]; // column j + 1
     }
     if (!GF_ISFINITE(alpha)) {
         return GF_ERR_NONFINITE;
-    }
-    if (!(r > 0) && !(alpha > GF_PD_RTOL * scale)) {
-        return GF_ERR_SINGULAR;
     }
     const gf_real k = y * inv_prev; // y / s
     *nis += y * k;
@@ -428,6 +425,11 @@ static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
 // (udu_update_exact).
 #define UDU_EXACT_SHARE GF_R(0.1)
 
+// The kinds of quantity an update has taken so far (udu_update_exact's
+// seen).
+#define UDU_SEEN_NOISY 1u
+#define UDU_SEEN_EXACT 2u
+
 // One exact quantity (r = 0), in place on ud. Bierman's update gives the
 // exact direction to the first state the quantity touches, j0, and then
 // loses about log10(s / alpha_j0) digits, alpha_j0 = f_j0^2 d_j0 that
@@ -439,15 +441,27 @@ static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
 // then the modified weighted Gram-Schmidt (each d_j a weighted sum of
 // squares; the exact direction's d a rounding residue, not zero), and
 //   dx += K y,  *nis += y^2 / s;
-// else Bierman's update (udu_update). Statuses as udu_update's, on scale
-// (nothing written on failure). b: scratch of n (f, then the modified
-// weighted Gram-Schmidt's); x: scratch of n^2 + n.
-static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
-                                  gf_real scale, gf_real y, gf_real *dx,
-                                  gf_real *nis, gf_real *b, gf_real *x)
+// else Bierman's update (udu_update). es: the quantity's S_ii on the
+// update's prior (gf_udu_correct), read only after an exact quantity;
+// seen: UDU_SEEN_* of the quantities taken before. GF_ERR_NONFINITE if s
+// overflows; GF_ERR_SINGULAR if s <= GF_PD_RTOL scale, scale
+// udu_exact_scale's (its cancelled form after noisy quantities alone), or
+// S_ii if larger after an exact one; nothing written then. The Joseph form
+// keeps D in hp, read no more then. b: scratch of n (f, then the modified
+// weighted Gram-Schmidt's); w: scratch of n^2.
+static gf_status udu_update_exact(unsigned n, gf_real *ud, gf_real *hp,
+                                  gf_real es, unsigned seen, gf_real y,
+                                  gf_real *dx, gf_real *nis, gf_real *b,
+                                  gf_real *w)
 {
+    // singular when s is zero relative to its own terms, or, after noisy
+    // quantities alone, to its rounding; and after exact ones, also when
+    // it is zero relative to S_ii
+    gf_real hsh;
+    gf_real scale = udu_exact_scale(n, ud, hp, seen == UDU_SEEN_NOISY, &hsh);
+    scale = ((seen & UDU_SEEN_EXACT) && es > scale) ? es : scale;
     // f in b's scratch: the vector b below is computed an entry at a time
-    gf_real *w = x, *wd = &x[(size_t)n * n], *f = b;
+    gf_real *f = b;
     // f = U^T hp, D, s in Bierman's order, alpha_j0 = the first alpha_j of
     // at least GF_REAL_MIN (Bierman's test)
     gf_real s = 0, first = 0;
@@ -457,15 +471,11 @@ static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
         for (unsigned i = 0; i < j; i++) {
             fj += uj[i] * hp[i];
         }
-        wd[j] = uj[j];
         f[j] = fj;
-        s += fj * (wd[j] * fj);
+        s += fj * (uj[j] * fj);
         if (!(first > 0) && s >= GF_REAL_MIN) {
             first = s;
         }
-    }
-    if (!(first < UDU_EXACT_SHARE * s)) {
-        return udu_update(n, ud, hp, GF_R(0.0), scale, y, dx, nis, b);
     }
     if (!GF_ISFINITE(s)) {
         return GF_ERR_NONFINITE;
@@ -473,7 +483,15 @@ static gf_status udu_update_exact(unsigned n, gf_real *ud, const gf_real *hp,
     if (!(s > GF_PD_RTOL * scale)) {
         return GF_ERR_SINGULAR;
     }
-    // b = U D f, W = U - (b / s) f^T
+    if (!(first < UDU_EXACT_SHARE * s)) {
+        // (Bierman's alpha_(n-1) is s: the same sum in the same order)
+        return udu_update(n, ud, hp, GF_R(0.0), y, dx, nis, b);
+    }
+    // D, then b = U D f, W = U - (b / s) f^T
+    gf_real *wd = hp;
+    for (unsigned j = 0; j < n; j++) {
+        wd[j] = ud[GF_UD(j, j)];
+    }
     const gf_real inv = GF_R(1.0) / s, k = y * inv; // y / s
     *nis += y * k;
     for (unsigned i = 0; i < n; i++) {
@@ -499,11 +517,11 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                          const gf_real *yw, gf_real *x, gf_real *nis,
                          gf_real *work)
 {
-    gf_real *dp = work;                        // P^T dx
-    gf_real *hp = &work[n];                    // P^T h_i
-    gf_real *b = &work[(size_t)2u * n];        // Bierman's b
-    gf_real *wx = &work[(size_t)3u * n];       // the exact quantities' W
-    gf_real *es = &work[((size_t)n + 4u) * n]; // their S_ii on the prior
+    gf_real *dp = work;                  // P^T dx
+    gf_real *hp = &work[n];              // P^T h_i
+    gf_real *b = &work[(size_t)2u * n];  // Bierman's b
+    gf_real *es = &work[(size_t)3u * n]; // exact quantities' S_ii on the prior
+    gf_real *wx = &work[(size_t)4u * n]; // an exact quantity's W
     *nis = 0;
     for (unsigned j = 0; j < n; j++) {
         dp[j] = 0;
@@ -513,20 +531,23 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
     // verdict in S's correlation form. (One judged only on the factors an
     // earlier exact quantity had left would be judged on residues of its
     // own size when it measures a direction already known exactly.) -1
-    // where that entry is zero relative to its terms: S is singular.
+    // where that entry is zero relative to its terms: S is singular; 0
+    // for the exact quantity of m = 1.
     for (unsigned i = 0; i < m; i++) {
-        es[i] = 0;
-        if (m > 1u && !(e[i] > 0)) {
-            for (unsigned j = 0; j < n; j++) {
-                hp[j] = hw[(size_t)i * n + perm[j]];
+        if (!(e[i] > 0)) {
+            gf_real acc = 0;
+            if (m > 1u) {
+                for (unsigned j = 0; j < n; j++) {
+                    hp[j] = hw[(size_t)i * n + perm[j]];
+                }
+                const gf_real sc = udu_exact_scale(n, ud, hp, 0, &acc);
+                acc = (acc > GF_PD_RTOL * sc || !GF_ISFINITE(acc)) ? acc
+                                                                   : GF_R(-1.0);
             }
-            gf_real acc;
-            const gf_real sc = udu_exact_scale(n, ud, hp, 0, &acc);
-            es[i] =
-                (acc > GF_PD_RTOL * sc || !GF_ISFINITE(acc)) ? acc : GF_R(-1.0);
+            es[i] = acc;
         }
     }
-    int exact_before = 0, noisy_before = 0;
+    unsigned seen = 0;
     for (unsigned i = 0; i < m; i++) {
         const gf_real *h = &hw[(size_t)i * n];
         // Bierman's update changes no entry of U for the state at the root
@@ -535,16 +556,9 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
         // tells more than UDU_ROOT_TELL (sum_s h_s^2 Sigma_ss / e_i: by how
         // much it can shrink a variance) first makes the state it measures
         // most the root, one swap of adjacent indices at a time (dp's
-        // entries move with their states). A quantity of the root's state
-        // alone is in place already.
-        gf_real v = 0;
-        unsigned main = perm[n - 1u];
-        for (unsigned j = 0; j + 1u < n; j++) {
-            if (GF_FABS(h[perm[j]]) > 0) {
-                main = udu_main_state(n, ud, perm, h, &v);
-                break;
-            }
-        }
+        // entries move with their states).
+        gf_real v;
+        const unsigned main = udu_main_state(n, ud, perm, h, &v);
         const int to_root = v > UDU_ROOT_TELL * e[i];
         for (unsigned k = 0; to_root && k + 1u < n; k++) {
             if (perm[k] == main) {
@@ -561,25 +575,17 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
             yi -= hp[j] * dp[j];
         }
         // an exact quantity is singular when its S_ii on the prior is zero
-        // (es_i); when its s is zero relative to its own terms, or, after
-        // noisy ones alone, to its rounding; and after exact ones, also
-        // when it is zero relative to S_ii
-        gf_real sc = 0;
-        if (!(e[i] > 0)) {
-            if (es[i] < 0) {
-                return GF_ERR_SINGULAR;
-            }
-            gf_real hsh;
-            sc =
-                udu_exact_scale(n, ud, hp, noisy_before && !exact_before, &hsh);
-            sc = (exact_before && es[i] > sc) ? es[i] : sc;
-            exact_before = 1;
+        // (es_i), else as udu_update_exact judges it
+        gf_status st;
+        if (e[i] > 0) {
+            st = udu_update(n, ud, hp, e[i], yi, dp, nis, b);
+            seen |= UDU_SEEN_NOISY;
+        } else if (es[i] < 0) {
+            return GF_ERR_SINGULAR;
         } else {
-            noisy_before = 1;
+            st = udu_update_exact(n, ud, hp, es[i], seen, yi, dp, nis, b, wx);
+            seen |= UDU_SEEN_EXACT;
         }
-        const gf_status st =
-            (e[i] > 0) ? udu_update(n, ud, hp, e[i], sc, yi, dp, nis, b)
-                       : udu_update_exact(n, ud, hp, sc, yi, dp, nis, b, wx);
         if (st != GF_OK) {
             return st;
         }

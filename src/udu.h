@@ -31,7 +31,7 @@
 // gf_udu_correct for n states.
 #define GF_UDU_FACTOR_WORK(n) GF_UD_SIZE(n)
 #define GF_UDU_PREDICT_WORK(n) (2u * (n) * (n) + 4u * (n))
-#define GF_UDU_CORRECT_WORK(n) ((n) * (n) + 5u * (n))
+#define GF_UDU_CORRECT_WORK(n) ((n) * (n) + 4u * (n))
 
 // The factors of a covariance s (rows of stride) that gf_cov_factor
 // accepted, for a new belief: perm is the states reversed (state 0, most
