@@ -26,11 +26,10 @@ static gf_status kf2_model_check(const gf_kf2_model *model, const gf_vec2 *u,
     return gf_cov_factor(model->R.m[0], 2, 2, Rf, Rd, order);
 }
 
-// The checks of a measurement model (and of z, if not NULL), in the order
-// of gf_kf2_update's statuses; on GF_OK, q holds Q's factors and the
-// whitened rows C_w = F^-1 C.
-static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
-                                gf_kf2_qfactors *q)
+// The checks of a measurement model, in the order of gf_kf2_update's
+// statuses; on GF_OK, q holds Q's factors and the whitened rows
+// C_w = F^-1 C.
+static gf_status kf2_meas_check(const gf_kf2_meas *meas, gf_kf2_qfactors *q)
 {
     const unsigned m = meas->m;
     if (m < 1u || m > 2u) {
@@ -38,9 +37,6 @@ static gf_status kf2_meas_check(const gf_kf2_meas *meas, const gf_vec2 *z,
     }
     gf_real f = gf_nan_sum(meas->gate * GF_R(0.0), meas->C.m[0], 2u * m);
     f = gf_nan_sum(f, meas->c.v, m);
-    if (z) {
-        f = gf_nan_sum(f, z->v, m);
-    }
     if (!gf_sum_finite(f)) {
         return GF_ERR_NONFINITE;
     }
@@ -108,38 +104,78 @@ static gf_status kf2_predict_step(gf_kf2 *kf, const gf_kf2_model *model,
     return GF_OK;
 }
 
-// The correction once meas and z are checked, Q factored and C whitened
-// (q):
+// y = z - c - C mu_bar into y[0..m).
+static void kf2_innovation(const gf_kf2_meas *meas, const gf_vec2 *z,
+                           const gf_kf2 *kf, gf_real *y)
+{
+    for (unsigned i = 0; i < meas->m; i++) {
+        y[i] = z->v[i] - meas->c.v[i] -
+               (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
+    }
+}
+
+// The correction, once m and z are checked, with Q's factors and C_w
+// prepared or, where prepared is NULL, made here once kf2_meas_check has
+// checked meas (z first: the statuses are the same in either order):
 //   y = z - c - C mu_bar,  y_w = F^-1 y,
 // then one scalar update per row of C_w (gf_udu_correct), the gate on the
-// NIS, and the belief written only if every quantity passed.
+// NIS, and the belief written only if every quantity passed. Q's factors
+// and the belief's copy live in blocks of their own: one frame holds them
+// in turn, not both (C_w and Q's noises copied across). y is not kept
+// through the correction: info's is computed again, from the same z and
+// mu_bar (kf is written last).
 static gf_status kf2_update_step(gf_kf2 *kf, const gf_kf2_meas *meas,
-                                 const gf_kf2_qfactors *q, const gf_vec2 *z,
-                                 gf_innovation *info)
+                                 const gf_kf2_qfactors *prepared,
+                                 const gf_vec2 *z, gf_innovation *info)
 {
     const unsigned m = meas->m;
-    gf_innovation in = {m, {0, 0, 0}, 0};
-    gf_real yw[2];
-    for (unsigned i = 0; i < m; i++) {
-        in.y[i] =
-            z->v[i] - meas->c.v[i] -
-            (meas->C.m[i][0] * kf->mu.v[0] + meas->C.m[i][1] * kf->mu.v[1]);
-        yw[i] = in.y[i];
+    if (m < 1u || m > 2u) {
+        return GF_ERR_ARG;
     }
-    gf_udu_whiten(q->Qf, q->Qorder, m, yw, 1);
-    gf_kf2 nb = *kf;
-    gf_real work[GF_UDU_CORRECT_WORK(2u)];
-    gf_status st = gf_udu_correct(2u, nb.ud, nb.perm, m, q->Cw.m[0], q->Qe, yw,
-                                  nb.mu.v, &in.nis, work);
-    if (st != GF_OK) {
-        return st;
+    if (!gf_all_finite(z->v, m)) {
+        return GF_ERR_NONFINITE;
     }
-    st = gf_update_status(in.nis, meas->gate,
-                          gf_belief_finite(nb.mu.v, nb.ud, 2));
-    if (st == GF_OK) {
-        *kf = nb;
+    gf_real yw[2], e[2], nis;
+    gf_mat2 cw;
+    gf_status st;
+    {
+        gf_kf2_qfactors own;
+        const gf_kf2_qfactors *q = prepared;
+        if (!q) {
+            st = kf2_meas_check(meas, &own);
+            if (st != GF_OK) {
+                return st;
+            }
+            q = &own;
+        }
+        cw = q->Cw;
+        e[0] = q->Qe[0];
+        e[1] = (m > 1u) ? q->Qe[1] : GF_R(0.0);
+        kf2_innovation(meas, z, kf, yw);
+        gf_udu_whiten(q->Qf, q->Qorder, m, yw, 1);
     }
-    return gf_innovation_keep(st, &in, info);
+    {
+        gf_kf2 nb = *kf;
+        gf_real work[GF_UDU_CORRECT_WORK(2u)];
+        st = gf_udu_correct(2u, nb.ud, nb.perm, m, cw.m[0], e, yw, nb.mu.v,
+                            &nis, work);
+        if (st != GF_OK) {
+            return st;
+        }
+        const int finite = gf_belief_finite(nb.mu.v, nb.ud, 2);
+        st = gf_update_status(nis, meas->gate, finite);
+        if (info && (st == GF_OK || st == GF_ERR_GATED)) {
+            info->m = meas->m;
+            info->y[1] = 0;
+            info->y[2] = 0;
+            info->nis = nis;
+            kf2_innovation(meas, z, kf, info->y);
+        }
+        if (st == GF_OK) {
+            *kf = nb;
+        }
+    }
+    return st;
 }
 
 gf_status gf_kf2_predict(gf_kf2 *kf, const gf_kf2_model *model,
@@ -159,9 +195,7 @@ gf_status gf_kf2_update(gf_kf2 *kf, const gf_kf2_meas *meas, const gf_vec2 *z,
     if (!kf || !meas || !z) {
         return GF_ERR_ARG;
     }
-    gf_kf2_qfactors q;
-    const gf_status st = kf2_meas_check(meas, z, &q);
-    return st != GF_OK ? st : kf2_update_step(kf, meas, &q, z, info);
+    return kf2_update_step(kf, meas, NULL, z, info);
 }
 
 gf_status gf_kf2_prepare_model(gf_kf2_pmodel *pm, const gf_kf2_model *model)
@@ -185,7 +219,7 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
         return GF_ERR_ARG;
     }
     gf_kf2_pmeas p;
-    const gf_status st = kf2_meas_check(meas, NULL, &p.q);
+    const gf_status st = kf2_meas_check(meas, &p.q);
     if (st != GF_OK) {
         return st;
     }
@@ -195,7 +229,8 @@ gf_status gf_kf2_prepare_meas(gf_kf2_pmeas *pq, const gf_kf2_meas *meas)
 }
 
 // The prepared steps: the model was checked and factored by prepare, so
-// only u or z are checked; the step itself is the same.
+// only u or z are checked (z in kf2_update_step); the step itself is the
+// same.
 gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
                                   const gf_vec2 *u)
 {
@@ -211,11 +246,8 @@ gf_status gf_kf2_predict_prepared(gf_kf2 *kf, const gf_kf2_pmodel *pm,
 gf_status gf_kf2_update_prepared(gf_kf2 *kf, const gf_kf2_pmeas *pq,
                                  const gf_vec2 *z, gf_innovation *info)
 {
-    if (!kf || !pq || !z || pq->meas.m < 1 || pq->meas.m > 2) {
+    if (!kf || !pq || !z) {
         return GF_ERR_ARG;
-    }
-    if (!gf_all_finite(z->v, pq->meas.m)) {
-        return GF_ERR_NONFINITE;
     }
     return kf2_update_step(kf, &pq->meas, &pq->q, z, info);
 }
