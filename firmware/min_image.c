@@ -170,6 +170,16 @@ static const gf_kf_model kf_model = {
     .nu = 0, .A = kf_A, .B = 0, .R = kf_R, .c = 0};
 static const gf_kf_meas kf_meas = {
     .m = 2, .C = kf_C, .Q = kf_Q, .c = 0, .gate = GF_R(0.0)};
+// The prior, for the library and the floor alike.
+static const gf_real kf_mu0[4] = {GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(0.0)};
+// clang-format off
+static const gf_real kf_s0[16] = {
+    GF_R(100.0), GF_R(0.0), GF_R(0.0), GF_R(0.0),
+    GF_R(0.0), GF_R(100.0), GF_R(0.0), GF_R(0.0),
+    GF_R(0.0), GF_R(0.0), GF_R(10.0), GF_R(0.0),
+    GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(10.0),
+};
+// clang-format on
 #ifdef GF_FW_FLOOR
 // The steps' scratch: static, as firmware keeps it.
 static floor_kf_work kf_work;
@@ -178,16 +188,7 @@ static int run_kf(void)
 {
     floor_kf kf;
     gf_real nis;
-    // clang-format off
-    const gf_real mu0[4] = {GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(0.0)};
-    const gf_real s0[16] = {
-        GF_R(100.0), GF_R(0.0), GF_R(0.0), GF_R(0.0),
-        GF_R(0.0), GF_R(100.0), GF_R(0.0), GF_R(0.0),
-        GF_R(0.0), GF_R(0.0), GF_R(10.0), GF_R(0.0),
-        GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(10.0),
-    };
-    // clang-format on
-    int st = (int)floor_kf_init(&kf, 4, mu0, s0, &kf_work);
+    int st = (int)floor_kf_init(&kf, 4, kf_mu0, kf_s0, &kf_work);
     st |= (int)floor_kf_predict(&kf, &kf_model, 0, &kf_work);
     const gf_real z[2] = {gf_fw_in[2], gf_fw_in[3]};
     st |= (int)floor_kf_update(&kf, &kf_meas, z, &nis, &kf_work);
@@ -204,16 +205,7 @@ static gf_kf_work kf_work;
 static int run_kf(void)
 {
     gf_kf kf;
-    // clang-format off
-    const gf_real mu0[4] = {GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(0.0)};
-    const gf_real s0[16] = {
-        GF_R(100.0), GF_R(0.0), GF_R(0.0), GF_R(0.0),
-        GF_R(0.0), GF_R(100.0), GF_R(0.0), GF_R(0.0),
-        GF_R(0.0), GF_R(0.0), GF_R(10.0), GF_R(0.0),
-        GF_R(0.0), GF_R(0.0), GF_R(0.0), GF_R(10.0),
-    };
-    // clang-format on
-    int st = (int)gf_kf_init(&kf, 4, mu0, s0, &kf_work);
+    int st = (int)gf_kf_init(&kf, 4, kf_mu0, kf_s0, &kf_work);
     st |= (int)gf_kf_predict(&kf, &kf_model, 0, &kf_work);
     const gf_real z[2] = {gf_fw_in[2], gf_fw_in[3]};
     st |= (int)gf_kf_update(&kf, &kf_meas, z, 0, &kf_work);

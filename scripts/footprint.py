@@ -571,16 +571,22 @@ def report(root, build_root):
               "data, C library, libm and libgcc included:", "",
               "| image | " + " | ".join(labels) + " |",
               "|---|" + "---|" * len(TARGETS)]
-    for img, label in IMAGES:
-        cells = []
-        for key, _, _ in TARGETS:
-            d = delta(key, img)
-            lim = FLASH_TARGETS.get((img, key))
-            cell = f"{fmt_b(d)} ({kib(d)})"
-            if lim is not None:
-                cell += f"; target {kib(lim)}: {met(d <= lim)}"
-            cells.append(cell)
-        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+
+    def image_rows(cell):
+        """A row per image, cell(image, target key) in each column."""
+        return [f"| {label} | " + " | ".join(
+            cell(img, key) for key, _, _ in TARGETS) + " |"
+            for img, label in IMAGES]
+
+    def flash_cell(img, key):
+        d = delta(key, img)
+        lim = FLASH_TARGETS.get((img, key))
+        cell = f"{fmt_b(d)} ({kib(d)})"
+        if lim is not None:
+            cell += f"; target {kib(lim)}: {met(d <= lim)}"
+        return cell
+
+    lines += image_rows(flash_cell)
     lines.append("| base image (absolute) | " + " | ".join(
         fmt_b(flash(results[k]["images"]["base"])) for k, _, _ in TARGETS)
         + " |")
@@ -594,10 +600,7 @@ def report(root, build_root):
               "(`GF_FW_FLOOR`), flash over the base image:", "",
               "| image | " + " | ".join(labels) + " |",
               "|---|" + "---|" * len(TARGETS)]
-    for img, label in IMAGES:
-        lines.append(f"| {label} | " + " | ".join(
-            fmt_b(delta(key, f"floor_{img}")) for key, _, _ in TARGETS)
-            + " |")
+    lines += image_rows(lambda img, key: fmt_b(delta(key, f"floor_{img}")))
     lines.append("")
 
     lines += ["What the delta is made of, Cortex-M4F (bytes, from the link "

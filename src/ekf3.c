@@ -134,7 +134,7 @@ static gf_status ekf3_predict_step(gf_ekf3 *ekf, const gf_ekf3_motion *motion,
 {
     gf_real s[GF_UDU_PREDICT_WORK(3u) + GF_UD_SIZE(3u)];
     gf_real *ud_new = &s[GF_UDU_PREDICT_WORK(3u)];
-    gf_real *own = &s[GF_UDU_PREDICT_WORK(3u) - 6u]; // R's F (9), then d (3)
+    gf_real *own = &s[GF_UDU_PREDICT_WORK(3u) - 2u * 3u]; // R's F, then d
     gf_status st = GF_OK;
     if (!prepared) {
         st = ekf3_motion_check(motion, own, &own[9]);

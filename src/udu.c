@@ -389,7 +389,8 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 // The singular verdict's scale of an exact quantity (r = 0) hp, in the
 // factors' order, with f = U^T hp (h Sigma h^T = sum_j d_j f_j^2) and
 // t_j = |hp_j| + sum_(i<j) |U_ij hp_i|, f_j's terms without their
-// cancellations (the same in any units; *hsh = h Sigma h^T):
+// cancellations (the same in any units; f into f[0..n), *hsh = h Sigma
+// h^T):
 //   (n / 8) sum_j d_j t_j^2                      (terms)
 //   n sum_j d_j t_j (2 |f_j| + GF_PD_RTOL t_j)   (cancelled)
 // The sum is rounded by about 2 n u times sum_j d_j t_j^2 (u the unit
@@ -402,19 +403,20 @@ static gf_status udu_update(unsigned n, gf_real *ud, const gf_real *hp,
 // rank-deficient Q in units far apart) and so cancels far more than it
 // loses; what it measures was judged by the first on the update's prior.
 static gf_real udu_exact_scale(unsigned n, const gf_real *ud, const gf_real *hp,
-                               int cancelled, gf_real *hsh)
+                               int cancelled, gf_real *f, gf_real *hsh)
 {
     gf_real scale = 0, acc = 0;
     for (unsigned j = 0; j < n; j++) {
-        gf_real f = hp[j], t = GF_FABS(hp[j]);
+        gf_real fj = hp[j], t = GF_FABS(hp[j]);
         for (unsigned i = 0; i < j; i++) {
-            f += ud[GF_UD(i, j)] * hp[i];
+            fj += ud[GF_UD(i, j)] * hp[i];
             t += GF_FABS(ud[GF_UD(i, j)] * hp[i]);
         }
-        const gf_real w = cancelled ? GF_R(2.0) * GF_FABS(f) + GF_PD_RTOL * t
+        const gf_real w = cancelled ? GF_R(2.0) * GF_FABS(fj) + GF_PD_RTOL * t
                                     : GF_R(0.125) * t;
         scale += ud[GF_UD(j, j)] * t * w;
-        acc += ud[GF_UD(j, j)] * f * f;
+        acc += ud[GF_UD(j, j)] * fj * fj;
+        f[j] = fj;
     }
     *hsh = acc;
     return (gf_real)n * scale;
@@ -457,22 +459,16 @@ static gf_status udu_update_exact(unsigned n, gf_real *ud, gf_real *hp,
     // singular when s is zero relative to its own terms, or, after noisy
     // quantities alone, to its rounding; and after exact ones, also when
     // it is zero relative to S_ii
-    gf_real hsh;
-    gf_real scale = udu_exact_scale(n, ud, hp, seen == UDU_SEEN_NOISY, &hsh);
+    // f = U^T hp in b's scratch (the vector b below is computed an entry
+    // at a time)
+    gf_real *f = b, hsh;
+    gf_real scale = udu_exact_scale(n, ud, hp, seen == UDU_SEEN_NOISY, f, &hsh);
     scale = ((seen & UDU_SEEN_EXACT) && es > scale) ? es : scale;
-    // f in b's scratch: the vector b below is computed an entry at a time
-    gf_real *f = b;
-    // f = U^T hp, D, s in Bierman's order, alpha_j0 = the first alpha_j of
-    // at least GF_REAL_MIN (Bierman's test)
+    // s in Bierman's order, alpha_j0 = the first alpha_j of at least
+    // GF_REAL_MIN (Bierman's test)
     gf_real s = 0, first = 0;
     for (unsigned j = 0; j < n; j++) {
-        const gf_real *uj = &ud[GF_UD(0u, j)];
-        gf_real fj = hp[j];
-        for (unsigned i = 0; i < j; i++) {
-            fj += uj[i] * hp[i];
-        }
-        f[j] = fj;
-        s += fj * (uj[j] * fj);
+        s += f[j] * (ud[GF_UD(j, j)] * f[j]);
         if (!(first > 0) && s >= GF_REAL_MIN) {
             first = s;
         }
@@ -540,7 +536,7 @@ gf_status gf_udu_correct(unsigned n, gf_real *ud, unsigned char *perm,
                 for (unsigned j = 0; j < n; j++) {
                     hp[j] = hw[(size_t)i * n + perm[j]];
                 }
-                const gf_real sc = udu_exact_scale(n, ud, hp, 0, &acc);
+                const gf_real sc = udu_exact_scale(n, ud, hp, 0, b, &acc);
                 acc = (acc > GF_PD_RTOL * sc || !GF_ISFINITE(acc)) ? acc
                                                                    : GF_R(-1.0);
             }

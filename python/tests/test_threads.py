@@ -24,11 +24,11 @@ def kf2_setup(mod):
     return car, gps, z
 
 
-def ekf3_setup(mod):
+def ekf3_setup(mod, steps=N):
     motion = mod.EKF3Motion(mod.forward_turn, np.eye(3) * 1e-3)
     meas = mod.EKF3Meas(mod.meas_xy, np.eye(2) * 0.1)
-    k = np.arange(N)
-    u = np.stack([np.full(N, 0.1), np.full(N, 0.01)], axis=1)
+    k = np.arange(steps)
+    u = np.stack([np.full(steps, 0.1), np.full(steps, 0.01)], axis=1)
     z = np.stack([np.cos(k * 1e-2), np.sin(k * 1e-2)], axis=1) * 10
     return motion, meas, u, z
 
@@ -147,22 +147,13 @@ def test_filters_sharing_models_run_in_parallel_to_the_same_bits(mod):
             assert a.tobytes() == b.tobytes()
 
 
-def pf3_setup(mod, steps=2000):
-    motion = mod.EKF3Motion(mod.forward_turn, np.eye(3) * 1e-3)
-    meas = mod.EKF3Meas(mod.meas_xy, np.eye(2) * 0.1)
-    k = np.arange(steps)
-    u = np.stack([np.full(steps, 0.1), np.full(steps, 0.01)], axis=1)
-    z = np.stack([np.cos(k * 1e-2), np.sin(k * 1e-2)], axis=1) * 10
-    return motion, meas, u, z
-
-
 def pf3_state(pf):
     return pf.__getstate__()
 
 
 @pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
 def test_another_thread_may_not_touch_a_running_pf3(mod):
-    motion, meas, u, z = pf3_setup(mod)
+    motion, meas, u, z = ekf3_setup(mod, 2000)
 
     def fresh():
         return mod.PF3([10, 0, 1.6], np.eye(3), 100, seed=7)
@@ -218,7 +209,7 @@ def pf3_repr_probe(pf):
 
 @pytest.mark.parametrize("mod", [float32, float64], ids=["f32", "f64"])
 def test_pf3_runs_in_parallel_and_a_python_h_keeps_the_gil(mod):
-    motion, meas, u, z = pf3_setup(mod, 500)
+    motion, meas, u, z = ekf3_setup(mod, 500)
     job = [lambda: mod.PF3([10, 0, 1.6], np.eye(3), 50, seed=3).run(
         motion, meas, u=u, z=z)]
     alone = job[0]()
