@@ -140,6 +140,10 @@ static gf_status ekf_meas_eval(const gf_kf *ekf, const gf_ekf_meas *meas,
     return GF_OK;
 }
 
+// The updates call the evaluation and the correction in turn from their
+// own frames (their frames side by side): a step function of their own
+// that called both measured 96 B deeper on the Cortex-M4F, over the
+// target.
 gf_status gf_ekf_update(gf_kf *ekf, const gf_ekf_meas *meas, const gf_real *z,
                         gf_kf_innovation *info, gf_kf_work *work)
 {
